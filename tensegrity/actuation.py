@@ -1,0 +1,63 @@
+"""Actuation schedules: pair pressures (MPa) held over time segments."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import geometry as g
+
+MAX_PRESSURE = 10.0  # MPa; a McKibben muscle is rated well below this
+
+
+def check_pressures(p, name: str = "pressure") -> np.ndarray:
+    """Return p as float array; raise ValueError naming `name` if any value is NaN or outside
+    [0, MAX_PRESSURE] MPa."""
+    a = np.asarray(p, dtype=float)
+    bad = ~np.isfinite(a) | (a < 0) | (a > MAX_PRESSURE)
+    if np.any(bad):
+        raise ValueError(f"{name}: {a[bad].ravel()[0]!r} MPa is outside 0..{MAX_PRESSURE} MPa")
+    return a
+
+
+@dataclass(frozen=True)
+class Schedule:
+    """Piecewise-constant pair pressures: segment k lasts durations[k] s with pressure
+    pressure[:, k, :] MPa, shape (B, K, 12) (B may be 1 for the whole batch)."""
+    durations: np.ndarray
+    pressure: np.ndarray
+
+    def __post_init__(self):
+        d = np.asarray(self.durations, dtype=float).reshape(-1)
+        p = check_pressures(self.pressure)
+        if p.ndim == 2:
+            p = p[None]
+        if p.ndim != 3 or p.shape[1:] != (d.size, g.N_PAIRS):
+            raise ValueError(f"schedule pressure must have shape (B, {d.size}, 12), got {p.shape}")
+        if not np.all(np.isfinite(d)) or np.any(d <= 0):
+            raise ValueError(f"schedule durations must be positive seconds, got {d.tolist()}")
+        object.__setattr__(self, "durations", d)
+        object.__setattr__(self, "pressure", p)
+
+    @property
+    def duration(self) -> float:
+        return float(self.durations.sum())
+
+    @classmethod
+    def constant(cls, pressure, duration: float) -> "Schedule":
+        """Pressures (B, 12) or (12,) MPa held for `duration` s."""
+        p = np.asarray(pressure, dtype=float)
+        return cls(np.array([duration]), p.reshape(-1, 1, g.N_PAIRS))
+
+    @classmethod
+    def staircase(cls, pairs, levels, hold: float, settle: float = 0.0) -> "Schedule":
+        """The paper's sweep (III.A): robot b drives pair pairs[b] (1-based) through `levels`
+        MPa, each held `hold` s, after `settle` s at zero pressure."""
+        pairs = [g.check_pair(p) for p in np.atleast_1d(pairs)]
+        levels = check_pressures(levels, "pressure levels")
+        segs = ([0.0] if settle > 0 else []) + list(levels)
+        p = np.zeros((len(pairs), len(segs), g.N_PAIRS))
+        for b, pair in enumerate(pairs):
+            p[b, :, pair - 1] = segs
+        d = ([settle] if settle > 0 else []) + [hold] * len(levels)
+        return cls(np.array(d), p)

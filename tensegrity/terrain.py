@@ -1,0 +1,118 @@
+"""Terrains made of triangles: none (free mode), a plane (flat or a constant slope), or a
+regular height field split into two triangles per cell (uneven ground)."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+KINDS = {"none": 0, "plane": 1, "heightfield": 2}
+
+
+@dataclass(frozen=True)
+class Terrain:
+    """kind: 'none' | 'plane' | 'heightfield'. A plane is n . p = offset (n unit, up).
+    A height field has heights (nx+1, ny+1) m at x = x0 + i*spacing, y = y0 + j*spacing."""
+    kind: str = "plane"
+    normal: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
+    offset: float = 0.0
+    origin: tuple = (0.0, 0.0)
+    spacing: float = 1.0
+    heights: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
+
+    def __post_init__(self):
+        if self.kind not in KINDS:
+            raise ValueError(f"unknown terrain kind {self.kind!r}: use one of {sorted(KINDS)}")
+        n = np.asarray(self.normal, dtype=float)
+        if n.shape != (3,) or not np.all(np.isfinite(n)) or n[2] <= 0:
+            raise ValueError(f"terrain normal must be a finite 3-vector with positive z, got {self.normal!r}")
+        object.__setattr__(self, "normal", n / np.linalg.norm(n))
+        h = np.asarray(self.heights, dtype=float)
+        if h.ndim != 2 or min(h.shape) < 2 or not np.all(np.isfinite(h)):
+            raise ValueError("terrain heights must be a finite 2-D array of at least 2 x 2 values")
+        if not (np.isfinite(self.spacing) and self.spacing > 0):
+            raise ValueError(f"terrain spacing must be positive, got {self.spacing!r}")
+        object.__setattr__(self, "heights", np.ascontiguousarray(h))
+
+    @classmethod
+    def none(cls) -> "Terrain":
+        return cls(kind="none")
+
+    @classmethod
+    def flat(cls, z: float = 0.0) -> "Terrain":
+        return cls(kind="plane", offset=float(z))
+
+    @classmethod
+    def slope(cls, angle_deg: float, azimuth_deg: float = 0.0) -> "Terrain":
+        """A plane through the origin rising by angle_deg toward the azimuth (deg from +x)."""
+        if not -60 < angle_deg < 60:
+            raise ValueError(f"slope angle {angle_deg!r} deg out of range (-60, 60)")
+        a, b = np.radians(angle_deg), np.radians(azimuth_deg)
+        n = np.array([-np.sin(a) * np.cos(b), -np.sin(a) * np.sin(b), np.cos(a)])
+        return cls(kind="plane", normal=n, offset=0.0)
+
+    @classmethod
+    def random(cls, seed: int, size: float = 6.0, spacing: float = 0.25,
+               amplitude: float = 0.03) -> "Terrain":
+        """A seeded random height field of side `size` m centred at the origin, heights of
+        standard deviation about `amplitude` m (smoothed white noise)."""
+        rng = np.random.default_rng(seed)
+        n = int(round(size / spacing)) + 1
+        z = rng.normal(size=(n + 2, n + 2))
+        z = (z[:-2, 1:-1] + z[2:, 1:-1] + z[1:-1, :-2] + z[1:-1, 2:] + 2 * z[1:-1, 1:-1]) / 6
+        z *= amplitude / max(z.std(), 1e-12)
+        return cls(kind="heightfield", origin=(-size / 2, -size / 2), spacing=spacing, heights=z)
+
+    def height(self, x, y) -> np.ndarray:
+        """Terrain height (m) under world points (x, y); NaN off a height field."""
+        x, y = np.asarray(x, float), np.asarray(y, float)
+        if self.kind == "none":
+            return np.full(np.broadcast(x, y).shape, -np.inf)
+        if self.kind == "plane":
+            n = self.normal
+            return (self.offset - n[0] * x - n[1] * y) / n[2]
+        z = self.heights
+        u, v = (x - self.origin[0]) / self.spacing, (y - self.origin[1]) / self.spacing
+        i, j = np.floor(u).astype(int), np.floor(v).astype(int)
+        ok = (i >= 0) & (j >= 0) & (i < z.shape[0] - 1) & (j < z.shape[1] - 1)
+        i, j = np.clip(i, 0, z.shape[0] - 2), np.clip(j, 0, z.shape[1] - 2)
+        s, t = u - i, v - j
+        low = s + t <= 1
+        h_low = z[i, j] + s * (z[i + 1, j] - z[i, j]) + t * (z[i, j + 1] - z[i, j])
+        h_up = z[i + 1, j + 1] + (1 - s) * (z[i, j + 1] - z[i + 1, j + 1]) + (1 - t) * (z[i + 1, j] - z[i + 1, j + 1])
+        return np.where(ok, np.where(low, h_low, h_up), np.nan)
+
+    def normal_at(self, x, y) -> np.ndarray:
+        """Unit upward normal (..., 3) of the terrain triangle under (x, y)."""
+        x, y = np.asarray(x, float), np.asarray(y, float)
+        if self.kind != "heightfield":
+            return np.broadcast_to(self.normal, np.broadcast(x, y).shape + (3,)).copy()
+        e = 1e-6 * self.spacing
+        hx = (self.height(x + e, y) - self.height(x - e, y)) / (2 * e)
+        hy = (self.height(x, y + e) - self.height(x, y - e)) / (2 * e)
+        n = np.stack([-hx, -hy, np.ones_like(hx)], axis=-1)
+        return n / np.linalg.norm(n, axis=-1, keepdims=True)
+
+    def triangles(self, extent: float = 2.0, centre=(0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
+        """Vertices (V, 3) and triangles (T, 3) of the terrain mesh, for drawing. A plane is
+        drawn as a square of half-side `extent` m around `centre`."""
+        if self.kind == "heightfield":
+            nx, ny = self.heights.shape
+            gx = self.origin[0] + self.spacing * np.arange(nx)
+            gy = self.origin[1] + self.spacing * np.arange(ny)
+            X, Y = np.meshgrid(gx, gy, indexing="ij")
+            verts = np.stack([X, Y, self.heights], axis=-1).reshape(-1, 3)
+        else:
+            c = np.asarray(centre, float)
+            X, Y = np.meshgrid(c[0] + extent * np.array([-1, 1]), c[1] + extent * np.array([-1, 1]), indexing="ij")
+            nx = ny = 2
+            verts = np.stack([X, Y, self.height(X, Y) if self.kind == "plane" else np.zeros_like(X)], -1).reshape(-1, 3)
+        idx = np.arange(nx * ny).reshape(nx, ny)
+        a, b, c_, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel()
+        tris = np.concatenate([np.stack([a, b, c_], 1), np.stack([d, c_, b], 1)])
+        return verts, tris
+
+    def packed(self) -> tuple[int, np.ndarray, np.ndarray]:
+        """(kind code, meta (7,) = n, offset, x0, y0, spacing, heights) for the kernel."""
+        meta = np.array([*self.normal, self.offset, self.origin[0], self.origin[1], self.spacing])
+        return KINDS[self.kind], meta, self.heights
