@@ -87,13 +87,21 @@ def cog(x: np.ndarray) -> np.ndarray:
     return x.mean(axis=-2)
 
 
-def _strut_frames(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Strut centres (6, 3) and quaternions (6, 4) for node positions p (12, 3)."""
-    a, b = p[g.STRUTS[:, 0]], p[g.STRUTS[:, 1]]
-    c = (a - b) / np.linalg.norm(a - b, axis=1, keepdims=True)
-    rot, _ = zip(*(Rotation.align_vectors([ci], [[0, 0, 1]]) for ci in c))
-    q = np.array([r.as_quat(scalar_first=True) for r in rot])
-    return 0.5 * (a + b), q
+def from_nodes(p: np.ndarray) -> State:
+    """A state at rest from node positions (B, 12, 3) or (12, 3) m (strut lengths as given)."""
+    p = np.asarray(p, dtype=float).reshape(-1, g.N_NODES, 3)
+    a, b = p[:, g.STRUTS[:, 0]], p[:, g.STRUTS[:, 1]]
+    c = ((a - b) / np.linalg.norm(a - b, axis=-1, keepdims=True)).reshape(-1, 3)
+    # the rotation taking e3 onto c about the axis e3 x c (quaternion w, x, y, z)
+    half = 0.5 * np.arccos(np.clip(c[:, 2], -1.0, 1.0))
+    ax = np.stack([-c[:, 1], c[:, 0], np.zeros(len(c))], axis=1)
+    n = np.linalg.norm(ax, axis=1, keepdims=True)
+    ax = np.where(n > 1e-12, ax / np.where(n > 1e-12, n, 1.0), [1.0, 0.0, 0.0])
+    q = np.concatenate([np.cos(half)[:, None], np.sin(half)[:, None] * ax], axis=1)
+    B = p.shape[0]
+    z3 = np.zeros((B, g.N_STRUTS, 3))
+    return State(0.5 * (a + b), z3, q.reshape(B, g.N_STRUTS, 4), z3.copy(),
+                 np.zeros((B, g.N_NODES, 3)), np.zeros((B, g.N_NODES), dtype=np.bool_))
 
 
 def stand_on(params: Params, face, terrain: Terrain | None = None, batch: int = 1,
@@ -111,6 +119,8 @@ def stand_on(params: Params, face, terrain: Terrain | None = None, batch: int = 
     outward /= np.linalg.norm(outward)
     terrain = terrain or Terrain.flat()
     px, py = map(float, position)
+    if terrain.kind == "heightfield" and np.isnan(terrain.height(px, py)):
+        raise ValueError(f"terrain has nothing under the robot at position {position}")
     up = terrain.normal_at(px, py) if terrain.kind != "none" else np.array([0.0, 0.0, 1.0])
     rot, _ = Rotation.align_vectors([-up], [outward])
     rot = Rotation.from_rotvec(np.radians(yaw_deg) * up) * rot
@@ -123,10 +133,7 @@ def stand_on(params: Params, face, terrain: Terrain | None = None, batch: int = 
         if np.any(np.isnan(h)):
             raise ValueError(f"terrain has nothing under the robot at position {position}")
         p[:, 2] += np.max(h + r / terrain.normal_at(p[:, 0], p[:, 1])[:, 2] - p[:, 2])
-    x, q = _strut_frames(p)
-    z3 = np.zeros((batch, g.N_STRUTS, 3))
-    return State(np.repeat(x[None], batch, 0), z3.copy(), np.repeat(q[None], batch, 0), z3.copy(),
-                 np.zeros((batch, g.N_NODES, 3)), np.zeros((batch, g.N_NODES), dtype=np.bool_))
+    return from_nodes(np.repeat(p[None], batch, axis=0))
 
 
 @dataclass(frozen=True)

@@ -59,7 +59,7 @@ def reference_nodes(strut_length: float = 0.5) -> np.ndarray:
 def check_pair(pair: int) -> int:
     """Validate a 1-based pair number; return it as int."""
     if isinstance(pair, bool) or not float(pair).is_integer() or not 1 <= int(pair) <= N_PAIRS:
-        raise ValueError(f"unknown pair {pair!r}: pairs are numbered 1..{N_PAIRS}")
+        raise ValueError(f"unknown pair {pair}: pairs are numbered 1..{N_PAIRS}")
     return int(pair)
 
 
@@ -67,7 +67,7 @@ def face_number(face) -> int:
     """1-based face number from a number 1..20 or three 1-based node numbers in any order."""
     if np.ndim(face) == 0:
         if isinstance(face, bool) or not float(face).is_integer() or not 1 <= int(face) <= N_FACES:
-            raise ValueError(f"unknown face {face!r}: faces are numbered 1..{N_FACES} "
+            raise ValueError(f"unknown face {face}: faces are numbered 1..{N_FACES} "
                              "or given as three node numbers")
         return int(face)
     key = sorted(int(n) for n in face)

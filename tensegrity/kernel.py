@@ -132,6 +132,16 @@ def _advance_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec,
     vmax2 = prm[b, _VMAX] ** 2
     It = m * (S * S / 12.0 + r * r / 4.0)
     Ia = m * r * r / 2.0
+    dt_m = dt / m
+    gyro = (Ia - It) / It
+    dt_I = dt / It
+    # robot-local copies of the state: small contiguous arrays the loop works on
+    X = x[b].copy()
+    V = v[b].copy()
+    Q = q[b].copy()
+    W = w[b].copy()
+    AN = anchor[b].copy()
+    ST = stuck[b].copy()
     P = np.empty((12, 3))
     U = np.empty((12, 3))
     F = np.empty((12, 3))
@@ -141,11 +151,12 @@ def _advance_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec,
     for j in range(24):
         act[j] = Kg * pres[b, CABLE_PAIR[j]]
     step = 0
+    code = 0
     for rec in range(n_rec):
         for _ in range(every):
             # kinematics: rotation matrices (columns = body axes in world), node states
             for i in range(6):
-                qw, qx, qy, qz = q[b, i, 0], q[b, i, 1], q[b, i, 2], q[b, i, 3]
+                qw, qx, qy, qz = Q[i, 0], Q[i, 1], Q[i, 2], Q[i, 3]
                 Rm[i, 0, 0] = 1 - 2 * (qy * qy + qz * qz)
                 Rm[i, 0, 1] = 2 * (qx * qy - qw * qz)
                 Rm[i, 0, 2] = 2 * (qx * qz + qw * qy)
@@ -158,11 +169,11 @@ def _advance_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec,
             for n in range(12):
                 i = NODE_STRUT[n]
                 sg = NODE_SIGN[n] * hl
-                w0, w1 = w[b, i, 0], w[b, i, 1]
+                w0, w1 = W[i, 0], W[i, 1]
                 for k in range(3):
-                    P[n, k] = x[b, i, k] + sg * Rm[i, k, 2]
+                    P[n, k] = X[i, k] + sg * Rm[i, k, 2]
                     # d c / dt = R (w x e3) = R (w1, -w0, 0)
-                    U[n, k] = v[b, i, k] + sg * (Rm[i, k, 0] * w1 - Rm[i, k, 1] * w0)
+                    U[n, k] = V[i, k] + sg * (Rm[i, k, 0] * w1 - Rm[i, k, 1] * w0)
                     F[n, k] = 0.0
             _cable_forces(P, U, K, Lr, a_exp, La, Bc, Lmin, act, F, T)
             # ground: penalty normal force, stick spring capped by mu N (no creep)
@@ -170,25 +181,24 @@ def _advance_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec,
                 for n in range(12):
                     nx, ny, nz, dist, ok = _terrain_contact(P[n, 0], P[n, 1], P[n, 2], kind, meta, hz)
                     if not ok:
-                        status[b] = 3
-                        fail_step[b] = step
-                        return
+                        code = 3
+                        break
                     pen = r - dist
                     if pen <= 0.0:
-                        stuck[b, n] = False
+                        ST[n] = False
                         continue
                     un = nx * U[n, 0] + ny * U[n, 1] + nz * U[n, 2]
                     fn = kn * pen - cn * un
                     if fn <= 0.0:
-                        stuck[b, n] = False
+                        ST[n] = False
                         continue
-                    if not stuck[b, n]:
+                    if not ST[n]:
                         for k in range(3):
-                            anchor[b, n, k] = P[n, k]
-                        stuck[b, n] = True
-                    ddx = P[n, 0] - anchor[b, n, 0]
-                    ddy = P[n, 1] - anchor[b, n, 1]
-                    ddz = P[n, 2] - anchor[b, n, 2]
+                            AN[n, k] = P[n, k]
+                        ST[n] = True
+                    ddx = P[n, 0] - AN[n, 0]
+                    ddy = P[n, 1] - AN[n, 1]
+                    ddz = P[n, 2] - AN[n, 2]
                     dn = nx * ddx + ny * ddy + nz * ddz
                     ddx -= dn * nx
                     ddy -= dn * ny
@@ -200,78 +210,85 @@ def _advance_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec,
                         ddx *= sc
                         ddy *= sc
                         ddz *= sc
-                        anchor[b, n, 0] = P[n, 0] - ddx
-                        anchor[b, n, 1] = P[n, 1] - ddy
-                        anchor[b, n, 2] = P[n, 2] - ddz
+                        AN[n, 0] = P[n, 0] - ddx
+                        AN[n, 1] = P[n, 1] - ddy
+                        AN[n, 2] = P[n, 2] - ddz
                     utx, uty, utz = U[n, 0] - un * nx, U[n, 1] - un * ny, U[n, 2] - un * nz
                     ftx = -kt * ddx - ct * utx
                     fty = -kt * ddy - ct * uty
                     ftz = -kt * ddz - ct * utz
-                    fmag = math.sqrt(ftx * ftx + fty * fty + ftz * ftz)
-                    if fmag > cap:
-                        sc = cap / fmag
+                    fmag2 = ftx * ftx + fty * fty + ftz * ftz
+                    if fmag2 > cap * cap:
+                        sc = cap / math.sqrt(fmag2)
                         ftx *= sc
                         fty *= sc
                         ftz *= sc
                     F[n, 0] += fn * nx + ftx
                     F[n, 1] += fn * ny + fty
                     F[n, 2] += fn * nz + ftz
+                if code:
+                    break
             # semi-implicit Euler: velocities from forces (eq. 3, Euler's equations with eq. 4)
             fastest = 0.0
             for i in range(6):
                 na, nb_ = g_STRUT_A[i], g_STRUT_B[i]
-                fx = F[na, 0] + F[nb_, 0]
-                fy = F[na, 1] + F[nb_, 1]
-                fz = F[na, 2] + F[nb_, 2] - m * grav
-                v[b, i, 0] += dt * (fx / m - ds * v[b, i, 0])
-                v[b, i, 1] += dt * (fy / m - ds * v[b, i, 1])
-                v[b, i, 2] += dt * (fz / m - ds * v[b, i, 2])
-                for k in range(3):
-                    x[b, i, k] += dt * v[b, i, k]
+                V[i, 0] += dt_m * (F[na, 0] + F[nb_, 0]) - dt * ds * V[i, 0]
+                V[i, 1] += dt_m * (F[na, 1] + F[nb_, 1]) - dt * ds * V[i, 1]
+                V[i, 2] += dt_m * (F[na, 2] + F[nb_, 2]) - dt * (grav + ds * V[i, 2])
+                X[i, 0] += dt * V[i, 0]
+                X[i, 1] += dt * V[i, 1]
+                X[i, 2] += dt * V[i, 2]
                 # body-frame torque: (0,0,L) x R^T f+ + (0,0,-L) x R^T f-
                 gx = F[na, 0] - F[nb_, 0]
                 gy = F[na, 1] - F[nb_, 1]
                 gz = F[na, 2] - F[nb_, 2]
                 d0 = Rm[i, 0, 0] * gx + Rm[i, 1, 0] * gy + Rm[i, 2, 0] * gz
                 d1 = Rm[i, 0, 1] * gx + Rm[i, 1, 1] * gy + Rm[i, 2, 1] * gz
-                t0, t1 = -hl * d1, hl * d0
-                w0, w1, w2 = w[b, i, 0], w[b, i, 1], w[b, i, 2]
-                w[b, i, 0] = w0 + dt * ((t0 - w1 * w2 * (Ia - It)) / It - ds * w0)
-                w[b, i, 1] = w1 + dt * ((t1 - w2 * w0 * (It - Ia)) / It - ds * w1)
-                w[b, i, 2] = w2 - dt * ds * w2
-                # q <- q * exp(w dt / 2), then renormalise
-                w0, w1, w2 = w[b, i, 0], w[b, i, 1], w[b, i, 2]
-                wn = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
-                if wn > 0.0:
-                    half = 0.5 * wn * dt
-                    c = math.cos(half)
-                    sn = math.sin(half) / wn
-                    ex, ey, ez = w0 * sn, w1 * sn, w2 * sn
-                    qw, qx, qy, qz = q[b, i, 0], q[b, i, 1], q[b, i, 2], q[b, i, 3]
-                    nw = qw * c - qx * ex - qy * ey - qz * ez
-                    nx_ = qw * ex + qx * c + qy * ez - qz * ey
-                    ny_ = qw * ey - qx * ez + qy * c + qz * ex
-                    nz_ = qw * ez + qx * ey - qy * ex + qz * c
-                    qn = math.sqrt(nw * nw + nx_ * nx_ + ny_ * ny_ + nz_ * nz_)
-                    q[b, i, 0] = nw / qn
-                    q[b, i, 1] = nx_ / qn
-                    q[b, i, 2] = ny_ / qn
-                    q[b, i, 3] = nz_ / qn
-                sp = (v[b, i, 0] ** 2 + v[b, i, 1] ** 2 + v[b, i, 2] ** 2
-                      + hl * hl * (w0 * w0 + w1 * w1))
+                w0, w1, w2 = W[i, 0], W[i, 1], W[i, 2]
+                # Euler's equations, I = diag(It, It, Ia): w x I w = ((Ia-It) w1 w2, (It-Ia) w2 w0, 0)
+                w0 += dt_I * (-hl * d1) - dt * (gyro * w1 * w2 + ds * w0)
+                w1 += dt_I * (hl * d0) + dt * (gyro * w2 * w0 - ds * w1)
+                w2 -= dt * ds * w2
+                W[i, 0], W[i, 1], W[i, 2] = w0, w1, w2
+                # q <- q * exp(w dt / 2) by its Taylor series (|w| dt / 2 << 1), renormalised
+                h2 = 0.25 * dt * dt * (w0 * w0 + w1 * w1 + w2 * w2)
+                c = 1.0 - h2 * (0.5 - h2 / 24.0)
+                sn = 0.5 * dt * (1.0 - h2 * (1.0 / 6.0 - h2 / 120.0))
+                ex, ey, ez = w0 * sn, w1 * sn, w2 * sn
+                qw, qx, qy, qz = Q[i, 0], Q[i, 1], Q[i, 2], Q[i, 3]
+                nw = qw * c - qx * ex - qy * ey - qz * ez
+                nx_ = qw * ex + qx * c + qy * ez - qz * ey
+                ny_ = qw * ey - qx * ez + qy * c + qz * ex
+                nz_ = qw * ez + qx * ey - qy * ex + qz * c
+                iq = 1.0 / math.sqrt(nw * nw + nx_ * nx_ + ny_ * ny_ + nz_ * nz_)
+                Q[i, 0] = nw * iq
+                Q[i, 1] = nx_ * iq
+                Q[i, 2] = ny_ * iq
+                Q[i, 3] = nz_ * iq
+                sp = V[i, 0] ** 2 + V[i, 1] ** 2 + V[i, 2] ** 2 + hl * hl * (w0 * w0 + w1 * w1)
                 if sp > fastest or not sp == sp:
                     fastest = sp
+            if code:
+                break
             step += 1
             if not (fastest <= vmax2):
-                status[b] = 1 if not fastest == fastest else 2
-                fail_step[b] = step
-                return
+                code = 1 if not fastest == fastest else 2
+                break
+        if code:
+            break
         for i in range(6):
             for k in range(3):
-                out_x[b, rec, i, k] = x[b, i, k]
+                out_x[b, rec, i, k] = X[i, k]
             for k in range(4):
-                out_q[b, rec, i, k] = q[b, i, k]
-
+                out_q[b, rec, i, k] = Q[i, k]
+    status[b] = code
+    fail_step[b] = step
+    x[b] = X
+    v[b] = V
+    q[b] = Q
+    w[b] = W
+    anchor[b] = AN
+    stuck[b] = ST
 
 
 @nb.njit(cache=True, parallel=True)

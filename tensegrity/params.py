@@ -46,7 +46,8 @@ class Params:
         rest = np.asarray(self.cable_rest_length, dtype=float)
         if np.all(np.isnan(rest)):
             l0 = np.asarray(self.strut_length, dtype=float) * math.sqrt(6) / 4
-            rest = l0 - np.asarray(self.cable_pretension, float) / np.asarray(self.cable_stiffness, float)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                rest = l0 - np.asarray(self.cable_pretension, float) / np.asarray(self.cable_stiffness, float)
             object.__setattr__(self, "cable_rest_length", rest if rest.ndim else float(rest))
         self.validate()
 

@@ -1,0 +1,49 @@
+"""Robot-steps per second of the compiled simulator (issue 2). Prints figures; asserts nothing.
+
+Usage: python benchmarks/bench_step.py [--seconds 0.5]
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+import numpy as np
+
+from tensegrity import dynamics as d
+from tensegrity.actuation import Schedule
+from tensegrity.params import Params
+from tensegrity.terrain import Terrain
+
+
+def run(batch: int, grounded: bool, sim_seconds: float, dt: float = 1e-4) -> float:
+    params = Params() if grounded else Params(gravity=0.0)
+    terrain = Terrain.flat() if grounded else Terrain.none()
+    state = d.stand_on(params, (9, 10, 12), terrain, batch=batch)
+    pressure = np.zeros((batch, 12))
+    pressure[:, 9] = np.linspace(0.4, 2.4, batch)  # pair #10, differing per robot
+    sched = Schedule.constant(pressure, sim_seconds)
+    d.simulate(params, state, Schedule.constant(pressure, 0.001), terrain, dt)  # warm
+    t0 = time.perf_counter()
+    d.simulate(params, state, sched, terrain, dt, record_every=100)
+    wall = time.perf_counter() - t0
+    return batch * round(sim_seconds / dt) / wall
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--seconds", type=float, default=0.5, help="simulated seconds per case")
+    a = ap.parse_args()
+    t0 = time.perf_counter()
+    d.simulate(Params(), d.stand_on(Params(), 8), Schedule.constant(np.zeros(12), 0.001))
+    print(f"first call (compile or load cached code): {time.perf_counter() - t0:.2f} s")
+    print(f"cores: {os.cpu_count()}, numba threads: {__import__('numba').get_num_threads()}, dt = 1e-4 s")
+    print(f"{'batch':>6} {'mode':>9} {'robot-steps/s':>15}")
+    for grounded in (False, True):
+        for batch in (1, 24, 288):
+            secs = a.seconds if batch > 1 else 4 * a.seconds
+            print(f"{batch:>6} {'grounded' if grounded else 'free':>9} {run(batch, grounded, secs):>15,.0f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,353 @@
+"""Configuration: read config/config.yaml, fill defaults, validate, and turn it into `Params`.
+
+The schema is workflow/schemas/config.schema.yaml (JSON Schema 2020-12, in YAML); every key has a
+default, so `validate({})` is the complete default configuration. On top of the schema this module
+converts numeric strings to numbers (Snakemake parses nested `--config` values with YAML's
+BaseLoader, so `sweep='{levels: [0.5, 1.0]}'` arrives as ['0.5', '1.0'], and PyYAML reads `1e-4`
+without a dot as a string), rejects NaN and infinities (JSON Schema bounds let NaN through), and
+checks what the schema cannot say: strictly increasing pressure levels, nominal.discard below
+sweep.hold, and a muscle minimum length below the cable rest length.
+
+Every error is a `ConfigError` naming the offending key, e.g.
+``config key sweep.pairs[0]: 13 is greater than the maximum of 12``.
+"""
+from __future__ import annotations
+
+import copy
+import difflib
+import functools
+import json
+import math
+import os
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import numpy as np
+import yaml
+
+from .params import Params
+
+__all__ = ["ConfigError", "load", "validate", "params_from_config", "to_json", "merge", "schema",
+           "defaults", "SCHEMA_PATH", "DEFAULT_PATH"]
+
+_REPO = Path(__file__).resolve().parents[1]
+_SCHEMA_REL = Path("workflow", "schemas", "config.schema.yaml")
+_CONFIG_REL = Path("config", "config.yaml")
+
+
+class ConfigError(ValueError):
+    """An invalid configuration. `errors` lists one message per problem, each naming its key."""
+
+    def __init__(self, errors: str | list[str]):
+        self.errors = [errors] if isinstance(errors, str) else list(errors)
+        super().__init__("\n".join(self.errors))
+
+
+def _find(rel: Path) -> Path:
+    """`rel` under the repository holding this package, else under the current directory."""
+    for base in (_REPO, Path.cwd()):
+        if (base / rel).is_file():
+            return base / rel
+    raise FileNotFoundError(f"{rel} not found under {_REPO} or {Path.cwd()}")
+
+
+SCHEMA_PATH = _REPO / _SCHEMA_REL
+DEFAULT_PATH = _REPO / _CONFIG_REL
+
+
+# ---------------------------------------------------------------------------------------- YAML
+
+class _StrictLoader(yaml.SafeLoader):
+    """SafeLoader that refuses duplicate keys (PyYAML silently keeps the last one)."""
+
+
+def _construct_mapping(loader: _StrictLoader, node: yaml.MappingNode, deep: bool = False):
+    seen = set()
+    for key_node, _ in node.value:
+        if key_node.tag == "tag:yaml.org,2002:merge":
+            continue
+        key = loader.construct_object(key_node, deep=True)
+        if key in seen:
+            raise ConfigError(f"config file {key_node.start_mark.name} line "
+                              f"{key_node.start_mark.line + 1}: duplicate key {key!r}")
+        seen.add(key)
+    return loader.construct_mapping(node, deep=deep)
+
+
+_StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
+
+
+def _read_yaml(path: str | os.PathLike) -> Any:
+    with open(path, encoding="utf-8") as f:
+        try:
+            return yaml.load(f, Loader=_StrictLoader)
+        except yaml.YAMLError as e:
+            raise ConfigError(f"config file {path}: {e}") from None
+
+
+# -------------------------------------------------------------------------------------- schema
+
+@functools.lru_cache(maxsize=1)
+def _schema() -> dict:
+    return _read_yaml(_find(_SCHEMA_REL))
+
+
+def schema() -> dict:
+    """The configuration schema as a dict (a copy)."""
+    return copy.deepcopy(_schema())
+
+
+def _extend_with_default(cls):
+    """Validator class that fills `default`s while validating (jsonschema FAQ pattern). Defaults
+    are deep-copied so that filling a nested section never alters the schema itself."""
+    validate_properties = cls.VALIDATORS["properties"]
+
+    def set_defaults(validator, properties, instance, schema):
+        if validator.is_type(instance, "object"):
+            for name, sub in properties.items():
+                if "default" in sub:
+                    instance.setdefault(name, copy.deepcopy(sub["default"]))
+        yield from validate_properties(validator, properties, instance, schema)
+
+    return jsonschema.validators.extend(cls, {"properties": set_defaults})
+
+
+@functools.lru_cache(maxsize=1)
+def _validator():
+    s = _schema()
+    cls = jsonschema.validators.validator_for(s)
+    cls.check_schema(s)
+    return _extend_with_default(cls)(s)
+
+
+# ------------------------------------------------------------------------------------- helpers
+
+def _keypath(path: Iterable) -> str:
+    out = ""
+    for p in path:
+        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+    return out
+
+
+def _where(path: Iterable) -> str:
+    kp = _keypath(path)
+    return f"config key {kp}" if kp else "config"
+
+
+def _plain(obj: Any) -> Any:
+    """Deep copy into dict/list/scalars (Snakemake's config may hold other Mapping types)."""
+    if isinstance(obj, Mapping):
+        return {k: _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, np.generic):
+        return obj.item()
+    return obj
+
+
+_YAML_SPECIAL = {".nan": "nan", ".inf": "inf", "+.inf": "inf", "-.inf": "-inf"}
+
+
+def _to_number(s: str) -> float | None:
+    try:
+        return float(_YAML_SPECIAL.get(s.strip().lower(), s))
+    except ValueError:
+        return None
+
+
+def _coerce(sch: dict, value: Any) -> Any:
+    """Numbers given as strings -> numbers, integral floats -> int for integers, ints -> float for
+    numbers, where the schema says so."""
+    if isinstance(value, dict):
+        props = sch.get("properties", {})
+        return {k: _coerce(props[k], v) if k in props else v for k, v in value.items()}
+    if isinstance(value, list):
+        items = sch.get("items")
+        return [_coerce(items, v) for v in value] if isinstance(items, dict) else value
+    t = sch.get("type")
+    if t in ("number", "integer") and isinstance(value, str):
+        x = _to_number(value)
+        value = value if x is None else x
+    if t == "integer" and isinstance(value, float) and value.is_integer():
+        value = int(value)
+    elif t == "number" and isinstance(value, int) and not isinstance(value, bool):
+        value = float(value)  # canonical: `hold: 1` and `hold: 1.0` resolve identically
+    return value
+
+
+def _nonfinite(value: Any, path: tuple = ()) -> list[str]:
+    if isinstance(value, dict):
+        return [m for k, v in value.items() for m in _nonfinite(v, path + (k,))]
+    if isinstance(value, list):
+        return [m for i, v in enumerate(value) for m in _nonfinite(v, path + (i,))]
+    if isinstance(value, float) and not math.isfinite(value):
+        return [f"{_where(path)}: {value} is not a finite number"]
+    return []
+
+
+def _schema_message(err: jsonschema.ValidationError) -> list[str]:
+    path = tuple(err.absolute_path)
+    if err.validator == "additionalProperties" and isinstance(err.instance, dict):
+        known = sorted(err.schema.get("properties", {}))
+        out = []
+        for key in sorted(set(err.instance) - set(known), key=str):
+            close = difflib.get_close_matches(str(key), known, n=1)
+            hint = f"did you mean {close[0]!r}?" if close else f"known keys: {', '.join(known)}"
+            out.append(f"{_where(path + (key,))}: unknown key ({hint})")
+        return out
+    return [f"{_where(path)}: {err.message}"]
+
+
+def _sort_key(err: jsonschema.ValidationError):
+    return [(0, p, "") if isinstance(p, int) else (1, 0, str(p)) for p in err.absolute_path]
+
+
+def _semantic(cfg: dict) -> list[str]:
+    """Checks the schema cannot express; `cfg` has passed the schema."""
+    out = []
+    levels = cfg["sweep"]["levels"]
+    for i in range(1, len(levels)):
+        if levels[i] <= levels[i - 1]:
+            out.append(f"config key sweep.levels[{i}]: {levels[i]} is not greater than the "
+                       f"previous level {levels[i - 1]} (levels must be strictly increasing, MPa)")
+            break
+    discard, hold = cfg["nominal"]["discard"], cfg["sweep"]["hold"]
+    if discard >= hold:
+        out.append(f"config key nominal.discard: {discard} s is not less than sweep.hold = {hold} s")
+    p = cfg["params"]
+    # Rest length of the symmetric state (design.md section 4): L = l0 - T0/K, l0 = S sqrt(6)/4.
+    rest = p["strut_length"] * math.sqrt(6) / 4 - p["cable_pretension"] / p["cable_stiffness"]
+    if rest <= 0:
+        out.append(f"config key params.cable_pretension: {p['cable_pretension']} N gives a cable "
+                   f"rest length L = l0 - T0/K = {rest:.4g} m, which must be positive")
+    elif p["muscle_min_length"] >= rest:
+        out.append(f"config key params.muscle_min_length: {p['muscle_min_length']} m is not below "
+                   f"the cable rest length L = l0 - T0/K = {rest:.4g} m")
+    if not out:
+        try:
+            Params(**p)
+        except ValueError as e:
+            out.append(f"config key params: {e}")
+    return out
+
+
+# ------------------------------------------------------------------------------------- public
+
+def validate(cfg: Mapping | None) -> dict:
+    """Validated copy of `cfg` with every default filled in; the input is not modified.
+
+    `cfg` may be a partial configuration (an empty one gives all defaults) and may hold numbers
+    as strings, as Snakemake's `--config` delivers them. Raises ConfigError listing every problem.
+    """
+    if cfg is None:
+        cfg = {}
+    if not isinstance(cfg, Mapping):
+        raise ConfigError(f"config: expected a mapping of sections, got {type(cfg).__name__}")
+    sch = _schema()
+    inst = _coerce(sch, _plain(cfg))
+    errors = []
+    for err in sorted(_validator().iter_errors(inst), key=_sort_key):
+        errors += _schema_message(err)
+    errors += _nonfinite(inst)
+    if errors:
+        raise ConfigError(errors)
+    errors = _semantic(inst)
+    if errors:
+        raise ConfigError(errors)
+    return inst
+
+
+def defaults() -> dict:
+    """The complete default configuration, from the schema alone."""
+    return validate({})
+
+
+def merge(base: Mapping, overrides: Mapping) -> dict:
+    """Copy of `base` updated recursively with `overrides` (mappings merge, anything else
+    replaces), the same rule as Snakemake's `--config`."""
+    out = _plain(base)
+    for key, val in overrides.items():
+        if isinstance(val, Mapping) and isinstance(out.get(key), dict):
+            out[key] = merge(out[key], val)
+        else:
+            out[key] = _plain(val)
+    return out
+
+
+def _parse_overrides(overrides: Mapping | Iterable[str]) -> dict:
+    """A mapping as is; or strings "dotted.key=<YAML value>", e.g. "sweep.levels=[0.5, 1.0]"."""
+    if isinstance(overrides, Mapping):
+        return dict(overrides)
+    if isinstance(overrides, str):
+        overrides = [overrides]
+    out: dict = {}
+    for item in overrides:
+        key, sep, text = item.partition("=")
+        if not sep or not key.strip():
+            raise ConfigError(f"config override {item!r}: expected key.path=value")
+        try:
+            val = yaml.safe_load(text)
+        except yaml.YAMLError as e:
+            raise ConfigError(f"config key {key.strip()}: cannot parse {text!r}: {e}") from None
+        for part in reversed(key.strip().split(".")):
+            val = {part: val}
+        out = merge(out, val)
+    return out
+
+
+def load(path_or_dict: str | os.PathLike | Mapping | None = None,
+         overrides: Mapping | Iterable[str] | None = None) -> dict:
+    """Read, merge, fill and validate a configuration.
+
+    path_or_dict: a YAML file, an already-read mapping, or None for the repository's
+        config/config.yaml (found next to the package, else under the current directory).
+    overrides: a nested mapping merged over it as Snakemake's `--config` does, or strings
+        "dotted.key=<YAML value>" such as "sweep.mode=grounded".
+    Returns the resolved configuration (plain dicts, lists and scalars). Raises ConfigError.
+    """
+    if path_or_dict is None:
+        path_or_dict = _find(_CONFIG_REL)
+    if isinstance(path_or_dict, Mapping):
+        cfg = _plain(path_or_dict)
+    else:
+        cfg = _read_yaml(path_or_dict)
+        if cfg is None:  # an empty file is an empty configuration
+            cfg = {}
+        if not isinstance(cfg, Mapping):
+            raise ConfigError(f"config file {path_or_dict}: expected a mapping of sections, "
+                              f"got {type(cfg).__name__}")
+    if overrides:
+        cfg = merge(cfg, _parse_overrides(overrides))
+    return validate(cfg)
+
+
+def params_from_config(cfg: Mapping) -> Params:
+    """`Params` from a configuration, or from its `params` section alone.
+
+    Missing keys take their defaults; the cable rest length is derived from the pretension
+    (L = l0 - T0/K) and `max_speed` keeps the `Params` default. Gravity is passed as configured:
+    zeroing it in the free mode is the sweep's business.
+    """
+    if set(cfg) & set(_schema()["properties"]):
+        section = cfg.get("params", {})
+    else:
+        section = cfg
+    return Params(**validate({"params": section})["params"])
+
+
+def _json_default(obj: Any) -> Any:
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"config value of type {type(obj).__name__} is not JSON serialisable")
+
+
+def to_json(cfg: Mapping) -> str:
+    """The configuration as JSON with sorted keys, for provenance attributes; deterministic.
+    Raises ValueError on NaN or infinity (validate first)."""
+    return json.dumps(_plain(cfg), sort_keys=True, allow_nan=False, default=_json_default)

@@ -1,0 +1,228 @@
+"""Curve fits of the nominal CoG against pressure: cog_axis(pressure) per pair and axis.
+
+A curve is chosen by cross-validation among sklearn pipelines (polynomials of degree 1..D and
+cubic splines with uniform knots) and exported as plain numbers: a piecewise polynomial with
+`breaks` (m+1,) in MPa and `coefs` (m, deg+1) in the local variable u = p - breaks[i], **highest
+power first** (the numpy.polyval / scipy PPoly order). Outside [pmin, pmax] the end pieces are
+continued (cubic/polynomial extrapolation, identical to the estimator's); callers should stay
+inside the valid range. Evaluation needs numpy only (no sklearn, no pickle).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+from numpy.polynomial import Polynomial
+from scipy.interpolate import BSpline, PPoly
+from sklearn.linear_model import LinearRegression
+from sklearn.model_selection import PredefinedSplit, cross_val_predict
+from sklearn.pipeline import make_pipeline
+from sklearn.preprocessing import PolynomialFeatures, SplineTransformer
+
+TIE_RTOL = 0.05   # a more complex model must lower the CV RMSE by more than 5 % to win
+TIE_ATOL = 1e-9   # ... and by more than this fraction of max|values| (roundoff on exact data)
+# netCDF dimensions of the arrays made by curves_to_arrays
+ARRAY_DIMS = {"breaks": ("pair", "axis", "break"), "coefs": ("pair", "axis", "piece", "power"),
+              "degree": ("pair", "axis"), "pmin": ("pair", "axis"), "pmax": ("pair", "axis"),
+              "cv_rmse": ("pair", "axis"), "kind": ("pair", "axis"), "model": ("pair", "axis")}
+
+
+@dataclass(frozen=True, eq=False)
+class Curve:
+    """Piecewise polynomial value(p): breaks (m+1,) MPa increasing, coefs (m, deg+1) in units of
+    value/MPa^k, highest power first in u = p - breaks[i]; pmin, pmax (MPa) the data range;
+    cv_rmse the cross-validated RMSE (value units, NaN if too few points to validate)."""
+    kind: str
+    breaks: np.ndarray
+    coefs: np.ndarray
+    pmin: float
+    pmax: float
+    cv_rmse: float
+    model: str
+
+    def __post_init__(self):
+        b = np.asarray(self.breaks, dtype=float).reshape(-1)
+        c = np.atleast_2d(np.asarray(self.coefs, dtype=float))
+        if b.size < 2 or np.any(np.diff(b) <= 0) or not np.all(np.isfinite(b)):
+            raise ValueError(f"curve breaks must be >= 2 finite increasing MPa, got {b.tolist()}")
+        if c.shape[0] != b.size - 1 or not np.all(np.isfinite(c)):
+            raise ValueError(f"curve coefs must be finite with {b.size - 1} rows, got {c.shape}")
+        if self.kind not in ("polynomial", "spline"):
+            raise ValueError(f"curve kind must be 'polynomial' or 'spline', got {self.kind!r}")
+        for name, v in (("breaks", b), ("coefs", c)):
+            object.__setattr__(self, name, v)
+        for name in ("pmin", "pmax", "cv_rmse"):
+            object.__setattr__(self, name, float(getattr(self, name)))
+
+    def __call__(self, pressure) -> np.ndarray:
+        return evaluate(self, pressure)
+
+
+def evaluate(curve: Curve | Mapping, pressure) -> np.ndarray:
+    """Value at `pressure` (any shape, MPa), same shape; `curve` is a Curve or a mapping with
+    `breaks` and `coefs` (e.g. from JSON; trailing NaN padding is ignored)."""
+    b = np.asarray(curve.breaks if isinstance(curve, Curve) else curve["breaks"], float).ravel()
+    c = np.asarray(curve.coefs if isinstance(curve, Curve) else curve["coefs"], float)
+    b = b[np.isfinite(b)]
+    c = np.atleast_2d(c)[: b.size - 1]
+    p = np.asarray(pressure, dtype=float)
+    i = np.clip(np.searchsorted(b, p, side="right") - 1, 0, b.size - 2)
+    u, ci = p - b[i], c[i]
+    y = ci[..., 0]
+    for k in range(1, c.shape[1]):       # Horner, highest power first
+        y = y * u + ci[..., k]
+    return y
+
+
+def _check(pressure, values) -> tuple[np.ndarray, np.ndarray]:
+    p, v = np.asarray(pressure, dtype=float), np.asarray(values, dtype=float)
+    if p.ndim != 1 or v.ndim != 1:
+        raise ValueError(f"pressure and values must be 1-D, got shapes {p.shape} and {v.shape}")
+    if p.size != v.size:
+        raise ValueError(f"pressure and values have different lengths: {p.size} != {v.size}")
+    if p.size < 2:
+        raise ValueError(f"fitting a curve needs at least 2 points, got {p.size}")
+    for name, a in (("pressure", p), ("values", v)):
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{name} contain NaN or inf at index {np.flatnonzero(~np.isfinite(a))}")
+    if np.ptp(p) <= 0:
+        raise ValueError("pressure must contain at least 2 distinct levels")
+    o = np.argsort(p, kind="stable")
+    return p[o], v[o]
+
+
+def _candidates(max_degree: int, spline_knots) -> list[tuple[str, int, object]]:
+    """(name, number of parameters, unfitted pipeline), ordered simplest first."""
+    c = [(f"poly{d}", d + 1, make_pipeline(PolynomialFeatures(d, include_bias=False),
+                                           LinearRegression())) for d in range(1, max_degree + 1)]
+    # k uniform knots give k+2 cubic B-splines summing to 1, so with the intercept: k+2 parameters
+    c += [(f"spline k={k}", k + 2, make_pipeline(
+        SplineTransformer(n_knots=k, degree=3, knots="uniform", extrapolation="continue"),
+        LinearRegression())) for k in spline_knots]
+    return sorted(c, key=lambda t: t[1])  # stable: polynomials before splines of equal size
+
+
+def _export(name: str, est, p: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
+    """The fitted pipeline as (kind, breaks, coefs highest power first)."""
+    lr = est[-1]
+    if name.startswith("poly"):
+        low = Polynomial(np.r_[lr.intercept_, lr.coef_])(Polynomial([p[0], 1.0])).coef
+        low = np.pad(low, (0, lr.coef_.size + 1 - low.size))   # in u = p - pmin
+        return "polynomial", np.array([p[0], p[-1]]), low[::-1][None, :]
+    spl = est[0].bsplines_[0]
+    k, m = spl.k, est[0].n_knots - 1           # base interval is t[k] .. t[k + m] = pmin .. pmax
+    pp = PPoly.from_spline(BSpline(spl.t, lr.coef_, k))
+    coefs = pp.c[:, k:k + m].T.copy()
+    coefs[:, -1] += lr.intercept_
+    return "spline", spl.t[k:k + m + 1].copy(), coefs
+
+
+def fit_curve(pressure, values, max_degree: int = 3, spline_knots=(3, 4), folds: int = 5,
+              tie_rtol: float = TIE_RTOL, return_model: bool = False):
+    """Fit value(pressure): pressure (n,) MPa, values (n,) (e.g. CoG in m) -> Curve.
+
+    CV: points sorted by pressure go to fold (rank mod folds) (interleaved, deterministic; leave-
+    one-out when n < folds), pooled RMSE of held-out predictions. Candidates with more parameters
+    than the smallest training fold are skipped. Ties: the simplest candidate whose CV RMSE is
+    within tie_rtol*best + TIE_ATOL*max|values| of the best wins. The winner is refit on all points;
+    if no candidate can be validated (n = 2) a line is fitted with cv_rmse = NaN.
+    With return_model=True returns (Curve, fitted sklearn pipeline)."""
+    p, v = _check(pressure, values)
+    nf = min(int(folds), p.size)
+    if nf < 2:
+        raise ValueError(f"folds must be >= 2, got {folds}")
+    cands = _candidates(int(max_degree), tuple(int(k) for k in spline_knots))
+    if not cands:
+        raise ValueError("no candidate models: max_degree < 1 and spline_knots empty")
+    cv = PredefinedSplit(np.arange(p.size) % nf)
+    n_train = p.size - int(np.ceil(p.size / nf))
+    scores = []
+    for name, npar, est in cands:
+        if npar <= n_train:
+            pred = cross_val_predict(est, p[:, None], v, cv=cv)
+            scores.append((name, est, float(np.sqrt(np.mean((pred - v) ** 2)))))
+    if scores:
+        best = min(s[2] for s in scores)
+        tol = tie_rtol * best + TIE_ATOL * float(np.max(np.abs(v)))
+        name, est, rmse = next(s for s in scores if s[2] <= best + tol)
+    else:
+        name, est, rmse = cands[0][0], cands[0][2], np.nan
+        if not name.startswith("poly"):
+            raise ValueError(f"{p.size} points are too few for any candidate model")
+    est.fit(p[:, None], v)
+    kind, breaks, coefs = _export(name, est, p)
+    curve = Curve(kind, breaks, coefs, p[0], p[-1], rmse, name)
+    return (curve, est) if return_model else curve
+
+
+def fit_pairs(pressure, cog, **opts) -> list[list[Curve]]:
+    """Curves for cog (npair, n, 3) m against pressure (n,) MPa -> curves[pair-1][axis]."""
+    cog = np.asarray(cog, dtype=float)
+    if cog.ndim != 3 or cog.shape[2] != 3:
+        raise ValueError(f"cog must have shape (npair, n, 3), got {cog.shape}")
+    out = []
+    for i, pair in enumerate(cog):
+        row = []
+        for a, axis in enumerate("xyz"):
+            try:
+                row.append(fit_curve(pressure, pair[:, a], **opts))
+            except ValueError as e:
+                raise ValueError(f"pair {i + 1} axis {axis}: {e}") from e
+        out.append(row)
+    return out
+
+
+def to_dict(curve: Curve) -> dict:
+    """JSON-ready plain numbers (cv_rmse NaN -> None)."""
+    return {"kind": curve.kind, "model": curve.model, "breaks": curve.breaks.tolist(),
+            "coefs": curve.coefs.tolist(), "pmin": curve.pmin, "pmax": curve.pmax,
+            "cv_rmse": None if np.isnan(curve.cv_rmse) else curve.cv_rmse,
+            "coef_order": "highest power first in p - breaks[i]", "pressure_units": "MPa"}
+
+
+def from_dict(d: Mapping) -> Curve:
+    """Inverse of to_dict."""
+    cv = d.get("cv_rmse")
+    return Curve(d["kind"], d["breaks"], d["coefs"], d["pmin"], d["pmax"],
+                 np.nan if cv is None else cv, d["model"])
+
+
+def curves_to_arrays(curves) -> dict[str, np.ndarray]:
+    """curves[pair][axis] -> arrays with dims ARRAY_DIMS; breaks/coefs padded with NaN to the
+    most pieces, coefs left-padded with zeros (highest powers) to the highest degree."""
+    flat = [c for row in curves for c in row]
+    shape = (len(curves), len(curves[0]))
+    if any(len(row) != shape[1] for row in curves):
+        raise ValueError("curves must be a rectangular list of lists [pair][axis]")
+    m = max(c.coefs.shape[0] for c in flat)
+    nc = max(c.coefs.shape[1] for c in flat)
+    breaks = np.full((len(flat), m + 1), np.nan)
+    coefs = np.full((len(flat), m, nc), np.nan)
+    for j, c in enumerate(flat):
+        breaks[j, : c.breaks.size] = c.breaks
+        coefs[j, : c.coefs.shape[0]] = 0.0
+        coefs[j, : c.coefs.shape[0], nc - c.coefs.shape[1]:] = c.coefs
+    out = {"breaks": breaks, "coefs": coefs}
+    out |= {k: np.array([getattr(c, k) for c in flat]) for k in ("pmin", "pmax", "cv_rmse")}
+    out |= {k: np.array([getattr(c, k) for c in flat], dtype=str) for k in ("kind", "model")}
+    out["degree"] = np.array([c.coefs.shape[1] - 1 for c in flat])
+    return {k: a.reshape(shape + a.shape[1:]) for k, a in out.items()}
+
+
+def arrays_to_curves(arrays: Mapping) -> list[list[Curve]]:
+    """Inverse of curves_to_arrays (exact)."""
+    npair, naxis = np.shape(arrays["pmin"])
+    out = []
+    for i in range(npair):
+        row = []
+        for a in range(naxis):
+            b = np.asarray(arrays["breaks"][i, a], float)
+            b = b[np.isfinite(b)]
+            deg = int(arrays["degree"][i, a])
+            c = np.asarray(arrays["coefs"][i, a], float)[: b.size - 1, -(deg + 1):]
+            row.append(Curve(str(arrays["kind"][i, a]), b, c, arrays["pmin"][i, a],
+                             arrays["pmax"][i, a], arrays["cv_rmse"][i, a],
+                             str(arrays["model"][i, a])))
+        out.append(row)
+    return out

@@ -1,0 +1,34 @@
+import numpy as np
+import pytest
+
+from tensegrity import dynamics as d
+from tensegrity import geometry as g
+from tensegrity.actuation import Schedule
+from tensegrity.params import Params
+from tensegrity.terrain import Terrain
+
+EQUI = g.face_number((9, 10, 12))
+ISO = g.face_number((10, 11, 12))
+
+
+@pytest.fixture(scope="session")
+def free():
+    """Default parameters in the free mode (no gravity; used with Terrain.none())."""
+    return Params(gravity=0.0)
+
+
+def support_cog(traj, params, face):
+    """CoG (B, T, 3) and face corners (B, T, 3, 3) in the face's support frame."""
+    P = traj.nodes(params.strut_length)
+    tri = P[:, :, g.FACES[face - 1]]
+    c = traj.cog()
+    o, R = g.support_frame(tri, g.FACE_REFERENCE[face - 1], c)
+    return g.to_frame(c, o, R), np.einsum("btij,btkj->btki", R, tri - o[:, :, None])
+
+
+def free_sweep(params, face, pairs, levels, hold=1.0, dt=1e-4):
+    """Run the staircase in the free mode; return (t, cog_local, tri_local)."""
+    s = d.stand_on(params, face, Terrain.none(), batch=len(pairs))
+    _, tr = d.simulate(params, s, Schedule.staircase(pairs, levels, hold), Terrain.none(), dt)
+    c, tri = support_cog(tr, params, face)
+    return tr.t, c, tri
