@@ -107,6 +107,17 @@ def to_frame(p: np.ndarray, origin: np.ndarray, rot: np.ndarray) -> np.ndarray:
     return np.einsum("...ij,...j->...i", rot, p - origin)
 
 
+def in_support_frame(nodes: np.ndarray, face) -> tuple[np.ndarray, np.ndarray]:
+    """CoG (..., 3) m (mean of the nodes = mean of the strut centres, equal masses) and the
+    face's corners (..., 3, 3) m, both in the supporting-triangle frame of the current, deformed
+    `face` (1..20 or three node numbers); corners in the order of FACES."""
+    f = face_number(face) - 1
+    cog = nodes.mean(axis=-2)
+    tri = nodes[..., FACES[f], :]
+    origin, rot = support_frame(tri, int(FACE_REFERENCE[f]), cog)
+    return to_frame(cog, origin, rot), to_frame(tri, origin[..., None, :], rot[..., None, :, :])
+
+
 def edge_distances(point: np.ndarray, tri: np.ndarray) -> np.ndarray:
     """Signed distances (m) of 2-D point(s) (..., 2) to the three edge lines of triangle(s)
     (..., 3, 2), positive on the inner side; edge k joins corners k and k+1 (mod 3)."""

@@ -141,11 +141,7 @@ def support_cog(nodes: np.ndarray, face) -> tuple[np.ndarray, np.ndarray]:
     """CoG (mean of the 12 nodes = mean of the strut centres) (3,) m and the face's corners
     (3, 3) m, both in the supporting-triangle frame of `face` (1..20 or three node numbers),
     design.md section 2. Corners are in the order of geometry.FACES."""
-    f = g.face_number(face) - 1
-    cog = nodes.mean(axis=0)
-    tri = nodes[g.FACES[f]]
-    origin, rot = g.support_frame(tri, int(g.FACE_REFERENCE[f]), cog)
-    return g.to_frame(cog, origin, rot), g.to_frame(tri, origin, rot)
+    return g.in_support_frame(nodes, face)
 
 
 def static_workspace(params: Params, face, pair: int, pressures) -> tuple[np.ndarray, np.ndarray]:

@@ -19,11 +19,7 @@ def free():
 
 def support_cog(traj, params, face):
     """CoG (B, T, 3) and face corners (B, T, 3, 3) in the face's support frame."""
-    P = traj.nodes(params.strut_length)
-    tri = P[:, :, g.FACES[face - 1]]
-    c = traj.cog()
-    o, R = g.support_frame(tri, g.FACE_REFERENCE[face - 1], c)
-    return g.to_frame(c, o, R), np.einsum("btij,btkj->btki", R, tri - o[:, :, None])
+    return g.in_support_frame(traj.nodes(params.strut_length), face)
 
 
 def free_sweep(params, face, pairs, levels, hold=1.0, dt=1e-4):

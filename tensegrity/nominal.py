@@ -1,0 +1,52 @@
+"""Nominal CoG: the average of the CoG over the samples of each pressure level (paper III.A)."""
+from __future__ import annotations
+
+import numpy as np
+
+from . import geometry as g
+
+
+def nominal(t, level, cog, support, n_levels: int, hold: float, discard: float = 0.0):
+    """Average one sweep per level.
+
+    t (T,) s; level (T,) index of the level held at each sample (-1 while settling);
+    cog (T, 3) m and support (T, 3, 3) m in the support frame; the first `discard` s of
+    each level (the rise after the pressure step) are left out.
+    Returns cog (n, 3) m, cog_std (n, 3) m (the oscillation spread), support (n, 3, 3) m
+    (the mean deformed triangle) and margin (n,) m (signed distance of the CoG projection to
+    that triangle's boundary, positive inside)."""
+    t, level = np.asarray(t), np.asarray(level)
+    out_c, out_s, out_t = (np.empty((n_levels, 3)), np.empty((n_levels, 3)), np.empty((n_levels, 3, 3)))
+    for k in range(n_levels):
+        sel = level == k
+        if not sel.any():
+            raise ValueError(f"no samples for pressure level {k}")
+        start = t[sel].min() - (t[1] - t[0] if t.size > 1 else 0.0)
+        sel &= t > start + discard
+        if not sel.any():
+            raise ValueError(f"discard = {discard} s leaves no samples of level {k} (hold {hold} s)")
+        out_c[k], out_s[k], out_t[k] = cog[sel].mean(0), cog[sel].std(0), support[sel].mean(0)
+    margin = g.margin_2d(out_c[:, :2], out_t[:, :, :2])
+    return out_c, out_s, out_t, margin
+
+
+def tip_pressure(levels, margin) -> float:
+    """Least pressure (MPa) at which the margin turns negative, linearly interpolated between
+    levels; NaN if it never does (0 is taken as the unactuated, positive start)."""
+    levels, margin = np.asarray(levels, float), np.asarray(margin, float)
+    out = np.flatnonzero(margin < 0)
+    if out.size == 0:
+        return float("nan")
+    k = out[0]
+    if k == 0:
+        return float(levels[0])
+    p0, p1, m0, m1 = levels[k - 1], levels[k], margin[k - 1], margin[k]
+    return float(p0 + (p1 - p0) * m0 / (m0 - m1))
+
+
+def tip_edge(cog_xy, tri_xy) -> tuple[int, int] | None:
+    """Corner indices (i, j) of the edge the CoG projection has crossed (the most violated
+    edge line), or None if it is inside."""
+    dist = g.edge_distances(np.asarray(cog_xy), np.asarray(tri_xy))
+    k = int(np.argmin(dist))
+    return None if dist[k] >= 0 else (k, (k + 1) % 3)

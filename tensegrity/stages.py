@@ -1,0 +1,205 @@
+"""The workflow's stages as functions from files to files (design.md section 5).
+
+Each reads its inputs, calls the pure modules (sweep, nominal, fit, mapping, render) and writes
+its outputs with `datasets.write`. The Snakemake scripts and the command line call these.
+`cfg` holds the configuration sections a stage depends on; it is stored, merged with the
+inputs' own, as each output's provenance.
+"""
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from . import datasets, fit, geometry as g, mapping, nominal as nom, sweep as sw
+from .config import params_from_config
+
+AXES = ["x", "y", "z"]
+CONTACTS = list(g.CONTACT_FACES)
+
+
+@contextlib.contextmanager
+def logging_to(path, threads: int | None = None):
+    """Send stdout and stderr (and a traceback on failure) to the log file `path`; use
+    `threads` compute threads."""
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    if threads:
+        import numba
+        numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
+    with open(path, "w") as log, contextlib.redirect_stdout(log), contextlib.redirect_stderr(log):
+        try:
+            yield
+        except BaseException:
+            import traceback
+            traceback.print_exc(file=log)
+            raise
+
+
+def _var(dims, data, units, long_name, **attrs):
+    return (dims, data, {"units": units, "long_name": long_name, **attrs})
+
+
+def _coords(pairs=None, levels=None):
+    c = {"axis": ("axis", AXES, {"long_name": "support-frame axis"}),
+         "corner": ("corner", [1, 2, 3], {"units": "1", "long_name": "support triangle corner"}),
+         "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"})}
+    if pairs is not None:
+        c["pair"] = ("pair", np.asarray(pairs), {"units": "1", "long_name": "actuator pair number"})
+    if levels is not None:
+        c["pressure"] = ("pressure", np.asarray(levels, float), {"units": "MPa", "long_name": "muscle pressure"})
+    return c
+
+
+def _provenance(cfg: dict, *inputs) -> dict:
+    """cfg merged over the provenance of the input files (inputs win nothing: cfg is newer)."""
+    out = {}
+    for path in inputs:
+        out.update(datasets.provenance_config(path))
+    out.update(cfg)
+    return out
+
+
+def run_sweep(cfg: dict, contact: str, out_dir) -> list[Path]:
+    """Sweep every configured pair on the contact face; write `out_dir`/pairNN.nc."""
+    if contact not in g.CONTACT_FACES:
+        raise ValueError(f"unknown contact {contact!r}: use one of {CONTACTS}")
+    s, sim = cfg["sweep"], cfg["sim"]
+    res = sw.run(params_from_config(cfg), g.CONTACT_FACES[contact], s["pairs"], s["levels"],
+                 s["hold"], s["settle"], s["mode"], sim["dt"], sim["record_every"])
+    stride = int(s["node_stride"])
+    paths = []
+    for b, pair in enumerate(res.pairs):
+        ds = xr.Dataset(
+            {"cog": _var(("time", "axis"), res.cog[b], "m", "centre of gravity in the support frame"),
+             "support": _var(("time", "corner", "axis"), res.support[b], "m",
+                             "deformed support triangle in the support frame"),
+             "pressure_cmd": _var(("time",), res.pressure_cmd[b], "MPa", f"pressure commanded to pair #{pair}"),
+             "level": _var(("time",), res.level, "1", "index of the pressure level held (-1: settling)"),
+             "nodes": _var(("time_nodes", "node", "axis"), res.nodes[b, ::stride], "m",
+                           "node positions, world frame (every node_stride-th sample)")},
+            coords={**_coords(), "time": ("time", res.t, {"units": "s", "long_name": "time"}),
+                    "time_nodes": ("time_nodes", res.t[::stride], {"units": "s", "long_name": "time of node samples"}),
+                    "levels": ("levels", res.levels, {"units": "MPa", "long_name": "pressure levels of the staircase"})},
+            attrs={"contact": contact, "face": res.face, "face_nodes": g.FACES[res.face - 1] + 1,
+                   "pair": int(pair), "mode": s["mode"], "hold_s": float(s["hold"]), "settle_s": float(s["settle"])})
+        ds["axis"].attrs["units"] = "1"
+        paths.append(datasets.write(ds, Path(out_dir) / f"pair{pair:02d}.nc", cfg,
+                                    f"Pressure sweep of pair #{pair} standing on {g.face_label(res.face)}",
+                                    stage="sweep"))
+    return paths
+
+
+def run_nominal(cfg: dict, sweep_paths, out_path) -> Path:
+    """Average every sweep file's levels into the nominal CoG dataset of one contact case."""
+    sweeps = [datasets.read(p) for p in sweep_paths]
+    sweeps.sort(key=lambda ds: ds.attrs["pair"])
+    first = sweeps[0]
+    levels = first["levels"].values
+    hold, discard = first.attrs["hold_s"], float(cfg["nominal"]["discard"])
+    res = [nom.nominal(ds["time"].values, ds["level"].values, ds["cog"].values,
+                       ds["support"].values, len(levels), hold, discard) for ds in sweeps]
+    cog, std, sup, margin = (np.stack([r[k] for r in res]) for k in range(4))
+    pairs = [int(ds.attrs["pair"]) for ds in sweeps]
+    tip = np.array([nom.tip_pressure(levels, m) for m in margin])
+    ds = xr.Dataset(
+        {"cog": _var(("pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the support frame"),
+         "cog_std": _var(("pair", "pressure", "axis"), std, "m", "standard deviation of the CoG over the level (oscillation)"),
+         "support": _var(("pair", "pressure", "corner", "axis"), sup, "m", "mean deformed support triangle in the support frame"),
+         "margin": _var(("pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
+         "tip_pressure": _var(("pair",), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never)")},
+        coords=_coords(pairs, levels),
+        attrs={k: first.attrs[k] for k in ("contact", "face", "face_nodes", "mode")} | {"discard_s": discard})
+    ds["axis"].attrs["units"] = "1"
+    return datasets.write(ds, out_path, _provenance(cfg, *sweep_paths),
+                          f"Nominal CoG of the {first.attrs['contact']} contact case {g.face_label(int(first.attrs['face']))}",
+                          stage="nominal", allow_nan=["tip_pressure"])
+
+
+def run_fit(cfg: dict, nominal_path, out_path) -> Path:
+    """Fit a curve per pair and axis to the nominal CoG; write the plain-number curves."""
+    src = datasets.read(nominal_path)
+    f = cfg["fit"]
+    curves = fit.fit_pairs(src["pressure"].values, src["cog"].values, max_degree=f["max_degree"],
+                           spline_knots=tuple(f["spline_knots"]), folds=f["folds"])
+    arr = fit.curves_to_arrays(curves)
+    units = {"breaks": "MPa", "coefs": "m MPa-power", "degree": "1", "pmin": "MPa", "pmax": "MPa",
+             "cv_rmse": "m", "kind": "", "model": ""}
+    names = {"breaks": "piece boundaries of the piecewise polynomial (NaN padded)",
+             "coefs": "coefficients in u = p - breaks[piece], highest power first (NaN padded)",
+             "degree": "polynomial degree", "pmin": "lowest pressure of the valid range",
+             "pmax": "highest pressure of the valid range", "cv_rmse": "cross-validated RMSE of the fit",
+             "kind": "polynomial or spline", "model": "chosen model"}
+    data = {}
+    for k, a in arr.items():
+        attrs = {"long_name": names[k]}
+        if units[k]:
+            attrs["units"] = units[k]
+        data[k] = (fit.ARRAY_DIMS[k], a, attrs)
+    ds = xr.Dataset(data, coords={"pair": src["pair"], "axis": src["axis"]},
+                    attrs={k: src.attrs[k] for k in ("contact", "face", "face_nodes", "mode")})
+    return datasets.write(ds, out_path, _provenance(cfg, nominal_path),
+                          f"Fitted CoG curves of the {src.attrs['contact']} contact case",
+                          stage="fit", allow_nan=["breaks", "coefs", "cv_rmse"])
+
+
+def curves_json(curve_paths, out_path) -> Path:
+    """All contact cases' curves as one JSON file (plain numbers, evaluable in any language)."""
+    doc = {"units": {"pressure": "MPa", "cog": "m"},
+           "evaluate": "find piece i with breaks[i] <= p < breaks[i+1] (clamp to the end pieces); "
+                       "value = sum(coefs[i][k] * (p - breaks[i])**(deg - k))",
+           "contacts": {}}
+    for path in curve_paths:
+        ds = datasets.read(path)
+        curves = fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS})
+        doc["contacts"][ds.attrs["contact"]] = {
+            "face_nodes": [int(n) for n in ds.attrs["face_nodes"]],
+            "pairs": {str(int(p)): {ax: fit.to_dict(curves[i][j]) for j, ax in enumerate(AXES)}
+                      for i, p in enumerate(ds["pair"].values)}}
+    out_path = Path(out_path)
+    out_path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out_path.with_name(f".{out_path.name}.{os.getpid()}.tmp")
+    tmp.write_text(json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))
+    os.replace(tmp, out_path)
+    return out_path
+
+
+def run_map(cfg: dict, nominal_paths, out_path) -> Path:
+    """Map the canonical nominal workspaces to all 20 faces."""
+    src = {ds.attrs["contact"]: ds for ds in (datasets.read(p) for p in nominal_paths)}
+    levels = next(iter(src.values()))["pressure"].values
+    P = len(levels)
+    cog = np.full((20, 12, P, 3), np.nan)
+    sup = np.full((20, 12, P, 3, 3), np.nan)
+    for face in range(1, 21):
+        ds = src.get(str(g.FACE_TYPES[face - 1]))
+        if ds is None:
+            continue
+        if not np.array_equal(ds["pressure"].values, levels):
+            raise ValueError("the contact cases were swept at different pressure levels")
+        full_c, full_s = np.full((12, P, 3), np.nan), np.full((12, P, 3, 3), np.nan)
+        idx = ds["pair"].values - 1
+        full_c[idx], full_s[idx] = ds["cog"].values, ds["support"].values
+        cog[face - 1], sup[face - 1] = mapping.map_face(face, full_c, full_s)
+    margin = np.full((20, 12, P), np.nan)
+    ok = np.isfinite(cog[..., 0])
+    margin[ok] = g.margin_2d(cog[ok][:, :2], sup[ok][:, :, :2])
+    tip = np.array([[nom.tip_pressure(levels, m) if np.isfinite(m).all() else np.nan for m in mf] for mf in margin])
+    ds = xr.Dataset(
+        {"cog": _var(("face", "pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the face's support frame"),
+         "support": _var(("face", "pair", "pressure", "corner", "axis"), sup, "m", "deformed support triangle in the face's support frame"),
+         "margin": _var(("face", "pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
+         "tip_pressure": _var(("face", "pair"), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never or not computed)"),
+         "face_nodes": _var(("face", "corner"), g.FACES + 1, "1", "node numbers of the face's corners (support-frame corner order)"),
+         "face_type": (("face",), g.FACE_TYPES.astype(str), {"long_name": "equilateral (3 cables) or isosceles (2 cables and a gap)"}),
+         "reference_corner": _var(("face",), g.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)")},
+        coords={**_coords(np.arange(1, 13), levels),
+                "face": ("face", np.arange(1, 21), {"units": "1", "long_name": "face number"})})
+    ds["axis"].attrs["units"] = "1"
+    return datasets.write(ds, out_path, _provenance(cfg, *nominal_paths),
+                          "Kinematic workspace of all 20 contact faces, mapped by symmetry",
+                          stage="map", allow_nan=["cog", "support", "margin", "tip_pressure"])

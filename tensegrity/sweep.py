@@ -1,0 +1,57 @@
+"""Pressure sweeps of the actuator pairs on a contact face (paper III.A)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import dynamics as d
+from . import geometry as g
+from .actuation import Schedule
+from .params import Params
+from .terrain import Terrain
+
+MODES = ("free", "grounded")
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """One staircase per pair. t (T,) s; pressure_cmd (B, T) MPa; cog (B, T, 3) m and
+    support (B, T, 3, 3) m in the support frame of the deformed contact face; nodes (B, T, 12, 3)
+    m world positions; level (T,) index of the level held (-1 while settling)."""
+    pairs: np.ndarray
+    levels: np.ndarray
+    face: int
+    t: np.ndarray
+    pressure_cmd: np.ndarray
+    cog: np.ndarray
+    support: np.ndarray
+    nodes: np.ndarray
+    level: np.ndarray
+
+
+def setup(params: Params, mode: str) -> tuple[Params, Terrain]:
+    """Parameters and terrain of a sweep mode: 'free' (no gravity, no ground: the paper's
+    assumption, design.md section 3) or 'grounded' (gravity, flat ground, friction)."""
+    if mode not in MODES:
+        raise ValueError(f"unknown sweep mode {mode!r}: use one of {MODES}")
+    return (params.replace(gravity=0.0), Terrain.none()) if mode == "free" else (params, Terrain.flat())
+
+
+def run(params: Params, face, pairs, levels, hold: float, settle: float = 0.0, mode: str = "free",
+        dt: float = 1e-4, record_every: int = 10) -> Sweep:
+    """Stand the robot on `face`, apply the staircase `levels` (MPa, each held `hold` s after
+    `settle` s at zero) to each pair in `pairs` (one robot each, batched)."""
+    face = g.face_number(face)
+    pairs = np.array([g.check_pair(p) for p in np.atleast_1d(pairs)])
+    levels = np.asarray(levels, dtype=float)
+    prm, terrain = setup(params, mode)
+    state = d.stand_on(prm, face, terrain, batch=len(pairs))
+    sched = Schedule.staircase(pairs, levels, hold, settle)
+    _, tr = d.simulate(prm, state, sched, terrain, dt, record_every)
+    nodes = tr.nodes(prm.strut_length)
+    cog, support = g.in_support_frame(nodes, face)
+    seg = np.searchsorted(np.cumsum(sched.durations), tr.t - 0.5 * dt * record_every)
+    level = seg - (1 if settle > 0 else 0)
+    return Sweep(pairs, levels, face, tr.t, tr.pressure[np.arange(len(pairs)), :, pairs - 1],
+                 cog, support, nodes, level)

@@ -1,0 +1,16 @@
+rule nominal:
+    """Average each level's CoG samples into the nominal CoG, with spread, triangle and margin."""
+    input:
+        expand("results/sweeps/{{contact}}/pair{pair:02d}.nc", pair=PAIRS),
+    output:
+        "results/nominal/{contact}.nc",
+    params:
+        cfg={"nominal": config["nominal"]},
+    log:
+        "results/logs/nominal/{contact}.log",
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    localrule: True
+    script:
+        "../scripts/nominal.py"

@@ -1,0 +1,55 @@
+FIG6_PAIR = 10 if 10 in PAIRS else PAIRS[0]
+FIG6_CONTACT = "equilateral" if "equilateral" in CONTACTS else CONTACTS[0]
+
+
+rule render_robot:
+    """Fig. 1 (the robot, numbered), Fig. 4 (actuator pairs), Fig. 5 (support frame)."""
+    output:
+        fig1=report("results/figures/fig1_robot.png", caption="../report/fig1.rst", category="Figures"),
+        fig4=report("results/figures/fig4_pairs.png", caption="../report/fig4.rst", category="Figures"),
+        fig5=report("results/figures/fig5_support_frame.png", caption="../report/fig5.rst", category="Figures"),
+    params:
+        cfg={"params": config["params"]},
+    log:
+        "results/logs/render/robot.log",
+    localrule: True
+    script:
+        "../scripts/render_robot.py"
+
+
+rule render_cloud:
+    """Fig. 6: CoG point cloud and nominal CoGs of one pair on the equilateral face."""
+    input:
+        sweep=f"results/sweeps/{FIG6_CONTACT}/pair{FIG6_PAIR:02d}.nc",
+        nominal=f"results/nominal/{FIG6_CONTACT}.nc",
+    output:
+        report("results/figures/fig6_cog_cloud.png", caption="../report/fig6.rst", category="Figures"),
+    params:
+        max_pressure=2.4,
+    log:
+        "results/logs/render/cloud.log",
+    localrule: True
+    script:
+        "../scripts/render_cloud.py"
+
+
+rule render_workspace:
+    """Fig. 7: the kinematic workspace of one contact case."""
+    input:
+        curves="results/curves/{contact}.nc",
+        nominal="results/nominal/{contact}.nc",
+    output:
+        report("results/figures/fig7_workspace_{contact}.png", caption="../report/fig7.rst",
+               category="Figures", subcategory="{contact}"),
+    log:
+        "results/logs/render/workspace_{contact}.log",
+    localrule: True
+    script:
+        "../scripts/render_workspace.py"
+
+
+rule render_all:
+    input:
+        rules.render_robot.output,
+        rules.render_cloud.output,
+        expand("results/figures/fig7_workspace_{contact}.png", contact=CONTACTS),

@@ -1,0 +1,16 @@
+rule sweep:
+    """Pressure staircase on every configured pair, standing on one contact face."""
+    output:
+        expand("results/sweeps/{{contact}}/pair{pair:02d}.nc", pair=PAIRS),
+    params:
+        cfg={k: config[k] for k in ("params", "sim", "sweep")},
+    log:
+        "results/logs/sweep/{contact}.log",
+    benchmark:
+        "results/benchmarks/sweep/{contact}.tsv"
+    threads: 2
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    script:
+        "../scripts/sweep.py"
