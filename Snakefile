@@ -22,6 +22,7 @@ include: "workflow/rules/nominal.smk"
 include: "workflow/rules/fit.smk"
 include: "workflow/rules/map.smk"
 include: "workflow/rules/render.smk"
+include: "workflow/rules/validate.smk"
 
 
 rule all:
@@ -31,4 +32,5 @@ rule all:
         "results/curves/curves.json",
         "results/workspace.nc",
         rules.render_all.input,
+        rules.validate.output,
     default_target: True

@@ -1,0 +1,328 @@
+"""The validate stage (tensegrity.validation): every check passes on a case where the claim holds
+and fails on one where it does not (a check that cannot fail is a defect)."""
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tensegrity import config, datasets, geometry as g, mapping, stages, statics
+from tensegrity import validation as v
+from tensegrity.params import Params
+
+from conftest import EQUI, ISO
+
+P = Params()
+FREE = Params(gravity=0.0)
+REPO = Path(__file__).resolve().parents[1]
+
+
+def nominal_dataset(contact, face, pairs, levels, cog, support, mode="free"):
+    """A dataset shaped like results/nominal/{contact}.nc from arrays (n, P, 3), (n, P, 3, 3)."""
+    cog, support = np.asarray(cog, float), np.asarray(support, float)
+    margin = g.margin_2d(cog[..., :2], support[..., :2])
+    return xr.Dataset(
+        {"cog": (("pair", "pressure", "axis"), cog), "support": (("pair", "pressure", "corner", "axis"), support),
+         "margin": (("pair", "pressure"), margin)},
+        coords={"pair": np.asarray(pairs), "pressure": np.asarray(levels, float), "axis": list("xyz"),
+                "corner": [1, 2, 3]},
+        attrs={"contact": contact, "face": int(face), "mode": mode})
+
+
+def from_run(contact, face, run, levels, mode="free"):
+    return nominal_dataset(contact, face, run.pairs, levels, run.cog, run.support, mode)
+
+
+def status(check, vid):
+    return next(r.status for r in check.verdicts if r.id == vid)
+
+
+# ------------------------------------------------------------------ 1. paper statements
+
+LEVELS = [2.0, 2.4, 4.0, 4.4]  # brackets #11's tip (2.2 MPa) and #10's (4.2 MPa)
+
+
+@pytest.fixture(scope="module")
+def static_nominals():
+    """Both contact cases' nominal CoG from the static equilibrium (fast and exact), all pairs."""
+    out = {}
+    nodes = {}
+    for p in range(1, 13):
+        start = None
+        for k, lev in enumerate(LEVELS):
+            prs = np.zeros(12)
+            prs[p - 1] = lev
+            nodes[p, k] = start = statics.equilibrium(P, prs, start=start)
+    for contact, face in (("equilateral", EQUI), ("isosceles", ISO)):
+        cs = [[g.in_support_frame(nodes[p, k], face) for k in range(len(LEVELS))] for p in range(1, 13)]
+        out[contact] = nominal_dataset(contact, face, np.arange(1, 13), LEVELS,
+                                       [[c[0] for c in row] for row in cs], [[c[1] for c in row] for row in cs])
+    return out
+
+
+def with_pair_data(ds, pair, from_pair):
+    """A copy of ds in which `pair` holds the data of `from_pair`."""
+    out = ds.copy(deep=True)
+    for name in ("cog", "support", "margin"):
+        out[name].loc[{"pair": pair}] = ds[name].sel(pair=from_pair).values
+    return out
+
+
+def test_paper_statements_hold_on_the_static_workspace(static_nominals):
+    chk = v.check_paper(static_nominals)
+    assert [r.status for r in chk.verdicts] == [v.PASS] * 5, chk.verdicts
+    tipp = chk.data["tip_pressure"][1]
+    assert abs(tipp[0, 9] - 4.2) < 0.1 and 2.0 < tipp[1, 10] < 2.4
+    assert set(chk.data["tip_edge"][1][0, 9]) == {10, 12} and set(chk.data["tip_edge"][1][1, 10]) == {10, 11}
+    mig = chk.data["migration"][1][0]
+    assert set(np.argsort(-mig)[:3] + 1) == {9, 10, 12}
+    assert np.nanmax(chk.data["orbit_difference"][1]) < 1e-6  # statics is exactly symmetric
+    assert sorted(map(tuple, chk.data["orbit_pairs"][1])) == [(1, 8, 11), (2, 3, 5), (4, 6, 7), (9, 10, 12)]
+
+
+def test_wrong_ranking_fails(static_nominals):
+    bad = dict(static_nominals, equilateral=with_pair_data(static_nominals["equilateral"], 9, 1))
+    chk = v.check_paper(bad)
+    assert status(chk, "1.1") == v.FAIL
+    assert status(chk, "1.5") == v.FAIL  # #9 no longer moves like #10 and #12
+    assert status(chk, "1.2") == v.PASS  # #10 itself is untouched
+
+
+def test_wrong_tip_edge_or_pressure_fails(static_nominals):
+    eq = static_nominals["equilateral"]
+    chk = v.check_paper(dict(static_nominals, equilateral=with_pair_data(eq, 10, 12)))
+    assert status(chk, "1.2") == v.FAIL and "edge 10-12" not in chk.verdicts[1].measured
+    # the same data reported at 20 % higher pressures: #10 leaves at about 5 MPa, not 4.2
+    scaled = {k: ds.assign_coords(pressure=ds["pressure"] * 1.2) for k, ds in static_nominals.items()}
+    chk = v.check_paper(scaled, ranking_pressure=2.4)
+    assert status(chk, "1.2") == v.FAIL and status(chk, "1.3") == v.PASS
+
+
+def test_second_roll_must_cross_10_11_at_a_lower_pressure(static_nominals):
+    iso = with_pair_data(static_nominals["isosceles"], 11, 1)  # #1 never tips the robot
+    chk = v.check_paper(dict(static_nominals, isosceles=iso))
+    assert status(chk, "1.3") == v.FAIL and status(chk, "1.4") == v.FAIL
+    chk = v.check_paper({"equilateral": static_nominals["equilateral"]})
+    assert status(chk, "1.3") == v.SKIP and status(chk, "1.4") == v.SKIP
+    assert status(chk, "1.2") == v.PASS
+
+
+def test_orbit_compares_each_member_from_its_own_corner(static_nominals):
+    """The members' CoGs in the one support frame are not 120 deg rotations of each other (the
+    deformed triangle is not equilateral); seen from their own corners they coincide."""
+    ds = static_nominals["equilateral"]
+    cog, sup, _ = v.full_nominal(ds)
+    diff, spread = v.orbit_spread(cog, sup, EQUI, (9, 10, 12))
+    assert diff.max() < 1e-6 and spread.max() < 1e-6
+    moved = cog.copy()
+    moved[11, :, 0] += 2e-4  # #12 0.2 mm off
+    assert v.orbit_spread(moved, sup, EQUI, (9, 10, 12))[0].min() > 1.5e-4
+
+
+# ----------------------------------------------------------------------- 2. statics
+
+@pytest.fixture(scope="module")
+def free_run():
+    """A short free-mode staircase of #10 and #4 on (9,10,12), averaged as the pipeline does."""
+    setup = v.SweepSetup(levels=(1.2, 2.4), hold=1.0)
+    return setup, v.simulate_nominal(FREE, EQUI, [10, 4], setup)
+
+
+def test_statics_check_passes_on_the_dynamic_nominal_and_fails_when_perturbed(free_run):
+    setup, run = free_run
+    nominals = {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}
+    chk = v.check_statics(P, nominals, [1.2, 2.4], 1e-4)
+    assert status(chk, "2") == v.PASS
+    diff = chk.data["statics_difference"][1]
+    assert np.nanmax(diff) < 1e-4 and np.isfinite(diff[0, [3, 9]]).all() and np.isnan(diff[1]).all()
+    cog = run.cog.copy()
+    cog[1, 1, 0] += 2e-4  # #4 at 2.4 MPa, 0.2 mm off
+    bad = {"equilateral": nominal_dataset("equilateral", EQUI, run.pairs, setup.levels, cog, run.support)}
+    chk = v.check_statics(P, bad, [1.2, 2.4], 1e-4)
+    assert status(chk, "2") == v.FAIL and "#4 at 2.4 MPa" in chk.verdicts[0].measured
+
+
+def test_statics_check_is_not_evaluated_off_the_levels_or_in_the_grounded_mode(free_run):
+    setup, run = free_run
+    nominals = {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}
+    assert status(v.check_statics(P, nominals, [3.0]), "2") == v.SKIP
+    grounded = {"equilateral": from_run("equilateral", EQUI, run, setup.levels, mode="grounded")}
+    assert status(v.check_statics(P, grounded, [2.4]), "2") == v.SKIP
+
+
+# ------------------------------------------------------------------ 3. mapping
+
+@pytest.fixture(scope="module")
+def small_workspace():
+    """The workspace of #10 and #11 at one level, mapped from both canonical faces."""
+    setup = v.SweepSetup(levels=(2.4,), hold=0.5)
+    full = {}
+    for face in (EQUI, ISO):
+        run = v.simulate_nominal(FREE, face, [10, 11], setup)
+        c, s = np.full((12, 1, 3), np.nan), np.full((12, 1, 3, 3), np.nan)
+        c[[9, 10]], s[[9, 10]] = run.cog, run.support
+        full[str(g.FACE_TYPES[face - 1])] = (c, s)
+    cog, sup = np.full((20, 12, 1, 3), np.nan), np.full((20, 12, 1, 3, 3), np.nan)
+    for face in range(1, 21):
+        cog[face - 1], sup[face - 1] = mapping.map_face(face, *full[str(g.FACE_TYPES[face - 1])])
+    ws = xr.Dataset({"cog": (("face", "pair", "pressure", "axis"), cog),
+                     "support": (("face", "pair", "pressure", "corner", "axis"), sup)},
+                    coords={"face": np.arange(1, 21), "pair": np.arange(1, 13), "pressure": [2.4]})
+    return setup, ws, full
+
+
+def test_mapping_check_passes_for_the_symmetry_map(small_workspace):
+    setup, ws, _ = small_workspace
+    chk = v.check_mapping(FREE, ws, [1, 7, 9, 18], setup, 1e-4)
+    assert status(chk, "3") == v.PASS, chk.verdicts
+    d = chk.data["mapping_difference"][1]
+    assert np.isfinite(d).sum() == 4 * 2 and np.nanmax(d) < 1e-9  # free dynamics are equivariant
+
+
+def test_mapping_check_fails_for_a_wrong_map_or_a_small_sample(small_workspace):
+    setup, ws, full = small_workspace
+    # face 1 given the canonical data of the same pair numbers (no permutation): a wrong mapping
+    bad = ws.copy(deep=True)
+    c, s = full["equilateral"]
+    bad["cog"][0], bad["support"][0] = c, s
+    chk = v.check_mapping(FREE, bad, [1, 7, 9, 18], setup, 1e-4)
+    assert status(chk, "3") == v.FAIL and np.nanmax(chk.data["mapping_difference"][1][0]) > 1e-3
+    # the right CoG but the triangle's corners in the wrong order
+    bad = ws.copy(deep=True)
+    bad["support"][6] = ws["support"].values[6][..., [1, 2, 0], :]  # face 7, (6,10,11)
+    chk = v.check_mapping(FREE, bad, [1, 7, 9, 18], setup, 1e-4)
+    assert status(chk, "3") == v.FAIL and np.nanmax(chk.data["mapping_difference"][1]) < 1e-9
+    assert np.nanmax(chk.data["mapping_support_difference"][1][1]) > 1e-2
+    chk = v.check_mapping(FREE, ws, [1, 9], setup, 1e-4)  # one face of each kind is too few
+    assert status(chk, "3") == v.FAIL and np.nanmax(chk.data["mapping_difference"][1]) < 1e-9
+
+
+# ------------------------------------------------------------------ 4. grounded vs free
+
+def _synthetic(shift, end_face, free_xy=(0.0, 0.0)):
+    """Two levels of one pair on (9,10,12): free CoG at free_xy, grounded CoG moved by shift."""
+    cog0, tri = g.in_support_frame(g.reference_nodes(), EQUI)
+    fc = np.tile(cog0, (1, 2, 1))
+    fc[..., :2] = free_xy
+    fs = np.tile(tri, (1, 2, 1, 1))
+    fm = g.margin_2d(fc[..., :2], fs[..., :2])
+    gc = fc + shift
+    gm = g.margin_2d(gc[..., :2], fs[..., :2])
+    return [1.0, 2.0], EQUI, fc, fs, fm, gc, gm, np.array([end_face])
+
+
+def test_compare_grounded_judges_the_shift_with_its_tolerance():
+    args = _synthetic([1e-3, 0.0, -3e-3], [EQUI, EQUI])
+    out = v.compare_grounded(*args, tolerance=5e-3)
+    assert out["shift_ok"] and out["roll_ok"] and abs(out["in_plane_max"] - 1e-3) < 1e-12
+    assert not v.compare_grounded(*args, tolerance=5e-4)["shift_ok"]  # 1 mm is not under 0.5 mm
+
+
+def test_compare_grounded_flags_rolls_and_their_disagreement():
+    # the robot rolls at the second level, where the free CoG is still inside: NaN + mismatch
+    out = v.compare_grounded(*_synthetic([0.0, 0.0, 0.0], [EQUI, ISO]), tolerance=5e-3)
+    assert out["rolled"].tolist() == [[False, True]] and np.isnan(out["shift"][0, 1]).all()
+    assert out["roll_pressure"][0] == 2.0 and out["roll_face"][0] == ISO and np.isnan(out["free_roll_pressure"][0])
+    assert not out["roll_ok"]
+    # free CoG beyond edge 10-12 at both levels; the grounded robot rolls over it at once: agreement
+    tri = g.in_support_frame(g.reference_nodes(), EQUI)[1]
+    nodes = list(g.FACES[EQUI - 1] + 1)
+    mid = 0.5 * (tri[nodes.index(10), :2] + tri[nodes.index(12), :2])
+    out = v.compare_grounded(*_synthetic([0.0, 0.0, 0.0], [ISO, ISO], free_xy=1.2 * mid), tolerance=5e-3)
+    assert out["free_roll_face"][0] == ISO == out["roll_face"][0] and out["roll_ok"]
+    # ... but rolling onto another face is a disagreement
+    out = v.compare_grounded(*_synthetic([0.0, 0.0, 0.0], [10, 10], free_xy=1.2 * mid), tolerance=5e-3)
+    assert not out["roll_ok"]
+
+
+def test_grounded_check_reports_where_the_robot_rolled():
+    """A step to 2.4 MPa on #10 rolls the grounded robot onto (10,11,12) although the free CoG
+    stays 19 mm inside: 4.2 fails, with the roll in the numbers; #1 stands and moves little."""
+    setup = v.SweepSetup(levels=(2.4,), hold=1.0)
+    run = v.simulate_nominal(FREE, EQUI, [10, 1], setup)
+    nominals = {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}
+    chk = v.check_grounded(P, nominals, setup, settle=0.5, tolerance=5e-3)
+    assert status(chk, "4.2") == v.FAIL and "#10 rolls at 2.4 MPa onto (10,11,12)" in chk.verdicts[1].measured
+    assert status(chk, "4.1") == v.PASS
+    rolled = chk.data["grounded_rolled"][1]
+    assert rolled[0, 9, 0] == 1 and rolled[0, 0, 0] == 0
+    assert np.isnan(chk.data["grounded_shift"][1][0, 9]).all()
+    assert 0 < np.linalg.norm(chk.data["grounded_shift"][1][0, 0, 0, :2]) < 5e-3
+    assert status(v.check_grounded(P, nominals, setup, settle=0.5, tolerance=1e-5), "4.1") == v.FAIL
+
+
+# ------------------------------------------------------------------ 5. time step
+
+def test_timestep_check_passes_and_fails_when_perturbed():
+    setup = v.SweepSetup(levels=(2.4,), hold=0.5)
+    run = v.simulate_nominal(FREE, EQUI, [10], setup)
+    ok = v.check_timestep(FREE, {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}, setup, 1e-4)
+    assert status(ok, "5") == v.PASS and np.nanmax(ok.data["timestep_difference"][1]) < 5e-5
+    cog = run.cog + [3e-4, 0, 0]
+    bad = {"equilateral": nominal_dataset("equilateral", EQUI, run.pairs, setup.levels, cog, run.support)}
+    assert status(v.check_timestep(FREE, bad, setup, 1e-4), "5") == v.FAIL
+
+
+# ------------------------------------------------------------------ the stage
+
+@pytest.fixture(scope="module")
+def tiny_stage(tmp_path_factory):
+    """The pipeline on #10 and #11 at two levels, then the validate stage on its outputs."""
+    tmp = tmp_path_factory.mktemp("stage")
+    cfg = config.load(overrides={"sweep": {"pairs": [10, 11], "levels": [2.0, 2.4], "hold": 0.5},
+                                 "validate": {"statics_pressures": [2.4]}})
+    noms = []
+    for contact in ("equilateral", "isosceles"):
+        sweeps = stages.run_sweep(cfg, contact, tmp / "sweeps" / contact)
+        noms.append(stages.run_nominal(cfg, sweeps, tmp / "nominal" / f"{contact}.nc"))
+    ws = stages.run_map(cfg, noms, tmp / "workspace.nc")
+    out = tmp / "validation"
+    paths = v.run_stage(cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html")
+    return cfg, noms, ws, out, paths
+
+
+def test_stage_writes_every_number_with_units_and_a_table(tiny_stage):
+    cfg, _, _, out, paths = tiny_stage
+    assert [p.name for p in paths] == ["validation.nc", "summary.md", "summary.html"]
+    ds = datasets.read(out / "validation.nc")
+    for name, var in ds.variables.items():
+        assert var.attrs.get("long_name"), name
+        if var.dtype.kind in "fi":
+            assert var.attrs.get("units"), name
+    ids = list(ds["check"].values)
+    assert ids == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4.1", "4.2", "5"]
+    assert datasets.provenance_config(out / "validation.nc")["validate"] == cfg["validate"]
+    st = dict(zip(ids, ds["status"].values))
+    assert st["1.1"] == v.SKIP  # only two pairs swept: no ranking
+    assert st["2"] == st["3"] == st["5"] == v.PASS
+    assert list(ds["passed"].values) == [{v.PASS: 1, v.FAIL: 0, v.SKIP: -1}[s] for s in ds["status"].values]
+    md = (out / "summary.md").read_text()
+    for i in ids:
+        assert re.search(rf"^\| {re.escape(i)} \|", md, re.M), i
+    assert "| # | statement | measured | paper / goal | verdict |" in md
+    assert "<table>" in (out / "summary.html").read_text()
+    assert not list(out.glob(".*tmp"))  # written atomically, nothing left behind
+
+
+def test_a_check_that_raises_is_shown_as_failed(tiny_stage, monkeypatch):
+    cfg, noms, ws, _, _ = tiny_stage
+
+    def boom(*a, **k):
+        raise RuntimeError("solver diverged")
+    monkeypatch.setattr(v, "check_statics", boom)
+    monkeypatch.setattr(v, "check_mapping", boom)
+    monkeypatch.setattr(v, "check_grounded", boom)
+    monkeypatch.setattr(v, "check_timestep", boom)
+    checks = v.run_checks(cfg, {ds.attrs["contact"]: ds for ds in map(datasets.read, noms)},
+                          datasets.read(ws))
+    rows = {r.id: r for c in checks for r in c.verdicts}
+    assert rows["2"].status == v.FAIL and "solver diverged" in rows["2"].measured
+    assert rows["1.2"].status in (v.PASS, v.FAIL)
+
+
+def test_the_rule_puts_the_summary_in_the_report():
+    smk = (REPO / "workflow" / "rules" / "validate.smk").read_text()
+    assert re.search(r'report\(\s*"results/validation/summary\.html"', smk)
+    assert "rules.validate.output" in (REPO / "Snakefile").read_text()
+    assert (REPO / "workflow" / "report" / "validation.rst").is_file()

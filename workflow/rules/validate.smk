@@ -1,0 +1,22 @@
+rule validate:
+    """Check the workspace against the paper, statics, symmetry, the grounded mode and dt/2."""
+    input:
+        nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
+        workspace="results/workspace.nc",
+    output:
+        nc="results/validation/validation.nc",
+        md="results/validation/summary.md",
+        html=report("results/validation/summary.html", caption="../report/validation.rst",
+                    category="Validation"),
+    params:
+        cfg={k: config[k] for k in ("params", "sim", "sweep", "nominal", "validate")},
+    log:
+        "results/logs/validate.log",
+    benchmark:
+        "results/benchmarks/validate.tsv"
+    threads: 4
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    script:
+        "../scripts/validate.py"
