@@ -16,7 +16,7 @@ def check_pressures(p, name: str = "pressure") -> np.ndarray:
     a = np.asarray(p, dtype=float)
     bad = ~np.isfinite(a) | (a < 0) | (a > MAX_PRESSURE)
     if np.any(bad):
-        raise ValueError(f"{name}: {a[bad].ravel()[0]!r} MPa is outside 0..{MAX_PRESSURE} MPa")
+        raise ValueError(f"{name}: {float(a[bad].ravel()[0])!r} MPa is outside 0..{MAX_PRESSURE} MPa")
     return a
 
 

@@ -1,0 +1,206 @@
+"""The `tensegrity` command: simulate, query the workspace, plan a roll, render, run a stage.
+
+Exit codes: 0 success; 2 bad command-line usage; 3 invalid input (bad config, value, face,
+pair, pressure or file); 4 the simulation failed (non-finite, exploded, off the terrain);
+1 anything else.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+import numpy as np
+
+EXIT_USAGE, EXIT_INPUT, EXIT_SIM = 2, 3, 4
+
+
+def _floats(text: str, n: int | None = None, name: str = "value") -> list[float]:
+    try:
+        vals = [float(v) for v in text.replace(",", " ").split()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{name}: {text!r} is not a list of numbers") from None
+    if n is not None and len(vals) != n:
+        raise argparse.ArgumentTypeError(f"{name}: expected {n} numbers, got {text!r}")
+    if not all(np.isfinite(vals)):
+        raise argparse.ArgumentTypeError(f"{name}: {text!r} is not finite")
+    return vals
+
+
+def _face(text: str):
+    parts = text.replace(",", " ").split()
+    try:
+        return int(parts[0]) if len(parts) == 1 else tuple(int(p) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"face {text!r}: give a number 1..20 or three node numbers") from None
+
+
+def _terrain(text: str):
+    from .terrain import Terrain
+    kind, _, arg = text.partition(":")
+    try:
+        if kind == "flat":
+            return Terrain.flat()
+        if kind == "none":
+            return Terrain.none()
+        if kind == "slope":
+            return Terrain.slope(float(arg or 10.0))
+        if kind == "random":
+            return Terrain.random(int(arg or 0))
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(f"terrain {text!r}: {e}") from None
+    raise argparse.ArgumentTypeError(f"terrain {text!r}: use flat, none, slope:DEG or random:SEED")
+
+
+def _load_cfg(args):
+    from . import config
+    return config.load(args.config, overrides=args.set or None)
+
+
+def _progress(total: float, desc: str):
+    from tqdm import tqdm
+    return tqdm(total=round(total, 6), desc=desc, unit="s sim", disable=None, file=sys.stderr)
+
+
+def cmd_simulate(args) -> int:
+    """One actuation on one robot -> a netCDF with the CoG, nodes and pressures."""
+    import xarray as xr
+    from . import datasets, dynamics as d, geometry as g, sweep
+    from .actuation import Schedule
+    from .config import params_from_config
+    cfg = _load_cfg(args)
+    params, terrain = sweep.setup(params_from_config(cfg), args.mode)
+    if args.terrain is not None:
+        if args.mode == "free":
+            raise ValueError("--terrain needs --mode grounded (the free mode has no ground)")
+        terrain = args.terrain
+    face = g.face_number(args.face)
+    pairs = [g.check_pair(p) for p in args.pair]
+    dt, every = cfg["sim"]["dt"], cfg["sim"]["record_every"]
+    state = d.stand_on(params, face, terrain)
+    chunk = dt * every * max(1, round(0.05 / (dt * every)))
+    n = max(1, round(args.duration / chunk))
+    ramp_n = round(args.ramp / chunk)
+    xs, qs, ts, ps = [], [], [], []
+    with _progress(n * chunk, "simulate") as bar:
+        for k in range(n):
+            level = args.pressure * min(1.0, (k + 1) / ramp_n) if ramp_n else args.pressure
+            pres = np.zeros(12)
+            pres[np.array(pairs) - 1] = level
+            state, tr = d.simulate(params, state, Schedule.constant(pres, chunk), terrain, dt, every)
+            xs.append(tr.x[0]), qs.append(tr.q[0]), ts.append(tr.t), ps.append(tr.pressure[0])
+            bar.update(chunk)
+    x, q = np.concatenate(xs), np.concatenate(qs)
+    nodes = d.nodes(x, q, params.strut_length)
+    cog, sup = g.in_support_frame(nodes, face)
+    var = lambda dims, a, u, ln: (dims, a, {"units": u, "long_name": ln})
+    ds = xr.Dataset(
+        {"cog": var(("time", "axis"), cog, "m", "centre of gravity in the start face's support frame"),
+         "cog_world": var(("time", "axis"), d.cog(x), "m", "centre of gravity, world frame"),
+         "support": var(("time", "corner", "axis"), sup, "m", "start face corners in its support frame"),
+         "nodes": var(("time", "node", "axis"), nodes, "m", "node positions, world frame"),
+         "pressure_cmd": var(("time", "pair"), np.concatenate(ps), "MPa", "pair pressures commanded")},
+        coords={"time": ("time", np.concatenate(ts), {"units": "s", "long_name": "time"}),
+                "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "axis"}),
+                "corner": ("corner", [1, 2, 3], {"units": "1", "long_name": "support triangle corner"}),
+                "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"}),
+                "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "actuator pair number"})},
+        attrs={"face": face, "face_nodes": g.FACES[face - 1] + 1, "mode": args.mode,
+               "pairs": pairs, "pressure_mpa": args.pressure, "ramp_s": args.ramp})
+    datasets.write(ds, args.out, cfg, f"Simulation of pairs {pairs} at {args.pressure} MPa on "
+                   f"{g.face_label(face)}", stage="simulate")
+    print(f"wrote {args.out}: {len(ts) and ds.sizes['time']} samples, final CoG (support frame) "
+          f"{np.round(cog[-1] * 1000, 2).tolist()} mm")
+    return 0
+
+
+def cmd_query(args) -> int:
+    """Nominal CoG and margin for a face, pair and pressure from the fitted curves."""
+    from . import datasets, query
+    ans = query.query(query.load_curves(args.curves), datasets.read(args.workspace),
+                      args.face, args.pair, args.pressure)
+    out = {"face": ans.face, "pair": ans.pair, "pressure_mpa": ans.pressure,
+           "cog_m": ans.cog.round(7).tolist(), "margin_m": round(ans.margin, 7),
+           "stands": ans.margin > 0, "support_m": ans.support.round(7).tolist(),
+           "contact": ans.contact, "canonical_pair": ans.source_pair}
+    if args.json:
+        print(json.dumps(out))
+    else:
+        print(f"face {ans.face} ({ans.contact}), pair #{ans.pair} at {ans.pressure} MPa: "
+              f"CoG {np.round(ans.cog * 1000, 2).tolist()} mm (support frame), margin "
+              f"{ans.margin * 1000:.2f} mm -> {'stands' if ans.margin > 0 else 'rolls'}")
+    return 0
+
+
+def cmd_stage(args) -> int:
+    """Run one workflow stage with the same function the Snakemake rule calls."""
+    from . import stages
+    cfg = _load_cfg(args)
+    if args.stage == "sweep":
+        for p in stages.run_sweep(cfg, args.contact, args.out):
+            print(p)
+    elif args.stage == "nominal":
+        print(stages.run_nominal(cfg, args.inputs, args.out))
+    elif args.stage == "fit":
+        print(stages.run_fit(cfg, args.inputs[0], args.out))
+    elif args.stage == "map":
+        print(stages.run_map(cfg, args.inputs, args.out))
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="tensegrity", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--config", help="config YAML (default: config/config.yaml)")
+    common.add_argument("--set", action="append", metavar="KEY=VALUE",
+                        help="override a config key, e.g. --set params.cable_damping=1 (repeatable)")
+
+    p = sub.add_parser("simulate", parents=[common], help="simulate one actuation, write a netCDF",
+                       description=cmd_simulate.__doc__)
+    p.add_argument("--face", type=_face, default=(9, 10, 12), help="start face: 1..20 or 'a,b,c' (default 9,10,12)")
+    p.add_argument("--pair", type=int, nargs="+", required=True, help="actuator pair(s) 1..12")
+    p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
+    p.add_argument("--duration", type=float, default=2.0, help="simulated time, s (default 2)")
+    p.add_argument("--ramp", type=float, default=0.0, help="ramp time from 0 to the pressure, s (default 0: a step)")
+    p.add_argument("--mode", choices=["free", "grounded"], default="free", help="free (no gravity/ground) or grounded")
+    p.add_argument("--terrain", type=_terrain, help="grounded terrain: flat, slope:DEG, random:SEED")
+    p.add_argument("--out", required=True, help="output netCDF path")
+    p.set_defaults(func=cmd_simulate)
+
+    p = sub.add_parser("query", help="nominal CoG and margin from the fitted curves", description=cmd_query.__doc__)
+    p.add_argument("--curves", default="results/curves/curves.json", help="curves JSON (default results/curves/curves.json)")
+    p.add_argument("--workspace", default="results/workspace.nc", help="workspace netCDF (default results/workspace.nc)")
+    p.add_argument("--face", type=_face, required=True, help="face: 1..20 or 'a,b,c'")
+    p.add_argument("--pair", type=int, required=True, help="actuator pair 1..12")
+    p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_query)
+
+    p = sub.add_parser("stage", parents=[common], help="run one workflow stage outside Snakemake",
+                       description=cmd_stage.__doc__)
+    p.add_argument("stage", choices=["sweep", "nominal", "fit", "map"])
+    p.add_argument("--contact", choices=["equilateral", "isosceles"], help="contact case (sweep)")
+    p.add_argument("--inputs", nargs="*", default=[], help="input files (nominal, fit, map)")
+    p.add_argument("--out", required=True, help="output file (directory for sweep)")
+    p.set_defaults(func=cmd_stage)
+    return ap
+
+
+def main(argv=None) -> int:
+    ap = build_parser()
+    args = ap.parse_args(argv)
+    from .dynamics import SimulationError
+    try:
+        return args.func(args)
+    except SimulationError as e:
+        print(f"tensegrity {args.command}: simulation failed: {e}", file=sys.stderr)
+        return EXIT_SIM
+    except (ValueError, FileNotFoundError, KeyError) as e:
+        print(f"tensegrity {args.command}: {e}", file=sys.stderr)
+        return EXIT_INPUT
+
+
+if __name__ == "__main__":
+    sys.exit(main())
