@@ -26,6 +26,10 @@ CABLE_PAIR = np.ascontiguousarray(g.CABLE_PAIR.astype(np.int64))
 g_STRUT_A = np.ascontiguousarray(g.STRUTS[:, 0].astype(np.int64))
 g_STRUT_B = np.ascontiguousarray(g.STRUTS[:, 1].astype(np.int64))
 
+# No division-by-zero checks (error_model="numpy"); fused multiply-add and reassociation are
+# allowed, but not the flags that assume finite values: the blow-up checks must see NaN.
+_JIT = dict(cache=True, error_model="numpy", fastmath={"contract", "reassoc", "nsz", "arcp"})
+
 _S, _R, _M, _A, _K, _L, _B, _LMIN, _KG, _G = (IDX[k] for k in (
     "strut_length", "strut_radius", "strut_mass", "cable_exponent", "cable_stiffness",
     "cable_rest_length", "cable_damping", "muscle_min_length", "muscle_gain", "gravity"))
@@ -34,7 +38,7 @@ _KN, _CN, _MU, _KT, _CT, _DS, _VMAX = (IDX[k] for k in (
     "strut_damping", "max_speed"))
 
 
-@nb.njit(cache=True, inline="always", error_model="numpy")
+@nb.njit(inline="always", **_JIT)
 def _terrain_contact(px, py, pz, kind, meta, hz):
     """Unit normal (nx, ny, nz), signed distance of p to the triangle plane under it, ok flag."""
     if kind == 1:
@@ -63,7 +67,7 @@ def _terrain_contact(px, py, pz, kind, meta, hz):
     return ax, ay, az, ax * (px - x0) + ay * (py - y0) + az * (pz - z0), True
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(**_JIT)
 def _cable_forces(P, U, K, Lr, a_exp, La, Bc, Lmin, act, F, T):
     """Cable tensions T (24,) N by eq. 2 with the muscle of eq. 1 (act = Kg*P per cable),
     clamped at zero so that a cable never pushes; adds the node forces to F (12, 3)."""
@@ -95,7 +99,7 @@ def _cable_forces(P, U, K, Lr, a_exp, La, Bc, Lmin, act, F, T):
         F[n2, 2] -= f * ez
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(**_JIT)
 def tensions(P, U, prm, pres):
     """Cable tensions (B, 24) N and node forces (B, 12, 3) N from node positions P and
     velocities U (B, 12, 3), packed parameters prm (B, NP) and pair pressures pres (B, 12) MPa."""
@@ -112,7 +116,7 @@ def tensions(P, U, prm, pres):
     return T, F
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(**_JIT)
 def _advance_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
                  out_x, out_q, status, fail_step):
     S = prm[b, _S]
@@ -291,7 +295,7 @@ def _advance_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec,
     stuck[b] = ST
 
 
-@nb.njit(cache=True, parallel=True, error_model="numpy")
+@nb.njit(parallel=True, **_JIT)
 def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
             out_x, out_q, status, fail_step):
     """Advance all robots in place; see the module docstring. Arrays have a leading batch axis."""
