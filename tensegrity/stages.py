@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import datasets, fit, geometry as g, mapping, nominal as nom, sweep as sw
+from . import datasets, geometry as g, mapping, nominal as nom
 from .config import params_from_config
 
 AXES = ["x", "y", "z"]
@@ -66,6 +66,7 @@ def _provenance(cfg: dict, *inputs) -> dict:
 
 def run_sweep(cfg: dict, contact: str, out_dir) -> list[Path]:
     """Sweep every configured pair on the contact face; write `out_dir`/pairNN.nc."""
+    from . import sweep as sw  # the simulator (numba) only where it runs
     if contact not in g.CONTACT_FACES:
         raise ValueError(f"unknown contact {contact!r}: use one of {CONTACTS}")
     s, sim = cfg["sweep"], cfg["sim"]
@@ -122,6 +123,7 @@ def run_nominal(cfg: dict, sweep_paths, out_path) -> Path:
 
 def run_fit(cfg: dict, nominal_path, out_path) -> Path:
     """Fit a curve per pair and axis to the nominal CoG; write the plain-number curves."""
+    from . import fit  # scikit-learn is slow to import: only this stage needs it
     src = datasets.read(nominal_path)
     f = cfg["fit"]
     curves = fit.fit_pairs(src["pressure"].values, src["cog"].values, max_degree=f["max_degree"],
@@ -149,6 +151,7 @@ def run_fit(cfg: dict, nominal_path, out_path) -> Path:
 
 def curves_json(curve_paths, out_path) -> Path:
     """All contact cases' curves as one JSON file (plain numbers, evaluable in any language)."""
+    from . import fit
     doc = {"units": {"pressure": "MPa", "cog": "m"},
            "evaluate": "find piece i with breaks[i] <= p < breaks[i+1] (clamp to the end pieces); "
                        "value = sum(coefs[i][k] * (p - breaks[i])**(deg - k))",
@@ -203,3 +206,60 @@ def run_map(cfg: dict, nominal_paths, out_path) -> Path:
     return datasets.write(ds, out_path, _provenance(cfg, *nominal_paths),
                           "Kinematic workspace of all 20 contact faces, mapped by symmetry",
                           stage="map", allow_nan=["cog", "support", "margin", "tip_pressure"])
+
+
+def _rest_frame(face: int, strut_length: float = 0.5):
+    """CoG (3,) and triangle (3, 3) of the unactuated robot in `face`'s support frame, m."""
+    return g.in_support_frame(g.reference_nodes(strut_length), face)
+
+
+def render_robot(cfg: dict, fig1, fig4, fig5) -> None:
+    """Figs. 1, 4 and 5: the robot, its actuator pairs, and the support frame of (9,10,12)."""
+    from . import dynamics as d, render
+    from .terrain import Terrain
+    params = params_from_config(cfg)
+    nodes = g.reference_nodes(params.strut_length)
+    render.fig_robot(nodes, fig1)
+    render.fig_robot(nodes, fig4, highlight_pairs=[4, 6, 7, 9, 10, 12])
+    state = d.stand_on(params, g.CONTACT_FACES["equilateral"], Terrain.flat())
+    render.fig_support_frame(d.nodes(state.x, state.q, params.strut_length)[0],
+                             g.CONTACT_FACES["equilateral"], fig5)
+
+
+def render_cloud(sweep_path, nominal_path, out, max_pressure: float = 2.4) -> None:
+    """Fig. 6: the CoG point cloud and nominal CoGs of one pair, levels up to max_pressure."""
+    from . import render
+    sw_ds, nm = datasets.read(sweep_path), datasets.read(nominal_path)
+    pair, face = int(sw_ds.attrs["pair"]), int(sw_ds.attrs["face"])
+    levels = nm["pressure"].values
+    keep = levels <= max_pressure + 1e-9
+    sel = (sw_ds["level"].values >= 0) & (sw_ds["level"].values < keep.sum())
+    nom = nm["cog"].sel(pair=pair).values[keep]
+    render.fig_cog_cloud(sw_ds["cog"].values[sel], nom, levels[keep], _rest_frame(face)[1], out,
+                         pair=pair, face_label=g.face_label(face),
+                         sample_pressure=sw_ds["pressure_cmd"].values[sel],
+                         corner_labels=(g.FACES[face - 1] + 1).tolist())
+
+
+def render_workspace(curves_path, nominal_path, out, points: int = 60) -> None:
+    """Fig. 7: every pair's fitted CoG curve from 0 MPa to the highest level, with the support
+    triangle of the unactuated robot and where each curve leaves the deformed triangle."""
+    from . import fit, render
+    cv, nm = datasets.read(curves_path), datasets.read(nominal_path)
+    face = int(nm.attrs["face"])
+    rest_cog, rest_tri = _rest_frame(face)
+    curves = fit.arrays_to_curves({k: cv[k].values for k in fit.ARRAY_DIMS})
+    lines, tips = {}, {}
+    for i, pair in enumerate(cv["pair"].values):
+        c = curves[i]
+        p = np.linspace(c[0].pmin, c[0].pmax, points)
+        xyz = np.stack([fit.evaluate(c[a], p) for a in range(3)], axis=-1)
+        lines[int(pair)] = np.vstack([rest_cog[None], xyz])
+        tp = float(nm["tip_pressure"].sel(pair=pair))
+        tips[int(pair)] = (np.array([float(fit.evaluate(c[a], tp)) for a in range(3)])
+                           if np.isfinite(tp) else None)
+    levels = nm["pressure"].values
+    render.fig_workspace(lines, rest_tri, out, tip_points=tips,
+                         title=f"Fig. 7  Kinematic workspace, {nm.attrs['contact']} face "
+                               f"{g.face_label(face)}, {levels[0]:g}-{levels[-1]:g} MPa",
+                         corner_labels=(g.FACES[face - 1] + 1).tolist())

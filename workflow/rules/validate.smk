@@ -14,7 +14,7 @@ rule validate:
         "results/logs/validate.log",
     benchmark:
         "results/benchmarks/validate.tsv"
-    threads: 4
+    threads: 2
     resources:
         mem_mb=2000,
         runtime=10,
