@@ -56,7 +56,8 @@ def support_at(workspace, face: int, pair: int, pressure: float) -> np.ndarray:
     starting from the symmetric triangle at 0 MPa."""
     levels = workspace["pressure"].values
     sup = workspace["support"].sel(face=face, pair=pair).values
-    rest = g.in_support_frame(g.reference_nodes(), face)[1]
+    strut = json.loads(workspace.attrs["config"])["params"]["strut_length"] if "config" in workspace.attrs else 0.5
+    rest = g.in_support_frame(g.reference_nodes(strut), face)[1]
     p = np.concatenate([[0.0], levels])
     s = np.concatenate([rest[None], sup])
     return np.stack([[np.interp(pressure, p, s[:, c, a]) for a in range(3)] for c in range(3)])

@@ -231,11 +231,12 @@ def render_cloud(sweep_path, nominal_path, out, max_pressure: float = 2.4) -> No
     from . import render
     sw_ds, nm = datasets.read(sweep_path), datasets.read(nominal_path)
     pair, face = int(sw_ds.attrs["pair"]), int(sw_ds.attrs["face"])
+    strut = datasets.provenance_config(nm)["params"]["strut_length"]
     levels = nm["pressure"].values
     keep = levels <= max_pressure + 1e-9
     sel = (sw_ds["level"].values >= 0) & (sw_ds["level"].values < keep.sum())
     nom = nm["cog"].sel(pair=pair).values[keep]
-    render.fig_cog_cloud(sw_ds["cog"].values[sel], nom, levels[keep], _rest_frame(face)[1], out,
+    render.fig_cog_cloud(sw_ds["cog"].values[sel], nom, levels[keep], _rest_frame(face, strut)[1], out,
                          pair=pair, face_label=g.face_label(face),
                          sample_pressure=sw_ds["pressure_cmd"].values[sel],
                          corner_labels=(g.FACES[face - 1] + 1).tolist())
@@ -247,7 +248,7 @@ def render_workspace(curves_path, nominal_path, out, points: int = 60) -> None:
     from . import fit, render
     cv, nm = datasets.read(curves_path), datasets.read(nominal_path)
     face = int(nm.attrs["face"])
-    rest_cog, rest_tri = _rest_frame(face)
+    rest_cog, rest_tri = _rest_frame(face, datasets.provenance_config(nm)["params"]["strut_length"])
     curves = fit.arrays_to_curves({k: cv[k].values for k in fit.ARRAY_DIMS})
     lines, tips = {}, {}
     for i, pair in enumerate(cv["pair"].values):
