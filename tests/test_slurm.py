@@ -1,0 +1,130 @@
+"""The tiny workflow submitted through a real single-node SLURM cluster (issue 6): run unchanged
+with `--workflow-profile workflow/profiles/slurm`, it gives the same datasets as a local run.
+
+The cluster (munged, slurmctld, slurmd from Debian's packages) is started by
+tests/slurm/start_cluster.sh, which installs the packages with apt if they are missing, and is
+stopped by tests/slurm/stop_cluster.sh if this module started it. Needs root; skipped otherwise,
+or with TENSEGRITY_SKIP_SLURM=1. Takes about 2 minutes on 2 cores.
+"""
+import collections
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import xarray as xr
+
+ROOT = Path(__file__).resolve().parents[1]
+SCRIPTS = ROOT / "tests" / "slurm"
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+# Up to the workspace, the curves and the validation (the figures are local rules, left out).
+TARGETS = ["results/workspace.nc", "results/curves/curves.json", "results/validation/validation.nc"]
+# Rules that are not `localrule: True` and so must go through sbatch, with their job counts.
+SUBMITTED = {"sweep": 2, "validate": 1}
+PIDFILES = ["/run/munge/munged.pid", "/run/slurmctld.pid", "/run/slurmd.pid"]
+SUBMIT_LINE = re.compile(r"Job \d+ has been submitted with SLURM jobid (\d+) \(log: .*/rule_(\w+)/")
+
+
+def _skip_reason() -> str | None:
+    if os.environ.get("TENSEGRITY_SKIP_SLURM") == "1":
+        return "TENSEGRITY_SKIP_SLURM=1"
+    if os.geteuid() != 0:
+        return "needs root to install and run a SLURM cluster (munged, slurmctld, slurmd)"
+    if not (Path("/usr/sbin/slurmctld").exists() or shutil.which("apt-get")):
+        return "SLURM is not installed and apt-get is not available to install it"
+    try:
+        import snakemake_executor_plugin_slurm  # noqa: F401
+    except ImportError:
+        return "snakemake-executor-plugin-slurm is not installed"
+    return None
+
+
+SKIP = _skip_reason()
+pytestmark = pytest.mark.skipif(SKIP is not None, reason=f"SLURM test: {SKIP}")
+
+
+def _running(pidfile: str) -> bool:
+    try:
+        os.kill(int(Path(pidfile).read_text()), 0)
+        return True
+    except (OSError, ValueError):
+        return False
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """A running single-node cluster; stopped at the end if this fixture started it."""
+    was_running = all(_running(p) for p in PIDFILES)
+    r = subprocess.run(["bash", str(SCRIPTS / "start_cluster.sh")], capture_output=True, text=True,
+                       timeout=900)
+    if r.returncode == 3:
+        pytest.skip(f"SLURM packages could not be installed: {r.stderr.strip()[-500:]}")
+    if r.returncode != 0:
+        pytest.fail(f"tests/slurm/start_cluster.sh failed (exit {r.returncode}):\n"
+                    f"{r.stdout[-2000:]}\n{r.stderr[-3000:]}", pytrace=False)
+    print(r.stdout)
+    yield
+    if not was_running:
+        subprocess.run(["bash", str(SCRIPTS / "stop_cluster.sh")], timeout=60)
+
+
+def _copy(tmp: Path) -> Path:
+    shutil.copy(ROOT / "Snakefile", tmp)
+    shutil.copytree(ROOT / "workflow", tmp / "workflow")
+    shutil.copytree(ROOT / "config", tmp / "config")
+    return tmp
+
+
+def _snakemake(wd: Path, *args: str, timeout: float) -> str:
+    cmd = SNAKEMAKE + TARGETS + list(args) + ["--configfile", str(ROOT / "tests/tiny.yaml")]
+    try:
+        r = subprocess.run(cmd, cwd=wd, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired as e:
+        out = (e.stdout or b"").decode() if isinstance(e.stdout, bytes) else (e.stdout or "")
+        err = (e.stderr or b"").decode() if isinstance(e.stderr, bytes) else (e.stderr or "")
+        pytest.fail(f"{' '.join(args)}: no result after {timeout} s\n{(out + err)[-3000:]}")
+    assert r.returncode == 0, f"{' '.join(args)}:\n{(r.stdout + r.stderr)[-3000:]}"
+    return r.stdout + r.stderr
+
+
+@pytest.fixture(scope="module")
+def runs(cluster, tmp_path_factory):
+    """(SLURM scratch copy, its Snakemake output, local scratch copy)."""
+    slurm = _copy(tmp_path_factory.mktemp("slurm"))
+    # the relative profile path, from the scratch copy, as a user types it from the repo root
+    log = _snakemake(slurm, "--workflow-profile", "workflow/profiles/slurm", timeout=600)
+    local = _copy(tmp_path_factory.mktemp("local"))
+    _snakemake(local, "--cores", "2", timeout=600)
+    return slurm, log, local
+
+
+def test_jobs_went_through_slurm(runs):
+    slurm, log, _ = runs
+    submitted = {int(j): rule for j, rule in SUBMIT_LINE.findall(log)}
+    assert collections.Counter(submitted.values()) == SUBMITTED, log[-3000:]
+    # slurmctld keeps finished jobs for MinJobAge = 300 s, so squeue still lists them
+    ids = ",".join(map(str, submitted))
+    q = subprocess.run(["squeue", "-h", "-t", "all", "-j", ids, "-o", "%i %T %C"],
+                       capture_output=True, text=True, check=True).stdout.split("\n")
+    seen = {int(i): (state, int(cpus)) for i, state, cpus in (line.split() for line in q if line)}
+    assert set(seen) == set(submitted), q
+    for job, rule in submitted.items():
+        assert seen[job][0] == "COMPLETED", (job, rule, seen[job])
+    # a rule's threads reach sbatch as --cpus-per-task (validate: threads 2)
+    assert {seen[j][1] for j, rule in submitted.items() if rule == "validate"} == {2}
+
+
+def test_slurm_gives_the_same_datasets_as_local(runs):
+    slurm, _, local = runs
+    files = sorted(p.relative_to(local) for p in (local / "results").rglob("*.nc"))
+    assert sorted(p.relative_to(slurm) for p in (slurm / "results").rglob("*.nc")) == files
+    assert len(files) == 2 * 5 + 2 + 2 + 1 + 1  # sweeps, nominal, curves, workspace, validation
+    for f in files:
+        with xr.open_dataset(slurm / f) as a, xr.open_dataset(local / f) as b:
+            # data, coordinates and attributes (the provenance config) alike
+            assert a.identical(b), f
+    json = "results/curves/curves.json"
+    assert (slurm / json).read_bytes() == (local / json).read_bytes()
