@@ -264,11 +264,12 @@ def _advance_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec,
                 nx_ = qw * ex + qx * c + qy * ez - qz * ey
                 ny_ = qw * ey - qx * ez + qy * c + qz * ex
                 nz_ = qw * ez + qx * ey - qy * ex + qz * c
-                iq = 1.0 / math.sqrt(nw * nw + nx_ * nx_ + ny_ * ny_ + nz_ * nz_)
-                Q[i, 0] = nw * iq
-                Q[i, 1] = nx_ * iq
-                Q[i, 2] = ny_ * iq
-                Q[i, 3] = nz_ * iq
+                # exp(w dt/2) is a unit quaternion: |q| drifts by round-off only, so it is
+                # renormalised once per recorded block (below), not every step
+                Q[i, 0] = nw
+                Q[i, 1] = nx_
+                Q[i, 2] = ny_
+                Q[i, 3] = nz_
                 sp = V[i, 0] ** 2 + V[i, 1] ** 2 + V[i, 2] ** 2 + hl * hl * (w0 * w0 + w1 * w1)
                 if sp > fastest or not sp == sp:
                     fastest = sp
@@ -281,6 +282,9 @@ def _advance_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec,
         if code:
             break
         for i in range(6):
+            iq = 1.0 / math.sqrt(Q[i, 0] ** 2 + Q[i, 1] ** 2 + Q[i, 2] ** 2 + Q[i, 3] ** 2)
+            for k in range(4):
+                Q[i, k] *= iq
             for k in range(3):
                 out_x[b, rec, i, k] = X[i, k]
             for k in range(4):
