@@ -1,2 +1,59 @@
-"""tensegrity: six-strut tensegrity rolling robot simulation, kinematic workspace, locomotion."""
+"""tensegrity: six-strut tensegrity rolling robot simulation, kinematic workspace, locomotion.
+
+The public API (imported on first use, so `import tensegrity` stays light):
+
+Simulation
+    Params, Terrain, Schedule, State        parameters (SI, MPa), terrain, actuation, state
+    stand_on(params, face, terrain, batch)  a robot at rest on a face -> State (B robots)
+    simulate(params, state, schedule, terrain, dt, record_every) -> (State, Trajectory)
+    step(params, state, pressure, dt, terrain) -> State
+Workspace
+    load_workspace(path) -> Workspace       results/workspace.nc, for planning
+    load_curves(path) -> dict               results/curves/curves.json
+    evaluate_curve(curve, pressure)         a fitted curve (dict or Curve) at pressures (MPa) -> m
+    query_workspace(curves, workspace_ds, face, pair, pressure) -> Answer   CoG (m), margin, any face
+Locomotion
+    plan_roll(workspace, face, nodes, direction=..., goal=...) -> Plan
+    roll_to(workspace, goal, params, terrain) -> Run
+"""
+from __future__ import annotations
+
+import importlib
+
 __version__ = "0.1.0"
+
+_API = {
+    "Params": ("params", "Params"),
+    "Terrain": ("terrain", "Terrain"),
+    "Schedule": ("actuation", "Schedule"),
+    "State": ("dynamics", "State"),
+    "SimulationError": ("dynamics", "SimulationError"),
+    "stand_on": ("dynamics", "stand_on"),
+    "simulate": ("dynamics", "simulate"),
+    "step": ("dynamics", "step"),
+    "load_curves": ("query", "load_curves"),
+    "query_workspace": ("query", "query"),
+    "evaluate_curve": ("fit", "evaluate"),
+    "Workspace": ("locomotion", "Workspace"),
+    "plan_roll": ("locomotion", "plan"),
+    "roll_to": ("locomotion", "roll_to"),
+}
+
+__all__ = ["__version__", "load_workspace", *_API]
+
+
+def load_workspace(path="results/workspace.nc"):
+    """The 20-face workspace (results/workspace.nc) as a locomotion.Workspace for planning."""
+    from .locomotion import Workspace
+    return Workspace.load(path)
+
+
+def __getattr__(name):
+    if name in _API:
+        module, attr = _API[name]
+        return getattr(importlib.import_module(f".{module}", __name__), attr)
+    raise AttributeError(f"module 'tensegrity' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(__all__)

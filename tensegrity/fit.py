@@ -14,11 +14,9 @@ from typing import Mapping
 
 import numpy as np
 from numpy.polynomial import Polynomial
-from scipy.interpolate import BSpline, PPoly
-from sklearn.linear_model import LinearRegression
-from sklearn.model_selection import PredefinedSplit, cross_val_predict
-from sklearn.pipeline import make_pipeline
-from sklearn.preprocessing import PolynomialFeatures, SplineTransformer
+
+# scikit-learn and scipy are imported where curves are fitted, so that evaluating an exported
+# curve (evaluate, from_dict, arrays_to_curves) needs numpy only.
 
 TIE_RTOL = 0.05   # a more complex model must lower the CV RMSE by more than 5 % to win
 TIE_ATOL = 1e-9   # ... and by more than this fraction of max|values| (roundoff on exact data)
@@ -94,6 +92,9 @@ def _check(pressure, values) -> tuple[np.ndarray, np.ndarray]:
 
 def _candidates(max_degree: int, spline_knots) -> list[tuple[str, int, object]]:
     """(name, number of parameters, unfitted pipeline), ordered simplest first."""
+    from sklearn.linear_model import LinearRegression
+    from sklearn.pipeline import make_pipeline
+    from sklearn.preprocessing import PolynomialFeatures, SplineTransformer
     c = [(f"poly{d}", d + 1, make_pipeline(PolynomialFeatures(d, include_bias=False),
                                            LinearRegression())) for d in range(1, max_degree + 1)]
     # k uniform knots give k+2 cubic B-splines summing to 1, so with the intercept: k+2 parameters
@@ -112,6 +113,7 @@ def _export(name: str, est, p: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]
         return "polynomial", np.array([p[0], p[-1]]), low[::-1][None, :]
     spl = est[0].bsplines_[0]
     k, m = spl.k, est[0].n_knots - 1           # base interval is t[k] .. t[k + m] = pmin .. pmax
+    from scipy.interpolate import BSpline, PPoly
     pp = PPoly.from_spline(BSpline(spl.t, lr.coef_, k))
     coefs = pp.c[:, k:k + m].T.copy()
     coefs[:, -1] += lr.intercept_
@@ -135,6 +137,7 @@ def fit_curve(pressure, values, max_degree: int = 3, spline_knots=(3, 4), folds:
     cands = _candidates(int(max_degree), tuple(int(k) for k in spline_knots))
     if not cands:
         raise ValueError("no candidate models: max_degree < 1 and spline_knots empty")
+    from sklearn.model_selection import PredefinedSplit, cross_val_predict
     cv = PredefinedSplit(np.arange(p.size) % nf)
     n_train = p.size - int(np.ceil(p.size / nf))
     scores = []

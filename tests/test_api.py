@@ -1,0 +1,100 @@
+"""The public Python API and the command line (issue 6)."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import tensegrity
+from tensegrity import cli, config, datasets, stages
+
+
+def test_public_names_resolve():
+    for name in tensegrity.__all__:
+        assert getattr(tensegrity, name) is not None
+
+
+def test_a_curve_evaluates_without_scikit_learn(tmp_path):
+    curve = {"breaks": [0.4, 2.0, 4.8], "coefs": [[1.0, 0.0, 0.5], [2.0, 0.1, 0.3]]}
+    code = ("import sys; sys.modules['sklearn'] = None; sys.modules['scipy'] = None\n"
+            "from tensegrity import fit\n"
+            f"print(float(fit.evaluate({curve!r}, 3.0)))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert float(out.stdout) == pytest.approx(2.0 * 1.0 ** 2 + 0.1 * 1.0 + 0.3)
+
+
+@pytest.fixture(scope="module")
+def small_results(tmp_path_factory):
+    """A small pipeline run (3 pairs, 4 levels) through the stage functions."""
+    d = tmp_path_factory.mktemp("res")
+    cfg = config.load(overrides={"sweep": {"pairs": [9, 10, 11], "levels": [1.2, 2.4, 3.6, 4.8],
+                                           "hold": 0.3}, "nominal": {"discard": 0.1}})
+    for c in ("equilateral", "isosceles"):
+        paths = stages.run_sweep(cfg, c, d / "sweeps" / c)
+        stages.run_nominal(cfg, paths, d / "nominal" / f"{c}.nc")
+        stages.run_fit(cfg, d / "nominal" / f"{c}.nc", d / "curves" / f"{c}.nc")
+    stages.curves_json([d / "curves" / f"{c}.nc" for c in ("equilateral", "isosceles")], d / "curves.json")
+    stages.run_map({}, [d / "nominal" / f"{c}.nc" for c in ("equilateral", "isosceles")], d / "workspace.nc")
+    return d
+
+
+def test_query_matches_the_nominal_cog_at_a_swept_level(small_results, capsys):
+    code = cli.main(["query", "--curves", str(small_results / "curves.json"), "--workspace",
+                     str(small_results / "workspace.nc"), "--face", "9,10,12", "--pair", "10",
+                     "--pressure", "2.4", "--json"])
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    nom = datasets.read(small_results / "nominal" / "equilateral.nc")
+    cv = datasets.read(small_results / "curves" / "equilateral.nc")["cv_rmse"].sel(pair=10).values
+    err = np.abs(np.array(out["cog_m"]) - nom["cog"].sel(pair=10, pressure=2.4).values)
+    assert np.all(err <= 3 * cv + 1e-6)  # the curve passes within its cross-validated error
+    assert out["stands"] and out["margin_m"] > 0.01
+
+
+def test_query_on_a_mapped_face_agrees_with_the_workspace(small_results):
+    curves = tensegrity.load_curves(small_results / "curves.json")
+    ws = datasets.read(small_results / "workspace.nc")
+    face = 7  # (6,10,11), reached by a reflection
+    pair = int(ws["pair"].values[np.isfinite(ws["cog"].sel(face=face, pressure=3.6)[:, 0]).values][0])
+    ans = tensegrity.query_workspace(curves, ws, face, pair, 3.6)
+    canon = tensegrity.query_workspace(curves, ws, 8, ans.source_pair, 3.6)  # (9,10,12)
+    np.testing.assert_allclose(np.abs(ans.cog), np.abs(canon.cog), atol=1e-12)  # x may flip
+    cv = datasets.read(small_results / "curves" / "equilateral.nc")["cv_rmse"].sel(pair=ans.source_pair).values
+    err = np.abs(ans.cog - ws["cog"].sel(face=face, pair=pair, pressure=3.6).values)
+    assert np.all(err <= 3 * cv + 1e-6)
+    assert ans.margin == pytest.approx(canon.margin, abs=1e-9)
+
+
+@pytest.mark.parametrize("argv,needle", [
+    (["simulate", "--pair", "13", "--pressure", "1", "--out", "x.nc"], "unknown pair 13"),
+    (["simulate", "--pair", "10", "--pressure", "-1", "--out", "x.nc"], "pressure"),
+    (["simulate", "--pair", "10", "--pressure", "1", "--out", "x.nc", "--set", "sim.dt=0.1"], "sim.dt"),
+    (["simulate", "--face", "1,2,3", "--pair", "10", "--pressure", "1", "--out", "x.nc"], "unknown face"),
+])
+def test_bad_input_exits_3_naming_the_argument(tmp_path, capsys, monkeypatch, argv, needle):
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(argv) == cli.EXIT_INPUT
+    assert needle in capsys.readouterr().err
+    assert not (tmp_path / "x.nc").exists()
+
+
+def test_usage_error_exits_2(capsys):
+    with pytest.raises(SystemExit) as e:
+        cli.main(["simulate", "--pressure", "abc"])
+    assert e.value.code == cli.EXIT_USAGE
+
+
+def test_simulate_writes_a_dataset(tmp_path):
+    out = tmp_path / "run.nc"
+    assert cli.main(["simulate", "--pair", "10", "--pressure", "2.0", "--duration", "0.2",
+                     "--out", str(out)]) == 0
+    ds = datasets.read(out)
+    assert ds["nodes"].dims == ("time", "node", "axis") and ds.sizes["time"] == 200
+    assert float(ds["pressure_cmd"].sel(pair=10)[-1]) == 2.0
+
+
+def test_every_subcommand_has_help():
+    for sub in cli.build_parser()._subparsers._group_actions[0].choices:
+        r = subprocess.run([sys.executable, "-m", "tensegrity.cli", sub, "--help"], capture_output=True, text=True)
+        assert r.returncode == 0 and "usage" in r.stdout
