@@ -70,3 +70,13 @@ def test_bad_config_stops_before_any_job(tmp_path, override, key):
     assert r.returncode != 0
     assert f"config key {key}" in r.stdout + r.stderr
     assert not (wd / "results").exists()
+
+
+def test_report_holds_every_figure_and_the_validation_table(tiny):
+    r = subprocess.run(SNAKEMAKE + ["--report", "report.html", "--configfile", str(ROOT / "tests/tiny.yaml")],
+                       cwd=tiny, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr[-3000:]
+    html = (tiny / "report.html").read_text()
+    for name in ("fig1_robot.png", "fig4_pairs.png", "fig5_support_frame.png", "fig6_cog_cloud.png",
+                 "fig7_workspace_equilateral.png", "fig7_workspace_isosceles.png", "summary.html"):
+        assert name in html
