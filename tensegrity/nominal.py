@@ -30,6 +30,18 @@ def nominal(t, level, cog, support, n_levels: int, hold: float, discard: float =
     return out_c, out_s, out_t, margin
 
 
+def first_roll(level, on_face, n_levels: int) -> int:
+    """Index of the first level at whose end the robot no longer stands on its contact face
+    (on_face False at the level's last sample: a pressure step can make the feet hop, which
+    is not a roll), or n_levels if it never left it (always so in the free mode)."""
+    level, on_face = np.asarray(level), np.asarray(on_face, bool)
+    for k in range(n_levels):
+        idx = np.flatnonzero(level == k)
+        if idx.size and not on_face[idx[-1]]:
+            return k
+    return n_levels
+
+
 def tip_pressure(levels, margin) -> float:
     """Least pressure (MPa) at which the margin turns negative, linearly interpolated between
     levels; NaN if it never does (0 is taken as the unactuated, positive start)."""

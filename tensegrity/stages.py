@@ -81,6 +81,8 @@ def run_sweep(cfg: dict, contact: str, out_dir) -> list[Path]:
                              "deformed support triangle in the support frame"),
              "pressure_cmd": _var(("time",), res.pressure_cmd[b], "MPa", f"pressure commanded to pair #{pair}"),
              "level": _var(("time",), res.level, "1", "index of the pressure level held (-1: settling)"),
+             "on_face": _var(("time",), res.on_face[b].astype(np.int8), "1",
+                             "1 while the contact face's three nodes touch the ground (always 1 in the free mode)"),
              "nodes": _var(("time_nodes", "node", "axis"), res.nodes[b, ::stride], "m",
                            "node positions, world frame (every node_stride-th sample)")},
             coords={**_coords(), "time": ("time", res.t, {"units": "s", "long_name": "time"}),
@@ -107,18 +109,28 @@ def run_nominal(cfg: dict, sweep_paths, out_path) -> Path:
     cog, std, sup, margin = (np.stack([r[k] for r in res]) for k in range(4))
     pairs = [int(ds.attrs["pair"]) for ds in sweeps]
     tip = np.array([nom.tip_pressure(levels, m) for m in margin])
+    # grounded mode: from the level the robot rolled off its face on, the numbers are not of
+    # this face any more; they become NaN and the roll counts as the tip
+    rolled = np.zeros(margin.shape, np.int8)
+    for i, ds in enumerate(sweeps):
+        k = nom.first_roll(ds["level"].values, ds["on_face"].values, len(levels))
+        if k < len(levels):
+            rolled[i, k:] = 1
+            cog[i, k:], std[i, k:], sup[i, k:], margin[i, k:] = np.nan, np.nan, np.nan, np.nan
+            tip[i] = levels[k] if not tip[i] <= levels[k] else tip[i]
     ds = xr.Dataset(
         {"cog": _var(("pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the support frame"),
          "cog_std": _var(("pair", "pressure", "axis"), std, "m", "standard deviation of the CoG over the level (oscillation)"),
          "support": _var(("pair", "pressure", "corner", "axis"), sup, "m", "mean deformed support triangle in the support frame"),
          "margin": _var(("pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
-         "tip_pressure": _var(("pair",), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never)")},
+         "tip_pressure": _var(("pair",), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never)"),
+         "rolled": _var(("pair", "pressure"), rolled, "1", "1 from the level at which the grounded robot rolled off the face (always 0 in the free mode)")},
         coords=_coords(pairs, levels),
         attrs={k: first.attrs[k] for k in ("contact", "face", "face_nodes", "mode")} | {"discard_s": discard})
     ds["axis"].attrs["units"] = "1"
     return datasets.write(ds, out_path, _provenance(cfg, *sweep_paths),
                           f"Nominal CoG of the {first.attrs['contact']} contact case {g.face_label(int(first.attrs['face']))}",
-                          stage="nominal", allow_nan=["tip_pressure"])
+                          stage="nominal", allow_nan=["tip_pressure", "cog", "cog_std", "support", "margin"])
 
 
 def run_fit(cfg: dict, nominal_path, out_path) -> Path:
@@ -126,8 +138,16 @@ def run_fit(cfg: dict, nominal_path, out_path) -> Path:
     from . import fit  # scikit-learn is slow to import: only this stage needs it
     src = datasets.read(nominal_path)
     f = cfg["fit"]
-    curves = fit.fit_pairs(src["pressure"].values, src["cog"].values, max_degree=f["max_degree"],
-                           spline_knots=tuple(f["spline_knots"]), folds=f["folds"])
+    p, cog = src["pressure"].values, src["cog"].values
+    ok = np.isfinite(cog).all(axis=-1)  # levels before a grounded robot rolled off its face
+    for i, pair in enumerate(src["pair"].values):
+        if ok[i].sum() < 2:
+            raise ValueError(f"pair #{pair} on {g.face_label(int(src.attrs['face']))} stood at fewer than 2 "
+                             f"levels (it rolled off at {float(src['tip_pressure'][i]):g} MPa): nothing to fit; "
+                             "sweep lower pressures or use the free mode")
+    curves = [[fit.fit_curve(p[ok[i]], cog[i, ok[i], a], max_degree=f["max_degree"],
+                             spline_knots=tuple(f["spline_knots"]), folds=f["folds"])
+               for a in range(3)] for i in range(cog.shape[0])]
     arr = fit.curves_to_arrays(curves)
     units = {"breaks": "MPa", "coefs": "m MPa-power", "degree": "1", "pmin": "MPa", "pmax": "MPa",
              "cv_rmse": "m", "kind": "", "model": ""}

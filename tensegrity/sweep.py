@@ -18,7 +18,8 @@ MODES = ("free", "grounded")
 class Sweep:
     """One staircase per pair. t (T,) s; pressure_cmd (B, T) MPa; cog (B, T, 3) m and
     support (B, T, 3, 3) m in the support frame of the deformed contact face; nodes (B, T, 12, 3)
-    m world positions; level (T,) index of the level held (-1 while settling)."""
+    m world positions; level (T,) index of the level held (-1 while settling); on_face (B, T)
+    whether the contact face's three nodes touch the ground (always True in the free mode)."""
     pairs: np.ndarray
     levels: np.ndarray
     face: int
@@ -28,6 +29,7 @@ class Sweep:
     support: np.ndarray
     nodes: np.ndarray
     level: np.ndarray
+    on_face: np.ndarray
 
 
 def setup(params: Params, mode: str) -> tuple[Params, Terrain]:
@@ -53,5 +55,11 @@ def run(params: Params, face, pairs, levels, hold: float, settle: float = 0.0, m
     cog, support = g.in_support_frame(nodes, face)
     seg = np.searchsorted(np.cumsum(sched.durations), tr.t - 0.5 * dt * record_every)
     level = seg - (1 if settle > 0 else 0)
+    if terrain.kind == "none":
+        on_face = np.ones(tr.t.shape, bool)[None].repeat(len(pairs), 0)
+    else:  # the face's three nodes within one radius of resting on the ground
+        p = nodes[:, :, g.FACES[face - 1]]
+        gap = p[..., 2] - terrain.height(p[..., 0], p[..., 1])
+        on_face = np.all(gap < 2 * prm.strut_radius, axis=-1)
     return Sweep(pairs, levels, face, tr.t, tr.pressure[np.arange(len(pairs)), :, pairs - 1],
-                 cog, support, nodes, level)
+                 cog, support, nodes, level, on_face)
