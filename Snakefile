@@ -23,6 +23,7 @@ include: "workflow/rules/fit.smk"
 include: "workflow/rules/map.smk"
 include: "workflow/rules/render.smk"
 include: "workflow/rules/validate.smk"
+include: "workflow/rules/locomotion.smk"
 
 
 rule all:
@@ -33,4 +34,5 @@ rule all:
         "results/workspace.nc",
         rules.render_all.input,
         rules.validate.output,
+        rules.locomotion_all.input,
     default_target: True

@@ -148,6 +148,15 @@ def cmd_stage(args) -> int:
     return 0
 
 
+def cmd_render(args) -> int:
+    """Render a dataset of the toolkit (sweep, nominal, workspace, locomotion run, simulation)
+    to a PNG, off-screen."""
+    from . import stages
+    what = stages.render_dataset(args.dataset, args.out, args.face)
+    print(f"wrote {args.out}: {what}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="tensegrity", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -178,6 +187,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_query)
 
+    p = sub.add_parser("render", help="render a dataset to a PNG", description=cmd_render.__doc__)
+    p.add_argument("dataset", help="a netCDF written by the workflow or by `tensegrity simulate`")
+    p.add_argument("--out", required=True, help="output PNG path")
+    p.add_argument("--face", type=_face, help="face to show, for the workspace (default 9,10,12)")
+    p.set_defaults(func=cmd_render)
+
     p = sub.add_parser("stage", parents=[common], help="run one workflow stage outside Snakemake",
                        description=cmd_stage.__doc__)
     p.add_argument("stage", choices=["sweep", "nominal", "fit", "map"])
@@ -185,6 +200,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--inputs", nargs="*", default=[], help="input files (nominal, fit, map)")
     p.add_argument("--out", required=True, help="output file (directory for sweep)")
     p.set_defaults(func=cmd_stage)
+
+    from .locomotion import add_cli  # plan and roll
+    add_cli(sub, parents=[common])
     return ap
 
 
@@ -197,7 +215,7 @@ def main(argv=None) -> int:
     except SimulationError as e:
         print(f"tensegrity {args.command}: simulation failed: {e}", file=sys.stderr)
         return EXIT_SIM
-    except (ValueError, FileNotFoundError, KeyError) as e:
+    except (ValueError, OSError, KeyError) as e:  # bad value, missing or unreadable file
         print(f"tensegrity {args.command}: {e}", file=sys.stderr)
         return EXIT_INPUT
 

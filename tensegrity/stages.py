@@ -284,3 +284,45 @@ def render_workspace(curves_path, nominal_path, out, points: int = 60) -> None:
                          title=f"Fig. 7  Kinematic workspace, {nm.attrs['contact']} face "
                                f"{g.face_label(face)}, {levels[0]:g}-{levels[-1]:g} MPa",
                          corner_labels=(g.FACES[face - 1] + 1).tolist())
+
+
+def render_dataset(path, out, face: int | None = None) -> str:
+    """Render any dataset of the toolkit to a PNG: a sweep (its CoG cloud), a nominal file or
+    the workspace (the workspace of its face, or of `face`), a locomotion run (its path from
+    above), a `tensegrity simulate` output (the robot at the end). Returns what was drawn."""
+    from . import render
+    ds = datasets.read(path)
+    if "level" in ds and "pair" in ds.attrs:  # a sweep
+        face_ = int(ds.attrs["face"])
+        sel = ds["level"].values >= 0
+        levels = ds["levels"].values
+        nom = np.array([ds["cog"].values[ds["level"].values == k].mean(0) for k in range(levels.size)])
+        render.fig_cog_cloud(ds["cog"].values[sel], nom, levels, _rest_frame(face_)[1], out,
+                             pair=int(ds.attrs["pair"]), face_label=g.face_label(face_),
+                             sample_pressure=ds["pressure_cmd"].values[sel],
+                             corner_labels=(g.FACES[face_ - 1] + 1).tolist())
+        return "sweep: CoG cloud and level means"
+    if "margin" in ds and "face" in ds.dims:  # the workspace
+        face_ = g.face_number(face) if face is not None else 8
+        sub = ds.sel(face=face_)
+        title = f"Workspace of face {face_} {g.face_label(face_)} (nominal CoG, mapped)"
+        return _render_nominal(render, sub, face_, out, title)
+    if "margin" in ds and "pair" in ds.dims:  # a nominal file
+        face_ = int(ds.attrs["face"])
+        return _render_nominal(render, ds, face_, out, f"Nominal CoG, face {g.face_label(face_)}")
+    if "face_sequence" in ds or "step" in ds.dims:  # a locomotion run
+        from . import render_locomotion
+        render_locomotion.fig_path(ds, out, "top")
+        return "locomotion run: path from above"
+    if "nodes" in ds and "time" in ds["nodes"].dims:  # tensegrity simulate
+        render.fig_robot(ds["nodes"].values[-1], out, title=f"{ds.attrs.get('title', 'robot')} (end)")
+        return "simulation: the robot at the end"
+    raise ValueError(f"{path}: not a dataset this toolkit knows how to render")
+
+
+def _render_nominal(render, ds, face: int, out, title: str) -> str:
+    rest_cog, rest_tri = _rest_frame(face)
+    lines = {int(p): np.vstack([rest_cog[None], ds["cog"].sel(pair=p).values])
+             for p in ds["pair"].values if np.isfinite(ds["cog"].sel(pair=p).values).all()}
+    render.fig_workspace(lines, rest_tri, out, title=title, corner_labels=(g.FACES[face - 1] + 1).tolist())
+    return "workspace: nominal CoG per pair"

@@ -98,3 +98,13 @@ def test_every_subcommand_has_help():
     for sub in cli.build_parser()._subparsers._group_actions[0].choices:
         r = subprocess.run([sys.executable, "-m", "tensegrity.cli", sub, "--help"], capture_output=True, text=True)
         assert r.returncode == 0 and "usage" in r.stdout
+
+
+def test_render_command_draws_a_dataset_and_refuses_a_foreign_file(small_results, tmp_path, capsys):
+    out = tmp_path / "ws.png"
+    assert cli.main(["render", str(small_results / "workspace.nc"), "--face", "1,5,6", "--out", str(out)]) == 0
+    assert out.stat().st_size > 20_000
+    bad = tmp_path / "bad.nc"
+    bad.write_text("not a netCDF")
+    assert cli.main(["render", str(bad), "--out", str(tmp_path / "x.png")]) == cli.EXIT_INPUT
+    assert "bad.nc" in capsys.readouterr().err

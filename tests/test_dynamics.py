@@ -213,3 +213,16 @@ def test_same_input_same_output(free):
     a = d.simulate(Params(), s, sched, Terrain.slope(10))[1]
     b = d.simulate(Params(), s, sched, Terrain.slope(10))[1]
     assert np.array_equal(a.x, b.x) and np.array_equal(a.q, b.q)
+
+
+def test_optional_strut_damping_does_not_move_the_equilibrium(free):
+    """strut_damping (1/s, off by default; locomotion uses it to settle faster) damps strut
+    motion but exerts no force at rest, so the nominal CoG stays where it is (statics)."""
+    pres = np.zeros(12)
+    pres[9] = 2.4
+    ref, _ = statics.support_cog(statics.equilibrium(free, pres), EQUI)
+    damped = free.replace(strut_damping=1.0)
+    t, c, _ = free_sweep(damped, EQUI, [10], [2.4], hold=2.0)
+    assert np.linalg.norm(c[0, t > 1.0].mean(0) - ref) < 2e-5  # m
+    t0, c0, _ = free_sweep(free, EQUI, [10], [2.4], hold=2.0)
+    assert c[0, t > 1.5].std(axis=0).max() < 0.5 * c0[0, t0 > 1.5].std(axis=0).max()  # it damps

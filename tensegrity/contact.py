@@ -1,0 +1,231 @@
+"""Contact and stability of a robot on a terrain (paper III.B, Fig. 8-10; design.md section 6).
+
+Pure functions on node positions (12, 3) m and a `Terrain`. The contact face is the three nodes
+nearest the terrain, each within a tolerance of touching it, and they must be one of the 20
+faces. The CoG (the mean of the nodes, equal strut masses) is projected *along gravity* onto the
+plane of the three contact nodes, so that slopes are handled as in the paper's Fig. 10; the robot
+stands while that projection is inside the contact triangle (margin > 0) and otherwise rolls over
+the edge it has crossed onto the other face sharing that edge.
+
+Edges are named by their two 1-based node numbers, smaller first, e.g. (10, 12).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import geometry as g
+from .terrain import Terrain
+
+GRAVITY_DIR = np.array([0.0, 0.0, -1.0])  # world frame, z up (design.md section 2)
+
+__all__ = ["ContactError", "Contact", "check_nodes", "clearance", "contact_face", "face_from_gaps",
+           "project_along_gravity", "edge_outward", "neighbour", "edge_nodes", "common_edge",
+           "judge", "analyse", "past_edge", "GRAVITY_DIR"]
+
+
+class ContactError(ValueError):
+    """No valid contact face: fewer than three nodes touch, or the three do not form a face."""
+
+
+def check_nodes(nodes) -> np.ndarray:
+    """Node positions as a finite (12, 3) float array, m; ValueError otherwise."""
+    p = np.asarray(nodes, dtype=float)
+    if p.shape != (g.N_NODES, 3):
+        raise ValueError(f"node positions must have shape (12, 3) m, got {p.shape}")
+    if not np.all(np.isfinite(p)):
+        raise ValueError("node positions hold NaN or inf: the state is not finite")
+    return p
+
+
+def clearance(nodes, terrain: Terrain, radius: float) -> np.ndarray:
+    """Gap (..., 12) m between each node's contact sphere (radius m) and the terrain, for node
+    positions (..., 12, 3) m, measured along the normal of the terrain triangle under the node as
+    the simulator does (negative when the sphere penetrates). Raises ValueError for NaN nodes,
+    the free mode (no terrain) or a node with no terrain under it."""
+    p = np.asarray(nodes, dtype=float)
+    if p.shape[-2:] != (g.N_NODES, 3):
+        raise ValueError(f"node positions must have shape (..., 12, 3) m, got {p.shape}")
+    if not np.all(np.isfinite(p)):
+        raise ValueError("node positions hold NaN or inf: the state is not finite")
+    if terrain.kind == "none":
+        raise ValueError("terrain 'none' (the free mode) has no ground to stand on")
+    h = terrain.height(p[..., 0], p[..., 1])
+    if np.any(np.isnan(h)):
+        k = np.argwhere(np.isnan(h))[0]
+        q = p[tuple(k)]
+        raise ValueError(f"terrain has nothing under node {k[-1] + 1} at ({q[0]:.3f}, {q[1]:.3f}) m")
+    nz = terrain.normal_at(p[..., 0], p[..., 1])[..., 2]
+    return (p[..., 2] - h) * nz - radius
+
+
+def contact_face(nodes, terrain: Terrain, radius: float, tol: float | None = None) -> int:
+    """1-based face resting on the terrain: the three nodes of least clearance, each within
+    `tol` m of touching (default: the radius), forming one of the 20 faces. Raises ContactError
+    otherwise (the robot is in the air, tipping, or rests on three nodes that are not a face)."""
+    return face_from_gaps(clearance(nodes, terrain, radius), radius if tol is None else tol)
+
+
+def face_from_gaps(gap, tol: float) -> int:
+    """contact_face from the clearances (12,) m already computed."""
+    gap = np.asarray(gap, float)
+    low = np.argsort(gap, kind="stable")[:3]
+    if np.any(gap[low] > tol):
+        raise ContactError(f"only {int(np.sum(gap <= tol))} node(s) within {tol * 1e3:.1f} mm "
+                           "of the terrain: no face rests on it")
+    key = sorted(low.tolist())
+    for f, corners in enumerate(g.FACES):
+        if sorted(corners.tolist()) == key:
+            return f + 1
+    raise ContactError(f"the nodes touching the terrain, {tuple(k + 1 for k in key)}, "
+                       "are not a face")
+
+
+def project_along_gravity(point, plane_point, plane_normal, gravity=GRAVITY_DIR) -> np.ndarray:
+    """Point (..., 3) m moved along the gravity direction onto the plane through plane_point
+    (..., 3) m with normal plane_normal (..., 3) (paper Fig. 10)."""
+    gdir = np.asarray(gravity, float) / np.linalg.norm(gravity)
+    n = np.asarray(plane_normal, float)
+    along = np.sum(n * gdir, axis=-1, keepdims=True)
+    if np.any(np.abs(along) < 1e-9):
+        raise ValueError("support plane is parallel to gravity: no projection")
+    s = np.sum(n * (np.asarray(plane_point, float) - point), axis=-1, keepdims=True) / along
+    return point + s * gdir
+
+
+def edge_outward(tri) -> np.ndarray:
+    """Unit outward normals (3, 3) of the edges of triangle `tri` (3, 3) m, in its plane; row k
+    belongs to the edge joining corners k and k+1 (mod 3), as in geometry.edge_distances."""
+    tri = np.asarray(tri, float)
+    c = tri.mean(axis=0)
+    n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+    out = np.empty((3, 3))
+    for k in range(3):
+        e = tri[(k + 1) % 3] - tri[k]
+        o = np.cross(e, n)
+        o *= np.sign(np.dot(o, tri[k] - c))
+        out[k] = o / np.linalg.norm(o)
+    return out
+
+
+def edge_nodes(face: int, k: int) -> tuple[int, int]:
+    """The 1-based nodes (smaller first) of edge k (corners k, k+1) of 1-based `face`."""
+    a, b = g.FACES[face - 1][k], g.FACES[face - 1][(k + 1) % 3]
+    return (int(min(a, b)) + 1, int(max(a, b)) + 1)
+
+
+def neighbour(face, edge) -> int:
+    """The 1-based face across `edge` (two 1-based node numbers) from `face`: the other face
+    sharing that edge (every edge of the icosahedron lies on exactly two faces)."""
+    f = g.face_number(face)
+    e = {int(n) - 1 for n in edge}
+    if len(e) != 2 or not e <= set(g.FACES[f - 1].tolist()):
+        raise ValueError(f"edge {tuple(edge)} is not an edge of face {g.face_label(f)}")
+    for k, corners in enumerate(g.FACES):
+        if k + 1 != f and e <= set(corners.tolist()):
+            return k + 1
+    raise AssertionError("unreachable: every edge lies on two faces")
+
+
+def common_edge(a, b) -> tuple[int, int] | None:
+    """The edge (1-based nodes) shared by faces a and b (1..20 or node triples), or None."""
+    e = set(g.FACES[g.face_number(a) - 1].tolist()) & set(g.FACES[g.face_number(b) - 1].tolist())
+    return tuple(sorted(n + 1 for n in e)) if len(e) == 2 else None
+
+
+@dataclass(frozen=True)
+class Contact:
+    """Where and how a robot stands (paper Fig. 8-10). Lengths in m, world frame unless noted.
+
+    face: 1-based contact face; nodes: its node numbers in geometry.FACES order;
+    cog (3,): centre of gravity; projection (3,): the CoG projected along gravity onto the plane
+    of the three contact nodes; local (2,) and triangle (3, 2): that projection and the
+    triangle in the face's support frame (design.md section 2); normal (3,): the support plane's
+    unit normal, into the robot; margin: signed distance of the projection to the triangle's
+    boundary (positive inside); stands: margin > 0; edge: the crossed edge (1-based nodes) or
+    None; next_face: the face across that edge, or None; clearance (12,): gaps to the terrain
+    (None when judged without one)."""
+    face: int
+    nodes: tuple[int, int, int]
+    cog: np.ndarray
+    projection: np.ndarray
+    local: np.ndarray
+    triangle: np.ndarray
+    normal: np.ndarray
+    margin: float
+    stands: bool
+    edge: tuple[int, int] | None
+    next_face: int | None
+    clearance: np.ndarray
+
+
+def judge(nodes, face) -> Contact:
+    """Stability of a robot with node positions `nodes` (12, 3) m on `face` (1..20 or three node
+    numbers), without a terrain: the CoG projected along gravity onto the face's plane, the
+    margin, the crossed edge and the next face. `clearance` is None."""
+    return _judge(check_nodes(nodes), g.face_number(face), None)
+
+
+def analyse(nodes, terrain: Terrain, radius: float, tol: float | None = None,
+            face=None) -> Contact:
+    """Contact face on `terrain` (see contact_face), CoG projection along gravity, margin, and
+    the edge the robot rolls over if it does not stand. `face` (1..20 or three node numbers)
+    skips the detection and judges stability on that face (for a robot that is tipping)."""
+    p = check_nodes(nodes)
+    gap = clearance(p, terrain, radius)
+    f = contact_face(p, terrain, radius, tol) if face is None else g.face_number(face)
+    return _judge(p, f, gap)
+
+
+def _judge(p: np.ndarray, f: int, gap) -> Contact:
+    corners = g.FACES[f - 1]
+    tri = p[corners]
+    cog = p.mean(axis=0)
+    origin, rot = g.support_frame(tri, int(g.FACE_REFERENCE[f - 1]), cog)
+    proj = project_along_gravity(cog, origin, rot[2])
+    local = g.to_frame(proj, origin, rot)[:2]
+    tri_local = g.to_frame(tri, origin, rot)[:, :2]
+    margin = float(g.margin_2d(local, tri_local))
+    dist = g.edge_distances(local, tri_local)
+    k = int(np.argmin(dist))
+    edge = edge_nodes(f, k) if dist[k] < 0 else None
+    return Contact(f, tuple(int(n) + 1 for n in corners), cog, proj, local, tri_local, rot[2],
+                   margin, bool(margin > 0), edge, None if edge is None else neighbour(f, edge),
+                   gap)
+
+
+def past_edge(nodes, face, pivot, strut_length: float) -> float:
+    """How far (m) the CoG of the *unactuated* robot, posed like `nodes` (12, 3) m while
+    pivoting on the edge `pivot` (two 1-based nodes) of `face`, lies beyond that edge,
+    horizontally (negative: on the face's side). Positive means that releasing the muscles now
+    lets gravity finish the roll. The pose is fitted to the symmetric shape (strut length m) by
+    the pivot edge's direction and the face's normal, so the muscles' deformation, which relaxes
+    on release, is left out. For the symmetric robot at rest on flat ground it is minus the
+    distance of the CoG projection to the edge (88.4 mm for an equilateral face, S = 0.5 m)."""
+    p = check_nodes(nodes)
+    f = g.face_number(face)
+    ref = g.reference_nodes(strut_length)
+    a_i, b_i = (int(n) - 1 for n in pivot)
+    others = [int(n) for n in g.FACES[f - 1] if n not in (a_i, b_i)]
+    if len(others) != 1:
+        raise ValueError(f"edge {tuple(pivot)} is not an edge of face {g.face_label(f)}")
+    c_i = others[0]
+
+    def basis(P, centre):
+        e1 = P[b_i] - P[a_i]
+        e1 = e1 / np.linalg.norm(e1)
+        n = np.cross(e1, P[c_i] - P[a_i])
+        n /= np.linalg.norm(n)
+        n *= np.sign(np.dot(n, centre - P[a_i]))
+        return np.stack([e1, n, np.cross(e1, n)], axis=1)
+
+    rot = basis(p, p.mean(axis=0)) @ basis(ref, np.zeros(3)).T
+    mid, mid_ref = 0.5 * (p[a_i] + p[b_i]), 0.5 * (ref[a_i] + ref[b_i])
+    cog = mid - rot @ mid_ref
+    e = (p[b_i] - p[a_i])[:2]
+    e = e / np.linalg.norm(e)
+    out = (mid - p[c_i])[:2]
+    out = out - np.dot(out, e) * e
+    out /= np.linalg.norm(out)
+    return float(np.dot((cog - mid)[:2], out))

@@ -1,0 +1,100 @@
+# Rolling locomotion (issue 4; paper III.C-D, IV): demonstration runs planned from the
+# workspace and rolled in the grounded simulation, then Fig. 8-10, paths and an animation.
+# Rules call tensegrity.locomotion and tensegrity.render_locomotion.
+from tensegrity.locomotion import DEMOS
+
+LOCO = config["locomotion"]
+LOCO_RUNS = LOCO["runs"]
+PATH_RUNS = [r for r in LOCO_RUNS if r != "paper"]
+# what a run depends on: everything in the section but the list of runs and the animation
+LOCO_RUN_CFG = {"params": config["params"], "sim": config["sim"],
+                "locomotion": {k: v for k, v in LOCO.items()
+                               if k != "runs" and not k.startswith("animation_")}}
+SLOPE_RUN = "slope_down" if "slope_down" in LOCO_RUNS or "slope_up" not in LOCO_RUNS else "slope_up"
+
+
+rule locomotion_run:
+    """One demonstration run: plan from the workspace, roll in the grounded simulation, repeat."""
+    input:
+        "results/workspace.nc",
+    output:
+        "results/locomotion/{run}.nc",
+    params:
+        cfg=LOCO_RUN_CFG,
+    log:
+        "results/logs/locomotion/{run}.log",
+    benchmark:
+        "results/benchmarks/locomotion/{run}.tsv"
+    wildcard_constraints:
+        run="|".join(DEMOS),
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=30,
+    script:
+        "../scripts/locomotion_run.py"
+
+
+rule locomotion_states:
+    """Fig. 8 (stable), Fig. 9 (rolling) from the paper run; Fig. 10 (slope) from a slope run."""
+    input:
+        paper="results/locomotion/paper.nc",
+        slope=f"results/locomotion/{SLOPE_RUN}.nc",
+    output:
+        fig8=report("results/figures/fig8_stable.png", caption="../report/fig8.rst", category="Locomotion"),
+        fig9=report("results/figures/fig9_rolling.png", caption="../report/fig9.rst", category="Locomotion"),
+        fig10=report("results/figures/fig10_slope.png", caption="../report/fig10.rst", category="Locomotion"),
+    log:
+        "results/logs/locomotion/states.log",
+    localrule: True
+    script:
+        "../scripts/locomotion_states.py"
+
+
+rule locomotion_path:
+    """The path of a run over its terrain, from above and in 3D."""
+    input:
+        "results/locomotion/{run}.nc",
+    output:
+        top=report("results/figures/path_{run}_top.png", caption="../report/path.rst",
+                   category="Locomotion", subcategory="{run}"),
+        three_d=report("results/figures/path_{run}_3d.png", caption="../report/path.rst",
+                       category="Locomotion", subcategory="{run}"),
+    log:
+        "results/logs/locomotion/path_{run}.log",
+    wildcard_constraints:
+        run="|".join(DEMOS),
+    localrule: True
+    script:
+        "../scripts/locomotion_path.py"
+
+
+rule locomotion_animation:
+    """An animation (GIF) of one run."""
+    input:
+        "results/locomotion/{run}.nc",
+    output:
+        report("results/figures/rolling_{run}.gif", caption="../report/animation.rst",
+               category="Locomotion"),
+    params:
+        fps=LOCO["animation_fps"],
+        speed=LOCO["animation_speed"],
+    log:
+        "results/logs/locomotion/animation_{run}.log",
+    benchmark:
+        "results/benchmarks/locomotion/animation_{run}.tsv"
+    wildcard_constraints:
+        run="|".join(DEMOS),
+    resources:
+        mem_mb=1500,
+        runtime=10,
+    script:
+        "../scripts/locomotion_animation.py"
+
+
+rule locomotion_all:
+    input:
+        expand("results/locomotion/{run}.nc", run=LOCO_RUNS),
+        rules.locomotion_states.output,
+        expand("results/figures/path_{run}_{view}.png", run=PATH_RUNS, view=["top", "3d"]),
+        f"results/figures/rolling_{LOCO['animation_run']}.gif",

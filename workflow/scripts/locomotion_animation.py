@@ -1,0 +1,5 @@
+from tensegrity import render_locomotion, stages
+
+with stages.logging_to(snakemake.log[0]):
+    render_locomotion.render_animation(snakemake.input[0], snakemake.output[0],
+                                       snakemake.params.fps, snakemake.params.speed)
