@@ -135,16 +135,20 @@ def cmd_query(args) -> int:
 def cmd_stage(args) -> int:
     """Run one workflow stage with the same function the Snakemake rule calls."""
     from . import stages
-    cfg = _load_cfg(args)
+    full = _load_cfg(args)
+    # the config sections the stage depends on, as the Snakemake rule passes them (provenance)
+    cfg = lambda *keys: {k: full[k] for k in keys}
     if args.stage == "sweep":
-        for p in stages.run_sweep(cfg, args.contact, args.out):
+        if args.contact is None:
+            raise ValueError("--contact is required for the sweep stage")
+        for p in stages.run_sweep(cfg("params", "sim", "sweep"), args.contact, args.out):
             print(p)
     elif args.stage == "nominal":
-        print(stages.run_nominal(cfg, args.inputs, args.out))
+        print(stages.run_nominal(cfg("nominal"), args.inputs, args.out))
     elif args.stage == "fit":
-        print(stages.run_fit(cfg, args.inputs[0], args.out))
+        print(stages.run_fit(cfg("fit"), args.inputs[0], args.out))
     elif args.stage == "map":
-        print(stages.run_map(cfg, args.inputs, args.out))
+        print(stages.run_map({}, args.inputs, args.out))
     return 0
 
 
