@@ -76,6 +76,20 @@ def write(ds: xr.Dataset, path: str | os.PathLike, cfg: dict, title: str, *,
     return path
 
 
+def write_text(path: str | os.PathLike, text: str) -> Path:
+    """Write a text file atomically (a temporary file renamed into place); returns the path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
+    try:
+        tmp.write_text(text)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return path
+
+
 def read(path: str | os.PathLike) -> xr.Dataset:
     """The dataset at `path`, loaded into memory; the file is closed on return."""
     with xr.open_dataset(path, engine="netcdf4") as ds:

@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import contextlib
 import json
-import os
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -183,12 +181,7 @@ def curves_json(curve_paths, out_path) -> Path:
             "face_nodes": [int(n) for n in ds.attrs["face_nodes"]],
             "pairs": {str(int(p)): {ax: fit.to_dict(curves[i][j]) for j, ax in enumerate(AXES)}
                       for i, p in enumerate(ds["pair"].values)}}
-    out_path = Path(out_path)
-    out_path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out_path.with_name(f".{out_path.name}.{os.getpid()}.tmp")
-    tmp.write_text(json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))
-    os.replace(tmp, out_path)
-    return out_path
+    return datasets.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))
 
 
 def run_map(cfg: dict, nominal_paths, out_path) -> Path:

@@ -8,7 +8,7 @@ import pytest
 import xarray as xr
 
 from tensegrity import config, datasets, geometry as g, mapping, stages, statics
-from tensegrity import validation as v
+from tensegrity import validation as v, validation_report
 from tensegrity.params import Params
 
 from conftest import EQUI, ISO
@@ -278,7 +278,7 @@ def tiny_stage(tmp_path_factory):
         noms.append(stages.run_nominal(cfg, sweeps, tmp / "nominal" / f"{contact}.nc"))
     ws = stages.run_map(cfg, noms, tmp / "workspace.nc")
     out = tmp / "validation"
-    paths = v.run_stage(cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html")
+    paths = validation_report.run_stage(cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html")
     return cfg, noms, ws, out, paths
 
 
