@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tensegrity import config, locomotion as lo
+from tensegrity import config, locomotion as lo, locomotion_io as lio
 from tensegrity.terrain import Terrain
 
 
@@ -79,7 +79,7 @@ def main() -> None:
     a = ap.parse_args()
     ws = workspace(a.workspace)
     cfg = config.load()
-    params = lo.locomotion_params(cfg)
+    params = lio.locomotion_params(cfg)
     if a.strut_damping is not None:
         params = params.replace(strut_damping=a.strut_damping)
     settings = lo.Settings.from_config(cfg["locomotion"], cfg["sim"]["dt"])

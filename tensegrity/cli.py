@@ -205,7 +205,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output file (directory for sweep)")
     p.set_defaults(func=cmd_stage)
 
-    from .locomotion import add_cli  # plan and roll
+    from .locomotion_io import add_cli  # plan and roll
     add_cli(sub, parents=[common])
     return ap
 

@@ -15,7 +15,7 @@ from tensegrity import contact as ct
 from tensegrity import datasets
 from tensegrity import dynamics as d
 from tensegrity import geometry as g
-from tensegrity import locomotion as lo
+from tensegrity import cli, locomotion as lo, locomotion_io as lio
 from tensegrity import mapping, statics
 from tensegrity.params import Params
 from tensegrity.terrain import Terrain
@@ -223,7 +223,7 @@ def test_paper_experiment(paper):
 
 def test_run_dataset_round_trip(paper, tmp_path):
     terrain = Terrain.flat()
-    path = datasets.write(lo.run_dataset(paper, terrain, "paper"), tmp_path / "paper.nc", {},
+    path = datasets.write(lio.run_dataset(paper, terrain, "paper"), tmp_path / "paper.nc", {},
                           "paper run", allow_nan=["planned_pressure", "tip_pressure", "goal"])
     ds = datasets.read(path)
     assert list(ds["faces"].values) == [EQUI, ISO, NEXT]
@@ -231,7 +231,7 @@ def test_run_dataset_round_trip(paper, tmp_path):
     assert ds["tip_pressure"].values == pytest.approx([st.used.tip_pressure for st in paper.steps])
     assert ds.attrs["outcome"] == "arrived"
     assert ds["nodes"].shape == (len(paper.record.t), 12, 3)
-    back = lo.terrain_from_dataset(ds)
+    back = lio.terrain_from_dataset(ds)
     assert back.kind == "plane" and back.height(1.0, 2.0) == terrain.height(1.0, 2.0)
 
 
@@ -311,10 +311,10 @@ def test_bad_run_input(ws):
 
 
 def test_command_line_plan(ws_path, capsys):
-    assert lo.main(["plan", "--workspace", str(ws_path), "--face", "9,10,12", "--direction", "75"]) == 0
+    assert cli.main(["plan", "--workspace", str(ws_path), "--face", "9,10,12", "--direction", "75"]) == 0
     out = capsys.readouterr().out
     assert "chosen #10" in out and "10-12" in out
-    assert lo.main(["plan", "--workspace", str(ws_path), "--face", "1,2,3", "--direction", "75"]) == 2
+    assert cli.main(["plan", "--workspace", str(ws_path), "--face", "1,2,3", "--direction", "75"]) == cli.EXIT_INPUT
     assert "unknown face" in capsys.readouterr().err
 
 
@@ -342,7 +342,7 @@ def test_state_figures_show_the_projection_inside_and_outside(tmp_path):
 
 def test_path_figure_and_animation_of_a_run(paper, tmp_path):
     from tensegrity import render_locomotion as rl
-    ds = lo.run_dataset(paper, Terrain.flat(), "paper")
+    ds = lio.run_dataset(paper, Terrain.flat(), "paper")
     out = rl.fig_path(ds, tmp_path / "top.png", "top")
     assert out["rolls"] == 2 and {"cog track", "contact 1", "contact 2"} <= set(out["actors"])
     anim = rl.animate(ds, tmp_path / "run.gif", fps=5, speed=10.0, size=(320, 240))

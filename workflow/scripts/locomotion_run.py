@@ -1,5 +1,5 @@
-from tensegrity import locomotion, stages
+from tensegrity import locomotion_io, stages
 
 with stages.logging_to(snakemake.log[0], snakemake.threads):
-    locomotion.run_demo(snakemake.params.cfg, snakemake.wildcards.run, snakemake.input[0],
+    locomotion_io.run_demo(snakemake.params.cfg, snakemake.wildcards.run, snakemake.input[0],
                         snakemake.output[0])
