@@ -2,7 +2,7 @@
 
 Exit codes: 0 success; 2 bad command-line usage; 3 invalid input (bad config, value, face,
 pair, pressure or file); 4 the simulation failed (non-finite, exploded, off the terrain);
-1 anything else.
+1 anything else, including a `roll` that did not arrive (its outcome is printed).
 """
 from __future__ import annotations
 
