@@ -93,7 +93,7 @@ def cmd_simulate(args) -> int:
     x, q = np.concatenate(xs), np.concatenate(qs)
     nodes = d.nodes(x, q, params.strut_length)
     cog, sup = g.in_support_frame(nodes, face)
-    var = lambda dims, a, u, ln: (dims, a, {"units": u, "long_name": ln})
+    var = datasets.var
     ds = xr.Dataset(
         {"cog": var(("time", "axis"), cog, "m", "centre of gravity in the start face's support frame"),
          "cog_world": var(("time", "axis"), d.cog(x), "m", "centre of gravity, world frame"),

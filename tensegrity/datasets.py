@@ -76,6 +76,12 @@ def write(ds: xr.Dataset, path: str | os.PathLike, cfg: dict, title: str, *,
     return path
 
 
+def var(dims, data, units: str, long_name: str, **attrs) -> tuple:
+    """An xarray variable spec (dims, data, attrs) with the `units` and `long_name` every
+    variable of this toolkit carries."""
+    return (tuple(dims), np.asarray(data), {"units": units, "long_name": long_name, **attrs})
+
+
 def write_text(path: str | os.PathLike, text: str) -> Path:
     """Write a text file atomically (a temporary file renamed into place); returns the path."""
     path = Path(path)

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from . import contact as ct
+from . import datasets
 from . import dynamics as d
 from . import geometry as g
 from .params import Params
@@ -16,10 +17,6 @@ from .locomotion import Run, Settings, Workspace, plan, roll_over, roll_to, sett
 
 
 DEMOS = ("paper", "flat", "slope_up", "slope_down", "terrain")
-
-
-def _var(dims, data, units, long_name):
-    return (dims, data, {"units": units, "long_name": long_name})
 
 
 def run_dataset(run: Run, terrain: Terrain, name: str = "") -> "xr.Dataset":
@@ -35,37 +32,37 @@ def run_dataset(run: Run, terrain: Terrain, name: str = "") -> "xr.Dataset":
         pairs[i, :len(r.pairs)] = r.pairs
     edge = np.array([st.plan.edge for st in steps], np.int64).reshape(n, 2)
     ds = xr.Dataset(
-        {"nodes": _var(("time", "node", "axis"), rec.nodes, "m", "node positions, world frame"),
-         "cog": _var(("time", "axis"), rec.cog, "m", "centre of gravity, world frame"),
-         "pressure": _var(("time", "pair"), rec.pressure, "MPa", "pressure applied to each actuator pair"),
-         "contact_face": _var(("time",), rec.face, "1", "face resting on the terrain (0: none)"),
-         "face": _var(("step",), np.array([st.face for st in steps], np.int64), "1", "face the step started on"),
-         "next_face": _var(("step",), np.array([st.face_after or 0 for st in steps], np.int64), "1",
+        {"nodes": datasets.var(("time", "node", "axis"), rec.nodes, "m", "node positions, world frame"),
+         "cog": datasets.var(("time", "axis"), rec.cog, "m", "centre of gravity, world frame"),
+         "pressure": datasets.var(("time", "pair"), rec.pressure, "MPa", "pressure applied to each actuator pair"),
+         "contact_face": datasets.var(("time",), rec.face, "1", "face resting on the terrain (0: none)"),
+         "face": datasets.var(("step",), np.array([st.face for st in steps], np.int64), "1", "face the step started on"),
+         "next_face": datasets.var(("step",), np.array([st.face_after or 0 for st in steps], np.int64), "1",
                            "face the robot settled on after the step (0: none)"),
-         "predicted_face": _var(("step",), np.array([st.plan.next_face for st in steps], np.int64), "1",
+         "predicted_face": datasets.var(("step",), np.array([st.plan.next_face for st in steps], np.int64), "1",
                                 "face the plan predicted (across the planned edge)"),
-         "step_pair": _var(("step", "slot"), pairs, "1", "actuator pair(s) driven in the step's rolling attempt (0: none)"),
-         "planned_pressure": _var(("step",), np.array([st.plan.pressure for st in steps]), "MPa",
+         "step_pair": datasets.var(("step", "slot"), pairs, "1", "actuator pair(s) driven in the step's rolling attempt (0: none)"),
+         "planned_pressure": datasets.var(("step",), np.array([st.plan.pressure for st in steps]), "MPa",
                                   "least rolling pressure predicted by the workspace (NaN: no roll predicted)"),
-         "tip_pressure": _var(("step",), np.array([r.tip_pressure for r in used]), "MPa",
+         "tip_pressure": datasets.var(("step",), np.array([r.tip_pressure for r in used]), "MPa",
                               "pressure held when the robot tipped in the simulation (NaN: it did not roll)"),
-         "peak_pressure": _var(("step",), np.array([r.peak_pressure for r in used]), "MPa",
+         "peak_pressure": datasets.var(("step",), np.array([r.peak_pressure for r in used]), "MPa",
                                "highest pressure applied in the step's last attempt"),
-         "edge": _var(("step", "end"), edge, "1", "nodes of the planned edge"),
-         "alignment": _var(("step",), np.array([st.plan.alignment for st in steps]), "1",
+         "edge": datasets.var(("step", "end"), edge, "1", "nodes of the planned edge"),
+         "alignment": datasets.var(("step",), np.array([st.plan.alignment for st in steps]), "1",
                            "cosine between the planned edge's outward direction and the target direction"),
-         "reach": _var(("step",), np.array([st.plan.reach for st in steps]), "m",
+         "reach": datasets.var(("step",), np.array([st.plan.reach for st in steps]), "m",
                        "predicted margin at the workspace's highest level (negative: outside)"),
-         "attempts": _var(("step",), np.array([len(st.attempts) for st in steps], np.int64), "1",
+         "attempts": datasets.var(("step",), np.array([len(st.attempts) for st in steps], np.int64), "1",
                           "candidates tried in the step"),
-         "t_start": _var(("step",), np.array([st.attempts[0].t_start for st in steps]), "s", "start of the step"),
-         "t_end": _var(("step",), np.array([r.t_end for r in used]), "s", "end of the step (settled)"),
-         "position": _var(("step", "axis"), np.array([r.cog_after for r in used]).reshape(n, 3), "m",
+         "t_start": datasets.var(("step",), np.array([st.attempts[0].t_start for st in steps]), "s", "start of the step"),
+         "t_end": datasets.var(("step",), np.array([r.t_end for r in used]), "s", "end of the step (settled)"),
+         "position": datasets.var(("step", "axis"), np.array([r.cog_after for r in used]).reshape(n, 3), "m",
                           "centre of gravity after the step, world frame"),
-         "faces": _var(("visit",), np.array(run.faces, np.int64), "1", "contact faces visited, in order"),
-         "goal": _var(("axis",), run.goal, "m", "goal, world frame (NaN: a run over given edges)"),
-         "start": _var(("axis",), run.start, "m", "centre of gravity at the start, world frame"),
-         "terrain_heights": _var(("tx", "ty"), terrain.heights, "m",
+         "faces": datasets.var(("visit",), np.array(run.faces, np.int64), "1", "contact faces visited, in order"),
+         "goal": datasets.var(("axis",), run.goal, "m", "goal, world frame (NaN: a run over given edges)"),
+         "start": datasets.var(("axis",), run.start, "m", "centre of gravity at the start, world frame"),
+         "terrain_heights": datasets.var(("tx", "ty"), terrain.heights, "m",
                                  "height field of the terrain (kind heightfield)")},
         coords={"time": ("time", rec.t, {"units": "s", "long_name": "time"}),
                 "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"}),
@@ -118,7 +115,6 @@ def locomotion_params(cfg: dict) -> Params:
 def run_demo(cfg: dict, name: str, workspace_path, out_path):
     """Stage: the demonstration run `name` (one of DEMOS) from the workspace file; writes the
     run dataset to `out_path` and returns the path. Prints the steps and the outcome."""
-    from . import datasets
     ws = Workspace.load(workspace_path)
     setup = demo_setup(cfg, name)
     params = locomotion_params(cfg)
@@ -231,7 +227,6 @@ def _cli_plan(a) -> int:
 
 
 def _cli_roll(a) -> int:
-    from . import datasets
     cfg, face, terrain, params, ws = _cli_common(a)
     s = Settings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
     run = roll_to(ws, _floats(a.goal, (2,), "--goal"), params, terrain, face=face, settings=s,

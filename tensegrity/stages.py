@@ -38,10 +38,6 @@ def logging_to(path, threads: int | None = None):
             raise
 
 
-def _var(dims, data, units, long_name, **attrs):
-    return (dims, data, {"units": units, "long_name": long_name, **attrs})
-
-
 def _coords(pairs=None, levels=None):
     c = {"axis": ("axis", AXES, {"long_name": "support-frame axis"}),
          "corner": ("corner", [1, 2, 3], {"units": "1", "long_name": "support triangle corner"}),
@@ -74,14 +70,14 @@ def run_sweep(cfg: dict, contact: str, out_dir) -> list[Path]:
     paths = []
     for b, pair in enumerate(res.pairs):
         ds = xr.Dataset(
-            {"cog": _var(("time", "axis"), res.cog[b], "m", "centre of gravity in the support frame"),
-             "support": _var(("time", "corner", "axis"), res.support[b], "m",
+            {"cog": datasets.var(("time", "axis"), res.cog[b], "m", "centre of gravity in the support frame"),
+             "support": datasets.var(("time", "corner", "axis"), res.support[b], "m",
                              "deformed support triangle in the support frame"),
-             "pressure_cmd": _var(("time",), res.pressure_cmd[b], "MPa", f"pressure commanded to pair #{pair}"),
-             "level": _var(("time",), res.level, "1", "index of the pressure level held (-1: settling)"),
-             "on_face": _var(("time",), res.on_face[b].astype(np.int8), "1",
+             "pressure_cmd": datasets.var(("time",), res.pressure_cmd[b], "MPa", f"pressure commanded to pair #{pair}"),
+             "level": datasets.var(("time",), res.level, "1", "index of the pressure level held (-1: settling)"),
+             "on_face": datasets.var(("time",), res.on_face[b].astype(np.int8), "1",
                              "1 while the contact face's three nodes touch the ground (always 1 in the free mode)"),
-             "nodes": _var(("time_nodes", "node", "axis"), res.nodes[b, ::stride], "m",
+             "nodes": datasets.var(("time_nodes", "node", "axis"), res.nodes[b, ::stride], "m",
                            "node positions, world frame (every node_stride-th sample)")},
             coords={**_coords(), "time": ("time", res.t, {"units": "s", "long_name": "time"}),
                     "time_nodes": ("time_nodes", res.t[::stride], {"units": "s", "long_name": "time of node samples"}),
@@ -117,12 +113,12 @@ def run_nominal(cfg: dict, sweep_paths, out_path) -> Path:
             cog[i, k:], std[i, k:], sup[i, k:], margin[i, k:] = np.nan, np.nan, np.nan, np.nan
             tip[i] = levels[k] if not tip[i] <= levels[k] else tip[i]
     ds = xr.Dataset(
-        {"cog": _var(("pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the support frame"),
-         "cog_std": _var(("pair", "pressure", "axis"), std, "m", "standard deviation of the CoG over the level (oscillation)"),
-         "support": _var(("pair", "pressure", "corner", "axis"), sup, "m", "mean deformed support triangle in the support frame"),
-         "margin": _var(("pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
-         "tip_pressure": _var(("pair",), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never)"),
-         "rolled": _var(("pair", "pressure"), rolled, "1", "1 from the level at which the grounded robot rolled off the face (always 0 in the free mode)")},
+        {"cog": datasets.var(("pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the support frame"),
+         "cog_std": datasets.var(("pair", "pressure", "axis"), std, "m", "standard deviation of the CoG over the level (oscillation)"),
+         "support": datasets.var(("pair", "pressure", "corner", "axis"), sup, "m", "mean deformed support triangle in the support frame"),
+         "margin": datasets.var(("pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
+         "tip_pressure": datasets.var(("pair",), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never)"),
+         "rolled": datasets.var(("pair", "pressure"), rolled, "1", "1 from the level at which the grounded robot rolled off the face (always 0 in the free mode)")},
         coords=_coords(pairs, levels),
         attrs={k: first.attrs[k] for k in ("contact", "face", "face_nodes", "mode")} | {"discard_s": discard})
     ds["axis"].attrs["units"] = "1"
@@ -206,13 +202,13 @@ def run_map(cfg: dict, nominal_paths, out_path) -> Path:
     margin[ok] = g.margin_2d(cog[ok][:, :2], sup[ok][:, :, :2])
     tip = np.array([[nom.tip_pressure(levels, m) if np.isfinite(m).all() else np.nan for m in mf] for mf in margin])
     ds = xr.Dataset(
-        {"cog": _var(("face", "pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the face's support frame"),
-         "support": _var(("face", "pair", "pressure", "corner", "axis"), sup, "m", "deformed support triangle in the face's support frame"),
-         "margin": _var(("face", "pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
-         "tip_pressure": _var(("face", "pair"), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never or not computed)"),
-         "face_nodes": _var(("face", "corner"), g.FACES + 1, "1", "node numbers of the face's corners (support-frame corner order)"),
+        {"cog": datasets.var(("face", "pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the face's support frame"),
+         "support": datasets.var(("face", "pair", "pressure", "corner", "axis"), sup, "m", "deformed support triangle in the face's support frame"),
+         "margin": datasets.var(("face", "pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
+         "tip_pressure": datasets.var(("face", "pair"), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never or not computed)"),
+         "face_nodes": datasets.var(("face", "corner"), g.FACES + 1, "1", "node numbers of the face's corners (support-frame corner order)"),
          "face_type": (("face",), g.FACE_TYPES.astype(str), {"long_name": "equilateral (3 cables) or isosceles (2 cables and a gap)"}),
-         "reference_corner": _var(("face",), g.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)")},
+         "reference_corner": datasets.var(("face",), g.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)")},
         coords={**_coords(np.arange(1, 13), levels),
                 "face": ("face", np.arange(1, 21), {"units": "1", "long_name": "face number"})})
     ds["axis"].attrs["units"] = "1"

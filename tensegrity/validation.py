@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from . import geometry as g, nominal as nom, statics, sweep as sw, symmetry as sym
+from . import datasets, geometry as g, nominal as nom, statics, sweep as sw, symmetry as sym
 from .config import params_from_config
 from .params import Params
 
@@ -100,10 +100,6 @@ class NominalRun:
 
 
 # ------------------------------------------------------------------------------ helpers
-
-def _var(dims, data, units, long_name, **attrs):
-    return (tuple(dims), np.asarray(data), {"units": units, "long_name": long_name, **attrs})
-
 
 def _mm(x: float, digits: int = 3) -> str:
     """A length in m written in mm."""
@@ -380,21 +376,21 @@ def check_paper(nominals: Mapping[str, xr.Dataset], strut_length: float = 0.5,
         verdicts.append(Verdict("1.5", stmt, meas, ref, _status(bool(np.nanmax(odiff) <= orbit_tolerance))))
 
     data = {
-        "migration": _var(("contact", "pair"), mig, "m",
+        "migration": datasets.var(("contact", "pair"), mig, "m",
                           f"in-plane distance of the nominal CoG from the unactuated CoG at {ranking_pressure:g} MPa",
                           pressure_MPa=ranking_pressure),
-        "tip_pressure": _var(("contact", "pair"), tipp, "MPa",
+        "tip_pressure": datasets.var(("contact", "pair"), tipp, "MPa",
                              "least pressure at which the CoG projection leaves the support triangle (NaN: never)"),
-        "tip_edge": _var(("contact", "pair", "end"), edges, "1",
+        "tip_edge": datasets.var(("contact", "pair", "end"), edges, "1",
                          "nodes of the edge the CoG projection crosses first (0: none)"),
-        "paper_tip_pressure": _var((), PAPER_TIP_PRESSURE, "MPa",
+        "paper_tip_pressure": datasets.var((), PAPER_TIP_PRESSURE, "MPa",
                                    "paper's pressure at which #10 rolls the robot off (9,10,12) (III.C)",
                                    tolerance_MPa=tip_tolerance),
-        "orbit_pairs": _var(("orbit", "member"), opairs, "1", "pairs of each 3-fold orbit of (9,10,12)"),
-        "orbit_difference": _var(("orbit", "pressure"), odiff, "m",
+        "orbit_pairs": datasets.var(("orbit", "member"), opairs, "1", "pairs of each 3-fold orbit of (9,10,12)"),
+        "orbit_difference": datasets.var(("orbit", "pressure"), odiff, "m",
                                  "largest difference between the orbit members' CoG, each seen from the "
                                  "corner its rotation carries the reference vertex to", goal_m=orbit_tolerance),
-        "orbit_magnitude_spread": _var(("orbit", "pressure"), ospread, "m",
+        "orbit_magnitude_spread": datasets.var(("orbit", "pressure"), ospread, "m",
                                        "spread of the orbit members' in-plane CoG distance from the centroid"),
     }
     return Check("paper", tuple(verdicts), data,
@@ -420,9 +416,9 @@ def check_statics(params: Params, nominals: Mapping[str, xr.Dataset], pressures=
     ref = f"under {_mm(tolerance)}"
     modes = {str(ds.attrs.get("mode", "free")) for ds in nominals.values()}
     data_vars = lambda: {
-        "statics_cog": _var(("contact", "pair", "statics_pressure", "axis"), scog, "m",
+        "statics_cog": datasets.var(("contact", "pair", "statics_pressure", "axis"), scog, "m",
                             "CoG of the free-mode static equilibrium in the support frame"),
-        "statics_difference": _var(("contact", "pair", "statics_pressure"), diff, "m",
+        "statics_difference": datasets.var(("contact", "pair", "statics_pressure"), diff, "m",
                                    "distance between the nominal CoG and the static-equilibrium CoG",
                                    goal_m=tolerance)}
     nan = ("statics_cog", "statics_difference")
@@ -474,12 +470,12 @@ def check_mapping(params: Params, workspace: xr.Dataset, faces: Sequence[int], s
     data = lambda: {
         "sample_face_type": (("sample_face",), np.array([str(g.FACE_TYPES[f - 1]) for f in faces]),
                              {"long_name": "kind of the sample face"}),
-        "direct_cog": _var(("sample_face", "pair", "pressure", "axis"), dcog, "m",
+        "direct_cog": datasets.var(("sample_face", "pair", "pressure", "axis"), dcog, "m",
                            "nominal CoG of a direct simulation standing on the sample face, in its support frame"),
-        "mapping_difference": _var(("sample_face", "pair", "pressure"), dcog_diff, "m",
+        "mapping_difference": datasets.var(("sample_face", "pair", "pressure"), dcog_diff, "m",
                                    "distance between the mapped and the directly simulated nominal CoG",
                                    goal_m=tolerance),
-        "mapping_support_difference": _var(("sample_face", "pair", "pressure"), dsup_diff, "m",
+        "mapping_support_difference": datasets.var(("sample_face", "pair", "pressure"), dsup_diff, "m",
                                            "largest corner distance between the mapped and the directly "
                                            "simulated support triangle", goal_m=tolerance)}
     nan = ("direct_cog", "mapping_difference", "mapping_support_difference")
@@ -635,24 +631,24 @@ def check_grounded(params: Params, nominals: Mapping[str, xr.Dataset], setup: Sw
                         "leaves the triangle, over the same edge",
                  "; ".join(roll_txt), "same level and edge (III.B)", _status(all(roll_ok)) if roll_ok else SKIP)
     data = {
-        "grounded_cog": _var(("contact", "pair", "pressure", "axis"), gcog, "m",
+        "grounded_cog": datasets.var(("contact", "pair", "pressure", "axis"), gcog, "m",
                              "nominal CoG in the grounded mode, support frame (NaN once the robot rolled)"),
-        "grounded_shift": _var(("contact", "pair", "pressure", "axis"), shift, "m",
+        "grounded_shift": datasets.var(("contact", "pair", "pressure", "axis"), shift, "m",
                                "grounded minus free nominal CoG, support frame (NaN once the robot rolled)",
                                goal_m=tolerance),
-        "grounded_margin_change": _var(("contact", "pair", "pressure"), dmargin, "m",
+        "grounded_margin_change": datasets.var(("contact", "pair", "pressure"), dmargin, "m",
                                        "grounded minus free margin of the CoG projection (NaN once rolled)"),
-        "grounded_rolled": _var(("contact", "pair", "pressure"), rolled, "1",
+        "grounded_rolled": datasets.var(("contact", "pair", "pressure"), rolled, "1",
                                 "1 if the grounded robot has left its contact face by the end of the level"),
-        "grounded_face": _var(("contact", "pair", "pressure"), endf, "1",
+        "grounded_face": datasets.var(("contact", "pair", "pressure"), endf, "1",
                               "face of the three lowest nodes at the end of the level (0: none)"),
-        "grounded_roll_pressure": _var(("contact", "pair"), rp, "MPa",
+        "grounded_roll_pressure": datasets.var(("contact", "pair"), rp, "MPa",
                                        "level at which the grounded robot first left its face (NaN: never)"),
-        "grounded_roll_face": _var(("contact", "pair"), rf, "1", "face the grounded robot rolled onto (0: none)"),
-        "free_roll_pressure": _var(("contact", "pair"), frp, "MPa",
+        "grounded_roll_face": datasets.var(("contact", "pair"), rf, "1", "face the grounded robot rolled onto (0: none)"),
+        "free_roll_pressure": datasets.var(("contact", "pair"), frp, "MPa",
                                    "first level at which the free nominal CoG projection is outside the triangle"),
-        "free_roll_face": _var(("contact", "pair"), frf, "1", "face across the edge the free CoG projection crosses"),
-        "grounded_settle": _var((), settle, "s", "time on the ground at zero pressure before the first level"),
+        "free_roll_face": datasets.var(("contact", "pair"), frf, "1", "face across the edge the free CoG projection crosses"),
+        "grounded_settle": datasets.var((), settle, "s", "time on the ground at zero pressure before the first level"),
     }
     table = ("Grounded against free mode, per pair (check 4; mm, MPa)",
              ["contact", "pair", "max in-plane shift", "min normal shift", "min margin change",
@@ -684,9 +680,9 @@ def check_timestep(params: Params, nominals: Mapping[str, xr.Dataset], setup: Sw
         diff[c, idx] = np.linalg.norm(fc[idx] - run.cog, axis=-1)
     stmt = f"Nominal CoG at dt = {setup.dt:g} s = the same sweep at dt/2 = {setup.dt / 2:g} s"
     ref = f"under {_mm(tolerance)}"
-    data = {"half_dt_cog": _var(("contact", "pair", "pressure", "axis"), hcog, "m",
+    data = {"half_dt_cog": datasets.var(("contact", "pair", "pressure", "axis"), hcog, "m",
                                 "nominal CoG at half the time step, support frame", dt_s=setup.dt / 2),
-            "timestep_difference": _var(("contact", "pair", "pressure"), diff, "m",
+            "timestep_difference": datasets.var(("contact", "pair", "pressure"), diff, "m",
                                         "distance between the nominal CoG at dt and at dt/2", goal_m=tolerance)}
     if not np.isfinite(diff).any():
         return Check("timestep", (Verdict("5", stmt, "no sweep", ref, SKIP),), data,

@@ -10,7 +10,7 @@ import numpy as np
 import xarray as xr
 
 from . import datasets
-from .validation import AXES, CONTACTS, FAIL, PASS, SKIP, Check, _levels, _var, run_checks
+from .validation import AXES, CONTACTS, FAIL, PASS, SKIP, Check, _levels, run_checks
 
 
 def to_dataset(checks: Sequence[Check], levels, faces, statics_pressures) -> tuple[xr.Dataset, list[str]]:
@@ -21,7 +21,7 @@ def to_dataset(checks: Sequence[Check], levels, faces, statics_pressures) -> tup
     for c in checks:
         data.update(c.data)
         allow += list(c.allow_nan)
-    data["passed"] = _var(("check",), np.array([1 if r.status == PASS else 0 if r.status == FAIL else -1
+    data["passed"] = datasets.var(("check",), np.array([1 if r.status == PASS else 0 if r.status == FAIL else -1
                                                 for r in rows], np.int8), "1",
                           "1: passed, 0: failed, -1: not evaluated")
     for key in ("statement", "measured", "reference", "status"):
