@@ -222,6 +222,16 @@ def _run_arrays(ds):
     return ds["nodes"].values, ds["cog"].values, idx
 
 
+def _oblique_camera(pl: pv.Plotter, centre, cog: np.ndarray, distance: float) -> None:
+    """Look at the run from the -x, -y side, 40 deg up, from `distance` m (3D path, animation)."""
+    c = np.array([centre[0], centre[1], float(np.nanmean(cog[:, 2]))])
+    d = np.array([-0.55, -0.75, 0.62])
+    pl.camera.focal_point = c
+    pl.camera.position = c + distance * d / np.linalg.norm(d)
+    pl.camera.up = (0, 0, 1)
+    pl.camera.view_angle = 30.0
+
+
 def fig_path(ds, path, view: str = "top", title: str | None = None) -> dict:
     """The path of a run (a results/locomotion dataset) over its terrain, `view` "top" (from
     above, parallel projection) or "3d": the CoG track, the contact triangles the robot settled
@@ -267,13 +277,7 @@ def fig_path(ds, path, view: str = "top", title: str | None = None) -> dict:
     _robot(pl, nodes[-1], name="robot at the end")
     if view == "3d":
         _robot(pl, nodes[0], opacity=0.35, name="robot at the start")
-        c = np.array([centre[0], centre[1], float(np.nanmean(cog[:, 2]))])
-        d = np.array([-0.55, -0.75, 0.62])
-        d /= np.linalg.norm(d)
-        pl.camera.focal_point = c
-        pl.camera.position = c + 2.6 * extent * d
-        pl.camera.up = (0, 0, 1)
-        pl.camera.view_angle = 30.0
+        _oblique_camera(pl, centre, cog, 2.6 * extent)
     else:
         pl.enable_parallel_projection()
         pl.camera.focal_point = (centre[0], centre[1], 0.0)
@@ -343,13 +347,7 @@ def animate(ds, path, fps: int = 10, speed: float = 8.0, size=(640, 480)) -> dic
     pl.add_mesh(cables, color=rd.CABLE_COLOUR, render_lines_as_tubes=True, line_width=2,
                 name="cables")
     pl.add_mesh(track, color=PATH, line_width=3, name="track")
-    c = np.array([centre[0], centre[1], float(np.nanmean(cog[:, 2]))])
-    d = np.array([-0.55, -0.75, 0.62])
-    d /= np.linalg.norm(d)
-    pl.camera.focal_point = c
-    pl.camera.position = c + 2.4 * extent * d
-    pl.camera.up = (0, 0, 1)
-    pl.camera.view_angle = 30.0
+    _oblique_camera(pl, centre, cog, 2.4 * extent)
     pl.renderer.ResetCameraClippingRange()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

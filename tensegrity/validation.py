@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from . import datasets, geometry as g, nominal as nom, statics, sweep as sw, symmetry as sym
+from . import contact as ct, datasets, geometry as g, nominal as nom, statics, sweep as sw, symmetry as sym
 from .config import params_from_config
 from .params import Params
 
@@ -150,15 +150,6 @@ def _face(ds: xr.Dataset) -> int:
 def rest_cog(face, strut_length: float = 0.5) -> np.ndarray:
     """CoG (3,) m of the symmetric, unactuated robot in the support frame of `face`."""
     return g.in_support_frame(g.reference_nodes(strut_length), face)[0]
-
-
-def face_across(face: int, edge) -> int:
-    """The 1-based face on the other side of edge (two 1-based node numbers) of `face`."""
-    a, b = (int(n) - 1 for n in edge)
-    for k, f in enumerate(g.FACES):
-        if k != face - 1 and a in f and b in f:
-            return k + 1
-    raise ValueError(f"no face across edge {edge} of face {face}")
 
 
 def tip(levels, cog, support, margin, face: int) -> tuple[float, tuple[int, int] | None]:
@@ -539,7 +530,7 @@ def compare_grounded(levels, face: int, free_cog, free_support, free_margin, gro
         t, edge = tip(levels, free_cog[b], free_support[b], free_margin[b], face)
         out = np.flatnonzero(free_margin[b] < 0)
         if out.size:
-            free_p[b], free_f[b] = levels[out[0]], face_across(face, edge)
+            free_p[b], free_f[b] = levels[out[0]], ct.neighbour(face, edge)
         agree[b] = (r.size == 0 and out.size == 0) or (r.size > 0 and out.size > 0 and r[0] == out[0]
                                                         and roll_f[b] == free_f[b])
     in_plane = np.linalg.norm(shift[..., :2], axis=-1)
