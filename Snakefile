@@ -1,6 +1,6 @@
 # The workspace pipeline (issue 3): sweeps -> nominal CoG -> fitted curves -> 20-face workspace
 # -> figures. Rules live in workflow/rules/<stage>.smk and call tensegrity.stages.
-from tensegrity.config import validate as validate_config
+from tensegrity.io.config import validate as validate_config
 
 configfile: "config/config.yaml"
 

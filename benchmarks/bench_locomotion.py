@@ -21,8 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from tensegrity import config, locomotion as lo, locomotion_io as lio
-from tensegrity.terrain import Terrain
+from tensegrity.io import config
+from tensegrity.locomotion import core as lo
+from tensegrity.locomotion import demos as lio
+from tensegrity.physics.terrain import Terrain
 
 
 def workspace(path: str) -> lo.Workspace:

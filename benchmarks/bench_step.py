@@ -10,10 +10,10 @@ import time
 
 import numpy as np
 
-from tensegrity import dynamics as d
-from tensegrity.actuation import Schedule
-from tensegrity.params import Params
-from tensegrity.terrain import Terrain
+from tensegrity.physics import dynamics as d
+from tensegrity.physics.actuation import Schedule
+from tensegrity.physics.params import Params
+from tensegrity.physics.terrain import Terrain
 
 
 def run(batch: int, grounded: bool, sim_seconds: float, dt: float = 1e-4, repeat: int = 3) -> float:

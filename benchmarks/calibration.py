@@ -5,10 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from tensegrity import dynamics as d, geometry as g, nominal, sweep
-from tensegrity.actuation import Schedule
-from tensegrity.params import Params
-from tensegrity.terrain import Terrain
+from tensegrity.physics import dynamics as d
+from tensegrity.physics import geometry as g
+from tensegrity.workspace import nominal
+from tensegrity.workspace import sweep
+from tensegrity.physics.actuation import Schedule
+from tensegrity.physics.params import Params
+from tensegrity.physics.terrain import Terrain
 
 LEVELS = np.round(np.arange(1, 13) * 0.4, 2)
 

@@ -20,23 +20,28 @@ from __future__ import annotations
 
 import importlib
 
-__version__ = "0.1.0"
+from importlib.metadata import PackageNotFoundError, version as _version
+
+try:
+    __version__ = _version("tensegrity")
+except PackageNotFoundError:  # run from a source tree that was never installed
+    __version__ = "0+unknown"
 
 _API = {
-    "Params": ("params", "Params"),
-    "Terrain": ("terrain", "Terrain"),
-    "Schedule": ("actuation", "Schedule"),
-    "State": ("dynamics", "State"),
-    "SimulationError": ("dynamics", "SimulationError"),
-    "stand_on": ("dynamics", "stand_on"),
-    "simulate": ("dynamics", "simulate"),
-    "step": ("dynamics", "step"),
-    "load_curves": ("query", "load_curves"),
-    "query_workspace": ("query", "query"),
-    "evaluate_curve": ("fit", "evaluate"),
-    "Workspace": ("locomotion", "Workspace"),
-    "plan_roll": ("locomotion", "plan"),
-    "roll_to": ("locomotion", "roll_to"),
+    "Params": ("physics.params", "Params"),
+    "Terrain": ("physics.terrain", "Terrain"),
+    "Schedule": ("physics.actuation", "Schedule"),
+    "State": ("physics.dynamics", "State"),
+    "SimulationError": ("physics.dynamics", "SimulationError"),
+    "stand_on": ("physics.dynamics", "stand_on"),
+    "simulate": ("physics.dynamics", "simulate"),
+    "step": ("physics.dynamics", "step"),
+    "load_curves": ("workspace.query", "load_curves"),
+    "query_workspace": ("workspace.query", "query"),
+    "evaluate_curve": ("workspace.fit", "evaluate"),
+    "Workspace": ("locomotion.core", "Workspace"),
+    "plan_roll": ("locomotion.core", "plan"),
+    "roll_to": ("locomotion.core", "roll_to"),
 }
 
 __all__ = ["__version__", "load_workspace", *_API]
@@ -44,7 +49,7 @@ __all__ = ["__version__", "load_workspace", *_API]
 
 def load_workspace(path="results/workspace.nc"):
     """The 20-face workspace (results/workspace.nc) as a locomotion.Workspace for planning."""
-    from .locomotion import Workspace
+    from .locomotion.core import Workspace
     return Workspace.load(path)
 
 

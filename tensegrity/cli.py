@@ -36,7 +36,7 @@ def _face(text: str):
 
 
 def _terrain(text: str):
-    from .terrain import Terrain
+    from .physics.terrain import Terrain
     kind, _, arg = text.partition(":")
     try:
         if kind == "flat":
@@ -53,7 +53,7 @@ def _terrain(text: str):
 
 
 def _load_cfg(args):
-    from . import config
+    from .io import config
     return config.load(args.config, overrides=args.set or None)
 
 
@@ -65,9 +65,12 @@ def _progress(total: float, desc: str):
 def cmd_simulate(args) -> int:
     """One actuation on one robot -> a netCDF with the CoG, nodes and pressures."""
     import xarray as xr
-    from . import datasets, dynamics as d, geometry as g, sweep
-    from .actuation import Schedule
-    from .config import params_from_config
+    from .io import datasets
+    from .physics import dynamics as d
+    from .physics import geometry as g
+    from .workspace import sweep
+    from .physics.actuation import Schedule
+    from .io.config import params_from_config
     cfg = _load_cfg(args)
     params, terrain = sweep.setup(params_from_config(cfg), args.mode)
     if args.terrain is not None:
@@ -116,7 +119,8 @@ def cmd_simulate(args) -> int:
 
 def cmd_query(args) -> int:
     """Nominal CoG and margin for a face, pair and pressure from the fitted curves."""
-    from . import datasets, query
+    from .io import datasets
+    from .workspace import query
     ans = query.query(query.load_curves(args.curves), datasets.read(args.workspace),
                       args.face, args.pair, args.pressure)
     out = {"face": ans.face, "pair": ans.pair, "pressure_mpa": ans.pressure,
@@ -205,7 +209,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output file (directory for sweep)")
     p.set_defaults(func=cmd_stage)
 
-    from .locomotion_io import add_cli  # plan and roll
+    from .locomotion.demos import add_cli  # plan and roll
     add_cli(sub, parents=[common])
     return ap
 
@@ -213,7 +217,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     ap = build_parser()
     args = ap.parse_args(argv)
-    from .dynamics import SimulationError
+    from .physics.dynamics import SimulationError
     try:
         return args.func(args)
     except SimulationError as e:

@@ -14,8 +14,11 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import datasets, geometry as g, mapping, nominal as nom
-from .config import params_from_config
+from .io import datasets
+from .physics import geometry as g
+from .workspace import mapping
+from .workspace import nominal as nom
+from .io.config import params_from_config
 
 AXES = ["x", "y", "z"]
 CONTACTS = list(g.CONTACT_FACES)
@@ -60,7 +63,7 @@ def _provenance(cfg: dict, *inputs) -> dict:
 
 def run_sweep(cfg: dict, contact: str, out_dir) -> list[Path]:
     """Sweep every configured pair on the contact face; write `out_dir`/pairNN.nc."""
-    from . import sweep as sw  # the simulator (numba) only where it runs
+    from .workspace import sweep as sw  # the simulator (numba) only where it runs
     if contact not in g.CONTACT_FACES:
         raise ValueError(f"unknown contact {contact!r}: use one of {CONTACTS}")
     s, sim = cfg["sweep"], cfg["sim"]
@@ -129,7 +132,7 @@ def run_nominal(cfg: dict, sweep_paths, out_path) -> Path:
 
 def run_fit(cfg: dict, nominal_path, out_path) -> Path:
     """Fit a curve per pair and axis to the nominal CoG; write the plain-number curves."""
-    from . import fit  # scikit-learn is slow to import: only this stage needs it
+    from .workspace import fit  # scikit-learn is slow to import: only this stage needs it
     src = datasets.read(nominal_path)
     f = cfg["fit"]
     p, cog = src["pressure"].values, src["cog"].values
@@ -165,7 +168,7 @@ def run_fit(cfg: dict, nominal_path, out_path) -> Path:
 
 def curves_json(curve_paths, out_path) -> Path:
     """All contact cases' curves as one JSON file (plain numbers, evaluable in any language)."""
-    from . import fit
+    from .workspace import fit
     doc = {"units": {"pressure": "MPa", "cog": "m"},
            "evaluate": "find piece i with breaks[i] <= p < breaks[i+1] (clamp to the end pieces); "
                        "value = sum(coefs[i][k] * (p - breaks[i])**(deg - k))",
@@ -224,8 +227,9 @@ def _rest_frame(face: int, strut_length: float = 0.5):
 
 def render_robot(cfg: dict, fig1, fig4, fig5) -> None:
     """Figs. 1, 4 and 5: the robot, its actuator pairs, and the support frame of (9,10,12)."""
-    from . import dynamics as d, render
-    from .terrain import Terrain
+    from .physics import dynamics as d
+    from .render import scene as render
+    from .physics.terrain import Terrain
     params = params_from_config(cfg)
     nodes = g.reference_nodes(params.strut_length)
     render.fig_robot(nodes, fig1)
@@ -237,7 +241,7 @@ def render_robot(cfg: dict, fig1, fig4, fig5) -> None:
 
 def render_cloud(sweep_path, nominal_path, out, max_pressure: float = 2.4) -> None:
     """Fig. 6: the CoG point cloud and nominal CoGs of one pair, levels up to max_pressure."""
-    from . import render
+    from .render import scene as render
     sw_ds, nm = datasets.read(sweep_path), datasets.read(nominal_path)
     pair, face = int(sw_ds.attrs["pair"]), int(sw_ds.attrs["face"])
     strut = datasets.provenance_config(nm)["params"]["strut_length"]
@@ -254,7 +258,8 @@ def render_cloud(sweep_path, nominal_path, out, max_pressure: float = 2.4) -> No
 def render_workspace(curves_path, nominal_path, out, points: int = 60) -> None:
     """Fig. 7: every pair's fitted CoG curve from 0 MPa to the highest level, with the support
     triangle of the unactuated robot and where each curve leaves the deformed triangle."""
-    from . import fit, render
+    from .workspace import fit
+    from .render import scene as render
     cv, nm = datasets.read(curves_path), datasets.read(nominal_path)
     face = int(nm.attrs["face"])
     rest_cog, rest_tri = _rest_frame(face, datasets.provenance_config(nm)["params"]["strut_length"])
@@ -279,7 +284,7 @@ def render_dataset(path, out, face: int | None = None) -> str:
     """Render any dataset of the toolkit to a PNG: a sweep (its CoG cloud), a nominal file or
     the workspace (the workspace of its face, or of `face`), a locomotion run (its path from
     above), a `tensegrity simulate` output (the robot at the end). Returns what was drawn."""
-    from . import render
+    from .render import scene as render
     ds = datasets.read(path)
     if "level" in ds and "pair" in ds.attrs:  # a sweep
         face_ = int(ds.attrs["face"])
@@ -300,7 +305,7 @@ def render_dataset(path, out, face: int | None = None) -> str:
         face_ = int(ds.attrs["face"])
         return _render_nominal(render, ds, face_, out, f"Nominal CoG, face {g.face_label(face_)}")
     if "face_sequence" in ds or "step" in ds.dims:  # a locomotion run
-        from . import render_locomotion
+        from .render import locomotion as render_locomotion
         render_locomotion.fig_path(ds, out, "top")
         return "locomotion run: path from above"
     if "nodes" in ds and "time" in ds["nodes"].dims:  # tensegrity simulate

@@ -1,10 +1,10 @@
 import pytest
 
-from tensegrity import dynamics as d
-from tensegrity import geometry as g
-from tensegrity.actuation import Schedule
-from tensegrity.params import Params
-from tensegrity.terrain import Terrain
+from tensegrity.physics import dynamics as d
+from tensegrity.physics import geometry as g
+from tensegrity.physics.actuation import Schedule
+from tensegrity.physics.params import Params
+from tensegrity.physics.terrain import Terrain
 
 EQUI = g.face_number((9, 10, 12))
 ISO = g.face_number((10, 11, 12))

@@ -7,7 +7,9 @@ import numpy as np
 import pytest
 
 import tensegrity
-from tensegrity import cli, config, datasets, stages
+from tensegrity import cli, stages
+from tensegrity.io import config
+from tensegrity.io import datasets
 
 
 def test_public_names_resolve():
@@ -18,7 +20,7 @@ def test_public_names_resolve():
 def test_a_curve_evaluates_without_scikit_learn(tmp_path):
     curve = {"breaks": [0.4, 2.0, 4.8], "coefs": [[1.0, 0.0, 0.5], [2.0, 0.1, 0.3]]}
     code = ("import sys; sys.modules['sklearn'] = None; sys.modules['scipy'] = None\n"
-            "from tensegrity import fit\n"
+            "from tensegrity.workspace import fit\n"
             f"print(float(fit.evaluate({curve!r}, 3.0)))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert float(out.stdout) == pytest.approx(2.0 * 1.0 ** 2 + 0.1 * 1.0 + 0.3)

@@ -1,4 +1,4 @@
-"""tensegrity.config: defaults, validation messages, overrides, Params and JSON provenance."""
+"""tensegrity.io.config: defaults, validation messages, overrides, Params and JSON provenance."""
 import json
 import math
 from dataclasses import fields
@@ -7,9 +7,9 @@ import jsonschema
 import pytest
 import yaml
 
-from tensegrity import config
-from tensegrity.config import ConfigError
-from tensegrity.params import Params
+from tensegrity.io import config
+from tensegrity.io.config import ConfigError
+from tensegrity.physics.params import Params
 
 
 def file_config():

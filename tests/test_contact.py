@@ -1,4 +1,4 @@
-"""tensegrity.contact: contact face, CoG projection along gravity, rolling edge (issue 4, item 1).
+"""tensegrity.physics.contact: contact face, CoG projection along gravity, rolling edge (issue 4, item 1).
 
 Checked against geometry that is known in closed form: the symmetric robot's support margins
 (the in-radius of the equilateral face, S sqrt(6)/4 / (2 sqrt 3) = 88.4 mm for S = 0.5 m), the
@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from tensegrity import contact as ct
-from tensegrity import dynamics as d
-from tensegrity import geometry as g
-from tensegrity.params import Params
-from tensegrity.terrain import Terrain
+from tensegrity.physics import contact as ct
+from tensegrity.physics import dynamics as d
+from tensegrity.physics import geometry as g
+from tensegrity.physics.params import Params
+from tensegrity.physics.terrain import Terrain
 
 from conftest import EQUI, ISO
 

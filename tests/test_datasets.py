@@ -1,4 +1,4 @@
-"""tensegrity.datasets: contract checks, attributes, atomic and reproducible writes."""
+"""tensegrity.io.datasets: contract checks, attributes, atomic and reproducible writes."""
 import re
 import time
 
@@ -7,7 +7,8 @@ import pytest
 import xarray as xr
 
 import tensegrity
-from tensegrity import config, datasets
+from tensegrity.io import config
+from tensegrity.io import datasets
 
 
 @pytest.fixture(scope="module")

@@ -4,14 +4,14 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from tensegrity import dynamics as d
-from tensegrity import geometry as g
-from tensegrity import kernel
-from tensegrity import statics
-from tensegrity import symmetry as sym
-from tensegrity.actuation import Schedule
-from tensegrity.params import Params
-from tensegrity.terrain import Terrain
+from tensegrity.physics import dynamics as d
+from tensegrity.physics import geometry as g
+from tensegrity.physics import kernel
+from tensegrity.physics import statics
+from tensegrity.physics import symmetry as sym
+from tensegrity.physics.actuation import Schedule
+from tensegrity.physics.params import Params
+from tensegrity.physics.terrain import Terrain
 
 from conftest import EQUI, free_sweep
 

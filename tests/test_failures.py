@@ -4,10 +4,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from tensegrity import dynamics as d
-from tensegrity.actuation import Schedule
-from tensegrity.params import Params
-from tensegrity.terrain import Terrain
+from tensegrity.physics import dynamics as d
+from tensegrity.physics.actuation import Schedule
+from tensegrity.physics.params import Params
+from tensegrity.physics.terrain import Terrain
 
 from conftest import EQUI
 

@@ -1,11 +1,11 @@
-"""Fast tests of tensegrity.fit: exported curves against the sklearn estimator, model choice,
+"""Fast tests of tensegrity.workspace.fit: exported curves against the sklearn estimator, model choice,
 serialisation round trips and input checks."""
 import json
 
 import numpy as np
 import pytest
 
-from tensegrity import fit as F
+from tensegrity.workspace import fit as F
 
 P = np.linspace(0.4, 4.8, 12)             # the default sweep levels, MPa
 Q = np.linspace(P[0], P[-1], 200)          # evaluation pressures across the range

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from tensegrity import geometry as g
+from tensegrity.physics import geometry as g
 
 
 def test_lengths_of_the_symmetric_state():

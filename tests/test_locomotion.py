@@ -1,7 +1,7 @@
-"""tensegrity.locomotion: workspace lookup, planner, rolls and runs (issue 4, items 2-4).
+"""tensegrity.locomotion.core: workspace lookup, planner, rolls and runs (issue 4, items 2-4).
 
 The workspace here is computed once per session by the independent static solver
-(tensegrity.statics) at 0.8..4.8 MPa; it agrees with the dynamic free-mode workspace of the
+(tensegrity.physics.statics) at 0.8..4.8 MPa; it agrees with the dynamic free-mode workspace of the
 pipeline to 0.03 mm. Expected pressures come from it: #10 tips the robot off (9,10,12) at
 4.2 MPa, #11 off (10,11,12) at 2.2 MPa (design.md section 4).
 """
@@ -11,14 +11,17 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from tensegrity import contact as ct
-from tensegrity import datasets
-from tensegrity import dynamics as d
-from tensegrity import geometry as g
-from tensegrity import cli, locomotion as lo, locomotion_io as lio
-from tensegrity import mapping, statics
-from tensegrity.params import Params
-from tensegrity.terrain import Terrain
+from tensegrity.physics import contact as ct
+from tensegrity.io import datasets
+from tensegrity.physics import dynamics as d
+from tensegrity.physics import geometry as g
+from tensegrity import cli
+from tensegrity.locomotion import core as lo
+from tensegrity.locomotion import demos as lio
+from tensegrity.workspace import mapping
+from tensegrity.physics import statics
+from tensegrity.physics.params import Params
+from tensegrity.physics.terrain import Terrain
 
 from conftest import EQUI, ISO
 
@@ -321,7 +324,7 @@ def test_command_line_plan(ws_path, capsys):
 # ------------------------------------------------------------------------------- figures
 
 def test_state_figures_show_the_projection_inside_and_outside(tmp_path):
-    from tensegrity import render_locomotion as rl
+    from tensegrity.render import locomotion as rl
     p = standing(EQUI)
     out = rl.fig_state(p, Terrain.flat(), EQUI, tmp_path / "fig8.png", "stable")
     assert out["stands"] and out["margin"] == pytest.approx(0.0884, abs=1e-4)
@@ -341,7 +344,7 @@ def test_state_figures_show_the_projection_inside_and_outside(tmp_path):
 
 
 def test_path_figure_and_animation_of_a_run(paper, tmp_path):
-    from tensegrity import render_locomotion as rl
+    from tensegrity.render import locomotion as rl
     ds = lio.run_dataset(paper, Terrain.flat(), "paper")
     out = rl.fig_path(ds, tmp_path / "top.png", "top")
     assert out["rolls"] == 2 and {"cog track", "contact 1", "contact 2"} <= set(out["actors"])

@@ -2,8 +2,11 @@
 import numpy as np
 import pytest
 
-from tensegrity import geometry as g, mapping, nominal, sweep
-from tensegrity.params import Params
+from tensegrity.physics import geometry as g
+from tensegrity.workspace import mapping
+from tensegrity.workspace import nominal
+from tensegrity.workspace import sweep
+from tensegrity.physics.params import Params
 
 LEVELS = [1.2, 3.6]
 PAIRS = [1, 4, 9, 10, 11, 12]

@@ -5,8 +5,8 @@ import pytest
 import pyvista as pv
 from matplotlib.colors import rgb_to_hsv
 
-from tensegrity import geometry as g
-from tensegrity import render
+from tensegrity.physics import geometry as g
+from tensegrity.render import scene as render
 
 
 def _pixels(path) -> np.ndarray:

@@ -1,13 +1,13 @@
-"""Static-equilibrium solver (tensegrity.statics): symmetric state, gradient, force balance,
+"""Static-equilibrium solver (tensegrity.physics.statics): symmetric state, gradient, force balance,
 and the tipping pressures of design.md section 4."""
 import math
 
 import numpy as np
 import pytest
 
-from tensegrity import geometry as g
-from tensegrity import statics as st
-from tensegrity.params import Params
+from tensegrity.physics import geometry as g
+from tensegrity.physics import statics as st
+from tensegrity.physics.params import Params
 
 P = Params()
 EQ_FACE, ISO_FACE = (9, 10, 12), (10, 11, 12)

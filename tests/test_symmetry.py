@@ -1,8 +1,8 @@
 """The symmetry group computed from the geometry (design.md section 1)."""
 import numpy as np
 
-from tensegrity import geometry as g
-from tensegrity import symmetry as sym
+from tensegrity.physics import geometry as g
+from tensegrity.physics import symmetry as sym
 
 
 def test_order_rotations_and_closure():

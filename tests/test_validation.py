@@ -1,4 +1,4 @@
-"""The validate stage (tensegrity.validation): every check passes on a case where the claim holds
+"""The validate stage (tensegrity.validation.checks): every check passes on a case where the claim holds
 and fails on one where it does not (a check that cannot fail is a defect)."""
 import re
 from pathlib import Path
@@ -7,9 +7,15 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from tensegrity import config, datasets, geometry as g, mapping, stages, statics
-from tensegrity import validation as v, validation_report
-from tensegrity.params import Params
+from tensegrity import stages
+from tensegrity.io import config
+from tensegrity.io import datasets
+from tensegrity.physics import geometry as g
+from tensegrity.workspace import mapping
+from tensegrity.physics import statics
+from tensegrity.validation import checks as v
+from tensegrity.validation import report as validation_report
+from tensegrity.physics.params import Params
 
 from conftest import EQUI, ISO
 

@@ -1,7 +1,7 @@
 # Rolling locomotion (issue 4; paper III.C-D, IV): demonstration runs planned from the
 # workspace and rolled in the grounded simulation, then Fig. 8-10, paths and an animation.
-# Rules call tensegrity.locomotion_io and tensegrity.render_locomotion.
-from tensegrity.locomotion_io import DEMOS
+# Rules call tensegrity.locomotion.demos and tensegrity.render.locomotion.
+from tensegrity.locomotion.demos import DEMOS
 
 LOCO = config["locomotion"]
 LOCO_RUNS = LOCO["runs"]

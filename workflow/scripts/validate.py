@@ -1,4 +1,5 @@
-from tensegrity import stages, validation_report
+from tensegrity import stages
+from tensegrity.validation import report as validation_report
 
 with stages.logging_to(snakemake.log[0], snakemake.threads):
     validation_report.run_stage(snakemake.params.cfg, snakemake.input.nominal, snakemake.input.workspace,

@@ -8,7 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import fit, geometry as g, mapping
+from . import fit
+from ..physics import geometry as g
+from . import mapping
 
 AXES = ("x", "y", "z")
 

@@ -22,9 +22,15 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from . import contact as ct, datasets, geometry as g, nominal as nom, statics, sweep as sw, symmetry as sym
-from .config import params_from_config
-from .params import Params
+from ..physics import contact as ct
+from ..io import datasets
+from ..physics import geometry as g
+from ..workspace import nominal as nom
+from ..physics import statics
+from ..workspace import sweep as sw
+from ..physics import symmetry as sym
+from ..io.config import params_from_config
+from ..physics.params import Params
 
 PASS, FAIL, SKIP = "pass", "fail", "not evaluated"
 CONTACTS = tuple(g.CONTACT_FACES)            # ("equilateral", "isosceles")

@@ -16,10 +16,10 @@ from pathlib import Path
 import numpy as np
 import pyvista as pv
 
-from . import contact as ct
-from . import geometry as g
-from . import render as rd
-from .terrain import Terrain
+from ..physics import contact as ct
+from ..physics import geometry as g
+from . import scene as rd
+from ..physics.terrain import Terrain
 
 STANDS, ROLLS = "#2e9d3a", "#d62728"  # support triangle: CoG projection inside / outside
 GRAVITY = "#1f4fd6"
@@ -239,7 +239,7 @@ def fig_path(ds, path, view: str = "top", title: str | None = None) -> dict:
     Returns {"path", "title", "actors", "rolls", "outcome", "view"}."""
     if view not in ("top", "3d"):
         raise ValueError(f"unknown view {view!r}: use 'top' or '3d'")
-    from .locomotion_io import terrain_from_dataset
+    from ..locomotion.demos import terrain_from_dataset
     terrain = terrain_from_dataset(ds)
     nodes, cog, idx = _run_arrays(ds)
     goal = ds["goal"].values
@@ -313,7 +313,7 @@ def animate(ds, path, fps: int = 10, speed: float = 8.0, size=(640, 480)) -> dic
     simulated time. The meshes are built once and moved in place, so a frame costs one render.
     Returns {"path", "frames", "fps"}."""
     import imageio.v2 as imageio
-    from .locomotion_io import terrain_from_dataset
+    from ..locomotion.demos import terrain_from_dataset
     if not (fps >= 1 and speed > 0):
         raise ValueError(f"fps must be >= 1 and speed > 0, got {fps!r}, {speed!r}")
     terrain = terrain_from_dataset(ds)
@@ -374,7 +374,7 @@ def _sample(ds, step: int, which: str) -> tuple[int, np.ndarray]:
     """Index and nodes of a sample of step `step` (1-based): 'stable' (the pressure at half
     the tipping pressure, the robot still on its face) or 'rolling' (pivoting on an edge of
     its face, the first sample with the CoG projection 25 mm outside, else the furthest)."""
-    from .locomotion_io import terrain_from_dataset
+    from ..locomotion.demos import terrain_from_dataset
     terrain = terrain_from_dataset(ds)
     best = None
     t = ds["time"].values
@@ -405,8 +405,8 @@ def _sample(ds, step: int, which: str) -> tuple[int, np.ndarray]:
 def render_states(paper_path, slope_path, fig8, fig9, fig10) -> list[dict]:
     """Fig. 8 and 9 from the paper run (its first roll: #10 on (9,10,12)) and Fig. 10 from a
     slope run (the robot at rest on the slope before its first roll)."""
-    from .datasets import read
-    from .locomotion_io import terrain_from_dataset
+    from ..io.datasets import read
+    from ..locomotion.demos import terrain_from_dataset
     ds = read(paper_path)
     terrain = terrain_from_dataset(ds)
     face = int(ds["face"].values[0])
@@ -432,11 +432,11 @@ def render_states(paper_path, slope_path, fig8, fig9, fig10) -> list[dict]:
 
 def render_paths(run_path, top, three_d) -> list[dict]:
     """The path of one run from above and in 3D."""
-    from .datasets import read
+    from ..io.datasets import read
     ds = read(run_path)
     return [fig_path(ds, top, "top"), fig_path(ds, three_d, "3d")]
 
 
 def render_animation(run_path, gif, fps: int = 10, speed: float = 8.0) -> dict:
-    from .datasets import read
+    from ..io.datasets import read
     return animate(read(run_path), gif, fps, speed)

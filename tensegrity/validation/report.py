@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import datasets
-from .validation import AXES, CONTACTS, FAIL, PASS, SKIP, Check, _levels, run_checks
+from ..io import datasets
+from .checks import AXES, CONTACTS, FAIL, PASS, SKIP, Check, _levels, run_checks
 
 
 def to_dataset(checks: Sequence[Check], levels, faces, statics_pressures) -> tuple[xr.Dataset, list[str]]:

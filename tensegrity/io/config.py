@@ -1,6 +1,6 @@
 """Configuration: read config/config.yaml, fill defaults, validate, and turn it into `Params`.
 
-The schema is workflow/schemas/config.schema.yaml (JSON Schema 2020-12, in YAML); every key has a
+The schema is tensegrity/io/config.schema.yaml (JSON Schema 2020-12, in YAML); every key has a
 default, so `validate({})` is the complete default configuration. On top of the schema this module
 converts numeric strings to numbers (Snakemake parses nested `--config` values with YAML's
 BaseLoader, so `sweep='{levels: [0.5, 1.0]}'` arrives as ['0.5', '1.0'], and PyYAML reads `1e-4`
@@ -27,14 +27,14 @@ import jsonschema
 import numpy as np
 import yaml
 
-from .params import Params
+from ..physics.params import Params
 
 __all__ = ["ConfigError", "load", "validate", "params_from_config", "to_json", "merge", "schema",
            "defaults", "SCHEMA_PATH", "DEFAULT_PATH"]
 
-_REPO = Path(__file__).resolve().parents[1]
-_SCHEMA_REL = Path("workflow", "schemas", "config.schema.yaml")
+SCHEMA_PATH = Path(__file__).with_name("config.schema.yaml")  # package data: works from any install
 _CONFIG_REL = Path("config", "config.yaml")
+DEFAULT_PATH = Path(__file__).resolve().parents[2] / _CONFIG_REL  # the checkout's file, if any
 
 
 class ConfigError(ValueError):
@@ -45,16 +45,12 @@ class ConfigError(ValueError):
         super().__init__("\n".join(self.errors))
 
 
-def _find(rel: Path) -> Path:
-    """`rel` under the repository holding this package, else under the current directory."""
-    for base in (_REPO, Path.cwd()):
-        if (base / rel).is_file():
-            return base / rel
-    raise FileNotFoundError(f"{rel} not found under {_REPO} or {Path.cwd()}")
-
-
-SCHEMA_PATH = _REPO / _SCHEMA_REL
-DEFAULT_PATH = _REPO / _CONFIG_REL
+def _default_file() -> Path | None:
+    """config/config.yaml of the checkout holding this package, else of the current directory."""
+    for path in (DEFAULT_PATH, Path.cwd() / _CONFIG_REL):
+        if path.is_file():
+            return path
+    return None
 
 
 # ---------------------------------------------------------------------------------------- YAML
@@ -91,7 +87,7 @@ def _read_yaml(path: str | os.PathLike) -> Any:
 
 @functools.lru_cache(maxsize=1)
 def _schema() -> dict:
-    return _read_yaml(_find(_SCHEMA_REL))
+    return _read_yaml(SCHEMA_PATH)
 
 
 def schema() -> dict:
@@ -308,7 +304,7 @@ def load(path_or_dict: str | os.PathLike | Mapping | None = None,
     Returns the resolved configuration (plain dicts, lists and scalars). Raises ConfigError.
     """
     if path_or_dict is None:
-        path_or_dict = _find(_CONFIG_REL)
+        path_or_dict = _default_file() or {}
     if isinstance(path_or_dict, Mapping):
         cfg = _plain(path_or_dict)
     else:

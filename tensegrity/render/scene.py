@@ -24,7 +24,7 @@ import pyvista as pv  # noqa: E402
 from matplotlib import colormaps  # noqa: E402  (a PyVista dependency)
 from scipy.spatial.transform import Rotation  # noqa: E402
 
-from . import geometry as g  # noqa: E402
+from ..physics import geometry as g  # noqa: E402
 
 pv.OFF_SCREEN = True
 

@@ -7,13 +7,13 @@ import math
 
 import numpy as np
 
-from . import contact as ct
-from . import datasets
-from . import dynamics as d
-from . import geometry as g
-from .params import Params
-from .terrain import Terrain
-from .locomotion import Run, Settings, Workspace, plan, roll_over, roll_to, settle
+from ..physics import contact as ct
+from ..io import datasets
+from ..physics import dynamics as d
+from ..physics import geometry as g
+from ..physics.params import Params
+from ..physics.terrain import Terrain
+from .core import Run, Settings, Workspace, plan, roll_over, roll_to, settle
 
 
 DEMOS = ("paper", "flat", "slope_up", "slope_down", "terrain")
@@ -108,7 +108,7 @@ def demo_setup(cfg: dict, name: str) -> dict:
 
 def locomotion_params(cfg: dict) -> Params:
     """Parameters of the rolling simulations: config `params` with locomotion.strut_damping."""
-    from .config import params_from_config
+    from ..io.config import params_from_config
     return params_from_config(cfg).replace(strut_damping=float(cfg["locomotion"]["strut_damping"]))
 
 
@@ -199,7 +199,7 @@ def add_cli(sub, parents=()) -> None:
 
 
 def _cli_common(a):
-    from . import config
+    from ..io import config
     cfg = config.load(a.config, overrides=getattr(a, "set", None) or None)
     face = _floats(a.face, (1, 3), "--face").astype(int)
     face = g.face_number(int(face[0]) if face.size == 1 else tuple(face))

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import geometry as g
+from ..physics import geometry as g
 
 
 def nominal(t, level, cog, support, n_levels: int, hold: float, discard: float = 0.0):

@@ -5,11 +5,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import dynamics as d
-from . import geometry as g
-from .actuation import Schedule
-from .params import Params
-from .terrain import Terrain
+from ..physics import dynamics as d
+from ..physics import geometry as g
+from ..physics.actuation import Schedule
+from ..physics.params import Params
+from ..physics.terrain import Terrain
 
 MODES = ("free", "grounded")
 

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import geometry as g
-from . import symmetry as sym
+from ..physics import geometry as g
+from ..physics import symmetry as sym
 
 CANONICAL = {kind: g.face_number(nodes) for kind, nodes in g.CONTACT_FACES.items()}
 

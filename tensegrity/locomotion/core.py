@@ -32,12 +32,12 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from . import contact as ct
-from . import dynamics as d
-from . import geometry as g
-from .actuation import MAX_PRESSURE, Schedule
-from .params import Params
-from .terrain import Terrain
+from ..physics import contact as ct
+from ..physics import dynamics as d
+from ..physics import geometry as g
+from ..physics.actuation import MAX_PRESSURE, Schedule
+from ..physics.params import Params
+from ..physics.terrain import Terrain
 
 __all__ = ["Workspace", "Prediction", "Candidate", "Plan", "Settings", "RollResult", "Record",
            "Step", "Run", "predict", "plan", "settle", "roll", "roll_to", "roll_many", "roll_over",
@@ -85,7 +85,7 @@ class Workspace:
     def from_dataset(cls, ds) -> "Workspace":
         """From an xarray Dataset with the contract of results/workspace.nc."""
         try:
-            from .datasets import provenance_config
+            from ..io.datasets import provenance_config
             strut = float(provenance_config(ds).get("params", {}).get("strut_length", 0.5))
         except ValueError:
             strut = 0.5
@@ -98,7 +98,7 @@ class Workspace:
     @classmethod
     def load(cls, path) -> "Workspace":
         """Read results/workspace.nc (or a file of the same contract)."""
-        from .datasets import read
+        from ..io.datasets import read
         return cls.from_dataset(read(path))
 
     @property

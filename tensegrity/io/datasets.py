@@ -9,6 +9,7 @@ a byte-identical file, which is what lets re-runs be compared.
 from __future__ import annotations
 
 import json
+from importlib import metadata as _metadata
 import os
 import secrets
 from collections.abc import Iterable
@@ -17,8 +18,12 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import __version__
 from .config import to_json
+
+try:
+    __version__ = _metadata.version("tensegrity")
+except _metadata.PackageNotFoundError:  # a source tree that was never installed
+    __version__ = "0+unknown"
 
 __all__ = ["write", "read", "provenance_config", "CONVENTIONS"]
 

@@ -1,0 +1,1 @@
+"""Every file the package reads or writes: configuration, datasets, the dataset contract."""

@@ -1,0 +1,1 @@
+"""Rolling locomotion (paper III.C-D): workspace lookup, planning, controllers, runs, demos."""

@@ -1,0 +1,1 @@
+"""Off-screen figures, drawn from arrays (never from files)."""

@@ -1,0 +1,1 @@
+"""Checks of the pipeline's results: `checks` returns numbers and verdicts, `report` writes them."""
