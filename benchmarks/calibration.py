@@ -6,10 +6,11 @@ from __future__ import annotations
 import numpy as np
 
 from tensegrity.physics import dynamics as d
-from tensegrity.physics import geometry as g
+from tensegrity.physics import topology as topo
 from tensegrity.workspace import nominal
 from tensegrity.workspace import sweep
 from tensegrity.physics.actuation import Schedule
+from tensegrity.physics import frames
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 
@@ -22,7 +23,7 @@ def free_tip(face, pairs):
     out = {}
     for b, pair in enumerate(pairs):
         _, _, _, margin = nominal.nominal(res.t, res.level, res.cog[b], res.support[b], len(LEVELS), 1.0, 0.2)
-        out[pair] = (nominal.tip_pressure(LEVELS, margin), margin)
+        out[pair] = (frames.first_crossing(LEVELS, margin)[0], margin)
     return out
 
 
@@ -38,7 +39,7 @@ def grounded_roll(face, pair, pressures, ramp=2.0, hold=2.0, steps=100):
     pres[:, :, pair - 1] = np.outer(pressures, frac)
     dur = np.append(np.full(steps, ramp / steps), hold)
     _, tr = d.simulate(params, s, Schedule(dur, pres), terrain, 1e-4, 100)
-    z = tr.nodes(params.strut_length)[:, -1, g.FACES[g.face_number(face) - 1], 2]
+    z = tr.nodes(params.strut_length)[:, -1, topo.FACES[topo.face_number(face) - 1], 2]
     return z.max(axis=1) > 3 * params.strut_radius
 
 

@@ -67,7 +67,7 @@ def cmd_simulate(args) -> int:
     import xarray as xr
     from .io import datasets
     from .physics import dynamics as d
-    from .physics import geometry as g
+    from .physics import frames, topology as topo
     from .workspace import sweep
     from .physics.actuation import Schedule
     from .io.config import params_from_config
@@ -77,8 +77,8 @@ def cmd_simulate(args) -> int:
         if args.mode == "free":
             raise ValueError("--terrain needs --mode grounded (the free mode has no ground)")
         terrain = args.terrain
-    face = g.face_number(args.face)
-    pairs = [g.check_pair(p) for p in args.pair]
+    face = topo.face_number(args.face)
+    pairs = [topo.check_pair(p) for p in args.pair]
     dt, every = cfg["sim"]["dt"], cfg["sim"]["record_every"]
     state = d.stand_on(params, face, terrain)
     chunk = dt * every * max(1, round(0.05 / (dt * every)))
@@ -95,7 +95,7 @@ def cmd_simulate(args) -> int:
             bar.update(chunk)
     x, q = np.concatenate(xs), np.concatenate(qs)
     nodes = d.nodes(x, q, params.strut_length)
-    cog, sup = g.in_support_frame(nodes, face)
+    cog, sup = frames.in_support_frame(nodes, face)
     var = datasets.var
     ds = xr.Dataset(
         {"cog": var(("time", "axis"), cog, "m", "centre of gravity in the start face's support frame"),
@@ -108,10 +108,10 @@ def cmd_simulate(args) -> int:
                 "corner": ("corner", [1, 2, 3], {"units": "1", "long_name": "support triangle corner"}),
                 "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"}),
                 "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "actuator pair number"})},
-        attrs={"face": face, "face_nodes": g.FACES[face - 1] + 1, "mode": args.mode,
+        attrs={"face": face, "face_nodes": topo.FACES[face - 1] + 1, "mode": args.mode,
                "pairs": pairs, "pressure_mpa": args.pressure, "ramp_s": args.ramp})
     datasets.write(ds, args.out, cfg, f"Simulation of pairs {pairs} at {args.pressure} MPa on "
-                   f"{g.face_label(face)}", stage="simulate")
+                   f"{topo.face_label(face)}", stage="simulate")
     print(f"wrote {args.out}: {len(ts) and ds.sizes['time']} samples, final CoG (support frame) "
           f"{np.round(cog[-1] * 1000, 2).tolist()} mm")
     return 0

@@ -15,13 +15,13 @@ import numpy as np
 import xarray as xr
 
 from .io import datasets
-from .physics import geometry as g
+from .physics import frames, topology as topo
 from .workspace import mapping
 from .workspace import nominal as nom
 from .io.config import params_from_config
 
 AXES = ["x", "y", "z"]
-CONTACTS = list(g.CONTACT_FACES)
+CONTACTS = list(topo.CONTACT_FACES)
 
 
 @contextlib.contextmanager
@@ -64,10 +64,10 @@ def _provenance(cfg: dict, *inputs) -> dict:
 def run_sweep(cfg: dict, contact: str, out_dir) -> list[Path]:
     """Sweep every configured pair on the contact face; write `out_dir`/pairNN.nc."""
     from .workspace import sweep as sw  # the simulator (numba) only where it runs
-    if contact not in g.CONTACT_FACES:
+    if contact not in topo.CONTACT_FACES:
         raise ValueError(f"unknown contact {contact!r}: use one of {CONTACTS}")
     s, sim = cfg["sweep"], cfg["sim"]
-    res = sw.run(params_from_config(cfg), g.CONTACT_FACES[contact], s["pairs"], s["levels"],
+    res = sw.run(params_from_config(cfg), topo.CONTACT_FACES[contact], s["pairs"], s["levels"],
                  s["hold"], s["settle"], s["mode"], sim["dt"], sim["record_every"])
     stride = int(s["node_stride"])
     paths = []
@@ -85,11 +85,11 @@ def run_sweep(cfg: dict, contact: str, out_dir) -> list[Path]:
             coords={**_coords(), "time": ("time", res.t, {"units": "s", "long_name": "time"}),
                     "time_nodes": ("time_nodes", res.t[::stride], {"units": "s", "long_name": "time of node samples"}),
                     "levels": ("levels", res.levels, {"units": "MPa", "long_name": "pressure levels of the staircase"})},
-            attrs={"contact": contact, "face": res.face, "face_nodes": g.FACES[res.face - 1] + 1,
+            attrs={"contact": contact, "face": res.face, "face_nodes": topo.FACES[res.face - 1] + 1,
                    "pair": int(pair), "mode": s["mode"], "hold_s": float(s["hold"]), "settle_s": float(s["settle"])})
         ds["axis"].attrs["units"] = "1"
         paths.append(datasets.write(ds, Path(out_dir) / f"pair{pair:02d}.nc", cfg,
-                                    f"Pressure sweep of pair #{pair} standing on {g.face_label(res.face)}",
+                                    f"Pressure sweep of pair #{pair} standing on {topo.face_label(res.face)}",
                                     stage="sweep"))
     return paths
 
@@ -105,7 +105,7 @@ def run_nominal(cfg: dict, sweep_paths, out_path) -> Path:
                        ds["support"].values, len(levels), hold, discard) for ds in sweeps]
     cog, std, sup, margin = (np.stack([r[k] for r in res]) for k in range(4))
     pairs = [int(ds.attrs["pair"]) for ds in sweeps]
-    tip = np.array([nom.tip_pressure(levels, m) for m in margin])
+    tip = np.array([frames.first_crossing(levels, m)[0] for m in margin])
     # grounded mode: from the level the robot rolled off its face on, the numbers are not of
     # this face any more; they become NaN and the roll counts as the tip
     rolled = np.zeros(margin.shape, np.int8)
@@ -126,7 +126,7 @@ def run_nominal(cfg: dict, sweep_paths, out_path) -> Path:
         attrs={k: first.attrs[k] for k in ("contact", "face", "face_nodes", "mode")} | {"discard_s": discard})
     ds["axis"].attrs["units"] = "1"
     return datasets.write(ds, out_path, _provenance(cfg, *sweep_paths),
-                          f"Nominal CoG of the {first.attrs['contact']} contact case {g.face_label(int(first.attrs['face']))}",
+                          f"Nominal CoG of the {first.attrs['contact']} contact case {topo.face_label(int(first.attrs['face']))}",
                           stage="nominal", allow_nan=["tip_pressure", "cog", "cog_std", "support", "margin"])
 
 
@@ -139,7 +139,7 @@ def run_fit(cfg: dict, nominal_path, out_path) -> Path:
     ok = np.isfinite(cog).all(axis=-1)  # levels before a grounded robot rolled off its face
     for i, pair in enumerate(src["pair"].values):
         if ok[i].sum() < 2:
-            raise ValueError(f"pair #{pair} on {g.face_label(int(src.attrs['face']))} stood at fewer than 2 "
+            raise ValueError(f"pair #{pair} on {topo.face_label(int(src.attrs['face']))} stood at fewer than 2 "
                              f"levels (it rolled off at {float(src['tip_pressure'][i]):g} MPa): nothing to fit; "
                              "sweep lower pressures or use the free mode")
     curves = [[fit.fit_curve(p[ok[i]], cog[i, ok[i], a], max_degree=f["max_degree"],
@@ -191,7 +191,7 @@ def run_map(cfg: dict, nominal_paths, out_path) -> Path:
     cog = np.full((20, 12, P, 3), np.nan)
     sup = np.full((20, 12, P, 3, 3), np.nan)
     for face in range(1, 21):
-        ds = src.get(str(g.FACE_TYPES[face - 1]))
+        ds = src.get(str(topo.FACE_TYPES[face - 1]))
         if ds is None:
             continue
         if not np.array_equal(ds["pressure"].values, levels):
@@ -202,16 +202,16 @@ def run_map(cfg: dict, nominal_paths, out_path) -> Path:
         cog[face - 1], sup[face - 1] = mapping.map_face(face, full_c, full_s)
     margin = np.full((20, 12, P), np.nan)
     ok = np.isfinite(cog[..., 0])
-    margin[ok] = g.margin_2d(cog[ok][:, :2], sup[ok][:, :, :2])
-    tip = np.array([[nom.tip_pressure(levels, m) if np.isfinite(m).all() else np.nan for m in mf] for mf in margin])
+    margin[ok] = frames.margin_2d(cog[ok][:, :2], sup[ok][:, :, :2])
+    tip = np.array([[frames.first_crossing(levels, m)[0] if np.isfinite(m).all() else np.nan for m in mf] for mf in margin])
     ds = xr.Dataset(
         {"cog": datasets.var(("face", "pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the face's support frame"),
          "support": datasets.var(("face", "pair", "pressure", "corner", "axis"), sup, "m", "deformed support triangle in the face's support frame"),
          "margin": datasets.var(("face", "pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
          "tip_pressure": datasets.var(("face", "pair"), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never or not computed)"),
-         "face_nodes": datasets.var(("face", "corner"), g.FACES + 1, "1", "node numbers of the face's corners (support-frame corner order)"),
-         "face_type": (("face",), g.FACE_TYPES.astype(str), {"long_name": "equilateral (3 cables) or isosceles (2 cables and a gap)"}),
-         "reference_corner": datasets.var(("face",), g.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)")},
+         "face_nodes": datasets.var(("face", "corner"), topo.FACES + 1, "1", "node numbers of the face's corners (support-frame corner order)"),
+         "face_type": (("face",), topo.FACE_TYPES.astype(str), {"long_name": "equilateral (3 cables) or isosceles (2 cables and a gap)"}),
+         "reference_corner": datasets.var(("face",), topo.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)")},
         coords={**_coords(np.arange(1, 13), levels),
                 "face": ("face", np.arange(1, 21), {"units": "1", "long_name": "face number"})})
     ds["axis"].attrs["units"] = "1"
@@ -220,23 +220,18 @@ def run_map(cfg: dict, nominal_paths, out_path) -> Path:
                           stage="map", allow_nan=["cog", "support", "margin", "tip_pressure"])
 
 
-def _rest_frame(face: int, strut_length: float = 0.5):
-    """CoG (3,) and triangle (3, 3) of the unactuated robot in `face`'s support frame, m."""
-    return g.in_support_frame(g.reference_nodes(strut_length), face)
-
-
 def render_robot(cfg: dict, fig1, fig4, fig5) -> None:
     """Figs. 1, 4 and 5: the robot, its actuator pairs, and the support frame of (9,10,12)."""
     from .physics import dynamics as d
     from .render import scene as render
     from .physics.terrain import Terrain
     params = params_from_config(cfg)
-    nodes = g.reference_nodes(params.strut_length)
+    nodes = topo.reference_nodes(params.strut_length)
     render.fig_robot(nodes, fig1)
     render.fig_robot(nodes, fig4, highlight_pairs=[4, 6, 7, 9, 10, 12])
-    state = d.stand_on(params, g.CONTACT_FACES["equilateral"], Terrain.flat())
+    state = d.stand_on(params, topo.CONTACT_FACES["equilateral"], Terrain.flat())
     render.fig_support_frame(d.nodes(state.x, state.q, params.strut_length)[0],
-                             g.CONTACT_FACES["equilateral"], fig5)
+                             topo.CONTACT_FACES["equilateral"], fig5)
 
 
 def render_cloud(sweep_path, nominal_path, out, max_pressure: float = 2.4) -> None:
@@ -244,15 +239,14 @@ def render_cloud(sweep_path, nominal_path, out, max_pressure: float = 2.4) -> No
     from .render import scene as render
     sw_ds, nm = datasets.read(sweep_path), datasets.read(nominal_path)
     pair, face = int(sw_ds.attrs["pair"]), int(sw_ds.attrs["face"])
-    strut = datasets.provenance_config(nm)["params"]["strut_length"]
     levels = nm["pressure"].values
     keep = levels <= max_pressure + 1e-9
     sel = (sw_ds["level"].values >= 0) & (sw_ds["level"].values < keep.sum())
     nom = nm["cog"].sel(pair=pair).values[keep]
-    render.fig_cog_cloud(sw_ds["cog"].values[sel], nom, levels[keep], _rest_frame(face, strut)[1], out,
-                         pair=pair, face_label=g.face_label(face),
+    render.fig_cog_cloud(sw_ds["cog"].values[sel], nom, levels[keep], frames.rest_frame(face, datasets.strut_length(nm))[1], out,
+                         pair=pair, face_label=topo.face_label(face),
                          sample_pressure=sw_ds["pressure_cmd"].values[sel],
-                         corner_labels=(g.FACES[face - 1] + 1).tolist())
+                         corner_labels=(topo.FACES[face - 1] + 1).tolist())
 
 
 def render_workspace(curves_path, nominal_path, out, points: int = 60) -> None:
@@ -262,7 +256,7 @@ def render_workspace(curves_path, nominal_path, out, points: int = 60) -> None:
     from .render import scene as render
     cv, nm = datasets.read(curves_path), datasets.read(nominal_path)
     face = int(nm.attrs["face"])
-    rest_cog, rest_tri = _rest_frame(face, datasets.provenance_config(nm)["params"]["strut_length"])
+    rest_cog, rest_tri = frames.rest_frame(face, datasets.strut_length(nm))
     curves = fit.arrays_to_curves({k: cv[k].values for k in fit.ARRAY_DIMS})
     lines, tips = {}, {}
     for i, pair in enumerate(cv["pair"].values):
@@ -276,8 +270,8 @@ def render_workspace(curves_path, nominal_path, out, points: int = 60) -> None:
     levels = nm["pressure"].values
     render.fig_workspace(lines, rest_tri, out, tip_points=tips,
                          title=f"Fig. 7  Kinematic workspace, {nm.attrs['contact']} face "
-                               f"{g.face_label(face)}, {levels[0]:g}-{levels[-1]:g} MPa",
-                         corner_labels=(g.FACES[face - 1] + 1).tolist())
+                               f"{topo.face_label(face)}, {levels[0]:g}-{levels[-1]:g} MPa",
+                         corner_labels=(topo.FACES[face - 1] + 1).tolist())
 
 
 def render_dataset(path, out, face: int | None = None) -> str:
@@ -291,19 +285,19 @@ def render_dataset(path, out, face: int | None = None) -> str:
         sel = ds["level"].values >= 0
         levels = ds["levels"].values
         nom = np.array([ds["cog"].values[ds["level"].values == k].mean(0) for k in range(levels.size)])
-        render.fig_cog_cloud(ds["cog"].values[sel], nom, levels, _rest_frame(face_)[1], out,
-                             pair=int(ds.attrs["pair"]), face_label=g.face_label(face_),
+        render.fig_cog_cloud(ds["cog"].values[sel], nom, levels, frames.rest_frame(face_, datasets.strut_length(ds))[1], out,
+                             pair=int(ds.attrs["pair"]), face_label=topo.face_label(face_),
                              sample_pressure=ds["pressure_cmd"].values[sel],
-                             corner_labels=(g.FACES[face_ - 1] + 1).tolist())
+                             corner_labels=(topo.FACES[face_ - 1] + 1).tolist())
         return "sweep: CoG cloud and level means"
     if "margin" in ds and "face" in ds.dims:  # the workspace
-        face_ = g.face_number(face) if face is not None else 8
+        face_ = topo.face_number(face) if face is not None else 8
         sub = ds.sel(face=face_)
-        title = f"Workspace of face {face_} {g.face_label(face_)} (nominal CoG, mapped)"
+        title = f"Workspace of face {face_} {topo.face_label(face_)} (nominal CoG, mapped)"
         return _render_nominal(render, sub, face_, out, title)
     if "margin" in ds and "pair" in ds.dims:  # a nominal file
         face_ = int(ds.attrs["face"])
-        return _render_nominal(render, ds, face_, out, f"Nominal CoG, face {g.face_label(face_)}")
+        return _render_nominal(render, ds, face_, out, f"Nominal CoG, face {topo.face_label(face_)}")
     if "face_sequence" in ds or "step" in ds.dims:  # a locomotion run
         from .render import locomotion as render_locomotion
         render_locomotion.fig_path(ds, out, "top")
@@ -315,8 +309,8 @@ def render_dataset(path, out, face: int | None = None) -> str:
 
 
 def _render_nominal(render, ds, face: int, out, title: str) -> str:
-    rest_cog, rest_tri = _rest_frame(face)
+    rest_cog, rest_tri = frames.rest_frame(face, datasets.strut_length(ds))
     lines = {int(p): np.vstack([rest_cog[None], ds["cog"].sel(pair=p).values])
              for p in ds["pair"].values if np.isfinite(ds["cog"].sel(pair=p).values).all()}
-    render.fig_workspace(lines, rest_tri, out, title=title, corner_labels=(g.FACES[face - 1] + 1).tolist())
+    render.fig_workspace(lines, rest_tri, out, title=title, corner_labels=(topo.FACES[face - 1] + 1).tolist())
     return "workspace: nominal CoG per pair"

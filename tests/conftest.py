@@ -1,13 +1,13 @@
 import pytest
 
 from tensegrity.physics import dynamics as d
-from tensegrity.physics import geometry as g
+from tensegrity.physics import frames, topology as topo
 from tensegrity.physics.actuation import Schedule
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 
-EQUI = g.face_number((9, 10, 12))
-ISO = g.face_number((10, 11, 12))
+EQUI = topo.face_number((9, 10, 12))
+ISO = topo.face_number((10, 11, 12))
 
 
 @pytest.fixture(scope="session")
@@ -18,7 +18,7 @@ def free():
 
 def support_cog(traj, params, face):
     """CoG (B, T, 3) and face corners (B, T, 3, 3) in the face's support frame."""
-    return g.in_support_frame(traj.nodes(params.strut_length), face)
+    return frames.in_support_frame(traj.nodes(params.strut_length), face)
 
 
 def free_sweep(params, face, pairs, levels, hold=1.0, dt=1e-4):

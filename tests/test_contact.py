@@ -13,7 +13,7 @@ from scipy.spatial.transform import Rotation
 
 from tensegrity.physics import contact as ct
 from tensegrity.physics import dynamics as d
-from tensegrity.physics import geometry as g
+from tensegrity.physics import frames, topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 
@@ -33,7 +33,7 @@ def test_every_face_is_detected_and_stands(face):
     c = ct.analyse(standing(face), Terrain.flat(), R)
     assert c.face == face
     assert c.stands and c.edge is None and c.next_face is None
-    assert np.allclose(c.clearance[g.FACES[face - 1]], 0.0, atol=1e-9)
+    assert np.allclose(c.clearance[topo.FACES[face - 1]], 0.0, atol=1e-9)
     # on flat ground the projection is straight below the CoG, in the support plane
     assert np.allclose(c.projection[:2], c.cog[:2], atol=1e-12)
     assert c.projection[2] == pytest.approx(R, abs=1e-12)
@@ -54,7 +54,7 @@ def test_projection_along_gravity_on_a_slope_shifts_downhill_by_h_tan(angle):
     p = standing(EQUI, terrain)
     c = ct.analyse(p, terrain, R)
     assert c.face == EQUI
-    h = float(np.dot(c.cog - p[g.FACES[EQUI - 1]].mean(0), c.normal))
+    h = float(np.dot(c.cog - p[topo.FACES[EQUI - 1]].mean(0), c.normal))
     along_normal = c.cog - h * c.normal
     shift = c.projection - along_normal
     assert np.linalg.norm(shift) == pytest.approx(h * math.tan(math.radians(angle)), rel=1e-9)
@@ -75,8 +75,8 @@ def tipped(face, edge, angle_deg):
     p = standing(face)
     a, b = p[edge[0] - 1], p[edge[1] - 1]
     axis = (b - a) / np.linalg.norm(b - a)
-    k = [ct.edge_nodes(face, j) for j in range(3)].index(edge)
-    out = ct.edge_outward(p[g.FACES[face - 1]])[k]
+    k = [topo.edge_nodes(face, j) for j in range(3)].index(edge)
+    out = ct.edge_outward(p[topo.FACES[face - 1]])[k]
     if np.dot(np.cross(axis, p.mean(0) - a), out) < 0:
         axis = -axis  # rotate so that the CoG moves out over the edge
     return a + Rotation.from_rotvec(math.radians(angle_deg) * axis).apply(p - a)
@@ -89,33 +89,33 @@ def test_rolling_edge_and_past_edge_cross_zero_at_the_tipping_angle(face, edge):
     c0 = p0.mean(0)
     h = c0[2] - R
     dist = -ct.past_edge(p0, face, edge, 0.5)
-    k = [ct.edge_nodes(face, j) for j in range(3)].index(edge)
-    assert dist == pytest.approx(g.edge_distances(rest.local, rest.triangle)[k], abs=1e-12)
+    k = [topo.edge_nodes(face, j) for j in range(3)].index(edge)
+    assert dist == pytest.approx(frames.edge_distances(rest.local, rest.triangle)[k], abs=1e-12)
     crit = math.degrees(math.atan2(dist, h))
     before, after = tipped(face, edge, crit - 1.0), tipped(face, edge, crit + 1.0)
     assert ct.past_edge(before, face, edge, 0.5) < 0 < ct.past_edge(after, face, edge, 0.5)
     assert ct.judge(before, face).stands
     out = ct.judge(after, face)
     assert not out.stands and out.edge == edge
-    assert out.next_face == ct.neighbour(face, edge)
+    assert out.next_face == topo.neighbour(face, edge)
 
 
 def test_neighbours_give_the_papers_sequence_and_pair_up():
-    assert ct.neighbour((9, 10, 12), (10, 12)) == ISO
-    assert ct.neighbour((10, 11, 12), (10, 11)) == g.face_number((6, 10, 11))
+    assert topo.neighbour((9, 10, 12), (10, 12)) == ISO
+    assert topo.neighbour((10, 11, 12), (10, 11)) == topo.face_number((6, 10, 11))
     for f in range(1, 21):
         for k in range(3):
-            e = ct.edge_nodes(f, k)
-            n = ct.neighbour(f, e)
-            assert n != f and ct.neighbour(n, e) == f and ct.common_edge(f, n) == e
+            e = topo.edge_nodes(f, k)
+            n = topo.neighbour(f, e)
+            assert n != f and topo.neighbour(n, e) == f and topo.common_edge(f, n) == e
     # a gap edge joins two isosceles faces, a cable an equilateral and an isosceles one
-    assert g.FACE_TYPES[ct.neighbour(ISO, (11, 12)) - 1] == "isosceles"
+    assert topo.FACE_TYPES[topo.neighbour(ISO, (11, 12)) - 1] == "isosceles"
     with pytest.raises(ValueError, match="not an edge"):
-        ct.neighbour(EQUI, (1, 2))
+        topo.neighbour(EQUI, (1, 2))
 
 
 def test_edge_outward_normals():
-    tri = standing(EQUI)[g.FACES[EQUI - 1]]
+    tri = standing(EQUI)[topo.FACES[EQUI - 1]]
     out = ct.edge_outward(tri)
     c = tri.mean(0)
     for k in range(3):
@@ -138,7 +138,7 @@ def test_three_touching_nodes_that_are_not_a_face_are_refused():
     q = standing(EQUI)
     q[8, 2] += 0.2  # lift node 9 and put node 1 down: 1, 10, 12 close no face
     q[0, 2] = R
-    assert not any(sorted(f.tolist()) == [0, 9, 11] for f in g.FACES)
+    assert not any(sorted(f.tolist()) == [0, 9, 11] for f in topo.FACES)
     with pytest.raises(ct.ContactError, match=r"\(1, 10, 12\), are not a face"):
         ct.contact_face(q, Terrain.flat(), R)
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from tensegrity.physics import dynamics as d
-from tensegrity.physics import geometry as g
+from tensegrity.physics import topology as topo
 from tensegrity.physics import kernel
 from tensegrity.physics import statics
 from tensegrity.physics import symmetry as sym
@@ -22,12 +22,12 @@ def strut_loads(params, state, pressure):
     """Net cable force (B, 6, 3) and torque about the centre (B, 6, 3) on each strut."""
     T = d.tensions(params, state, pressure)
     P = d.nodes(state.x, state.q, params.strut_length)
-    e = P[:, g.CABLES[:, 1]] - P[:, g.CABLES[:, 0]]
+    e = P[:, topo.CABLES[:, 1]] - P[:, topo.CABLES[:, 0]]
     e /= np.linalg.norm(e, axis=-1, keepdims=True)
     F = np.zeros_like(P)
-    np.add.at(F, (slice(None), g.CABLES[:, 0]), T[..., None] * e)
-    np.add.at(F, (slice(None), g.CABLES[:, 1]), -T[..., None] * e)
-    a, b = g.STRUTS[:, 0], g.STRUTS[:, 1]
+    np.add.at(F, (slice(None), topo.CABLES[:, 0]), T[..., None] * e)
+    np.add.at(F, (slice(None), topo.CABLES[:, 1]), -T[..., None] * e)
+    a, b = topo.STRUTS[:, 0], topo.STRUTS[:, 1]
     force = F[:, a] + F[:, b]
     torque = np.cross(P[:, a] - state.x, F[:, a]) + np.cross(P[:, b] - state.x, F[:, b])
     return force, torque
@@ -52,7 +52,7 @@ def test_slack_cable_carries_exactly_zero_tension(free):
     assert np.all(d.tensions(loose, s, np.full(12, 0.1)) == 0.0)
     assert np.all(d.tensions(loose, s, np.full(12, 0.5)) > 0.0)
     # taut cables shortening so fast that the damping term B dl/dt outweighs K (l - L)
-    P = g.reference_nodes(free.strut_length)[None]
+    P = topo.reference_nodes(free.strut_length)[None]
     rate = 2 * free.cable_pretension / (free.cable_damping * 0.306)  # 1/s, twice what cancels T0
     prm, pres = free.pack(1), np.zeros((1, 12))
     T, F = kernel.tensions(P, -rate * P, prm, pres)  # every node moving inward
@@ -114,7 +114,7 @@ def test_standing_robot_does_not_creep(slope):
     s = d.stand_on(params, EQUI, terrain)
     _, tr = d.simulate(params, s, Schedule.constant(np.zeros(12), 11.0), terrain, DT, 100)
     P = tr.nodes(params.strut_length)[0]
-    feet = g.FACES[EQUI - 1]
+    feet = topo.FACES[EQUI - 1]
     n = terrain.normal
     along = lambda v: v - (v @ n)[..., None] * n  # component along the ground
     first, last = (tr.t > 1) & (tr.t <= 2), tr.t > 10
@@ -147,7 +147,7 @@ def test_three_fold_orbit_moves_the_cog_equally_120_degrees_apart(free):
     pairs = orbits[0] + orbits[1]
     t, c, tri = free_sweep(free, EQUI, pairs, [2.4], hold=1.0)
     sel = t > 0.2
-    face = g.FACES[EQUI - 1]
+    face = topo.FACES[EQUI - 1]
     stab = [s for s in sym.group() if s.faces[EQUI - 1] == EQUI - 1]
     for orbit in orbits:
         rel = []

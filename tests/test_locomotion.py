@@ -14,7 +14,7 @@ import xarray as xr
 from tensegrity.physics import contact as ct
 from tensegrity.io import datasets
 from tensegrity.physics import dynamics as d
-from tensegrity.physics import geometry as g
+from tensegrity.physics import frames, topology as topo
 from tensegrity import cli
 from tensegrity.locomotion import core as lo
 from tensegrity.locomotion import demos as lio
@@ -26,7 +26,7 @@ from tensegrity.physics.terrain import Terrain
 from conftest import EQUI, ISO
 
 LEVELS = [0.8, 1.6, 2.4, 3.2, 4.0, 4.8]
-NEXT = g.face_number((6, 10, 11))
+NEXT = topo.face_number((6, 10, 11))
 DAMPED = Params(strut_damping=1.0)  # the rolling runs' default (config locomotion.strut_damping)
 
 
@@ -34,7 +34,7 @@ DAMPED = Params(strut_damping=1.0)  # the rolling runs' default (config locomoti
 def ws():
     free = Params(gravity=0.0)
     canon = {}
-    for kind, face in g.CONTACT_FACES.items():
+    for kind, face in topo.CONTACT_FACES.items():
         c = np.empty((12, len(LEVELS), 3))
         t = np.empty((12, len(LEVELS), 3, 3))
         for pair in range(1, 13):
@@ -48,7 +48,7 @@ def ws():
     cog = np.empty((20, 12, len(LEVELS), 3))
     sup = np.empty((20, 12, len(LEVELS), 3, 3))
     for face in range(1, 21):
-        cog[face - 1], sup[face - 1] = mapping.map_face(face, *canon[str(g.FACE_TYPES[face - 1])])
+        cog[face - 1], sup[face - 1] = mapping.map_face(face, *canon[str(topo.FACE_TYPES[face - 1])])
     return lo.Workspace.from_arrays(LEVELS, cog, sup)
 
 
@@ -60,8 +60,8 @@ def as_dataset(ws):
         {"cog": var(("face", "pair", "pressure", "axis"), ws.cog, "m"),
          "support": var(("face", "pair", "pressure", "corner", "axis"), ws.support, "m"),
          "margin": var(("face", "pair", "pressure"),
-                       g.margin_2d(ws.cog[..., :2], ws.support[..., :2]), "m"),
-         "face_nodes": var(("face", "corner"), g.FACES + 1, "1")},
+                       frames.margin_2d(ws.cog[..., :2], ws.support[..., :2]), "m"),
+         "face_nodes": var(("face", "corner"), topo.FACES + 1, "1")},
         coords={"face": ("face", np.arange(1, 21), {"units": "1", "long_name": "face"}),
                 "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "pair"}),
                 "pressure": ("pressure", ws.levels, {"units": "MPa", "long_name": "pressure"}),
@@ -81,8 +81,8 @@ def standing(face, terrain=None, yaw=0.0):
 
 
 def outward(nodes, face, edge):
-    k = [ct.edge_nodes(face, j) for j in range(3)].index(edge)
-    return ct.edge_outward(nodes[g.FACES[face - 1]])[k]
+    k = [topo.edge_nodes(face, j) for j in range(3)].index(edge)
+    return ct.edge_outward(nodes[topo.FACES[face - 1]])[k]
 
 
 # ------------------------------------------------------------------------- workspace, plan
@@ -100,7 +100,7 @@ def test_prediction_on_flat_ground_is_the_workspace(ws, face):
     """Standing symmetric on flat ground, the current frame is the workspace's frame and
     gravity is its -z: predict must return the workspace's own margins."""
     pred = lo.predict(ws, face, standing(face), [(p,) for p in range(1, 13)])
-    expect = g.margin_2d(ws.cog[face - 1, ..., :2], ws.support[face - 1, ..., :2])
+    expect = frames.margin_2d(ws.cog[face - 1, ..., :2], ws.support[face - 1, ..., :2])
     assert np.allclose(pred.margin[:, 1:], expect, atol=1e-12)
     assert np.allclose(pred.margin[:, 0], ct.judge(standing(face), face).margin, atol=1e-12)
 
@@ -139,7 +139,7 @@ def test_each_edge_of_the_equilateral_face_has_its_pair(ws, edge, pair):
     p = standing(EQUI, yaw=37.0)
     pl = lo.plan(ws, EQUI, p, direction=outward(p, EQUI, edge))
     assert pl.pairs == (pair,) and pl.edge == edge
-    assert pl.next_face == ct.neighbour(EQUI, edge)
+    assert pl.next_face == topo.neighbour(EQUI, edge)
     # a goal far along the same direction gives the same choice
     goal = p.mean(0)[:2] + 5.0 * outward(p, EQUI, edge)[:2]
     assert lo.plan(ws, EQUI, p, goal=goal).pairs == (pair,)
@@ -331,7 +331,7 @@ def test_state_figures_show_the_projection_inside_and_outside(tmp_path):
     assert {"cog", "cog projection", "gravity line", "support triangle"} <= set(out["actors"])
     tipped = p.copy()
     tipped[:, :2] += 0.3 * (p[[9, 11]].mean(0) - p.mean(0))[:2] / 0.09  # CoG out over 10-12
-    tipped[g.FACES[EQUI - 1]] = p[g.FACES[EQUI - 1]]
+    tipped[topo.FACES[EQUI - 1]] = p[topo.FACES[EQUI - 1]]
     out = rl.fig_state(tipped, Terrain.flat(), EQUI, tmp_path / "fig9.png", "rolling")
     assert not out["stands"] and out["edge"] == (10, 12) and out["next_face"] == ISO
     assert "rolling arrow" in out["actors"]

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from tensegrity.physics import geometry as g
+from tensegrity.physics import frames, topology as topo
 from tensegrity.workspace import mapping
 from tensegrity.workspace import nominal
 from tensegrity.workspace import sweep
@@ -27,8 +27,8 @@ def test_nominal_averages_each_level_after_the_discarded_rise():
 
 
 def test_tip_pressure_interpolates_the_margin_crossing():
-    assert nominal.tip_pressure([1.0, 2.0, 3.0], [0.02, 0.01, -0.01]) == pytest.approx(2.5)
-    assert np.isnan(nominal.tip_pressure([1.0, 2.0], [0.02, 0.01]))
+    assert frames.first_crossing([1.0, 2.0, 3.0], [0.02, 0.01, -0.01]) == pytest.approx((2.5, 2))
+    assert np.isnan(frames.first_crossing([1.0, 2.0], [0.02, 0.01])[0])
 
 
 def test_first_roll_ignores_a_hop_and_finds_the_roll():
@@ -44,17 +44,17 @@ def test_first_roll_ignores_a_hop_and_finds_the_roll():
 def canonical():
     """Free-mode staircase on both canonical faces (short holds)."""
     out = {}
-    for kind, face in g.CONTACT_FACES.items():
+    for kind, face in topo.CONTACT_FACES.items():
         res = sweep.run(Params(), face, PAIRS, LEVELS, hold=0.6)
         out[kind] = [nominal.nominal(res.t, res.level, res.cog[b], res.support[b], 2, 0.6, 0.2)
                      for b in range(len(PAIRS))]
     return out
 
 
-@pytest.mark.parametrize("face", [g.face_number((1, 6, 5)), g.face_number((1, 10, 9)),
-                                  g.face_number((3, 4, 8))])
+@pytest.mark.parametrize("face", [topo.face_number((1, 6, 5)), topo.face_number((1, 10, 9)),
+                                  topo.face_number((3, 4, 8))])
 def test_mapped_workspace_equals_a_direct_simulation_on_that_face(canonical, face):
-    kind = str(g.FACE_TYPES[face - 1])
+    kind = str(topo.FACE_TYPES[face - 1])
     cog = np.full((12, 2, 3), np.nan)
     sup = np.full((12, 2, 3, 3), np.nan)
     for b, pair in enumerate(PAIRS):

@@ -5,7 +5,7 @@ import pytest
 import pyvista as pv
 from matplotlib.colors import rgb_to_hsv
 
-from tensegrity.physics import geometry as g
+from tensegrity.physics import topology as topo
 from tensegrity.render import scene as render
 
 
@@ -40,7 +40,7 @@ def _has_colour(px, hex_colour: str, count: int = 50, tol: float = 0.025) -> boo
 def nodes():
     """The reference robot turned and moved, so no figure relies on the reference pose."""
     rot = np.array([[0.0, -1.0, 0.0], [0.6, 0.0, -0.8], [0.8, 0.0, 0.6]])
-    return g.reference_nodes(0.5) @ rot.T + [1.0, -2.0, 0.3]
+    return topo.reference_nodes(0.5) @ rot.T + [1.0, -2.0, 0.3]
 
 
 def test_fig1_robot_has_six_struts_24_cables_and_12_numbered_nodes(tmp_path, nodes):
@@ -51,7 +51,7 @@ def test_fig1_robot_has_six_struts_24_cables_and_12_numbered_nodes(tmp_path, nod
     assert out["node_labels"] == [str(n) for n in range(1, 13)]
     assert out["highlighted"] == {} and out["pair_labels"] == []
     struts = [a for a in out["actors"] if a.startswith("strut ")]
-    assert sorted(struts) == sorted(f"strut {a + 1}-{b + 1}" for a, b in g.STRUTS)
+    assert sorted(struts) == sorted(f"strut {a + 1}-{b + 1}" for a, b in topo.STRUTS)
     assert {"cables", "nodes", "node labels"} <= set(out["actors"])
     px = _check_png(out["path"])
     assert all(_has_colour(px, c) for c in render.STRUT_COLOURS)  # one colour per strut
@@ -68,12 +68,12 @@ def test_fig4_highlights_the_pairs_cables_and_labels_them(tmp_path, nodes):
     out = render.fig_robot(nodes, tmp_path / "fig4.png", highlight_pairs=pairs)
     assert out["title"].startswith("Fig. 4")
     assert out["struts"] == 6 and out["cables"] == 24
-    assert out["highlighted"] == {v: g.PAIR_CABLES[v - 1].tolist() for v in pairs}
+    assert out["highlighted"] == {v: topo.PAIR_CABLES[v - 1].tolist() for v in pairs}
     assert out["pair_labels"] == ["#9", "#10", "#12"]
     assert {f"pair #{v}" for v in pairs} <= set(out["actors"])
     # each pair's cables are the two cables at node v
     for v in pairs:
-        assert all(v - 1 in g.CABLES[c] for c in out["highlighted"][v])
+        assert all(v - 1 in topo.CABLES[c] for c in out["highlighted"][v])
     px = _check_png(out["path"])
     for v in pairs:
         assert _has_colour(px, render.PAIR_COLOURS[v - 1]), f"pair #{v} colour not drawn"
@@ -89,12 +89,12 @@ def test_fig_robot_rejects_bad_input(tmp_path, nodes):
 
 def test_fig5_support_frame(tmp_path, nodes):
     out = render.fig_support_frame(nodes, (9, 10, 12), tmp_path / "fig5.png")
-    assert out["face"] == g.face_number((9, 10, 12))
+    assert out["face"] == topo.face_number((9, 10, 12))
     assert sorted(out["corners"]) == [9, 10, 12]
     R, o = out["axes"], out["origin"]
     np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-12)
     assert np.dot(R[2], nodes.mean(axis=0) - o) > 0  # z points into the robot
-    ref = nodes[g.FACES[out["face"] - 1][g.FACE_REFERENCE[out["face"] - 1]]]
+    ref = nodes[topo.FACES[out["face"] - 1][topo.FACE_REFERENCE[out["face"] - 1]]]
     assert np.dot(R[1], ref - o) > 0  # y toward the reference vertex
     assert {"axis x", "axis y", "axis z", "axis labels", "support triangle", "corner labels",
             "cog"} <= set(out["actors"])

@@ -1,7 +1,7 @@
 """The symmetry group computed from the geometry (design.md section 1)."""
 import numpy as np
 
-from tensegrity.physics import geometry as g
+from tensegrity.physics import topology as topo
 from tensegrity.physics import symmetry as sym
 
 
@@ -18,18 +18,18 @@ def test_order_rotations_and_closure():
 
 
 def test_permutations_agree_with_the_matrices():
-    p = g.reference_nodes()
+    p = topo.reference_nodes()
     for s in sym.group():
         np.testing.assert_allclose(p @ s.matrix.T, p[s.nodes], atol=1e-12)  # M p_n = p_perm(n)
-        for j, c in enumerate(g.CABLES):
-            assert set(s.nodes[c]) == set(g.CABLES[s.cables[j]])
+        for j, c in enumerate(topo.CABLES):
+            assert set(s.nodes[c]) == set(topo.CABLES[s.cables[j]])
 
 
 def test_orbits_and_stabilisers():
     G = sym.group()
     orbit = lambda f: {int(s.faces[f]) for s in G}
     assert orbit(0) == set(range(8)) and orbit(8) == set(range(8, 20))
-    equi, iso = g.face_number((9, 10, 12)) - 1, g.face_number((10, 11, 12)) - 1
+    equi, iso = topo.face_number((9, 10, 12)) - 1, topo.face_number((10, 11, 12)) - 1
     st_e = [s for s in G if s.faces[equi] == equi]
     st_i = [s for s in G if s.faces[iso] == iso]
     assert len(st_e) == 3 and all(np.linalg.det(s.matrix) > 0 for s in st_e)
@@ -45,5 +45,5 @@ def test_maps_between_faces_carry_the_reference_vertex():
         maps = sym.maps_between(src, target)
         assert len(maps) == (1 if target <= 8 else 2)
         for s in maps:
-            f, t = g.FACES[src - 1], g.FACES[target - 1]
-            assert s.nodes[f[g.FACE_REFERENCE[src - 1]]] == t[g.FACE_REFERENCE[target - 1]]
+            f, t = topo.FACES[src - 1], topo.FACES[target - 1]
+            assert s.nodes[f[topo.FACE_REFERENCE[src - 1]]] == t[topo.FACE_REFERENCE[target - 1]]

@@ -10,7 +10,7 @@ import xarray as xr
 from tensegrity import stages
 from tensegrity.io import config
 from tensegrity.io import datasets
-from tensegrity.physics import geometry as g
+from tensegrity.physics import frames, topology as topo
 from tensegrity.workspace import mapping
 from tensegrity.physics import statics
 from tensegrity.validation import checks as v
@@ -27,7 +27,7 @@ REPO = Path(__file__).resolve().parents[1]
 def nominal_dataset(contact, face, pairs, levels, cog, support, mode="free"):
     """A dataset shaped like results/nominal/{contact}.nc from arrays (n, P, 3), (n, P, 3, 3)."""
     cog, support = np.asarray(cog, float), np.asarray(support, float)
-    margin = g.margin_2d(cog[..., :2], support[..., :2])
+    margin = frames.margin_2d(cog[..., :2], support[..., :2])
     return xr.Dataset(
         {"cog": (("pair", "pressure", "axis"), cog), "support": (("pair", "pressure", "corner", "axis"), support),
          "margin": (("pair", "pressure"), margin)},
@@ -61,7 +61,7 @@ def static_nominals():
             prs[p - 1] = lev
             nodes[p, k] = start = statics.equilibrium(P, prs, start=start)
     for contact, face in (("equilateral", EQUI), ("isosceles", ISO)):
-        cs = [[g.in_support_frame(nodes[p, k], face) for k in range(len(LEVELS))] for p in range(1, 13)]
+        cs = [[frames.in_support_frame(nodes[p, k], face) for k in range(len(LEVELS))] for p in range(1, 13)]
         out[contact] = nominal_dataset(contact, face, np.arange(1, 13), LEVELS,
                                        [[c[0] for c in row] for row in cs], [[c[1] for c in row] for row in cs])
     return out
@@ -168,10 +168,10 @@ def small_workspace():
         run = v.simulate_nominal(FREE, face, [10, 11], setup)
         c, s = np.full((12, 1, 3), np.nan), np.full((12, 1, 3, 3), np.nan)
         c[[9, 10]], s[[9, 10]] = run.cog, run.support
-        full[str(g.FACE_TYPES[face - 1])] = (c, s)
+        full[str(topo.FACE_TYPES[face - 1])] = (c, s)
     cog, sup = np.full((20, 12, 1, 3), np.nan), np.full((20, 12, 1, 3, 3), np.nan)
     for face in range(1, 21):
-        cog[face - 1], sup[face - 1] = mapping.map_face(face, *full[str(g.FACE_TYPES[face - 1])])
+        cog[face - 1], sup[face - 1] = mapping.map_face(face, *full[str(topo.FACE_TYPES[face - 1])])
     ws = xr.Dataset({"cog": (("face", "pair", "pressure", "axis"), cog),
                      "support": (("face", "pair", "pressure", "corner", "axis"), sup)},
                     coords={"face": np.arange(1, 21), "pair": np.arange(1, 13), "pressure": [2.4]})
@@ -208,13 +208,13 @@ def test_mapping_check_fails_for_a_wrong_map_or_a_small_sample(small_workspace):
 
 def _synthetic(shift, end_face, free_xy=(0.0, 0.0)):
     """Two levels of one pair on (9,10,12): free CoG at free_xy, grounded CoG moved by shift."""
-    cog0, tri = g.in_support_frame(g.reference_nodes(), EQUI)
+    cog0, tri = frames.in_support_frame(topo.reference_nodes(), EQUI)
     fc = np.tile(cog0, (1, 2, 1))
     fc[..., :2] = free_xy
     fs = np.tile(tri, (1, 2, 1, 1))
-    fm = g.margin_2d(fc[..., :2], fs[..., :2])
+    fm = frames.margin_2d(fc[..., :2], fs[..., :2])
     gc = fc + shift
-    gm = g.margin_2d(gc[..., :2], fs[..., :2])
+    gm = frames.margin_2d(gc[..., :2], fs[..., :2])
     return [1.0, 2.0], EQUI, fc, fs, fm, gc, gm, np.array([end_face])
 
 
@@ -232,8 +232,8 @@ def test_compare_grounded_flags_rolls_and_their_disagreement():
     assert out["roll_pressure"][0] == 2.0 and out["roll_face"][0] == ISO and np.isnan(out["free_roll_pressure"][0])
     assert not out["roll_ok"]
     # free CoG beyond edge 10-12 at both levels; the grounded robot rolls over it at once: agreement
-    tri = g.in_support_frame(g.reference_nodes(), EQUI)[1]
-    nodes = list(g.FACES[EQUI - 1] + 1)
+    tri = frames.in_support_frame(topo.reference_nodes(), EQUI)[1]
+    nodes = list(topo.FACES[EQUI - 1] + 1)
     mid = 0.5 * (tri[nodes.index(10), :2] + tri[nodes.index(12), :2])
     out = v.compare_grounded(*_synthetic([0.0, 0.0, 0.0], [ISO, ISO], free_xy=1.2 * mid), tolerance=5e-3)
     assert out["free_roll_face"][0] == ISO == out["roll_face"][0] and out["roll_ok"]

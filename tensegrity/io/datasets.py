@@ -107,6 +107,17 @@ def read(path: str | os.PathLike) -> xr.Dataset:
         return ds.load()
 
 
+def strut_length(ds: xr.Dataset | str | os.PathLike) -> float:
+    """Strut length S (m) a dataset was made with: its provenance's `params.strut_length`, else
+    the default of the configuration schema (a dataset written without a configuration)."""
+    from .config import defaults
+    try:
+        section = provenance_config(ds).get("params") or {}
+    except ValueError:  # no `config` attribute
+        section = {}
+    return float(section.get("strut_length", defaults()["params"]["strut_length"]))
+
+
 def provenance_config(ds: xr.Dataset | str | os.PathLike) -> dict:
     """The resolved configuration a dataset (or the file at a path) was produced with."""
     if not isinstance(ds, xr.Dataset):

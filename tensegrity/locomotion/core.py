@@ -34,7 +34,7 @@ import numpy as np
 
 from ..physics import contact as ct
 from ..physics import dynamics as d
-from ..physics import geometry as g
+from ..physics import frames, topology as topo
 from ..physics.actuation import MAX_PRESSURE, Schedule
 from ..physics.params import Params
 from ..physics.terrain import Terrain
@@ -76,19 +76,15 @@ class Workspace:
     def from_arrays(cls, levels, cog, support, strut_length: float = 0.5) -> "Workspace":
         """From cog (20, 12, P, 3) and support (20, 12, P, 3, 3) m at `levels` (P,) MPa; the
         0 MPa point is the symmetric robot of strut length `strut_length` m."""
-        ref = g.reference_nodes(strut_length)
-        rest = [g.in_support_frame(ref, f) for f in range(1, 21)]
+        rest = [frames.rest_frame(f, strut_length) for f in range(1, topo.N_FACES + 1)]
         return cls(np.asarray(levels, float), np.asarray(cog, float), np.asarray(support, float),
                    np.stack([r[0] for r in rest]), np.stack([r[1] for r in rest]))
 
     @classmethod
     def from_dataset(cls, ds) -> "Workspace":
         """From an xarray Dataset with the contract of results/workspace.nc."""
-        try:
-            from ..io.datasets import provenance_config
-            strut = float(provenance_config(ds).get("params", {}).get("strut_length", 0.5))
-        except ValueError:
-            strut = 0.5
+        from ..io.datasets import strut_length
+        strut = strut_length(ds)
         order = {"face": np.arange(1, 21), "pair": np.arange(1, 13), "axis": ["x", "y", "z"]}
         sel = {k: v for k, v in order.items() if k in ds.dims}
         cog = ds["cog"].sel(sel).transpose("face", "pair", "pressure", "axis").values
@@ -149,26 +145,21 @@ class Prediction:
     edge_dist: np.ndarray
 
 
-def _frame(face: int, nodes: np.ndarray):
-    tri = nodes[g.FACES[face - 1]]
-    return g.support_frame(tri, int(g.FACE_REFERENCE[face - 1]), nodes.mean(axis=0))
-
-
 def predict(workspace: Workspace, face, nodes, actions) -> Prediction:
     """Where the workspace puts the CoG projection for `actions` (tuples of 1-based pairs) on
     `face` (1..20 or three node numbers), in the frame of the current triangle of `nodes`
     (12, 3) m, projected along gravity (paper Fig. 10)."""
-    f = g.face_number(face)
+    f = topo.face_number(face)
     p = ct.check_nodes(nodes)
-    origin, rot = _frame(f, p)
+    origin, rot = frames.face_frame(p, f)
     gl = rot @ ct.GRAVITY_DIR  # gravity in the support frame
     if gl[2] > -1e-6:
-        raise ValueError(f"face {g.face_label(f)} is not below the robot: gravity does not "
+        raise ValueError(f"face {topo.face_label(f)} is not below the robot: gravity does not "
                          "press it onto its support")
     cog, sup = workspace.curve(f, actions)
     proj = cog - (cog[..., 2:3] / gl[2]) * gl
-    margin = g.margin_2d(proj[..., :2], sup[..., :2])
-    dist = g.edge_distances(proj[..., :2], sup[..., :2])
+    margin = frames.margin_2d(proj[..., :2], sup[..., :2])
+    dist = frames.edge_distances(proj[..., :2], sup[..., :2])
     return Prediction(workspace.pressures, origin + cog @ rot, origin + proj @ rot, proj[..., :2],
                       sup[..., :2], margin, dist)
 
@@ -230,19 +221,6 @@ class Plan:
         return "\n".join(self.reasons)
 
 
-def _tip(pressure: np.ndarray, margin: np.ndarray) -> tuple[float, int]:
-    """Least pressure where margin (n,) turns negative, interpolated, and the index of the first
-    level outside; (NaN, -1) if it never does."""
-    out = np.flatnonzero(margin < 0)
-    if out.size == 0:
-        return float("nan"), -1
-    k = int(out[0])
-    if k == 0:
-        return 0.0, 0
-    m0, m1 = margin[k - 1], margin[k]
-    return float(pressure[k - 1] + (pressure[k] - pressure[k - 1]) * m0 / (m0 - m1)), k
-
-
 def _direction(nodes: np.ndarray, direction, goal) -> np.ndarray:
     if (direction is None) == (goal is None):
         raise ValueError("give exactly one of direction (a world vector) or goal (a world point)")
@@ -265,15 +243,15 @@ def _direction(nodes: np.ndarray, direction, goal) -> np.ndarray:
 
 def _candidates(workspace, f, nodes, actions, u) -> list[Candidate]:
     pred = predict(workspace, f, nodes, actions)
-    out_world = ct.edge_outward(nodes[g.FACES[f - 1]])
+    out_world = ct.edge_outward(nodes[topo.FACES[f - 1]])
     horiz = out_world[:, :2] / np.maximum(np.linalg.norm(out_world[:, :2], axis=1, keepdims=True), 1e-12)
     align = horiz @ u[:2]
     res = []
     for a, act in enumerate(actions):
-        p, k = _tip(pred.pressure, pred.margin[a])
+        p, k = frames.first_crossing(pred.pressure, pred.margin[a])
         e = int(np.argmin(pred.edge_dist[a, k if k >= 0 else -1]))
-        edge = ct.edge_nodes(f, e)
-        res.append(Candidate(tuple(int(x) for x in act), edge, ct.neighbour(f, edge), p,
+        edge = topo.edge_nodes(f, e)
+        res.append(Candidate(tuple(int(x) for x in act), edge, topo.neighbour(f, edge), p,
                              float(pred.margin[a, -1]), float(align[e])))
     return res
 
@@ -293,15 +271,15 @@ def plan(workspace: Workspace, face, nodes, *, direction=None, goal=None,
     face not avoided over an edge with alignment > min_alignment (e.g. uphill on a slope); if
     `combine` is False they never are. Candidates not predicted to roll follow, closest to
     rolling first. `terrain`, if given, is checked to be under every node."""
-    f = g.face_number(face)
+    f = topo.face_number(face)
     p = ct.check_nodes(nodes)
     if terrain is not None:
         ct.clearance(p, terrain, 0.0)  # raises if nothing is under a node
     singles = [(int(q),) for q in workspace.pairs(f)]
     if not singles:
-        raise ValueError(f"the workspace has no curve for face {g.face_label(f)}")
+        raise ValueError(f"the workspace has no curve for face {topo.face_label(f)}")
     u = _direction(p, direction, goal)
-    avoid = {g.face_number(a) for a in avoid}
+    avoid = {topo.face_number(a) for a in avoid}
     cands = _candidates(workspace, f, p, singles, u)
     good = [c for c in cands if c.predicted and c.next_face not in avoid
             and c.alignment > min_alignment]
@@ -320,7 +298,7 @@ def plan(workspace: Workspace, face, nodes, *, direction=None, goal=None,
     cands.sort(key=rank)
     best = cands[0]
     here = ct.judge(p, f)
-    reasons = [f"standing on face {g.face_label(f)} ({g.FACE_TYPES[f - 1]}); the CoG projection "
+    reasons = [f"standing on face {topo.face_label(f)} ({topo.FACE_TYPES[f - 1]}); the CoG projection "
                f"is {here.margin * 1e3:.1f} mm inside the support triangle",
                f"target direction {math.degrees(math.atan2(u[1], u[0])):.1f} deg from +x"]
     if combined:
@@ -331,9 +309,9 @@ def plan(workspace: Workspace, face, nodes, *, direction=None, goal=None,
             f"chosen {best.label()} at {best.pressure:.2f} MPa: the CoG projection leaves the "
             f"triangle over edge {best.edge[0]}-{best.edge[1]} (alignment {best.alignment:+.2f}) "
             f"and reaches {-best.reach * 1e3:.1f} mm outside at {workspace.max_pressure:g} MPa; "
-            f"next face {g.face_label(best.next_face)}")
+            f"next face {topo.face_label(best.next_face)}")
         if best.next_face in avoid:
-            reasons.append(f"face {g.face_label(best.next_face)} was visited recently: rolling "
+            reasons.append(f"face {topo.face_label(best.next_face)} was visited recently: rolling "
                            "back onto it only because nothing else is predicted to roll")
     else:
         reasons.append(
@@ -488,7 +466,7 @@ _TABU = 4  # a run avoids rolling back onto the faces of its last four steps
 
 def _settle_gen(s: Settings, obs: _Obs):
     """Zero pressure until settled (see Settings). Returns (face or None, last observation)."""
-    zero, calm, waited = np.zeros(g.N_PAIRS), 0, 0.0
+    zero, calm, waited = np.zeros(topo.N_PAIRS), 0, 0.0
     while waited < s.settle_time - 1e-9:
         obs = yield zero
         waited += s.interval
@@ -503,7 +481,7 @@ def _roll_gen(params: Params, s: Settings, obs: _Obs, pairs, max_pressure: float
     if obs.face is None:
         raise ct.ContactError("a roll must start from a robot resting on a face")
     face0, t0, cog0 = obs.face, obs.t, obs.nodes.mean(axis=0)
-    support = g.FACES[face0 - 1]
+    support = topo.FACES[face0 - 1]
     base = obs.gap[support]
     S = float(params.strut_length)
     idx = np.asarray(pairs) - 1
@@ -517,22 +495,22 @@ def _roll_gen(params: Params, s: Settings, obs: _Obs, pairs, max_pressure: float
         elif phase == "land":
             # catch the robot on the new face: let go slowly, hold while it tips back over the
             # edge it came across, let go fast if it tips on over another edge
-            up = obs.gap[g.FACES[landed - 1]] > s.lift_tolerance
+            up = obs.gap[topo.FACES[landed - 1]] > s.lift_tolerance
             if up[apex] and up.sum() == 1 and t_phase < 2 * s.catch_time:
                 pass
             else:
                 level = max(0.0, level - peak * s.interval / (s.release_time if up.any() else s.catch_time))
-        pres = np.zeros(g.N_PAIRS)
+        pres = np.zeros(topo.N_PAIRS)
         pres[idx] = level
         peak = max(peak, level)
         obs = yield pres
         t_phase += s.interval
         if phase in ("release", "land"):
             if landed is None and obs.face is not None and obs.face != face0:
-                back = ct.common_edge(face0, obs.face)
+                back = topo.common_edge(face0, obs.face)
                 if back is not None:
                     landed, phase, t_phase = obs.face, "land", 0.0
-                    apex = int(np.flatnonzero(~np.isin(g.FACES[landed - 1] + 1, back))[0])
+                    apex = int(np.flatnonzero(~np.isin(topo.FACES[landed - 1] + 1, back))[0])
             if level <= 0.0:
                 phase = "settle"
             continue
@@ -595,7 +573,7 @@ def _lockstep(params: Params, terrain: Terrain, state: d.State, make, s: Setting
     gens = [make(b, first[b]) for b in range(B)]
     recs: list[tuple[list, list, list, list]] = [([], [], [], []) for _ in range(B)]
     out: list = [None] * B
-    pres = np.zeros((B, g.N_PAIRS))
+    pres = np.zeros((B, topo.N_PAIRS))
     live = []
     for b in range(B):
         try:
@@ -670,7 +648,7 @@ def roll(params: Params, state: d.State, terrain: Terrain, pairs, max_pressure: 
     Raises SimulationError if the simulation blows up or leaves the terrain, ContactError if
     the robot does not rest on a face."""
     s = settings or Settings()
-    pairs = tuple(g.check_pair(q) for q in np.atleast_1d(pairs))
+    pairs = tuple(topo.check_pair(q) for q in np.atleast_1d(pairs))
     if not (np.isfinite(max_pressure) and 0 < max_pressure <= MAX_PRESSURE):
         raise ValueError(f"max_pressure {max_pressure!r} MPa must be in (0, {MAX_PRESSURE}]")
     if state.batch != 1:
@@ -758,7 +736,7 @@ def _drive(workspace: Workspace, params: Params, s: Settings, obs: _Obs, goal=No
                 break
             if edges is not None and k == len(edges):
                 outcome, message = "arrived", (f"rolled over {len(edges)} edge(s) onto "
-                                               f"{g.face_label(face)}")
+                                               f"{topo.face_label(face)}")
                 break
             if edges is None and np.linalg.norm(obs.nodes.mean(axis=0)[:2] - goal[:2]) <= s.arrive_tolerance:
                 outcome, message = "arrived", f"within {s.arrive_tolerance} m of the goal"
@@ -768,12 +746,12 @@ def _drive(workspace: Workspace, params: Params, s: Settings, obs: _Obs, goal=No
             target = dict(goal=goal) if direction is None else dict(direction=direction)
             if edges is not None:
                 e = tuple(sorted(int(n) for n in edges[k]))
-                corners = [ct.edge_nodes(face, j) for j in range(3)]
+                corners = [topo.edge_nodes(face, j) for j in range(3)]
                 if e not in corners:
                     outcome, message = "stuck", (f"edge {e[0]}-{e[1]} is not an edge of face "
-                                                 f"{g.face_label(face)}")
+                                                 f"{topo.face_label(face)}")
                     break
-                target = dict(direction=ct.edge_outward(obs.nodes[g.FACES[face - 1]])[corners.index(e)])
+                target = dict(direction=ct.edge_outward(obs.nodes[topo.FACES[face - 1]])[corners.index(e)])
             visited = (visited + [face])[-_TABU - 1:]
             pl = plan(workspace, face, obs.nodes, avoid=visited[:-1], combine=s.combine,
                       min_alignment=s.min_alignment, **target)
@@ -787,7 +765,7 @@ def _drive(workspace: Workspace, params: Params, s: Settings, obs: _Obs, goal=No
             steps.append(Step(face, pl, tuple(tries), after))
             if after is not None and not tries[-1].rolled:
                 outcome = "stuck"
-                message = (f"no candidate rolled the robot off face {g.face_label(face)}: tried "
+                message = (f"no candidate rolled the robot off face {topo.face_label(face)}: tried "
                            + ", ".join(f"{'+'.join(f'#{q}' for q in r.pairs)} up to "
                                        f"{r.peak_pressure:.2f} MPa" for r in tries)
                            + ("" if pl.predicted else "; the workspace predicted no roll here "

@@ -6,11 +6,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import xarray as xr
 
 from ..physics import contact as ct
 from ..io import datasets
 from ..physics import dynamics as d
-from ..physics import geometry as g
+from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from .core import Run, Settings, Workspace, plan, roll_over, roll_to, settle
@@ -19,7 +20,7 @@ from .core import Run, Settings, Workspace, plan, roll_over, roll_to, settle
 DEMOS = ("paper", "flat", "slope_up", "slope_down", "terrain")
 
 
-def run_dataset(run: Run, terrain: Terrain, name: str = "") -> "xr.Dataset":
+def run_dataset(run: Run, terrain: Terrain, name: str = "") -> xr.Dataset:
     """A run as an xarray Dataset (design.md section 5, results/locomotion/*.nc): samples
     (time), steps (step, with the chosen pair(s) and pressures), the faces visited (visit) and
     the terrain, with units and long names. Nothing time-dependent (no wall time) is stored."""
@@ -138,8 +139,8 @@ def describe(run: Run, name: str = "") -> str:
                                                    f", {run.distance_to_goal:.2f} m from the goal")]
     for k, st in enumerate(run.steps, 1):
         r = st.used
-        lines.append(f"  step {k}: {g.face_label(st.face)} -> "
-                     f"{g.face_label(st.face_after) if st.face_after else 'no face'}: planned "
+        lines.append(f"  step {k}: {topo.face_label(st.face)} -> "
+                     f"{topo.face_label(st.face_after) if st.face_after else 'no face'}: planned "
                      f"{st.plan.pairs} at {st.plan.pressure:.2f} MPa over {st.plan.edge}; rolled by "
                      f"{r.pairs} at {r.tip_pressure:.2f} MPa (peak {r.peak_pressure:.2f}), "
                      f"{len(st.attempts)} attempt(s)")
@@ -202,7 +203,7 @@ def _cli_common(a):
     from ..io import config
     cfg = config.load(a.config, overrides=getattr(a, "set", None) or None)
     face = _floats(a.face, (1, 3), "--face").astype(int)
-    face = g.face_number(int(face[0]) if face.size == 1 else tuple(face))
+    face = topo.face_number(int(face[0]) if face.size == 1 else tuple(face))
     terrain = _terrain_arg(a.terrain)
     params = locomotion_params(cfg)
     return cfg, face, terrain, params, Workspace.load(a.workspace)

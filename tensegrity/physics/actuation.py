@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import geometry as g
+from . import topology as topo
 
 MAX_PRESSURE = 10.0  # MPa; a McKibben muscle is rated well below this
 
@@ -32,7 +32,7 @@ class Schedule:
         p = check_pressures(self.pressure)
         if p.ndim == 2:
             p = p[None]
-        if p.ndim != 3 or p.shape[1:] != (d.size, g.N_PAIRS):
+        if p.ndim != 3 or p.shape[1:] != (d.size, topo.N_PAIRS):
             raise ValueError(f"schedule pressure must have shape (B, {d.size}, 12), got {p.shape}")
         if not np.all(np.isfinite(d)) or np.any(d <= 0):
             raise ValueError(f"schedule durations must be positive seconds, got {d.tolist()}")
@@ -47,16 +47,16 @@ class Schedule:
     def constant(cls, pressure, duration: float) -> "Schedule":
         """Pressures (B, 12) or (12,) MPa held for `duration` s."""
         p = np.asarray(pressure, dtype=float)
-        return cls(np.array([duration]), p.reshape(-1, 1, g.N_PAIRS))
+        return cls(np.array([duration]), p.reshape(-1, 1, topo.N_PAIRS))
 
     @classmethod
     def staircase(cls, pairs, levels, hold: float, settle: float = 0.0) -> "Schedule":
         """The paper's sweep (III.A): robot b drives pair pairs[b] (1-based) through `levels`
         MPa, each held `hold` s, after `settle` s at zero pressure."""
-        pairs = [g.check_pair(p) for p in np.atleast_1d(pairs)]
+        pairs = [topo.check_pair(p) for p in np.atleast_1d(pairs)]
         levels = check_pressures(levels, "pressure levels")
         segs = ([0.0] if settle > 0 else []) + list(levels)
-        p = np.zeros((len(pairs), len(segs), g.N_PAIRS))
+        p = np.zeros((len(pairs), len(segs), topo.N_PAIRS))
         for b, pair in enumerate(pairs):
             p[b, :, pair - 1] = segs
         d = ([settle] if settle > 0 else []) + [hold] * len(levels)

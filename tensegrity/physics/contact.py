@@ -15,13 +15,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import geometry as g
+from . import frames, topology as topo
 from .terrain import Terrain
 
 GRAVITY_DIR = np.array([0.0, 0.0, -1.0])  # world frame, z up (design.md section 2)
 
-__all__ = ["ContactError", "Contact", "check_nodes", "clearance", "contact_face", "face_from_gaps",
-           "project_along_gravity", "edge_outward", "neighbour", "edge_nodes", "common_edge",
+__all__ = ["ContactError", "Contact", "check_nodes", "clearance", "contact_face", "resting_face", "face_from_gaps",
+           "project_along_gravity", "edge_outward",
            "judge", "analyse", "past_edge", "GRAVITY_DIR"]
 
 
@@ -32,7 +32,7 @@ class ContactError(ValueError):
 def check_nodes(nodes) -> np.ndarray:
     """Node positions as a finite (12, 3) float array, m; ValueError otherwise."""
     p = np.asarray(nodes, dtype=float)
-    if p.shape != (g.N_NODES, 3):
+    if p.shape != (topo.N_NODES, 3):
         raise ValueError(f"node positions must have shape (12, 3) m, got {p.shape}")
     if not np.all(np.isfinite(p)):
         raise ValueError("node positions hold NaN or inf: the state is not finite")
@@ -45,7 +45,7 @@ def clearance(nodes, terrain: Terrain, radius: float) -> np.ndarray:
     the simulator does (negative when the sphere penetrates). Raises ValueError for NaN nodes,
     the free mode (no terrain) or a node with no terrain under it."""
     p = np.asarray(nodes, dtype=float)
-    if p.shape[-2:] != (g.N_NODES, 3):
+    if p.shape[-2:] != (topo.N_NODES, 3):
         raise ValueError(f"node positions must have shape (..., 12, 3) m, got {p.shape}")
     if not np.all(np.isfinite(p)):
         raise ValueError("node positions hold NaN or inf: the state is not finite")
@@ -67,18 +67,33 @@ def contact_face(nodes, terrain: Terrain, radius: float, tol: float | None = Non
     return face_from_gaps(clearance(nodes, terrain, radius), radius if tol is None else tol)
 
 
-def face_from_gaps(gap, tol: float) -> int:
-    """contact_face from the clearances (12,) m already computed."""
+_FACE_OF_NODES = {tuple(sorted(c.tolist())): f + 1 for f, c in enumerate(topo.FACES)}
+
+
+def resting_face(gap, tol: float) -> np.ndarray:
+    """The one rule for "the robot stands on face F": the three nodes of least clearance
+    `gap` (..., 12) m each within `tol` m of touching, and forming one of the 20 faces.
+    Returns the 1-based face (...,) int, 0 where no face rests on the terrain."""
     gap = np.asarray(gap, float)
+    low = np.sort(np.argsort(gap, axis=-1, kind="stable")[..., :3], axis=-1)
+    tol = np.asarray(tol, float)[..., None]
+    touching = np.all(np.take_along_axis(gap, low, axis=-1) <= tol, axis=-1)
+    flat = low.reshape(-1, 3)
+    face = np.array([_FACE_OF_NODES.get(tuple(row), 0) for row in flat.tolist()], np.int64)
+    return np.where(touching, face.reshape(low.shape[:-1]), 0)
+
+
+def face_from_gaps(gap, tol: float) -> int:
+    """`resting_face` of one robot's clearances (12,) m; ContactError when no face rests."""
+    gap = np.asarray(gap, float)
+    face = int(resting_face(gap, tol))
+    if face:
+        return face
     low = np.argsort(gap, kind="stable")[:3]
     if np.any(gap[low] > tol):
         raise ContactError(f"only {int(np.sum(gap <= tol))} node(s) within {tol * 1e3:.1f} mm "
                            "of the terrain: no face rests on it")
-    key = sorted(low.tolist())
-    for f, corners in enumerate(g.FACES):
-        if sorted(corners.tolist()) == key:
-            return f + 1
-    raise ContactError(f"the nodes touching the terrain, {tuple(k + 1 for k in key)}, "
+    raise ContactError(f"the nodes touching the terrain, {tuple(sorted(int(k) + 1 for k in low))}, "
                        "are not a face")
 
 
@@ -96,7 +111,7 @@ def project_along_gravity(point, plane_point, plane_normal, gravity=GRAVITY_DIR)
 
 def edge_outward(tri) -> np.ndarray:
     """Unit outward normals (3, 3) of the edges of triangle `tri` (3, 3) m, in its plane; row k
-    belongs to the edge joining corners k and k+1 (mod 3), as in geometry.edge_distances."""
+    belongs to the edge joining corners k and k+1 (mod 3), as in frames.edge_distances."""
     tri = np.asarray(tri, float)
     c = tri.mean(axis=0)
     n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
@@ -109,36 +124,11 @@ def edge_outward(tri) -> np.ndarray:
     return out
 
 
-def edge_nodes(face: int, k: int) -> tuple[int, int]:
-    """The 1-based nodes (smaller first) of edge k (corners k, k+1) of 1-based `face`."""
-    a, b = g.FACES[face - 1][k], g.FACES[face - 1][(k + 1) % 3]
-    return (int(min(a, b)) + 1, int(max(a, b)) + 1)
-
-
-def neighbour(face, edge) -> int:
-    """The 1-based face across `edge` (two 1-based node numbers) from `face`: the other face
-    sharing that edge (every edge of the icosahedron lies on exactly two faces)."""
-    f = g.face_number(face)
-    e = {int(n) - 1 for n in edge}
-    if len(e) != 2 or not e <= set(g.FACES[f - 1].tolist()):
-        raise ValueError(f"edge {tuple(edge)} is not an edge of face {g.face_label(f)}")
-    for k, corners in enumerate(g.FACES):
-        if k + 1 != f and e <= set(corners.tolist()):
-            return k + 1
-    raise AssertionError("unreachable: every edge lies on two faces")
-
-
-def common_edge(a, b) -> tuple[int, int] | None:
-    """The edge (1-based nodes) shared by faces a and b (1..20 or node triples), or None."""
-    e = set(g.FACES[g.face_number(a) - 1].tolist()) & set(g.FACES[g.face_number(b) - 1].tolist())
-    return tuple(sorted(n + 1 for n in e)) if len(e) == 2 else None
-
-
 @dataclass(frozen=True)
 class Contact:
     """Where and how a robot stands (paper Fig. 8-10). Lengths in m, world frame unless noted.
 
-    face: 1-based contact face; nodes: its node numbers in geometry.FACES order;
+    face: 1-based contact face; nodes: its node numbers in topology.FACES order;
     cog (3,): centre of gravity; projection (3,): the CoG projected along gravity onto the plane
     of the three contact nodes; local (2,) and triangle (3, 2): that projection and the
     triangle in the face's support frame (design.md section 2); normal (3,): the support plane's
@@ -164,7 +154,7 @@ def judge(nodes, face) -> Contact:
     """Stability of a robot with node positions `nodes` (12, 3) m on `face` (1..20 or three node
     numbers), without a terrain: the CoG projected along gravity onto the face's plane, the
     margin, the crossed edge and the next face. `clearance` is None."""
-    return _judge(check_nodes(nodes), g.face_number(face), None)
+    return _judge(check_nodes(nodes), topo.face_number(face), None)
 
 
 def analyse(nodes, terrain: Terrain, radius: float, tol: float | None = None,
@@ -174,24 +164,24 @@ def analyse(nodes, terrain: Terrain, radius: float, tol: float | None = None,
     skips the detection and judges stability on that face (for a robot that is tipping)."""
     p = check_nodes(nodes)
     gap = clearance(p, terrain, radius)
-    f = contact_face(p, terrain, radius, tol) if face is None else g.face_number(face)
+    f = contact_face(p, terrain, radius, tol) if face is None else topo.face_number(face)
     return _judge(p, f, gap)
 
 
 def _judge(p: np.ndarray, f: int, gap) -> Contact:
-    corners = g.FACES[f - 1]
+    corners = topo.FACES[f - 1]
     tri = p[corners]
     cog = p.mean(axis=0)
-    origin, rot = g.support_frame(tri, int(g.FACE_REFERENCE[f - 1]), cog)
+    origin, rot = frames.face_frame(p, f)
     proj = project_along_gravity(cog, origin, rot[2])
-    local = g.to_frame(proj, origin, rot)[:2]
-    tri_local = g.to_frame(tri, origin, rot)[:, :2]
-    margin = float(g.margin_2d(local, tri_local))
-    dist = g.edge_distances(local, tri_local)
+    local = frames.to_frame(proj, origin, rot)[:2]
+    tri_local = frames.to_frame(tri, origin, rot)[:, :2]
+    margin = float(frames.margin_2d(local, tri_local))
+    dist = frames.edge_distances(local, tri_local)
     k = int(np.argmin(dist))
-    edge = edge_nodes(f, k) if dist[k] < 0 else None
+    edge = topo.edge_nodes(f, k) if dist[k] < 0 else None
     return Contact(f, tuple(int(n) + 1 for n in corners), cog, proj, local, tri_local, rot[2],
-                   margin, bool(margin > 0), edge, None if edge is None else neighbour(f, edge),
+                   margin, bool(margin > 0), edge, None if edge is None else topo.neighbour(f, edge),
                    gap)
 
 
@@ -204,12 +194,12 @@ def past_edge(nodes, face, pivot, strut_length: float) -> float:
     on release, is left out. For the symmetric robot at rest on flat ground it is minus the
     distance of the CoG projection to the edge (88.4 mm for an equilateral face, S = 0.5 m)."""
     p = check_nodes(nodes)
-    f = g.face_number(face)
-    ref = g.reference_nodes(strut_length)
+    f = topo.face_number(face)
+    ref = topo.reference_nodes(strut_length)
     a_i, b_i = (int(n) - 1 for n in pivot)
-    others = [int(n) for n in g.FACES[f - 1] if n not in (a_i, b_i)]
+    others = [int(n) for n in topo.FACES[f - 1] if n not in (a_i, b_i)]
     if len(others) != 1:
-        raise ValueError(f"edge {tuple(pivot)} is not an edge of face {g.face_label(f)}")
+        raise ValueError(f"edge {tuple(pivot)} is not an edge of face {topo.face_label(f)}")
     c_i = others[0]
 
     def basis(P, centre):

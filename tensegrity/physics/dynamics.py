@@ -7,7 +7,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from . import geometry as g
+from . import topology as topo
 from . import kernel
 from .actuation import Schedule, check_pressures
 from .params import Params
@@ -64,9 +64,9 @@ def nodes(x: np.ndarray, q: np.ndarray, strut_length) -> np.ndarray:
     half = 0.5 * np.asarray(strut_length, dtype=float)
     half = half.reshape(half.shape + (1,) * (x.ndim - half.ndim))[..., None, :] if half.ndim else half
     c = axes(q)[..., :, 2] * (half if np.ndim(half) == 0 else half[..., 0, :][..., None, :])
-    p = np.empty(x.shape[:-2] + (g.N_NODES, 3))
-    p[..., g.STRUTS[:, 0], :] = x + c
-    p[..., g.STRUTS[:, 1], :] = x - c
+    p = np.empty(x.shape[:-2] + (topo.N_NODES, 3))
+    p[..., topo.STRUTS[:, 0], :] = x + c
+    p[..., topo.STRUTS[:, 1], :] = x - c
     return p
 
 
@@ -76,9 +76,9 @@ def node_velocities(state: State, strut_length) -> np.ndarray:
     R = axes(state.q)
     w = state.w
     cdot = R[..., :, 0] * w[..., 1:2] - R[..., :, 1] * w[..., 0:1]  # R (w x e3)
-    u = np.empty(state.x.shape[:-2] + (g.N_NODES, 3))
-    u[..., g.STRUTS[:, 0], :] = state.v + half * cdot
-    u[..., g.STRUTS[:, 1], :] = state.v - half * cdot
+    u = np.empty(state.x.shape[:-2] + (topo.N_NODES, 3))
+    u[..., topo.STRUTS[:, 0], :] = state.v + half * cdot
+    u[..., topo.STRUTS[:, 1], :] = state.v - half * cdot
     return u
 
 
@@ -89,8 +89,8 @@ def cog(x: np.ndarray) -> np.ndarray:
 
 def from_nodes(p: np.ndarray) -> State:
     """A state at rest from node positions (B, 12, 3) or (12, 3) m (strut lengths as given)."""
-    p = np.asarray(p, dtype=float).reshape(-1, g.N_NODES, 3)
-    a, b = p[:, g.STRUTS[:, 0]], p[:, g.STRUTS[:, 1]]
+    p = np.asarray(p, dtype=float).reshape(-1, topo.N_NODES, 3)
+    a, b = p[:, topo.STRUTS[:, 0]], p[:, topo.STRUTS[:, 1]]
     c = ((a - b) / np.linalg.norm(a - b, axis=-1, keepdims=True)).reshape(-1, 3)
     # the rotation taking e3 onto c about the axis e3 x c (quaternion w, x, y, z)
     half = 0.5 * np.arccos(np.clip(c[:, 2], -1.0, 1.0))
@@ -99,9 +99,9 @@ def from_nodes(p: np.ndarray) -> State:
     ax = np.where(n > 1e-12, ax / np.where(n > 1e-12, n, 1.0), [1.0, 0.0, 0.0])
     q = np.concatenate([np.cos(half)[:, None], np.sin(half)[:, None] * ax], axis=1)
     B = p.shape[0]
-    z3 = np.zeros((B, g.N_STRUTS, 3))
-    return State(0.5 * (a + b), z3, q.reshape(B, g.N_STRUTS, 4), z3.copy(),
-                 np.zeros((B, g.N_NODES, 3)), np.zeros((B, g.N_NODES), dtype=np.bool_))
+    z3 = np.zeros((B, topo.N_STRUTS, 3))
+    return State(0.5 * (a + b), z3, q.reshape(B, topo.N_STRUTS, 4), z3.copy(),
+                 np.zeros((B, topo.N_NODES, 3)), np.zeros((B, topo.N_NODES), dtype=np.bool_))
 
 
 def stand_on(params: Params, face, terrain: Terrain | None = None, batch: int = 1,
@@ -109,11 +109,11 @@ def stand_on(params: Params, face, terrain: Terrain | None = None, batch: int = 
     """The symmetric robot at rest with `face` (1..20 or three node numbers) on the terrain
     under `position` (m), turned by yaw_deg about the terrain normal. With no terrain (free
     mode) it is placed as if on flat ground at z = 0."""
-    f = g.face_number(face) - 1
+    f = topo.face_number(face) - 1
     S = float(np.max(params.strut_length)) if np.ndim(params.strut_length) else params.strut_length
     r = float(np.max(params.strut_radius))
-    p = g.reference_nodes(S)
-    tri = p[g.FACES[f]]
+    p = topo.reference_nodes(S)
+    tri = p[topo.FACES[f]]
     outward = np.cross(tri[1] - tri[0], tri[2] - tri[0])
     outward *= np.sign(np.dot(outward, tri.mean(0)))  # the centre is at the origin
     outward /= np.linalg.norm(outward)
@@ -188,9 +188,9 @@ def simulate(params: Params, state: State, schedule: Schedule, terrain: Terrain 
             raise ValueError(f"segment {k} of {dur} s is not a whole number of recording "
                              f"intervals ({every} steps of {dt} s)")
         n_rec = n // every
-        pres = np.ascontiguousarray(np.broadcast_to(schedule.pressure[:, k], (B, g.N_PAIRS)))
-        out_x = np.empty((B, n_rec, g.N_STRUTS, 3))
-        out_q = np.empty((B, n_rec, g.N_STRUTS, 4))
+        pres = np.ascontiguousarray(np.broadcast_to(schedule.pressure[:, k], (B, topo.N_PAIRS)))
+        out_x = np.empty((B, n_rec, topo.N_STRUTS, 3))
+        out_q = np.empty((B, n_rec, topo.N_STRUTS, 4))
         kernel.advance(s.x, s.v, s.q, s.w, s.anchor, s.stuck, prm, pres, kind, meta, hz,
                        n_rec, every, dt, out_x, out_q, status, fail)
         if status.any():
@@ -212,13 +212,13 @@ def step(params: Params, state: State, pressure, dt: float = 1e-4,
          terrain: Terrain | None = None) -> State:
     """One time step of dt (s) with pair pressures (B, 12) or (12,) MPa: the pure step function."""
     p = check_pressures(pressure)
-    return simulate(params, state, Schedule.constant(p.reshape(-1, g.N_PAIRS), dt), terrain, dt, 1)[0]
+    return simulate(params, state, Schedule.constant(p.reshape(-1, topo.N_PAIRS), dt), terrain, dt, 1)[0]
 
 
 def tensions(params: Params, state: State, pressure) -> np.ndarray:
     """Cable tensions (B, 24) N (eq. 2 with eq. 1, never negative)."""
     B = state.batch
-    p = np.ascontiguousarray(np.broadcast_to(check_pressures(pressure), (B, g.N_PAIRS)))
+    p = np.ascontiguousarray(np.broadcast_to(check_pressures(pressure), (B, topo.N_PAIRS)))
     P = nodes(state.x, state.q, params.strut_length)
     U = node_velocities(state, params.strut_length)
     return kernel.tensions(P, U, params.pack(B), p)[0]
@@ -238,8 +238,8 @@ def energy(params: Params, state: State, pressure) -> np.ndarray:
     kin = (0.5 * m * np.sum(state.v ** 2, -1) + 0.5 * It * np.sum(state.w[..., :2] ** 2, -1)
            + 0.5 * Ia * state.w[..., 2] ** 2).sum(-1)
     P = nodes(state.x, state.q, params.strut_length)
-    ln = np.linalg.norm(P[:, g.CABLES[:, 1]] - P[:, g.CABLES[:, 0]], axis=-1)
-    act = prm["muscle_gain"] * np.broadcast_to(check_pressures(pressure), (B, g.N_PAIRS))[:, g.CABLE_PAIR]
+    ln = np.linalg.norm(P[:, topo.CABLES[:, 1]] - P[:, topo.CABLES[:, 0]], axis=-1)
+    act = prm["muscle_gain"] * np.broadcast_to(check_pressures(pressure), (B, topo.N_PAIRS))[:, topo.CABLE_PAIR]
     K, L, Lmin = prm["cable_stiffness"], prm["cable_rest_length"], prm["muscle_min_length"]
     lstar = (K * L + act * Lmin) / (K + act)  # where the clamped tension starts (eq. 2)
     cable = 0.5 * ((K + act) * np.maximum(0.0, ln - lstar) ** 2).sum(-1)

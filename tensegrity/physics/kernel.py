@@ -12,19 +12,16 @@ import math
 import numba as nb
 import numpy as np
 
-from . import geometry as g
+from . import topology as topo
 from .params import IDX
 
 # Topology as kernel constants: node -> (strut, sign), cable -> nodes, cable -> pair.
-NODE_STRUT = np.empty(g.N_NODES, np.int64)
-NODE_SIGN = np.empty(g.N_NODES, np.float64)
-for _s, (_a, _b) in enumerate(g.STRUTS):
-    NODE_STRUT[_a], NODE_SIGN[_a] = _s, 1.0
-    NODE_STRUT[_b], NODE_SIGN[_b] = _s, -1.0
-CABLE_NODES = np.ascontiguousarray(g.CABLES.astype(np.int64))
-CABLE_PAIR = np.ascontiguousarray(g.CABLE_PAIR.astype(np.int64))
-g_STRUT_A = np.ascontiguousarray(g.STRUTS[:, 0].astype(np.int64))
-g_STRUT_B = np.ascontiguousarray(g.STRUTS[:, 1].astype(np.int64))
+NODE_STRUT = np.ascontiguousarray(topo.NODE_STRUT)
+NODE_SIGN = np.ascontiguousarray(topo.NODE_SIGN)
+CABLE_NODES = np.ascontiguousarray(topo.CABLES.astype(np.int64))
+CABLE_PAIR = np.ascontiguousarray(topo.CABLE_PAIR.astype(np.int64))
+g_STRUT_A = np.ascontiguousarray(topo.STRUTS[:, 0].astype(np.int64))
+g_STRUT_B = np.ascontiguousarray(topo.STRUTS[:, 1].astype(np.int64))
 
 # No division-by-zero checks (error_model="numpy"); fused multiply-add and reassociation are
 # allowed, but not the flags that assume finite values: the blow-up checks must see NaN.

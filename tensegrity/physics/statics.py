@@ -12,16 +12,11 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import minimize
 
-from . import geometry as g
+from . import frames, topology as topo
 from .actuation import check_pressures
 from .params import Params
 
-# node -> (strut, sign): node = centre + sign * (S/2) * c
-_NODE_STRUT = np.empty(g.N_NODES, np.int64)
-_NODE_SIGN = np.empty(g.N_NODES)
-for _s, (_a, _b) in enumerate(g.STRUTS):
-    _NODE_STRUT[_a], _NODE_SIGN[_a] = _s, 1.0
-    _NODE_STRUT[_b], _NODE_SIGN[_b] = _s, -1.0
+_NODE_STRUT, _NODE_SIGN = topo.NODE_STRUT, topo.NODE_SIGN  # node = centre + sign (S/2) c
 
 
 def _scalar(params: Params, name: str) -> float:
@@ -37,11 +32,11 @@ def cable_law(params: Params, pressure) -> tuple[np.ndarray, np.ndarray]:
     if _scalar(params, "cable_exponent") != 1.0:
         raise NotImplementedError("statics is implemented for cable_exponent = 1 only")
     p = check_pressures(pressure)
-    if p.shape != (g.N_PAIRS,):
-        raise ValueError(f"pressure must have shape ({g.N_PAIRS},) MPa, got {p.shape}")
+    if p.shape != (topo.N_PAIRS,):
+        raise ValueError(f"pressure must have shape ({topo.N_PAIRS},) MPa, got {p.shape}")
     K, L = _scalar(params, "cable_stiffness"), _scalar(params, "cable_rest_length")
     Lmin, Kg = _scalar(params, "muscle_min_length"), _scalar(params, "muscle_gain")
-    act = Kg * p[g.CABLE_PAIR]
+    act = Kg * p[topo.CABLE_PAIR]
     k = K + act
     return k, (K * L + act * Lmin) / k
 
@@ -60,16 +55,16 @@ def cable_energy(centres: np.ndarray, directions: np.ndarray, strut_length: floa
     c = directions / nd
     h = 0.5 * strut_length
     p = centres[_NODE_STRUT] + (h * _NODE_SIGN)[:, None] * c[_NODE_STRUT]
-    e = p[g.CABLES[:, 1]] - p[g.CABLES[:, 0]]
+    e = p[topo.CABLES[:, 1]] - p[topo.CABLES[:, 0]]
     ln = np.linalg.norm(e, axis=1)
     stretch = np.maximum(0.0, ln - lstar)
     U = 0.5 * float(np.sum(k * stretch ** 2))
     f = (k * stretch / ln)[:, None] * e          # dU/d p2 = -dU/d p1 = tension * unit vector
-    gp = np.zeros((g.N_NODES, 3))
-    np.add.at(gp, g.CABLES[:, 1], f)
-    np.add.at(gp, g.CABLES[:, 0], -f)
-    gx = gp[g.STRUTS[:, 0]] + gp[g.STRUTS[:, 1]]
-    gc = h * (gp[g.STRUTS[:, 0]] - gp[g.STRUTS[:, 1]])
+    gp = np.zeros((topo.N_NODES, 3))
+    np.add.at(gp, topo.CABLES[:, 1], f)
+    np.add.at(gp, topo.CABLES[:, 0], -f)
+    gx = gp[topo.STRUTS[:, 0]] + gp[topo.STRUTS[:, 1]]
+    gc = h * (gp[topo.STRUTS[:, 0]] - gp[topo.STRUTS[:, 1]])
     gd = (gc - np.sum(gc * c, axis=1, keepdims=True) * c) / nd   # (I - c c^T) / |d|
     return U, gx, gd
 
@@ -81,7 +76,7 @@ def _solve(params: Params, pressure, start: np.ndarray) -> np.ndarray:
     # Non-dimensional unknowns (centres / S, directions) and energy / (K S^2) keep the
     # Hessian O(1) for both translations and rotations.
     scale = _scalar(params, "cable_stiffness") * S ** 2
-    a, b = start[g.STRUTS[:, 0]], start[g.STRUTS[:, 1]]
+    a, b = start[topo.STRUTS[:, 0]], start[topo.STRUTS[:, 1]]
     z0 = np.concatenate([(0.5 * (a + b) / S).ravel(), ((a - b) / S).ravel()])
 
     def fun(z):
@@ -130,9 +125,9 @@ def equilibrium(params: Params, pressure, start: np.ndarray | None = None) -> np
     gauge is fixed by putting the centroid at the origin with the best-fit rotation onto the
     reference nodes."""
     p = check_pressures(pressure)
-    if p.shape != (g.N_PAIRS,):
-        raise ValueError(f"pressure must have shape ({g.N_PAIRS},) MPa, got {p.shape}")
-    ref = g.reference_nodes(_scalar(params, "strut_length"))
+    if p.shape != (topo.N_PAIRS,):
+        raise ValueError(f"pressure must have shape ({topo.N_PAIRS},) MPa, got {p.shape}")
+    ref = topo.reference_nodes(_scalar(params, "strut_length"))
     start = ref if start is None else np.asarray(start, dtype=float)
     return _align(_solve(params, p, start), ref)
 
@@ -141,21 +136,21 @@ def support_cog(nodes: np.ndarray, face) -> tuple[np.ndarray, np.ndarray]:
     """CoG (mean of the 12 nodes = mean of the strut centres) (3,) m and the face's corners
     (3, 3) m, both in the supporting-triangle frame of `face` (1..20 or three node numbers),
     design.md section 2. Corners are in the order of geometry.FACES."""
-    return g.in_support_frame(nodes, face)
+    return frames.in_support_frame(nodes, face)
 
 
 def static_workspace(params: Params, face, pair: int, pressures) -> tuple[np.ndarray, np.ndarray]:
     """Static CoG (n, 3) m in the support frame of `face` and margin (n,) m (geometry.margin_2d
     of its in-plane coordinates against the deformed triangle, positive inside) for pressures
     (n,) MPa applied to the 1-based `pair` alone. Each level starts from the previous solution."""
-    pair = g.check_pair(pair)
+    pair = topo.check_pair(pair)
     levels = np.atleast_1d(check_pressures(pressures, "pressures"))
     cogs, margins = np.empty((levels.size, 3)), np.empty(levels.size)
     nodes = None
     for i, lev in enumerate(levels):
-        p = np.zeros(g.N_PAIRS)
+        p = np.zeros(topo.N_PAIRS)
         p[pair - 1] = lev
         nodes = equilibrium(params, p, start=nodes)
         cogs[i], tri = support_cog(nodes, face)
-        margins[i] = g.margin_2d(cogs[i, :2], tri[:, :2])
+        margins[i] = frames.margin_2d(cogs[i, :2], tri[:, :2])
     return cogs, margins

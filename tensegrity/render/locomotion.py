@@ -17,7 +17,7 @@ import numpy as np
 import pyvista as pv
 
 from ..physics import contact as ct
-from ..physics import geometry as g
+from ..physics import frames, topology as topo
 from . import scene as rd
 from ..physics.terrain import Terrain
 
@@ -31,10 +31,10 @@ GOAL = "#e6194b"
 
 def _robot(pl: pv.Plotter, p: np.ndarray, opacity: float = 1.0, name: str = "robot") -> None:
     S = rd._strut_length(p)
-    for k, (a, b) in enumerate(g.STRUTS):
+    for k, (a, b) in enumerate(topo.STRUTS):
         pl.add_mesh(rd._tube(p[a], p[b], 0.02 * S), color=rd.STRUT_COLOURS[k], opacity=opacity,
                     smooth_shading=True, name=f"{name} strut {a + 1}-{b + 1}")
-    pl.add_mesh(rd._lines(p, g.CABLES).tube(radius=0.0045 * S, n_sides=10), color=rd.CABLE_COLOUR,
+    pl.add_mesh(rd._lines(p, topo.CABLES).tube(radius=0.0045 * S, n_sides=10), color=rd.CABLE_COLOUR,
                 opacity=opacity, name=f"{name} cables")
 
 
@@ -58,7 +58,7 @@ def _add_terrain(pl: pv.Plotter, terrain: Terrain, centre, extent: float, colour
 
 
 def _support(pl, p, face, colour, name="support triangle"):
-    tri = p[g.FACES[face - 1]]
+    tri = p[topo.FACES[face - 1]]
     pl.add_mesh(pv.PolyData(tri, faces=[3, 0, 1, 2]), color=colour, opacity=0.55, lighting=False,
                 name=name)
     pl.add_mesh(rd._lines(tri, np.array([[0, 1], [1, 2], [2, 0]])).tube(
@@ -126,7 +126,7 @@ def fig_state(nodes, terrain: Terrain, face, path, title: str, arrow=None) -> di
     direction to draw from the CoG (e.g. the target). Returns {"path", "title", "actors",
     "face", "margin" m, "stands", "edge", "next_face"}."""
     p = rd._check_nodes(nodes)
-    f = g.face_number(face)
+    f = topo.face_number(face)
     c = ct.judge(p, f)
     S = rd._strut_length(p)
     colour = STANDS if c.stands else ROLLS
@@ -135,35 +135,35 @@ def fig_state(nodes, terrain: Terrain, face, path, title: str, arrow=None) -> di
     _robot(pl, p)
     _support(pl, p, f, colour)
     _gravity_line(pl, c.cog, c.projection, S)
-    rd._node_labels(pl, p, g.FACES[f - 1], font_size=22, name="corner labels")
+    rd._node_labels(pl, p, topo.FACES[f - 1], font_size=22, name="corner labels")
     arrow2 = None
-    out_world = ct.edge_outward(p[g.FACES[f - 1]])
+    out_world = ct.edge_outward(p[topo.FACES[f - 1]])
     if c.edge is not None:
-        k = [ct.edge_nodes(f, j) for j in range(3)].index(c.edge)
+        k = [topo.edge_nodes(f, j) for j in range(3)].index(c.edge)
         mid = p[[n - 1 for n in c.edge]].mean(axis=0) + 0.06 * S * c.normal
         pl.add_mesh(pv.Arrow(start=mid, direction=out_world[k], scale=0.45 * S, tip_length=0.25,
                              tip_radius=0.08, shaft_radius=0.03), color=ROLLS, name="rolling arrow")
-        origin, rot = g.support_frame(p[g.FACES[f - 1]], int(g.FACE_REFERENCE[f - 1]), c.cog)
+        origin, rot = frames.face_frame(p, f)
         arrow2 = (rot @ out_world[k])[:2]
     if arrow is not None:  # the target direction, from the middle of the best-matching edge
         a = np.asarray(arrow, float)
         a = a / np.linalg.norm(a)
         k = int(np.argmax(out_world @ a))
-        mid = p[g.FACES[f - 1]][[k, (k + 1) % 3]].mean(axis=0) + 0.06 * S * c.normal
+        mid = p[topo.FACES[f - 1]][[k, (k + 1) % 3]].mean(axis=0) + 0.06 * S * c.normal
         pl.add_mesh(pv.Arrow(start=mid, direction=a, scale=0.45 * S, tip_length=0.25,
                              tip_radius=0.08, shaft_radius=0.03), color="#ff7f0e",
                     name="target arrow")
     up = c.normal if terrain.kind == "none" else terrain.normal_at(*c.cog[:2])
-    toward = out_world[int(np.argmin(g.edge_distances(c.local, c.triangle)))]
+    toward = out_world[int(np.argmin(frames.edge_distances(c.local, c.triangle)))]
     _side_camera(pl, p, up, toward)
     _inset(pl, 1, c, colour, arrow2)
     pl.subplot(0, 2)
     legend = ("black: CoG   blue: its projection along gravity\n"
               + ("orange arrow: the target direction\n" if arrow is not None else "")
-              + f"{'green' if c.stands else 'red'} triangle: contact face {g.face_label(f)}\n"
+              + f"{'green' if c.stands else 'red'} triangle: contact face {topo.face_label(f)}\n"
               + ("the projection is inside: the robot stands" if c.stands else
                  f"outside, over edge {c.edge[0]}-{c.edge[1]}: it rolls onto "
-                 f"{g.face_label(c.next_face)}"))
+                 f"{topo.face_label(c.next_face)}"))
     pl.add_text(legend, position="upper_left", font_size=11, color="black", name="legend")
     pl.subplot(0, 0)
     return rd._finish(pl, path, title, face=f, margin=c.margin, stands=c.stands, edge=c.edge,
@@ -175,10 +175,10 @@ def fig_slope(nodes, terrain: Terrain, face, path, title: str) -> dict:
     paper's construction) and along the face normal (grey), which differ by h tan(angle)
     downhill. Returns {"path", "title", "actors", "face", "margin" m, "shift" m, "angle" deg}."""
     p = rd._check_nodes(nodes)
-    f = g.face_number(face)
+    f = topo.face_number(face)
     c = ct.judge(p, f)
     S = rd._strut_length(p)
-    tri = p[g.FACES[f - 1]]
+    tri = p[topo.FACES[f - 1]]
     h = float(np.dot(c.cog - tri.mean(axis=0), c.normal))
     normal_foot = c.cog - h * c.normal
     shift = float(np.linalg.norm(c.projection - normal_foot))
@@ -201,8 +201,8 @@ def fig_slope(nodes, terrain: Terrain, face, path, title: str) -> dict:
     pl.camera.up = (0, 0, 1)
     pl.camera.view_angle = 30.0
     pl.renderer.ResetCameraClippingRange()
-    origin, rot = g.support_frame(tri, int(g.FACE_REFERENCE[f - 1]), c.cog)
-    _inset(pl, 1, c, STANDS if c.stands else ROLLS, normal_xy=g.to_frame(c.cog, origin, rot)[:2])
+    origin, rot = frames.face_frame(p, f)
+    _inset(pl, 1, c, STANDS if c.stands else ROLLS, normal_xy=frames.to_frame(c.cog, origin, rot)[:2])
     pl.subplot(0, 2)
     pl.add_text(f"slope {angle:.1f} deg, seen across it (downhill to the side)\n"
                 f"blue: projection along gravity (paper Fig. 10)\n"
@@ -261,7 +261,7 @@ def fig_path(ds, path, view: str = "top", title: str | None = None) -> dict:
     for k, (i, f) in enumerate(zip(idx, faces)):
         if f <= 0:
             continue
-        tri = nodes[i][g.FACES[f - 1]]
+        tri = nodes[i][topo.FACES[f - 1]]
         if view == "top":
             tri = np.column_stack([tri[:, :2], np.full(3, 0.9)])
         pl.add_mesh(pv.PolyData(tri, faces=[3, 0, 1, 2]).extract_all_edges().tube(radius=0.006),
@@ -339,7 +339,7 @@ def animate(ds, path, fps: int = 10, speed: float = 8.0, size=(640, 480)) -> dic
         return pv.PolyData(nodes[frames[0]].copy(), lines=np.hstack(
             [np.full((len(seg), 1), 2), seg]).ravel())
 
-    struts, cables = lines(g.STRUTS), lines(g.CABLES)
+    struts, cables = lines(topo.STRUTS), lines(topo.CABLES)
     struts.cell_data["strut"] = np.arange(6)
     track = pv.lines_from_points(np.repeat(cog[frames[0]][None] + [0, 0, 0.02], len(frames), axis=0))
     pl.add_mesh(struts, scalars="strut", cmap=rd.STRUT_COLOURS, show_scalar_bar=False,
@@ -388,7 +388,7 @@ def _sample(ds, step: int, which: str) -> tuple[int, np.ndarray]:
         if which == "stable" and np.isfinite(tip) and pres[k] >= 0.5 * tip:
             return k, nodes[k]
         if which == "rolling":
-            touching = ct.clearance(nodes[k], terrain, 0.01)[g.FACES[face - 1]] < 0.002
+            touching = ct.clearance(nodes[k], terrain, 0.01)[topo.FACES[face - 1]] < 0.002
             m = ct.judge(nodes[k], face).margin
             if touching.sum() == 2 and m < 0:
                 if m < -0.025:
@@ -415,13 +415,13 @@ def render_states(paper_path, slope_path, fig8, fig9, fig10) -> list[dict]:
     k, p = _sample(ds, 1, "stable")
     out = [fig_state(p, terrain, face, fig8,
                      f"Fig. 8  Stable: #{pair} at {ds['pressure'].values[k].max():.1f} MPa, the CoG "
-                     f"projection stays inside {g.face_label(face)}",
-                     arrow=ct.edge_outward(p[g.FACES[face - 1]])[
-                         [ct.edge_nodes(face, j) for j in range(3)].index(tuple(ds["edge"].values[0]))])]
+                     f"projection stays inside {topo.face_label(face)}",
+                     arrow=ct.edge_outward(p[topo.FACES[face - 1]])[
+                         [topo.edge_nodes(face, j) for j in range(3)].index(tuple(ds["edge"].values[0]))])]
     k, p = _sample(ds, 1, "rolling")
     out.append(fig_state(p, terrain, face, fig9,
                          f"Fig. 9  Rolling: #{pair} tipped the robot at {tip:.2f} MPa; the CoG "
-                         f"projection has left {g.face_label(face)}"))
+                         f"projection has left {topo.face_label(face)}"))
     sl = read(slope_path)
     k0 = int(np.searchsorted(sl["time"].values, sl["t_start"].values[0]))
     out.append(fig_slope(sl["nodes"].values[k0], terrain_from_dataset(sl), int(sl["face"].values[0]),

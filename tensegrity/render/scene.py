@@ -24,7 +24,7 @@ import pyvista as pv  # noqa: E402
 from matplotlib import colormaps  # noqa: E402  (a PyVista dependency)
 from scipy.spatial.transform import Rotation  # noqa: E402
 
-from ..physics import geometry as g  # noqa: E402
+from ..physics import frames, topology as topo
 
 pv.OFF_SCREEN = True
 
@@ -133,12 +133,12 @@ def _lines(points: np.ndarray, segments: np.ndarray) -> pv.PolyData:
 
 
 def _strut_length(nodes: np.ndarray) -> float:
-    return float(np.mean(np.linalg.norm(nodes[g.STRUTS[:, 0]] - nodes[g.STRUTS[:, 1]], axis=1)))
+    return float(np.mean(np.linalg.norm(nodes[topo.STRUTS[:, 0]] - nodes[topo.STRUTS[:, 1]], axis=1)))
 
 
 def _check_nodes(nodes) -> np.ndarray:
     p = np.asarray(nodes, float)
-    if p.shape != (g.N_NODES, 3) or not np.all(np.isfinite(p)):
+    if p.shape != (topo.N_NODES, 3) or not np.all(np.isfinite(p)):
         raise ValueError(f"nodes must be a finite (12, 3) array in m, got shape {p.shape}")
     return p
 
@@ -147,7 +147,7 @@ def _robot_camera(pl: pv.Plotter, nodes: np.ndarray, zoom: float = 1.0) -> None:
     """The canonical view (_ROBOT_VIEW) carried along with the robot's pose, so that Fig. 1
     looks the same whatever the robot's position and orientation."""
     c = nodes.mean(axis=0)
-    ref = g.reference_nodes(_strut_length(nodes))
+    ref = topo.reference_nodes(_strut_length(nodes))
     rot, _ = Rotation.align_vectors(nodes - c, ref)
     d, up = rot.apply(_ROBOT_VIEW[0]), rot.apply(_ROBOT_VIEW[1])
     S = _strut_length(nodes)
@@ -180,10 +180,10 @@ def _node_labels(pl: pv.Plotter, nodes: np.ndarray, idx, font_size: int = 22,
 
 def _struts(pl: pv.Plotter, nodes: np.ndarray, colours, opacity: float = 1.0) -> int:
     S = _strut_length(nodes)
-    for k, (a, b) in enumerate(g.STRUTS):
+    for k, (a, b) in enumerate(topo.STRUTS):
         pl.add_mesh(_tube(nodes[a], nodes[b], 0.02 * S), color=colours[k], opacity=opacity,
                     smooth_shading=True, name=f"strut {a + 1}-{b + 1}")
-    return len(g.STRUTS)
+    return len(topo.STRUTS)
 
 
 # --- Fig. 1 and 4 ----------------------------------------------------------------------------
@@ -199,7 +199,7 @@ def fig_robot(nodes: np.ndarray, path, highlight_pairs=None, title: str | None =
     "highlighted": {pair: [cable index (0-based), ...]}, "pair_labels"}.
     """
     p = _check_nodes(nodes)
-    pairs = [] if highlight_pairs is None else [g.check_pair(v) for v in highlight_pairs]
+    pairs = [] if highlight_pairs is None else [topo.check_pair(v) for v in highlight_pairs]
     if len(set(pairs)) != len(pairs):
         raise ValueError(f"highlight_pairs has repeated pairs: {pairs}")
     if title is None:
@@ -209,25 +209,25 @@ def fig_robot(nodes: np.ndarray, path, highlight_pairs=None, title: str | None =
     pl = _plotter(title)
     _robot_camera(pl, p)
     n_struts = _struts(pl, p, ["#9a9a9a"] * 6 if pairs else STRUT_COLOURS)
-    hot = {v: g.PAIR_CABLES[v - 1].tolist() for v in pairs}
-    cold = np.setdiff1d(np.arange(g.N_CABLES), [c for cs in hot.values() for c in cs])
+    hot = {v: topo.PAIR_CABLES[v - 1].tolist() for v in pairs}
+    cold = np.setdiff1d(np.arange(topo.N_CABLES), [c for cs in hot.values() for c in cs])
     n_cables = 0
     if len(cold):
-        mesh = _lines(p, g.CABLES[cold]).tube(radius=(0.003 if pairs else 0.0045) * S, n_sides=12)
+        mesh = _lines(p, topo.CABLES[cold]).tube(radius=(0.003 if pairs else 0.0045) * S, n_sides=12)
         pl.add_mesh(mesh, color="#b4b4b4" if pairs else CABLE_COLOUR, name="cables")
         n_cables += len(cold)
     pair_labels, label_pos, label_col = [], [], []
     for v, cs in hot.items():
         colour = PAIR_COLOURS[v - 1]
-        mesh = _lines(p, g.CABLES[cs]).tube(radius=0.011 * S, n_sides=20)
+        mesh = _lines(p, topo.CABLES[cs]).tube(radius=0.011 * S, n_sides=20)
         pl.add_mesh(mesh, color=colour, smooth_shading=True, name=f"pair #{v}")
         n_cables += len(cs)
         # "#v" between the pair's two cables, a third of the way from node v
-        far = [c[1] if c[0] == v - 1 else c[0] for c in g.CABLES[cs]]
+        far = [c[1] if c[0] == v - 1 else c[0] for c in topo.CABLES[cs]]
         label_pos.append(p[v - 1] + 0.34 * (p[far].mean(axis=0) - p[v - 1]))
         pair_labels.append(f"#{v}")
         label_col.append(colour)
-    node_labels = _node_labels(pl, p, np.arange(g.N_NODES), font_size=22 if pairs else 24)
+    node_labels = _node_labels(pl, p, np.arange(topo.N_NODES), font_size=22 if pairs else 24)
     pl.add_points(p, color="black", point_size=11, render_points_as_spheres=True, name="nodes")
     for k, (pos, text, colour) in enumerate(zip(label_pos, pair_labels, label_col)):
         pl.add_point_labels(pos[None], [text], font_size=26, name=f"pair label {k}",
@@ -264,19 +264,18 @@ def fig_support_frame(nodes: np.ndarray, face, path, title: str | None = None) -
     node numbers), "axes" (3, 3) rows x, y, z in world components, "origin" (3,) m}.
     """
     p = _check_nodes(nodes)
-    f = g.face_number(face)
-    corners = g.FACES[f - 1]
-    tri = p[corners]
-    cog = p.mean(axis=0)
-    origin, rot = g.support_frame(tri, int(g.FACE_REFERENCE[f - 1]), cog)
+    f = topo.face_number(face)
+    corners = topo.FACES[f - 1]
+    tri, cog = p[corners], p.mean(axis=0)
+    origin, rot = frames.face_frame(p, f)
     if title is None:
-        title = (f"Fig. 5  Supporting-triangle frame of face {f} {g.face_label(f)} "
-                 f"({g.FACE_TYPES[f - 1]})")
+        title = (f"Fig. 5  Supporting-triangle frame of face {f} {topo.face_label(f)} "
+                 f"({topo.FACE_TYPES[f - 1]})")
     S = _strut_length(p)
     pl = _plotter(title)
     _frame_camera(pl, p, origin, rot)
     _struts(pl, p, STRUT_COLOURS, opacity=0.15)
-    pl.add_mesh(_lines(p, g.CABLES).tube(radius=0.004 * S, n_sides=10), color=CABLE_COLOUR,
+    pl.add_mesh(_lines(p, topo.CABLES).tube(radius=0.004 * S, n_sides=10), color=CABLE_COLOUR,
                 opacity=0.18, name="cables")
     pl.add_mesh(pv.PolyData(tri, faces=[3, 0, 1, 2]), color="#ffd54a", opacity=0.85,
                 lighting=False, name="support triangle")
@@ -432,7 +431,7 @@ def fig_cog_cloud(samples: np.ndarray, nominal: np.ndarray, levels, tri: np.ndar
     Returns {"path", "size", "title", "actors", "samples", "nominal", "labels",
     "triangle_edges" (edges in the main view), "view_mm" (xmin, xmax, ymin, ymax)}.
     """
-    pair = g.check_pair(pair)
+    pair = topo.check_pair(pair)
     s = _check_points(samples, "samples") * 1e3
     levels = np.asarray(levels, float).reshape(-1)
     nom = _check_points(nominal, "nominal", len(levels)) * 1e3
@@ -533,12 +532,12 @@ def fig_workspace(curves_xy: dict, tri: np.ndarray, path, title: str,
     Returns {"path", "size", "title", "actors", "curves" {pair: number of points}, "labels"
     (main view), "zoom_labels", "tips" [pairs], "zoom_mm", "view_mm"}.
     """
-    curves = {g.check_pair(v): _check_points(c, f"curve of pair {v}") * 1e3
+    curves = {topo.check_pair(v): _check_points(c, f"curve of pair {v}") * 1e3
               for v, c in sorted(curves_xy.items())}
     if not curves:
         raise ValueError("curves_xy is empty: give at least one pair's curve")
     t = _check_points(tri, "tri", 3) * 1e3
-    tips = {g.check_pair(v): _check_points(np.reshape(q, (1, 3)), f"tip of pair {v}")[0] * 1e3
+    tips = {topo.check_pair(v): _check_points(np.reshape(q, (1, 3)), f"tip of pair {v}")[0] * 1e3
             for v, q in (tip_points or {}).items() if q is not None}
     pl = _plotter(title, panels=3)
     circum = float(np.max(np.linalg.norm(t[:, :2] - t[:, :2].mean(axis=0), axis=1)))

@@ -22,9 +22,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from ..physics import contact as ct
 from ..io import datasets
-from ..physics import geometry as g
+from ..physics import frames, topology as topo
 from ..workspace import nominal as nom
 from ..physics import statics
 from ..workspace import sweep as sw
@@ -33,7 +32,7 @@ from ..io.config import params_from_config
 from ..physics.params import Params
 
 PASS, FAIL, SKIP = "pass", "fail", "not evaluated"
-CONTACTS = tuple(g.CONTACT_FACES)            # ("equilateral", "isosceles")
+CONTACTS = tuple(topo.CONTACT_FACES)            # ("equilateral", "isosceles")
 AXES = ("x", "y", "z")
 
 # The paper's statements (section and value). The pressure of the second roll is not given: the
@@ -116,7 +115,7 @@ def _mm(x: float, digits: int = 3) -> str:
 
 
 def _label(face: int) -> str:
-    return g.face_label(int(face))
+    return topo.face_label(int(face))
 
 
 def _edge_label(edge) -> str:
@@ -155,20 +154,17 @@ def _face(ds: xr.Dataset) -> int:
 
 def rest_cog(face, strut_length: float = 0.5) -> np.ndarray:
     """CoG (3,) m of the symmetric, unactuated robot in the support frame of `face`."""
-    return g.in_support_frame(g.reference_nodes(strut_length), face)[0]
+    return frames.rest_frame(face, strut_length)[0]
 
 
 def tip(levels, cog, support, margin, face: int) -> tuple[float, tuple[int, int] | None]:
     """Least pressure (MPa, interpolated; NaN: never) at which the CoG projection leaves the
     triangle, and the edge (two 1-based node numbers) it crosses at the first level outside.
     cog (P, 3), support (P, 3, 3), margin (P,) of one pair in the support frame of `face`."""
-    out = np.flatnonzero(np.asarray(margin) < 0)
-    if out.size == 0:
-        return float("nan"), None
-    k = int(out[0])
-    i, j = nom.tip_edge(cog[k, :2], support[k, :, :2])
-    nodes = g.FACES[face - 1]
-    return nom.tip_pressure(levels, margin), (int(nodes[i]) + 1, int(nodes[j]) + 1)
+    pressure, k = frames.first_crossing(levels, margin)
+    if k < 0:
+        return pressure, None
+    return pressure, topo.edge_nodes(face, frames.crossed_edge(cog[k, :2], support[k, :, :2]))
 
 
 def migration(levels, cog, rest, pressure: float) -> np.ndarray:
@@ -187,7 +183,7 @@ def three_fold_orbits(face: int) -> list[tuple[int, ...]]:
     3-fold rotation of an equilateral face; only the identity for an isosceles face)."""
     rots = _face_rotations(face)
     seen, orbits = set(), []
-    for p in range(g.N_PAIRS):
+    for p in range(topo.N_PAIRS):
         if p not in seen:
             orb = sorted({int(s.pairs[p]) for s in rots})
             seen.update(orb)
@@ -207,8 +203,8 @@ def orbit_spread(cog, support, face: int, orbit: Sequence[int]) -> tuple[np.ndar
     equilateral, so the fixed frame would show a spurious difference), and the spread (m) of
     the in-plane distances from the centroid. cog (12, P, 3), support (12, P, 3, 3) -> (P,), (P,)."""
     f = face - 1
-    nodes = list(g.FACES[f])
-    ref = g.FACES[f, g.FACE_REFERENCE[f]]
+    nodes = list(topo.FACES[f])
+    ref = topo.FACES[f, topo.FACE_REFERENCE[f]]
     rots = _face_rotations(face)
     rel = []
     for pair in orbit:
@@ -231,7 +227,7 @@ def simulate_nominal(params: Params, face, pairs, setup: SweepSetup, *, mode: st
     """Run the staircase of `setup` on `pairs` (batched) standing on `face` and average each
     level as the pipeline does (nominal.nominal); `mode`, `settle`, `dt`, `record_every`
     override the setup's."""
-    face = g.face_number(face)
+    face = topo.face_number(face)
     res = sw.run(params, face, pairs, setup.levels, setup.hold,
                  setup.settle if settle is None else settle, mode or setup.mode,
                  setup.dt if dt is None else dt,
@@ -240,14 +236,7 @@ def simulate_nominal(params: Params, face, pairs, setup: SweepSetup, *, mode: st
     out = [nom.nominal(res.t, res.level, res.cog[b], res.support[b], P, setup.hold, setup.discard)
            for b in range(len(res.pairs))]
     last = np.array([np.flatnonzero(res.level == k)[-1] for k in range(P)])
-    end_face = np.zeros((len(res.pairs), P), dtype=np.int64)
-    for b in range(len(res.pairs)):
-        for k, i in enumerate(last):
-            low = np.argsort(res.nodes[b, i, :, 2])[:3] + 1
-            try:
-                end_face[b, k] = g.face_number(low)
-            except ValueError:                        # on an edge or a vertex: no face
-                end_face[b, k] = 0
+    end_face = res.resting_face[:, last]
     return NominalRun(res.pairs, *(np.stack([o[k] for o in out]) for k in (0, 2, 3)), end_face)
 
 
@@ -305,7 +294,7 @@ def check_paper(nominals: Mapping[str, xr.Dataset], strut_length: float = 0.5,
         txt = "; ".join(", ".join(f"#{p} {_mm(mig[0, p - 1])}" for p in grp) if i < 2 else
                         f"others {_mm(mig[0, grp[-1] - 1])}..{_mm(mig[0, grp[0] - 1])}"
                         for i, grp in enumerate(groups))
-        ok = (faces[eq] == g.face_number(PAPER_FACE[eq]) and set(groups[0]) == set(PAPER_LARGE)
+        ok = (faces[eq] == topo.face_number(PAPER_FACE[eq]) and set(groups[0]) == set(PAPER_LARGE)
               and set(groups[1]) == set(PAPER_LESS))
         verdicts.append(Verdict("1.1", stmt, f"{on[eq]}: {txt}", ref, _status(ok)))
 
@@ -324,7 +313,7 @@ def check_paper(nominals: Mapping[str, xr.Dataset], strut_length: float = 0.5,
     if not have(0, 10):
         verdicts.append(Verdict("1.2", stmt, "#10 not swept " + on[eq], ref, SKIP))
     else:
-        ok = (faces[eq] == g.face_number(PAPER_FACE[eq]) and abs(tipp[0, 9] - PAPER_TIP_PRESSURE) <= tip_tolerance
+        ok = (faces[eq] == topo.face_number(PAPER_FACE[eq]) and abs(tipp[0, 9] - PAPER_TIP_PRESSURE) <= tip_tolerance
               and set(edges[0, 9]) == set(PAPER_EDGE[10]))
         verdicts.append(Verdict("1.2", stmt, tip_text(0, 10), ref, _status(bool(ok))))
     stmt = "Standing on (10,11,12), #11 moves the CoG projection out over edge 10-11"
@@ -332,7 +321,7 @@ def check_paper(nominals: Mapping[str, xr.Dataset], strut_length: float = 0.5,
     if not have(1, 11):
         verdicts.append(Verdict("1.3", stmt, "#11 not swept " + on[iso], ref, SKIP))
     else:
-        ok = faces[iso] == g.face_number(PAPER_FACE[iso]) and set(edges[1, 10]) == set(PAPER_EDGE[11])
+        ok = faces[iso] == topo.face_number(PAPER_FACE[iso]) and set(edges[1, 10]) == set(PAPER_EDGE[11])
         verdicts.append(Verdict("1.3", stmt, tip_text(1, 11), ref, _status(bool(ok))))
     stmt = "#11 on (10,11,12) needs a lower pressure than #10 on (9,10,12)"
     ref = (f"lower: the prototype needed {PAPER_VOLTAGE[11]:g} V against {PAPER_VOLTAGE[10]:g} V "
@@ -348,14 +337,14 @@ def check_paper(nominals: Mapping[str, xr.Dataset], strut_length: float = 0.5,
         verdicts.append(Verdict("1.4", stmt, meas, ref, _status(bool(ok))))
 
     # 1.5 three-fold orbits
-    orbits = three_fold_orbits(g.face_number(PAPER_FACE[eq]))
+    orbits = three_fold_orbits(topo.face_number(PAPER_FACE[eq]))
     n_orb = len(orbits)
     size = max(len(o) for o in orbits)
     odiff, ospread = np.full((n_orb, P), np.nan), np.full((n_orb, P), np.nan)
     opairs = np.zeros((n_orb, size), dtype=np.int64)
     stmt = "The pairs of each 3-fold orbit of (9,10,12) move the CoG equally (120 deg apart)"
     ref = f"equal (III.A, the symmetry); goal: under {_mm(orbit_tolerance)}"
-    if eq in faces and faces[eq] == g.face_number(PAPER_FACE[eq]):
+    if eq in faces and faces[eq] == topo.face_number(PAPER_FACE[eq]):
         cog, sup, _ = arrays[eq]
         for i, orb in enumerate(orbits):
             opairs[i, :len(orb)] = orb
@@ -432,7 +421,7 @@ def check_statics(params: Params, nominals: Mapping[str, xr.Dataset], pressures=
             continue
         start = None
         for j, pres in enumerate(pressures):
-            prs = np.zeros(g.N_PAIRS)
+            prs = np.zeros(topo.N_PAIRS)
             prs[p] = pres
             nodes = statics.equilibrium(params, prs, start=start)
             start = nodes
@@ -454,7 +443,7 @@ def check_mapping(params: Params, workspace: xr.Dataset, faces: Sequence[int], s
     """The workspace mapped by symmetry (results/workspace.nc) against a direct simulation
     standing on each face of `faces` (non-canonical; at least `min_per_kind` of each kind):
     the nominal CoG and the deformed support triangle; goal: largest distance under `tolerance` m."""
-    faces = [g.face_number(f) for f in faces]
+    faces = [topo.face_number(f) for f in faces]
     levels = np.asarray(setup.levels, float)
     F, P = len(faces), len(levels)
     dcog = np.full((F, 12, P, 3), np.nan)
@@ -462,10 +451,10 @@ def check_mapping(params: Params, workspace: xr.Dataset, faces: Sequence[int], s
     stmt = ("Workspace mapped by symmetry = direct simulation standing on the face "
             "(nominal CoG and deformed triangle), sample faces " + ", ".join(_label(f) for f in faces))
     ref = f"under {_mm(tolerance)}; at least {min_per_kind} non-canonical faces of each kind"
-    canonical = {g.face_number(f) for f in g.CONTACT_FACES.values()}
-    kinds = {k: sum(1 for f in faces if g.FACE_TYPES[f - 1] == k and f not in canonical) for k in CONTACTS}
+    canonical = {topo.face_number(f) for f in topo.CONTACT_FACES.values()}
+    kinds = {k: sum(1 for f in faces if topo.FACE_TYPES[f - 1] == k and f not in canonical) for k in CONTACTS}
     data = lambda: {
-        "sample_face_type": (("sample_face",), np.array([str(g.FACE_TYPES[f - 1]) for f in faces]),
+        "sample_face_type": (("sample_face",), np.array([str(topo.FACE_TYPES[f - 1]) for f in faces]),
                              {"long_name": "kind of the sample face"}),
         "direct_cog": datasets.var(("sample_face", "pair", "pressure", "axis"), dcog, "m",
                            "nominal CoG of a direct simulation standing on the sample face, in its support frame"),
@@ -536,7 +525,7 @@ def compare_grounded(levels, face: int, free_cog, free_support, free_margin, gro
         t, edge = tip(levels, free_cog[b], free_support[b], free_margin[b], face)
         out = np.flatnonzero(free_margin[b] < 0)
         if out.size:
-            free_p[b], free_f[b] = levels[out[0]], ct.neighbour(face, edge)
+            free_p[b], free_f[b] = levels[out[0]], topo.neighbour(face, edge)
         agree[b] = (r.size == 0 and out.size == 0) or (r.size > 0 and out.size > 0 and r[0] == out[0]
                                                         and roll_f[b] == free_f[b])
     in_plane = np.linalg.norm(shift[..., :2], axis=-1)

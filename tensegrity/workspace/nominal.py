@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..physics import geometry as g
+from ..physics import frames
 
 
 def nominal(t, level, cog, support, n_levels: int, hold: float, discard: float = 0.0):
@@ -26,7 +26,7 @@ def nominal(t, level, cog, support, n_levels: int, hold: float, discard: float =
         if not sel.any():
             raise ValueError(f"discard = {discard} s leaves no samples of level {k} (hold {hold} s)")
         out_c[k], out_s[k], out_t[k] = cog[sel].mean(0), cog[sel].std(0), support[sel].mean(0)
-    margin = g.margin_2d(out_c[:, :2], out_t[:, :, :2])
+    margin = frames.margin_2d(out_c[:, :2], out_t[:, :, :2])
     return out_c, out_s, out_t, margin
 
 
@@ -40,25 +40,3 @@ def first_roll(level, on_face, n_levels: int) -> int:
         if idx.size and not on_face[idx[-1]]:
             return k
     return n_levels
-
-
-def tip_pressure(levels, margin) -> float:
-    """Least pressure (MPa) at which the margin turns negative, linearly interpolated between
-    levels; NaN if it never does (0 is taken as the unactuated, positive start)."""
-    levels, margin = np.asarray(levels, float), np.asarray(margin, float)
-    out = np.flatnonzero(margin < 0)
-    if out.size == 0:
-        return float("nan")
-    k = out[0]
-    if k == 0:
-        return float(levels[0])
-    p0, p1, m0, m1 = levels[k - 1], levels[k], margin[k - 1], margin[k]
-    return float(p0 + (p1 - p0) * m0 / (m0 - m1))
-
-
-def tip_edge(cog_xy, tri_xy) -> tuple[int, int] | None:
-    """Corner indices (i, j) of the edge the CoG projection has crossed (the most violated
-    edge line), or None if it is inside."""
-    dist = g.edge_distances(np.asarray(cog_xy), np.asarray(tri_xy))
-    k = int(np.argmin(dist))
-    return None if dist[k] >= 0 else (k, (k + 1) % 3)

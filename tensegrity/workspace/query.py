@@ -8,8 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io.datasets import strut_length
 from . import fit
-from ..physics import geometry as g
+from ..physics import frames, topology as topo
 from . import mapping
 
 AXES = ("x", "y", "z")
@@ -37,8 +38,8 @@ def load_curves(path) -> dict:
 def curve_cog(curves: dict, face, pair, pressure: float) -> tuple[np.ndarray, str, int]:
     """CoG (3,) m of `pair` at `pressure` MPa in the support frame of `face`, from the fitted
     curve of the canonical face of its kind mapped by symmetry."""
-    face, pair = g.face_number(face), g.check_pair(pair)
-    kind = str(g.FACE_TYPES[face - 1])
+    face, pair = topo.face_number(face), topo.check_pair(pair)
+    kind = str(topo.FACE_TYPES[face - 1])
     if kind not in curves["contacts"]:
         raise ValueError(f"the curves hold no {kind} contact case (face {face} is {kind})")
     pair_src, _, diag = mapping.face_map(face)
@@ -58,8 +59,7 @@ def support_at(workspace, face: int, pair: int, pressure: float) -> np.ndarray:
     starting from the symmetric triangle at 0 MPa."""
     levels = workspace["pressure"].values
     sup = workspace["support"].sel(face=face, pair=pair).values
-    strut = json.loads(workspace.attrs["config"])["params"]["strut_length"] if "config" in workspace.attrs else 0.5
-    rest = g.in_support_frame(g.reference_nodes(strut), face)[1]
+    rest = frames.rest_frame(face, strut_length(workspace))[1]
     p = np.concatenate([[0.0], levels])
     s = np.concatenate([rest[None], sup])
     return np.stack([[np.interp(pressure, p, s[:, c, a]) for a in range(3)] for c in range(3)])
@@ -67,8 +67,8 @@ def support_at(workspace, face: int, pair: int, pressure: float) -> np.ndarray:
 
 def query(curves: dict, workspace, face, pair, pressure: float) -> Answer:
     """Nominal CoG, deformed triangle and margin of `pair` at `pressure` MPa on `face`."""
-    face, pair = g.face_number(face), g.check_pair(pair)
+    face, pair = topo.face_number(face), topo.check_pair(pair)
     cog, kind, src = curve_cog(curves, face, pair, float(pressure))
     sup = support_at(workspace, face, pair, float(pressure))
-    margin = float(g.margin_2d(cog[:2], sup[:, :2]))
+    margin = float(frames.margin_2d(cog[:2], sup[:, :2]))
     return Answer(face, pair, float(pressure), cog, sup, margin, kind, src)

@@ -6,8 +6,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..physics import dynamics as d
-from ..physics import geometry as g
+from ..physics import frames, topology as topo
 from ..physics.actuation import Schedule
+from ..physics.contact import clearance, resting_face
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 
@@ -19,7 +20,8 @@ class Sweep:
     """One staircase per pair. t (T,) s; pressure_cmd (B, T) MPa; cog (B, T, 3) m and
     support (B, T, 3, 3) m in the support frame of the deformed contact face; nodes (B, T, 12, 3)
     m world positions; level (T,) index of the level held (-1 while settling); on_face (B, T)
-    whether the contact face's three nodes touch the ground (always True in the free mode)."""
+    whether the robot rests on `face`; resting_face (B, T) the face it rests on, 0 for none
+    (contact.resting_face; `face` throughout in the free mode)."""
     pairs: np.ndarray
     levels: np.ndarray
     face: int
@@ -30,6 +32,7 @@ class Sweep:
     nodes: np.ndarray
     level: np.ndarray
     on_face: np.ndarray
+    resting_face: np.ndarray
 
 
 def setup(params: Params, mode: str) -> tuple[Params, Terrain]:
@@ -44,22 +47,28 @@ def run(params: Params, face, pairs, levels, hold: float, settle: float = 0.0, m
         dt: float = 1e-4, record_every: int = 10) -> Sweep:
     """Stand the robot on `face`, apply the staircase `levels` (MPa, each held `hold` s after
     `settle` s at zero) to each pair in `pairs` (one robot each, batched)."""
-    face = g.face_number(face)
-    pairs = np.array([g.check_pair(p) for p in np.atleast_1d(pairs)])
+    face = topo.face_number(face)
+    pairs = np.array([topo.check_pair(p) for p in np.atleast_1d(pairs)])
     levels = np.asarray(levels, dtype=float)
     prm, terrain = setup(params, mode)
     state = d.stand_on(prm, face, terrain, batch=len(pairs))
     sched = Schedule.staircase(pairs, levels, hold, settle)
     _, tr = d.simulate(prm, state, sched, terrain, dt, record_every)
     nodes = tr.nodes(prm.strut_length)
-    cog, support = g.in_support_frame(nodes, face)
+    cog, support = frames.in_support_frame(nodes, face)
     seg = np.searchsorted(np.cumsum(sched.durations), tr.t - 0.5 * dt * record_every)
     level = seg - (1 if settle > 0 else 0)
     if terrain.kind == "none":
-        on_face = np.ones(tr.t.shape, bool)[None].repeat(len(pairs), 0)
-    else:  # the face's three nodes within one radius of resting on the ground
-        p = nodes[:, :, g.FACES[face - 1]]
-        gap = p[..., 2] - terrain.height(p[..., 0], p[..., 1])
-        on_face = np.all(gap < 2 * prm.strut_radius, axis=-1)
+        resting = np.full((len(pairs), tr.t.size), face, np.int64)
+    else:
+        resting = resting_faces(nodes, terrain, prm.strut_radius)
     return Sweep(pairs, levels, face, tr.t, tr.pressure[np.arange(len(pairs)), :, pairs - 1],
-                 cog, support, nodes, level, on_face)
+                 cog, support, nodes, level, resting == face, resting)
+
+
+def resting_faces(nodes: np.ndarray, terrain: Terrain, radius) -> np.ndarray:
+    """Face (B, T) each robot rests on, 0 for none, for node positions (B, T, 12, 3) m: the
+    contact rule `contact.resting_face` with a tolerance of one contact radius (m, scalar or
+    (B,))."""
+    r = np.reshape(np.asarray(radius, float), (-1, 1, 1))
+    return resting_face(clearance(nodes, terrain, 0.0) - r, r[..., 0])

@@ -1,7 +1,8 @@
-"""Topology and reference geometry of the six-strut robot (design.md section 1).
+"""Topology and reference geometry of the six-strut robot (docs/design.md §1).
 
-Everything here is data: node coordinates, struts, cables, faces, actuator pairs. Indices in
-arrays start at 0; the numbers a person sees (node, face, pair) start at 1.
+Everything here is data and numbering: node coordinates, struts, cables, faces, actuator pairs,
+and which faces share an edge. Indices in arrays start at 0; the numbers a person sees (node,
+face, pair) start at 1.
 """
 from __future__ import annotations
 
@@ -50,6 +51,13 @@ PAIR_CABLES = np.array([[_cable_index(*c) for c in pair] for pair in PAIRS])  # 
 CABLE_PAIR = np.empty(N_CABLES, dtype=np.int64)  # pair index (0-based) of each cable
 CABLE_PAIR[PAIR_CABLES.ravel()] = np.repeat(np.arange(N_PAIRS), 2)
 
+# node -> (strut, sign): node = strut centre + sign * (S/2) * axis (eq. 4), for kernel and statics
+NODE_STRUT = np.empty(N_NODES, np.int64)
+NODE_SIGN = np.empty(N_NODES, np.float64)
+for _s, (_a, _b) in enumerate(STRUTS):
+    NODE_STRUT[_a], NODE_SIGN[_a] = _s, 1.0
+    NODE_STRUT[_b], NODE_SIGN[_b] = _s, -1.0
+
 
 def reference_nodes(strut_length: float = 0.5) -> np.ndarray:
     """Node positions of the symmetric state, (12, 3) m, centre at the origin."""
@@ -82,65 +90,26 @@ def face_label(face: int) -> str:
     return "(" + ",".join(str(n) for n in sorted(FACES[face - 1] + 1)) + ")"
 
 
-def support_frame(tri: np.ndarray, ref: int, inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Supporting-triangle frame (design.md section 2, paper Fig. 5).
-
-    tri: (..., 3, 3) corner positions, m; ref: corner index of the reference vertex;
-    inside: (..., 3) a point inside the robot (the CoG) that fixes the normal's sign.
-    Returns origin (..., 3) and rotation (..., 3, 3) whose rows are the frame axes x, y, z
-    in world components, so that local = rot @ (p - origin).
-    """
-    origin = tri.mean(axis=-2)
-    n = np.cross(tri[..., 1, :] - tri[..., 0, :], tri[..., 2, :] - tri[..., 0, :])
-    n /= np.linalg.norm(n, axis=-1, keepdims=True)
-    side = np.sign(np.sum(n * (inside - origin), axis=-1, keepdims=True))
-    z = n * np.where(side == 0, 1.0, side)
-    y = tri[..., ref, :] - origin
-    y = y - np.sum(y * z, axis=-1, keepdims=True) * z
-    y /= np.linalg.norm(y, axis=-1, keepdims=True)
-    x = np.cross(y, z)
-    return origin, np.stack([x, y, z], axis=-2)
+def edge_nodes(face: int, k: int) -> tuple[int, int]:
+    """The 1-based nodes (smaller first) of edge k (corners k, k+1 mod 3) of 1-based `face`."""
+    a, b = FACES[face - 1][k], FACES[face - 1][(k + 1) % 3]
+    return (int(min(a, b)) + 1, int(max(a, b)) + 1)
 
 
-def to_frame(p: np.ndarray, origin: np.ndarray, rot: np.ndarray) -> np.ndarray:
-    """Express world points p (..., 3) in a frame (origin (..., 3), rows-as-axes rot)."""
-    return np.einsum("...ij,...j->...i", rot, p - origin)
+def neighbour(face, edge) -> int:
+    """The 1-based face across `edge` (two 1-based node numbers) from `face`: the other face
+    sharing that edge (every edge of the icosahedron lies on exactly two faces)."""
+    f = face_number(face)
+    e = {int(n) - 1 for n in edge}
+    if len(e) != 2 or not e <= set(FACES[f - 1].tolist()):
+        raise ValueError(f"edge {tuple(edge)} is not an edge of face {face_label(f)}")
+    for k, corners in enumerate(FACES):
+        if k + 1 != f and e <= set(corners.tolist()):
+            return k + 1
+    raise AssertionError("unreachable: every edge lies on two faces")
 
 
-def in_support_frame(nodes: np.ndarray, face) -> tuple[np.ndarray, np.ndarray]:
-    """CoG (..., 3) m (mean of the nodes = mean of the strut centres, equal masses) and the
-    face's corners (..., 3, 3) m, both in the supporting-triangle frame of the current, deformed
-    `face` (1..20 or three node numbers); corners in the order of FACES."""
-    f = face_number(face) - 1
-    cog = nodes.mean(axis=-2)
-    tri = nodes[..., FACES[f], :]
-    origin, rot = support_frame(tri, int(FACE_REFERENCE[f]), cog)
-    return to_frame(cog, origin, rot), to_frame(tri, origin[..., None, :], rot[..., None, :, :])
-
-
-def edge_distances(point: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """Signed distances (m) of 2-D point(s) (..., 2) to the three edge lines of triangle(s)
-    (..., 3, 2), positive on the inner side; edge k joins corners k and k+1 (mod 3)."""
-    centroid = tri.mean(axis=-2)
-    out = []
-    for k in range(3):
-        a, b = tri[..., k, :], tri[..., (k + 1) % 3, :]
-        e = b - a
-        nrm = np.stack([e[..., 1], -e[..., 0]], axis=-1) / np.linalg.norm(e, axis=-1)[..., None]
-        s = np.sign(np.sum(nrm * (centroid - a), axis=-1))[..., None]
-        out.append(np.sum(s * nrm * (point - a), axis=-1))
-    return np.stack(out, axis=-1)
-
-
-def margin_2d(point: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """Signed Euclidean distance (m) of 2-D point(s) (..., 2) to the boundary of triangle(s)
-    (..., 3, 2): positive inside, negative outside."""
-    seg = []
-    for k in range(3):
-        a, b = tri[..., k, :], tri[..., (k + 1) % 3, :]
-        e = b - a
-        t = np.clip(np.sum((point - a) * e, axis=-1) / np.sum(e * e, axis=-1), 0.0, 1.0)
-        seg.append(np.linalg.norm(point - (a + t[..., None] * e), axis=-1))
-    dist = np.min(np.stack(seg, axis=-1), axis=-1)
-    inside = np.all(edge_distances(point, tri) >= 0, axis=-1)
-    return np.where(inside, dist, -dist)
+def common_edge(a, b) -> tuple[int, int] | None:
+    """The edge (1-based nodes) shared by faces a and b (1..20 or node triples), or None."""
+    e = set(FACES[face_number(a) - 1].tolist()) & set(FACES[face_number(b) - 1].tolist())
+    return tuple(sorted(n + 1 for n in e)) if len(e) == 2 else None
