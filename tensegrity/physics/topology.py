@@ -39,7 +39,7 @@ PAIRS = np.array([
     [(6, 11), (5, 6)], [(1, 7), (3, 7)], [(8, 12), (7, 8)], [(9, 12), (7, 9)],
     [(9, 10), (6, 10)], [(10, 11), (4, 11)], [(10, 12), (4, 12)]]) - 1
 
-CONTACT_FACES = {"equilateral": (9, 10, 12), "isosceles": (10, 11, 12)}
+CONTACT_FACES = {"equilateral": (9, 10, 12), "isosceles": (10, 11, 12)}  # the canonical faces
 
 
 def _cable_index(a: int, b: int) -> int:

@@ -3,7 +3,7 @@
 # munged, slurmctld and slurmd from Debian's packages, detached from the caller's process group,
 # one partition "debug" holding this node. Idempotent: installs only what is missing, rewrites
 # /etc/slurm/slurm.conf only if it changed, starts only daemons that are not running, then waits
-# until the node is idle. Needs root. Stop with tests/slurm/stop_cluster.sh.
+# until the node is idle. Needs root. Stop with tests/workflow/slurm/stop_cluster.sh.
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 T0=$(date +%s.%N)
@@ -40,7 +40,7 @@ CPUS=$(nproc)
 MEM=$(( $(free -m | awk '/^Mem:/{print $2}') - 512 ))
 [ "$MEM" -gt 0 ] || die "cannot read the machine's memory from free -m"
 CONF=$(cat <<EOF
-# Written by tests/slurm/start_cluster.sh: a single-node test cluster (see /work/shared/slurm-local.md).
+# Written by tests/workflow/slurm/start_cluster.sh: a single-node test cluster (see /work/shared/slurm-local.md).
 ClusterName=localcluster
 SlurmctldHost=${H}(127.0.0.1)
 SlurmUser=root
@@ -67,7 +67,7 @@ EOF
 )
 mkdir -p /etc/slurm /var/spool/slurmd /var/spool/slurmctld /var/log/slurm
 if [ "$(cat /etc/slurm/slurm.conf 2>/dev/null)" != "$CONF" ]; then
-    if [ -s /etc/slurm/slurm.conf ] && ! grep -q '^# Written by tests/slurm/start_cluster.sh' /etc/slurm/slurm.conf; then
+    if [ -s /etc/slurm/slurm.conf ] && ! grep -q '^# Written by tests/workflow/slurm/start_cluster.sh' /etc/slurm/slurm.conf; then
         cp /etc/slurm/slurm.conf /etc/slurm/slurm.conf.bak
         echo "start_cluster: kept the previous /etc/slurm/slurm.conf as slurm.conf.bak"
     fi

@@ -17,7 +17,8 @@ from tensegrity.physics import frames, topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 
-from conftest import EQUI, ISO
+EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
+ISO = topo.face_number(topo.CONTACT_FACES["isosceles"])  # (10,11,12)
 
 R = 0.01  # strut radius, m
 IN_RADIUS = 0.5 * math.sqrt(6) / 4 / (2 * math.sqrt(3))  # equilateral face, S = 0.5 m

@@ -17,11 +17,12 @@ from tensegrity.validation import checks as v
 from tensegrity.validation import report as validation_report
 from tensegrity.physics.params import Params
 
-from conftest import EQUI, ISO
+EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
+ISO = topo.face_number(topo.CONTACT_FACES["isosceles"])  # (10,11,12)
 
 P = Params()
 FREE = Params(gravity=0.0)
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 
 def nominal_dataset(contact, face, pairs, levels, cog, support, mode="free"):

@@ -2,8 +2,8 @@
 with `--workflow-profile workflow/profiles/slurm`, it gives the same datasets as a local run.
 
 The cluster (munged, slurmctld, slurmd from Debian's packages) is started by
-tests/slurm/start_cluster.sh, which installs the packages with apt if they are missing, and is
-stopped by tests/slurm/stop_cluster.sh if this module started it. Needs root; skipped otherwise,
+tests/workflow/slurm/start_cluster.sh, which installs the packages with apt if they are missing, and is
+stopped by tests/workflow/slurm/stop_cluster.sh if this module started it. Needs root; skipped otherwise,
 or with TENSEGRITY_SKIP_SLURM=1. Takes about 2 minutes on 2 cores.
 """
 import collections
@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 import xarray as xr
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "tests" / "slurm"
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 # Up to the workspace, the curves and the validation (the figures are local rules, left out).
@@ -63,7 +63,7 @@ def cluster():
     if r.returncode == 3:
         pytest.skip(f"SLURM packages could not be installed: {r.stderr.strip()[-500:]}")
     if r.returncode != 0:
-        pytest.fail(f"tests/slurm/start_cluster.sh failed (exit {r.returncode}):\n"
+        pytest.fail(f"tests/workflow/slurm/start_cluster.sh failed (exit {r.returncode}):\n"
                     f"{r.stdout[-2000:]}\n{r.stderr[-3000:]}", pytrace=False)
     print(r.stdout)
     yield
@@ -79,7 +79,7 @@ def _copy(tmp: Path) -> Path:
 
 
 def _snakemake(wd: Path, *args: str, timeout: float) -> str:
-    cmd = SNAKEMAKE + TARGETS + list(args) + ["--configfile", str(ROOT / "tests/tiny.yaml")]
+    cmd = SNAKEMAKE + TARGETS + list(args) + ["--configfile", str(ROOT / "tests/workflow/tiny.yaml")]
     try:
         r = subprocess.run(cmd, cwd=wd, capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired as e:

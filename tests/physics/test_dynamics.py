@@ -13,7 +13,7 @@ from tensegrity.physics.actuation import Schedule
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 
-from conftest import EQUI, free_sweep
+EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
 
 DT = 1e-4
 
@@ -126,7 +126,7 @@ def test_standing_robot_does_not_creep(slope):
     assert np.array_equal(np.flatnonzero(P[-1, :, 2] - h < 1.5 * params.strut_radius), np.sort(feet))
 
 
-def test_mean_cog_agrees_with_static_equilibrium(free):
+def test_mean_cog_agrees_with_static_equilibrium(free, free_sweep):
     pairs, levels = [10, 4, 1], [1.2, 2.4]
     t, c, _ = free_sweep(free, EQUI, pairs, levels)
     for b, pair in enumerate(pairs):
@@ -138,7 +138,7 @@ def test_mean_cog_agrees_with_static_equilibrium(free):
             assert np.linalg.norm(c[b, sel].mean(0) - ref) < 1e-4  # m
 
 
-def test_three_fold_orbit_moves_the_cog_equally_120_degrees_apart(free):
+def test_three_fold_orbit_moves_the_cog_equally_120_degrees_apart(free, free_sweep):
     """Pairs of a 3-fold orbit on (9,10,12) move the CoG by equal amounts, and each in the
     same direction relative to the corner its rotation carries the reference vertex to, i.e.
     in directions 120 degrees apart around the triangle. (In the frame of the one deformed
@@ -186,7 +186,7 @@ def test_transformed_robot_simulates_to_the_transformed_motion(free):
     assert np.abs(P[ident, -1] - P[ident, 0]).max() > 1e-3  # the robot did move
 
 
-def test_halving_dt_moves_the_nominal_cog_less_than_0_05_mm(free):
+def test_halving_dt_moves_the_nominal_cog_less_than_0_05_mm(free, free_sweep):
     levels = [2.4]
     t1, c1, _ = free_sweep(free, EQUI, [10], levels, dt=DT)
     t2, c2, _ = free_sweep(free, EQUI, [10], levels, dt=DT / 2)
@@ -215,7 +215,7 @@ def test_same_input_same_output(free):
     assert np.array_equal(a.x, b.x) and np.array_equal(a.q, b.q)
 
 
-def test_optional_strut_damping_does_not_move_the_equilibrium(free):
+def test_optional_strut_damping_does_not_move_the_equilibrium(free, free_sweep):
     """strut_damping (1/s, off by default; locomotion uses it to settle faster) damps strut
     motion but exerts no force at rest, so the nominal CoG stays where it is (statics)."""
     pres = np.zeros(12)

@@ -23,7 +23,8 @@ from tensegrity.physics import statics
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 
-from conftest import EQUI, ISO
+EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
+ISO = topo.face_number(topo.CONTACT_FACES["isosceles"])  # (10,11,12)
 
 LEVELS = [0.8, 1.6, 2.4, 3.2, 4.0, 4.8]
 NEXT = topo.face_number((6, 10, 11))

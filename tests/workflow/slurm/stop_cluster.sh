@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Stop the test cluster of tests/slurm/start_cluster.sh by PID: slurmd, slurmctld, then munged.
+# Stop the test cluster of tests/workflow/slurm/start_cluster.sh by PID: slurmd, slurmctld, then munged.
 # Leaves packages, /etc/slurm/slurm.conf and the logs in /var/log/slurm in place.
 set -uo pipefail
 alive() { [ -s "$1" ] && kill -0 "$(cat "$1")" 2>/dev/null; }

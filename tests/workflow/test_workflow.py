@@ -1,4 +1,4 @@
-"""Smoke test: the whole workflow on tests/tiny.yaml in a scratch copy, and a bad config that
+"""Smoke test: the whole workflow on tests/workflow/tiny.yaml in a scratch copy, and a bad config that
 stops before any job runs and writes nothing."""
 import shutil
 import subprocess
@@ -10,7 +10,7 @@ import pytest
 
 from tensegrity.io import datasets
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 
 
@@ -24,7 +24,7 @@ def _copy(tmp: Path) -> Path:
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory):
     wd = _copy(tmp_path_factory.mktemp("wf"))
-    r = subprocess.run(SNAKEMAKE + ["--cores", "2", "--configfile", str(ROOT / "tests/tiny.yaml")],
+    r = subprocess.run(SNAKEMAKE + ["--cores", "2", "--configfile", str(ROOT / "tests/workflow/tiny.yaml")],
                        cwd=wd, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-3000:]
     return wd
@@ -50,7 +50,7 @@ def test_tiny_workflow_makes_every_output(tiny):
 def test_rerun_gives_identical_numbers(tiny, tmp_path):
     wd = _copy(tmp_path)
     r = subprocess.run(SNAKEMAKE + ["results/workspace.nc", "--cores", "2", "--configfile",
-                                    str(ROOT / "tests/tiny.yaml")], cwd=wd, capture_output=True, text=True)
+                                    str(ROOT / "tests/workflow/tiny.yaml")], cwd=wd, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-3000:]
     a, b = datasets.read(tiny / "results/workspace.nc"), datasets.read(wd / "results/workspace.nc")
     assert a.equals(b)
@@ -73,7 +73,7 @@ def test_bad_config_stops_before_any_job(tmp_path, override, key):
 
 
 def test_report_holds_every_figure_and_the_validation_table(tiny):
-    r = subprocess.run(SNAKEMAKE + ["--report", "report.html", "--configfile", str(ROOT / "tests/tiny.yaml")],
+    r = subprocess.run(SNAKEMAKE + ["--report", "report.html", "--configfile", str(ROOT / "tests/workflow/tiny.yaml")],
                        cwd=tiny, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-3000:]
     html = (tiny / "report.html").read_text()

@@ -4,12 +4,13 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from tensegrity.physics import topology as topo
 from tensegrity.physics import dynamics as d
 from tensegrity.physics.actuation import Schedule
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 
-from conftest import EQUI
+EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
 
 
 @pytest.mark.parametrize("key,value", [("strut_mass", 0.0), ("strut_length", -0.5),
