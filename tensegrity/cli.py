@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 
 import numpy as np
@@ -27,29 +28,67 @@ def _floats(text: str, n: int | None = None, name: str = "value") -> list[float]
     return vals
 
 
-def _face(text: str):
+def _face(text: str) -> int:
+    """A face on the command line: a number 1..20 or three node numbers 'a,b,c' (one rule:
+    topology.face_number)."""
+    from .physics.topology import face_number
     parts = text.replace(",", " ").split()
     try:
-        return int(parts[0]) if len(parts) == 1 else tuple(int(p) for p in parts)
+        return face_number(float(parts[0]) if len(parts) == 1 else tuple(int(p) for p in parts))
+    except (ValueError, IndexError):
+        raise argparse.ArgumentTypeError(f"face {text!r}: give a number 1..20 or three node "
+                                         "numbers of a face, e.g. 9,10,12") from None
+
+
+def _pair(text: str) -> int:
+    """An actuator pair 1..12 (topology.check_pair)."""
+    from .physics.topology import check_pair
+    try:
+        return check_pair(float(text))
     except ValueError:
-        raise argparse.ArgumentTypeError(f"face {text!r}: give a number 1..20 or three node numbers") from None
+        raise argparse.ArgumentTypeError(f"pair {text!r}: pairs are numbered 1..12") from None
 
 
 def _terrain(text: str):
-    from .physics.terrain import Terrain
-    kind, _, arg = text.partition(":")
+    """A terrain spec (physics.terrain.from_spec, the one reading for every command)."""
+    from .physics.terrain import from_spec
     try:
-        if kind == "flat":
-            return Terrain.flat()
-        if kind == "none":
-            return Terrain.none()
-        if kind == "slope":
-            return Terrain.slope(float(arg or 10.0))
-        if kind == "random":
-            return Terrain.random(int(arg or 0))
+        return from_spec(text)
     except ValueError as e:
-        raise argparse.ArgumentTypeError(f"terrain {text!r}: {e}") from None
-    raise argparse.ArgumentTypeError(f"terrain {text!r}: use flat, none, slope:DEG or random:SEED")
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def _positive(name: str):
+    def parse(text: str) -> float:
+        v = _floats(text, 1, name)[0]
+        if not v > 0:
+            raise argparse.ArgumentTypeError(f"{name}: must be positive, got {text!r}")
+        return v
+    return parse
+
+
+def _non_negative(name: str):
+    def parse(text: str) -> float:
+        v = _floats(text, 1, name)[0]
+        if v < 0:
+            raise argparse.ArgumentTypeError(f"{name}: must be >= 0, got {text!r}")
+        return v
+    return parse
+
+
+_NUMBERS = re.compile(r"^-\.?\d[\d.eE+\-]*([, ]+-?\.?\d[\d.eE+\-]*)*$")
+
+
+def _join_negative_values(argv: list[str]) -> list[str]:
+    """`--goal -1.2,1.5` -> `--goal=-1.2,1.5`: argparse would take a value that starts with '-'
+    for an option, so numbers after an option are joined to it before parsing."""
+    out: list[str] = []
+    for tok in argv:
+        if out and _NUMBERS.match(tok) and out[-1].startswith("--") and "=" not in out[-1]:
+            out[-1] = f"{out[-1]}={tok}"
+        else:
+            out.append(tok)
+    return out
 
 
 def _load_cfg(args):
@@ -139,20 +178,35 @@ def cmd_query(args) -> int:
 def cmd_stage(args) -> int:
     """Run one workflow stage with the same function the Snakemake rule calls."""
     from . import stages
-    full = _load_cfg(args)
     # the config sections the stage depends on, as the Snakemake rule passes them (provenance)
-    cfg = lambda *keys: {k: full[k] for k in keys}
+    cfg = stages.stage_config(_load_cfg(args), args.stage)
     if args.stage == "sweep":
         if args.contact is None:
             raise ValueError("--contact is required for the sweep stage")
-        for p in stages.run_sweep(cfg("params", "sim", "sweep"), args.contact, args.out):
+        for p in stages.run_sweep(cfg, args.contact, args.out):
             print(p)
     elif args.stage == "nominal":
-        print(stages.run_nominal(cfg("nominal"), args.inputs, args.out))
+        print(stages.run_nominal(cfg, args.inputs, args.out))
     elif args.stage == "fit":
-        print(stages.run_fit(cfg("fit"), args.inputs[0], args.out))
+        print(stages.run_fit(cfg, args.inputs[0], args.out))
     elif args.stage == "map":
-        print(stages.run_map({}, args.inputs, args.out))
+        print(stages.run_map(cfg, args.inputs, args.out))
+    return 0
+
+
+def cmd_config(args) -> int:
+    """`config show`: the resolved, validated configuration (defaults filled in) as YAML;
+    `config check FILE`: validate a file, naming every bad key (exit 3)."""
+    import yaml
+    from .io import config
+    if args.action == "check":
+        if not args.file:
+            raise ValueError("config check needs a FILE")
+        config.load(args.file, overrides=args.set or None)
+        print(f"{args.file}: valid")
+        return 0
+    cfg = config.load(args.file or args.config, overrides=args.set or None)
+    print(yaml.safe_dump(cfg, sort_keys=False, default_flow_style=False), end="")
     return 0
 
 
@@ -177,12 +231,12 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("simulate", parents=[common], help="simulate one actuation, write a netCDF",
                        description=cmd_simulate.__doc__)
     p.add_argument("--face", type=_face, default=(9, 10, 12), help="start face: 1..20 or 'a,b,c' (default 9,10,12)")
-    p.add_argument("--pair", type=int, nargs="+", required=True, help="actuator pair(s) 1..12")
+    p.add_argument("--pair", type=_pair, nargs="+", required=True, help="actuator pair(s) 1..12")
     p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
-    p.add_argument("--duration", type=float, default=2.0, help="simulated time, s (default 2)")
-    p.add_argument("--ramp", type=float, default=0.0, help="ramp time from 0 to the pressure, s (default 0: a step)")
+    p.add_argument("--duration", type=_positive("--duration"), default=2.0, help="simulated time, s (default 2)")
+    p.add_argument("--ramp", type=_non_negative("--ramp"), default=0.0, help="ramp time from 0 to the pressure, s (default 0: a step)")
     p.add_argument("--mode", choices=["free", "grounded"], default="free", help="free (no gravity/ground) or grounded")
-    p.add_argument("--terrain", type=_terrain, help="grounded terrain: flat, slope:DEG, random:SEED")
+    p.add_argument("--terrain", type=_terrain, help="grounded terrain: flat, none, slope:ANGLE[:AZIMUTH], random:SEED[:AMPLITUDE]")
     p.add_argument("--out", required=True, help="output netCDF path")
     p.set_defaults(func=cmd_simulate)
 
@@ -190,7 +244,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--curves", default="results/curves/curves.json", help="curves JSON (default results/curves/curves.json)")
     p.add_argument("--workspace", default="results/workspace.nc", help="workspace netCDF (default results/workspace.nc)")
     p.add_argument("--face", type=_face, required=True, help="face: 1..20 or 'a,b,c'")
-    p.add_argument("--pair", type=int, required=True, help="actuator pair 1..12")
+    p.add_argument("--pair", type=_pair, required=True, help="actuator pair 1..12")
     p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_query)
@@ -209,6 +263,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output file (directory for sweep)")
     p.set_defaults(func=cmd_stage)
 
+    p = sub.add_parser("config", parents=[common], help="show the resolved configuration or check a file",
+                       description=cmd_config.__doc__)
+    p.add_argument("action", choices=["show", "check"])
+    p.add_argument("file", nargs="?", help="config YAML (show: default config/config.yaml or the "
+                                          "schema's defaults; check: required)")
+    p.set_defaults(func=cmd_config)
+
     from .locomotion.demos import add_cli  # plan and roll
     add_cli(sub, parents=[common])
     return ap
@@ -216,7 +277,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     ap = build_parser()
-    args = ap.parse_args(argv)
+    args = ap.parse_args(_join_negative_values(sys.argv[1:] if argv is None else list(argv)))
     from .physics.dynamics import SimulationError
     try:
         return args.func(args)

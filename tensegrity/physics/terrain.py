@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 KINDS = {"none": 0, "plane": 1, "heightfield": 2}
+SPEC_FIELD_SIZE = 12.0  # m, side of the height field that a `random:` spec builds
+SPEC_HELP = "flat | none | slope:ANGLE[:AZIMUTH] (deg) | random:SEED[:AMPLITUDE] (m)"
 
 
 @dataclass(frozen=True)
@@ -116,3 +118,33 @@ class Terrain:
         """(kind code, meta (7,) = n, offset, x0, y0, spacing, heights) for the kernel."""
         meta = np.array([*self.normal, self.offset, self.origin[0], self.origin[1], self.spacing])
         return KINDS[self.kind], meta, self.heights
+
+
+def from_spec(spec: str) -> Terrain:
+    """The one reading of a terrain written as text (command line): `flat`, `none`,
+    `slope:ANGLE[:AZIMUTH]` (deg) or `random:SEED[:AMPLITUDE]` (m; a SPEC_FIELD_SIZE m field of
+    0.25 m cells). ValueError naming the spec otherwise."""
+    kind, _, rest = str(spec).strip().partition(":")
+    parts = rest.split(":") if rest else []
+    try:
+        args = [float(a) for a in parts]
+    except ValueError:
+        raise ValueError(f"terrain {spec!r}: {rest!r} is not a list of numbers; "
+                         f"use {SPEC_HELP}") from None
+    if not all(np.isfinite(args)):
+        raise ValueError(f"terrain {spec!r}: values must be finite")
+    if kind == "flat" and not args:
+        return Terrain.flat()
+    if kind == "none" and not args:
+        return Terrain.none()
+    if kind == "slope" and 1 <= len(args) <= 2:
+        return Terrain.slope(*args)
+    if kind == "random" and 1 <= len(args) <= 2:
+        if not args[0].is_integer() or args[0] < 0:
+            raise ValueError(f"terrain {spec!r}: the seed must be a whole number >= 0")
+        if len(args) == 2 and not args[1] > 0:
+            raise ValueError(f"terrain {spec!r}: the amplitude must be positive (m)")
+        return Terrain.random(int(args[0]), size=SPEC_FIELD_SIZE,
+                              **({"amplitude": args[1]} if len(args) == 2 else {}))
+    raise ValueError(f"terrain {spec!r}: use {SPEC_HELP}")
+
