@@ -52,6 +52,32 @@ def _coords(pairs=None, levels=None):
     return c
 
 
+# The configuration sections each stage depends on: the Snakemake rules pass exactly these as
+# `params: cfg=...` (so that editing another section re-runs nothing) and `tensegrity stage`
+# stores the same, so a file's provenance does not depend on how it was made.
+STAGE_CONFIG: dict[str, tuple[str, ...]] = {
+    "sweep": ("params", "sim", "sweep"),
+    "nominal": ("nominal",),
+    "fit": ("fit",),
+    "map": (),
+    "render_robot": ("params",),
+    "validate": ("params", "sim", "sweep", "nominal", "validate"),
+    "locomotion_run": ("params", "sim", "locomotion"),
+}
+
+
+def stage_config(cfg: dict, stage: str) -> dict:
+    """The sections of the resolved configuration `cfg` that `stage` depends on (STAGE_CONFIG);
+    a locomotion run leaves out the list of runs and the animation settings."""
+    if stage not in STAGE_CONFIG:
+        raise ValueError(f"unknown stage {stage!r}: use one of {sorted(STAGE_CONFIG)}")
+    out = {k: cfg[k] for k in STAGE_CONFIG[stage]}
+    if stage == "locomotion_run":
+        out["locomotion"] = {k: v for k, v in out["locomotion"].items()
+                             if k != "runs" and not k.startswith("animation_")}
+    return out
+
+
 def _provenance(cfg: dict, *inputs) -> dict:
     """cfg merged over the provenance of the input files (inputs win nothing: cfg is newer)."""
     out = {}

@@ -5,7 +5,7 @@ rule fit:
     output:
         "results/curves/{contact}.nc",
     params:
-        cfg={"fit": config["fit"]},
+        cfg=stage_config(config, "fit"),
     log:
         "results/logs/fit/{contact}.log",
     benchmark:

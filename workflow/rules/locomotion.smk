@@ -6,10 +6,6 @@ from tensegrity.locomotion.demos import DEMOS
 LOCO = config["locomotion"]
 LOCO_RUNS = LOCO["runs"]
 PATH_RUNS = [r for r in LOCO_RUNS if r != "paper"]
-# what a run depends on: everything in the section but the list of runs and the animation
-LOCO_RUN_CFG = {"params": config["params"], "sim": config["sim"],
-                "locomotion": {k: v for k, v in LOCO.items()
-                               if k != "runs" and not k.startswith("animation_")}}
 SLOPE_RUN = "slope_down" if "slope_down" in LOCO_RUNS or "slope_up" not in LOCO_RUNS else "slope_up"
 
 
@@ -20,7 +16,7 @@ rule locomotion_run:
     output:
         "results/locomotion/{run}.nc",
     params:
-        cfg=LOCO_RUN_CFG,
+        cfg=stage_config(config, "locomotion_run"),
     log:
         "results/logs/locomotion/{run}.log",
     benchmark:

@@ -5,7 +5,7 @@ rule nominal:
     output:
         "results/nominal/{contact}.nc",
     params:
-        cfg={"nominal": config["nominal"]},
+        cfg=stage_config(config, "nominal"),
     log:
         "results/logs/nominal/{contact}.log",
     resources:

@@ -9,7 +9,7 @@ rule render_robot:
         fig4=report("results/figures/fig4_pairs.png", caption="../report/fig4.rst", category="Figures"),
         fig5=report("results/figures/fig5_support_frame.png", caption="../report/fig5.rst", category="Figures"),
     params:
-        cfg={"params": config["params"]},
+        cfg=stage_config(config, "render_robot"),
     log:
         "results/logs/render/robot.log",
     localrule: True

@@ -3,7 +3,7 @@ rule sweep:
     output:
         expand("results/sweeps/{{contact}}/pair{pair:02d}.nc", pair=PAIRS),
     params:
-        cfg={k: config[k] for k in ("params", "sim", "sweep")},
+        cfg=stage_config(config, "sweep"),
     log:
         "results/logs/sweep/{contact}.log",
     benchmark:

@@ -9,7 +9,7 @@ rule validate:
         html=report("results/validation/summary.html", caption="../report/validation.rst",
                     category="Validation"),
     params:
-        cfg={k: config[k] for k in ("params", "sim", "sweep", "nominal", "validate")},
+        cfg=stage_config(config, "validate"),
     log:
         "results/logs/validate.log",
     benchmark:
