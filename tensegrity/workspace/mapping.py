@@ -1,9 +1,11 @@
 """Map the canonical workspaces to all 20 faces with the symmetry group (paper III.A)."""
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
-from ..physics import topology as topo
+from ..physics import frames, topology as topo
 from ..physics import symmetry as sym
 
 CANONICAL = {kind: topo.face_number(nodes) for kind, nodes in topo.CONTACT_FACES.items()}
@@ -26,3 +28,36 @@ def map_face(face: int, cog: np.ndarray, support: np.ndarray):
     (12, P, 3, 3) indexed by 0-based canonical pair -> the same for `face`'s pairs."""
     pair_src, corner_src, diag = face_map(face)
     return cog[pair_src] * diag, support[pair_src][:, :, corner_src] * diag
+
+
+def all_pairs(pairs, values: np.ndarray) -> np.ndarray:
+    """`values` (n, ...) of the swept 1-based `pairs` (n,) spread over all 12 pairs (12, ...),
+    NaN for the pairs that were not swept."""
+    values = np.asarray(values, float)
+    out = np.full((topo.N_PAIRS, *values.shape[1:]), np.nan)
+    out[np.asarray(pairs, int) - 1] = values
+    return out
+
+
+def map_workspace(levels, canonical: Mapping[str, tuple]) -> dict[str, np.ndarray]:
+    """The workspace of all 20 faces from the canonical contact cases.
+
+    levels (P,) MPa; canonical maps 'equilateral'/'isosceles' to (pairs (n,), cog (n, P, 3) m,
+    support (n, P, 3, 3) m) in the canonical face's support frame; a missing case leaves its
+    faces NaN. Returns cog (20, 12, P, 3) m, support (20, 12, P, 3, 3) m, margin (20, 12, P) m
+    and tip_pressure (20, 12) MPa (NaN where not swept or never tipping)."""
+    levels = np.asarray(levels, float)
+    P = levels.size
+    cog = np.full((topo.N_FACES, topo.N_PAIRS, P, 3), np.nan)
+    support = np.full((topo.N_FACES, topo.N_PAIRS, P, 3, 3), np.nan)
+    for face in range(1, topo.N_FACES + 1):
+        case = canonical.get(str(topo.FACE_TYPES[face - 1]))
+        if case is not None:
+            pairs, c, s = case
+            cog[face - 1], support[face - 1] = map_face(face, all_pairs(pairs, c), all_pairs(pairs, s))
+    margin = np.full(cog.shape[:-1], np.nan)
+    ok = np.isfinite(cog[..., 0])
+    margin[ok] = frames.margin_2d(cog[ok][:, :2], support[ok][:, :, :2])
+    tip = np.array([[frames.first_crossing(levels, m)[0] if np.isfinite(m).all() else np.nan
+                     for m in mf] for mf in margin])
+    return {"cog": cog, "support": support, "margin": margin, "tip_pressure": tip}

@@ -40,3 +40,15 @@ def first_roll(level, on_face, n_levels: int) -> int:
         if idx.size and not on_face[idx[-1]]:
             return k
     return n_levels
+
+
+def mask_after_roll(levels, k: int, tip: float, *arrays: np.ndarray) -> float:
+    """A grounded robot that rolled off its face at level index `k` (first_roll): from that
+    level on the numbers are not of this face any more, so `arrays` (P, ...) become NaN in
+    place, and the roll counts as the tip. Returns the tipping pressure (MPa): `tip` if the
+    margin already crossed zero at or below levels[k], else levels[k]."""
+    if k >= len(levels):
+        return tip
+    for a in arrays:
+        a[k:] = np.nan
+    return float(tip) if tip <= levels[k] else float(levels[k])

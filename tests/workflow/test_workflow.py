@@ -1,6 +1,5 @@
 """Smoke test: the whole workflow on tests/workflow/tiny.yaml in a scratch copy, and a bad config that
 stops before any job runs and writes nothing."""
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -12,22 +11,6 @@ from tensegrity.io import datasets
 
 ROOT = Path(__file__).resolve().parents[2]
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
-
-
-def _copy(tmp: Path) -> Path:
-    shutil.copy(ROOT / "Snakefile", tmp)
-    shutil.copytree(ROOT / "workflow", tmp / "workflow")
-    shutil.copytree(ROOT / "config", tmp / "config")
-    return tmp
-
-
-@pytest.fixture(scope="module")
-def tiny(tmp_path_factory):
-    wd = _copy(tmp_path_factory.mktemp("wf"))
-    r = subprocess.run(SNAKEMAKE + ["--cores", "2", "--configfile", str(ROOT / "tests/workflow/tiny.yaml")],
-                       cwd=wd, capture_output=True, text=True)
-    assert r.returncode == 0, r.stderr[-3000:]
-    return wd
 
 
 def test_tiny_workflow_makes_every_output(tiny):
@@ -47,8 +30,8 @@ def test_tiny_workflow_makes_every_output(tiny):
     assert cfg["sweep"]["levels"] == [1.2, 2.4, 3.6, 4.8] and cfg["nominal"]["discard"] == 0.1
 
 
-def test_rerun_gives_identical_numbers(tiny, tmp_path):
-    wd = _copy(tmp_path)
+def test_rerun_gives_identical_numbers(tiny, workflow_copy):
+    wd = workflow_copy
     r = subprocess.run(SNAKEMAKE + ["results/workspace.nc", "--cores", "2", "--configfile",
                                     str(ROOT / "tests/workflow/tiny.yaml")], cwd=wd, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-3000:]
@@ -61,10 +44,10 @@ def test_rerun_gives_identical_numbers(tiny, tmp_path):
     ("sweep={levels: [0.4, .nan]}", "sweep.levels[1]"),
     ("bogus=1", "bogus"),
 ])
-def test_bad_config_stops_before_any_job(tmp_path, override, key):
+def test_bad_config_stops_before_any_job(workflow_copy, override, key):
     """(Snakemake takes about 10 s to exit on any error in a Snakefile; tests/test_config.py
     covers the other bad values without it.)"""
-    wd = _copy(tmp_path)
+    wd = workflow_copy
     r = subprocess.run(SNAKEMAKE + ["--cores", "1", "--config", override], cwd=wd,
                        capture_output=True, text=True)
     assert r.returncode != 0
