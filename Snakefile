@@ -1,4 +1,4 @@
-# The workspace pipeline (issue 3): sweeps -> nominal CoG -> fitted curves -> 20-face workspace
+# The workspace pipeline: sweeps -> nominal CoG -> fitted curves -> 20-face workspace
 # -> figures. Rules live in workflow/rules/<stage>.smk and call tensegrity.stages.
 from tensegrity.io.config import validate as validate_config
 from tensegrity.stages import stage_config  # the config sections each rule passes

@@ -21,22 +21,22 @@ from pathlib import Path
 
 import numpy as np
 
-from tensegrity.io import config
-from tensegrity.locomotion import core as lo
-from tensegrity.locomotion import demos as lio
+from tensegrity import locomotion as lo
+from tensegrity.io import config, formats
+from tensegrity.locomotion.demos import locomotion_params
 from tensegrity.physics.terrain import Terrain
 
 
 def workspace(path: str) -> lo.Workspace:
     if Path(path).is_file():
-        return lo.Workspace.load(path)
+        return formats.read_workspace(path)
     from tensegrity import stages
     print(f"{path} not found: computing the workspace with the default configuration")
     cfg = config.load()
     with tempfile.TemporaryDirectory() as tmp:
         nominal = [stages.run_nominal(cfg, stages.run_sweep(cfg, c, f"{tmp}/{c}"), f"{tmp}/{c}.nc")
                    for c in cfg["sweep"]["contacts"]]
-        return lo.Workspace.load(stages.run_map(cfg, nominal, f"{tmp}/workspace.nc"))
+        return formats.read_workspace(stages.run_map(cfg, nominal, f"{tmp}/workspace.nc"))
 
 
 def report(name: str, runs: list[lo.Run], wall: float, tol: float) -> None:
@@ -79,12 +79,15 @@ def main() -> None:
     ap.add_argument("--strut-damping", type=float, default=None,
                     help="strut damping of the rolling simulations, 1/s (default: config locomotion.strut_damping)")
     a = ap.parse_args()
-    ws = workspace(a.workspace)
     cfg = config.load()
-    params = lio.locomotion_params(cfg)
+    params = locomotion_params(cfg)
+    if a.distance < float(params.strut_length):  # roll_many refuses goals closer than the robot
+        ap.error(f"--distance {a.distance} m is less than the robot's size (strut length "
+                 f"{params.strut_length} m)")
+    ws = workspace(a.workspace)
     if a.strut_damping is not None:
         params = params.replace(strut_damping=a.strut_damping)
-    settings = lo.Settings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
+    settings = lo.RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
     heading = np.random.default_rng(a.seed).uniform(0, 2 * np.pi, a.runs)
     goals = a.distance * np.stack([np.cos(heading), np.sin(heading)], axis=1)
     cases = {"flat": ("flat ground", Terrain.flat()),

@@ -1,4 +1,4 @@
-"""Robot-steps per second of the compiled simulator (issue 2). Prints figures; asserts nothing.
+"""Robot-steps per second of the compiled simulator. Prints figures; asserts nothing.
 
 Usage: python benchmarks/bench_step.py [--seconds 0.5]
 """

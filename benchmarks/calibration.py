@@ -1,4 +1,4 @@
-"""Calibration check (issue 2, design.md section 4): the pressure at which each pair rolls the
+"""Calibration check (docs/design.md §4): the pressure at which each pair rolls the
 robot, in the free-mode workspace (staircase) and in the grounded simulation (slow ramp).
 Prints figures; asserts nothing. Usage: python benchmarks/calibration.py [--quick]
 (--quick: pairs #10 and #11 only, three grounded pressures; a smoke run, not the calibration)."""

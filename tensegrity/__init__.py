@@ -19,8 +19,13 @@ Locomotion
 from __future__ import annotations
 
 import importlib
+import os
 
 from importlib.metadata import PackageNotFoundError, version as _version
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .locomotion.lookup import Workspace
 
 try:
     __version__ = _version("tensegrity")
@@ -39,18 +44,18 @@ _API = {
     "load_curves": ("workspace.query", "load_curves"),
     "query_workspace": ("workspace.query", "query"),
     "evaluate_curve": ("workspace.fit", "evaluate"),
-    "Workspace": ("locomotion.core", "Workspace"),
-    "plan_roll": ("locomotion.core", "plan"),
-    "roll_to": ("locomotion.core", "roll_to"),
+    "Workspace": ("locomotion.lookup", "Workspace"),
+    "plan_roll": ("locomotion.plan", "plan"),
+    "roll_to": ("locomotion.runs", "roll_to"),
 }
 
 __all__ = ["__version__", "load_workspace", *_API]
 
 
-def load_workspace(path="results/workspace.nc"):
+def load_workspace(path: str | os.PathLike = "results/workspace.nc") -> Workspace:
     """The 20-face workspace (results/workspace.nc) as a locomotion.Workspace for planning."""
-    from .locomotion.core import Workspace
-    return Workspace.load(path)
+    from .io.formats import read_workspace
+    return read_workspace(path)
 
 
 def __getattr__(name):

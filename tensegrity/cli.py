@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import re
 import sys
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -28,25 +30,17 @@ def _floats(text: str, n: int | None = None, name: str = "value") -> list[float]
     return vals
 
 
-def _face(text: str) -> int:
-    """A face on the command line: a number 1..20 or three node numbers 'a,b,c' (one rule:
-    topology.face_number)."""
-    from .physics.topology import face_number
+def _face(text: str) -> float | tuple[int, ...]:
+    """A face on the command line: a number or three node numbers 'a,b,c'. Only the syntax is
+    checked here; the command checks the face itself (topology.face_number, exit 3)."""
     parts = text.replace(",", " ").split()
     try:
-        return face_number(float(parts[0]) if len(parts) == 1 else tuple(int(p) for p in parts))
-    except (ValueError, IndexError):
+        if len(parts) == 1:
+            return float(parts[0])
+        return tuple(int(p) for p in parts)
+    except ValueError:
         raise argparse.ArgumentTypeError(f"face {text!r}: give a number 1..20 or three node "
                                          "numbers of a face, e.g. 9,10,12") from None
-
-
-def _pair(text: str) -> int:
-    """An actuator pair 1..12 (topology.check_pair)."""
-    from .physics.topology import check_pair
-    try:
-        return check_pair(float(text))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"pair {text!r}: pairs are numbered 1..12") from None
 
 
 def _terrain(text: str):
@@ -101,7 +95,7 @@ def _progress(total: float, desc: str):
     return tqdm(total=round(total, 6), desc=desc, unit="s sim", disable=None, file=sys.stderr)
 
 
-def cmd_simulate(args) -> int:
+def cmd_simulate(args: argparse.Namespace) -> int:
     """One actuation on one robot -> a netCDF with the CoG, nodes and pressures."""
     import xarray as xr
     from .io import datasets
@@ -156,7 +150,7 @@ def cmd_simulate(args) -> int:
     return 0
 
 
-def cmd_query(args) -> int:
+def cmd_query(args: argparse.Namespace) -> int:
     """Nominal CoG and margin for a face, pair and pressure from the fitted curves."""
     from .io import datasets
     from .workspace import query
@@ -175,7 +169,7 @@ def cmd_query(args) -> int:
     return 0
 
 
-def cmd_stage(args) -> int:
+def cmd_stage(args: argparse.Namespace) -> int:
     """Run one workflow stage with the same function the Snakemake rule calls."""
     from . import stages
     # the config sections the stage depends on, as the Snakemake rule passes them (provenance)
@@ -194,7 +188,7 @@ def cmd_stage(args) -> int:
     return 0
 
 
-def cmd_config(args) -> int:
+def cmd_config(args: argparse.Namespace) -> int:
     """`config show`: the resolved, validated configuration (defaults filled in) as YAML;
     `config check FILE`: validate a file, naming every bad key (exit 3)."""
     import yaml
@@ -210,13 +204,72 @@ def cmd_config(args) -> int:
     return 0
 
 
-def cmd_render(args) -> int:
+def cmd_render(args: argparse.Namespace) -> int:
     """Render a dataset of the toolkit (sweep, nominal, workspace, locomotion run, simulation)
     to a PNG, off-screen."""
     from . import stages
     what = stages.render_dataset(args.dataset, args.out, args.face)
     print(f"wrote {args.out}: {what}")
     return 0
+
+
+def _xy(name: str):
+    """A world point or vector 'x,y' (m); negative numbers need no '=' (see _join_negative_values)."""
+    def parse(text: str) -> list[float]:
+        return _floats(text, 2, name)
+    return parse
+
+
+def _heading(text: str) -> list[float]:
+    """A target heading in deg from +x, or a vector 'x,y'."""
+    vals = _floats(text, None, "--direction")
+    if len(vals) == 1:
+        return [math.cos(math.radians(vals[0])), math.sin(math.radians(vals[0]))]
+    if len(vals) != 2:
+        raise argparse.ArgumentTypeError(f"--direction: give a heading in deg or x,y, got {text!r}")
+    return vals
+
+
+def _locomotion_setup(args):
+    """Configuration, start face, terrain, parameters, settings and workspace of plan and roll."""
+    from .io.formats import read_workspace
+    from .locomotion.control import RollSettings
+    from .locomotion.demos import locomotion_params
+    from .physics.topology import face_number
+    cfg = _load_cfg(args)
+    face = face_number(args.face)
+    settings = RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
+    return cfg, face, args.terrain, locomotion_params(cfg), settings, read_workspace(args.workspace)
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    """Choose the pair(s) and pressure that roll the robot toward a target, from the workspace."""
+    from .locomotion.control import settle
+    from .locomotion.plan import plan
+    from .physics import contact as ct, dynamics as d
+    cfg, face, terrain, params, s, ws = _locomotion_setup(args)
+    state, _ = settle(params, d.stand_on(params, face, terrain, yaw_deg=args.yaw), terrain, s)
+    nodes = d.nodes(state.x, state.q, params.strut_length)[0]
+    here = ct.face_from_gaps(ct.clearance(nodes, terrain, float(params.strut_radius)), s.contact_tolerance)
+    target = {"goal": args.goal} if args.goal is not None else {"direction": args.direction}
+    print(plan(ws, here, nodes, terrain=terrain, combine=s.combine, min_alignment=s.min_alignment,
+               **target))
+    return 0
+
+
+def cmd_roll(args: argparse.Namespace) -> int:
+    """Roll the robot toward a goal in the dynamic simulator; exit 1 if it did not arrive."""
+    from .io import datasets
+    from .io.formats import RUN_ALLOW_NAN, run_dataset
+    from .locomotion.runs import describe, roll_to
+    cfg, face, terrain, params, s, ws = _locomotion_setup(args)
+    run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw)
+    print(describe(run, "roll"))
+    if args.out:
+        datasets.write(run_dataset(run, terrain, "roll"), args.out, cfg,
+                       f"Rolling locomotion run: {run.outcome}", stage="locomotion",
+                       allow_nan=RUN_ALLOW_NAN)
+    return 0 if run.outcome == "arrived" else 1
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -231,7 +284,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("simulate", parents=[common], help="simulate one actuation, write a netCDF",
                        description=cmd_simulate.__doc__)
     p.add_argument("--face", type=_face, default=(9, 10, 12), help="start face: 1..20 or 'a,b,c' (default 9,10,12)")
-    p.add_argument("--pair", type=_pair, nargs="+", required=True, help="actuator pair(s) 1..12")
+    p.add_argument("--pair", type=int, nargs="+", required=True, help="actuator pair(s) 1..12")
     p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
     p.add_argument("--duration", type=_positive("--duration"), default=2.0, help="simulated time, s (default 2)")
     p.add_argument("--ramp", type=_non_negative("--ramp"), default=0.0, help="ramp time from 0 to the pressure, s (default 0: a step)")
@@ -244,7 +297,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--curves", default="results/curves/curves.json", help="curves JSON (default results/curves/curves.json)")
     p.add_argument("--workspace", default="results/workspace.nc", help="workspace netCDF (default results/workspace.nc)")
     p.add_argument("--face", type=_face, required=True, help="face: 1..20 or 'a,b,c'")
-    p.add_argument("--pair", type=_pair, required=True, help="actuator pair 1..12")
+    p.add_argument("--pair", type=int, required=True, help="actuator pair 1..12")
     p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_query)
@@ -270,12 +323,26 @@ def build_parser() -> argparse.ArgumentParser:
                                           "schema's defaults; check: required)")
     p.set_defaults(func=cmd_config)
 
-    from .locomotion.demos import add_cli  # plan and roll
-    add_cli(sub, parents=[common])
+    for name, func, helptext in (("plan", cmd_plan, "choose the pair and pressure that roll the robot toward a target"),
+                                 ("roll", cmd_roll, "roll the robot toward a goal in the dynamic simulator")):
+        p = sub.add_parser(name, parents=[common], help=helptext, description=func.__doc__)
+        p.add_argument("--workspace", default="results/workspace.nc", help="workspace file (default results/workspace.nc)")
+        p.add_argument("--face", type=_face, default=(9, 10, 12), help="start face: 1..20 or 'a,b,c' (default 9,10,12)")
+        p.add_argument("--terrain", type=_terrain, default="flat",
+                       help="flat (default), slope:ANGLE[:AZIMUTH] or random:SEED[:AMPLITUDE]")
+        p.add_argument("--yaw", type=float, default=0.0, help="turn of the robot about the terrain normal, deg")
+        if name == "plan":
+            tgt = p.add_mutually_exclusive_group(required=True)
+            tgt.add_argument("--direction", type=_heading, help="target heading in deg from +x, or a vector x,y")
+            tgt.add_argument("--goal", type=_xy("--goal"), help="goal point x,y in m")
+        else:
+            p.add_argument("--goal", type=_xy("--goal"), required=True, help="goal point x,y in m")
+            p.add_argument("--out", help="write the run to this netCDF file")
+        p.set_defaults(func=func)
     return ap
 
 
-def main(argv=None) -> int:
+def main(argv: Sequence[str] | None = None) -> int:
     ap = build_parser()
     args = ap.parse_args(_join_negative_values(sys.argv[1:] if argv is None else list(argv)))
     from .physics.dynamics import SimulationError

@@ -9,23 +9,24 @@ from __future__ import annotations
 
 import contextlib
 import json
+import os
+from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from .io import datasets
+from .io import datasets, formats
 from .physics import frames, topology as topo
 from .workspace import mapping
 from .workspace import nominal as nom
 from .io.config import params_from_config
 
-AXES = ["x", "y", "z"]
 CONTACTS = list(topo.CONTACT_FACES)
 
 
 @contextlib.contextmanager
-def logging_to(path, threads: int | None = None):
+def logging_to(path: str | os.PathLike, threads: int | None = None) -> Iterator[None]:
     """Send stdout and stderr (and a traceback on failure) to the log file `path`; use
     `threads` compute threads."""
     Path(path).parent.mkdir(parents=True, exist_ok=True)
@@ -39,17 +40,6 @@ def logging_to(path, threads: int | None = None):
             import traceback
             traceback.print_exc(file=log)
             raise
-
-
-def _coords(pairs=None, levels=None):
-    c = {"axis": ("axis", AXES, {"long_name": "support-frame axis"}),
-         "corner": ("corner", [1, 2, 3], {"units": "1", "long_name": "support triangle corner"}),
-         "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"})}
-    if pairs is not None:
-        c["pair"] = ("pair", np.asarray(pairs), {"units": "1", "long_name": "actuator pair number"})
-    if levels is not None:
-        c["pressure"] = ("pressure", np.asarray(levels, float), {"units": "MPa", "long_name": "muscle pressure"})
-    return c
 
 
 # The configuration sections each stage depends on: the Snakemake rules pass exactly these as
@@ -87,7 +77,7 @@ def _provenance(cfg: dict, *inputs) -> dict:
     return out
 
 
-def run_sweep(cfg: dict, contact: str, out_dir) -> list[Path]:
+def run_sweep(cfg: dict, contact: str, out_dir: str | os.PathLike) -> list[Path]:
     """Sweep every configured pair on the contact face; write `out_dir`/pairNN.nc."""
     from .workspace import sweep as sw  # the simulator (numba) only where it runs
     if contact not in topo.CONTACT_FACES:
@@ -95,32 +85,16 @@ def run_sweep(cfg: dict, contact: str, out_dir) -> list[Path]:
     s, sim = cfg["sweep"], cfg["sim"]
     res = sw.run(params_from_config(cfg), topo.CONTACT_FACES[contact], s["pairs"], s["levels"],
                  s["hold"], s["settle"], s["mode"], sim["dt"], sim["record_every"])
-    stride = int(s["node_stride"])
     paths = []
     for b, pair in enumerate(res.pairs):
-        ds = xr.Dataset(
-            {"cog": datasets.var(("time", "axis"), res.cog[b], "m", "centre of gravity in the support frame"),
-             "support": datasets.var(("time", "corner", "axis"), res.support[b], "m",
-                             "deformed support triangle in the support frame"),
-             "pressure_cmd": datasets.var(("time",), res.pressure_cmd[b], "MPa", f"pressure commanded to pair #{pair}"),
-             "level": datasets.var(("time",), res.level, "1", "index of the pressure level held (-1: settling)"),
-             "on_face": datasets.var(("time",), res.on_face[b].astype(np.int8), "1",
-                             "1 while the contact face's three nodes touch the ground (always 1 in the free mode)"),
-             "nodes": datasets.var(("time_nodes", "node", "axis"), res.nodes[b, ::stride], "m",
-                           "node positions, world frame (every node_stride-th sample)")},
-            coords={**_coords(), "time": ("time", res.t, {"units": "s", "long_name": "time"}),
-                    "time_nodes": ("time_nodes", res.t[::stride], {"units": "s", "long_name": "time of node samples"}),
-                    "levels": ("levels", res.levels, {"units": "MPa", "long_name": "pressure levels of the staircase"})},
-            attrs={"contact": contact, "face": res.face, "face_nodes": topo.FACES[res.face - 1] + 1,
-                   "pair": int(pair), "mode": s["mode"], "hold_s": float(s["hold"]), "settle_s": float(s["settle"])})
-        ds["axis"].attrs["units"] = "1"
-        paths.append(datasets.write(ds, Path(out_dir) / f"pair{pair:02d}.nc", cfg,
+        ds = formats.sweep_dataset(res, b, contact, s)
+        paths.append(datasets.write(ds, Path(out_dir) / formats.SWEEP_FILE.format(pair=int(pair)), cfg,
                                     f"Pressure sweep of pair #{pair} standing on {topo.face_label(res.face)}",
                                     stage="sweep"))
     return paths
 
 
-def run_nominal(cfg: dict, sweep_paths, out_path) -> Path:
+def run_nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: str | os.PathLike) -> Path:
     """Average every sweep file's levels into the nominal CoG dataset of one contact case."""
     sweeps = [datasets.read(p) for p in sweep_paths]
     sweeps.sort(key=lambda ds: ds.attrs["pair"])
@@ -137,26 +111,17 @@ def run_nominal(cfg: dict, sweep_paths, out_path) -> Path:
     rolled = np.zeros(margin.shape, np.int8)
     for i, ds in enumerate(sweeps):
         k = nom.first_roll(ds["level"].values, ds["on_face"].values, len(levels))
-        if k < len(levels):
-            rolled[i, k:] = 1
-            cog[i, k:], std[i, k:], sup[i, k:], margin[i, k:] = np.nan, np.nan, np.nan, np.nan
-            tip[i] = levels[k] if not tip[i] <= levels[k] else tip[i]
-    ds = xr.Dataset(
-        {"cog": datasets.var(("pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the support frame"),
-         "cog_std": datasets.var(("pair", "pressure", "axis"), std, "m", "standard deviation of the CoG over the level (oscillation)"),
-         "support": datasets.var(("pair", "pressure", "corner", "axis"), sup, "m", "mean deformed support triangle in the support frame"),
-         "margin": datasets.var(("pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
-         "tip_pressure": datasets.var(("pair",), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never)"),
-         "rolled": datasets.var(("pair", "pressure"), rolled, "1", "1 from the level at which the grounded robot rolled off the face (always 0 in the free mode)")},
-        coords=_coords(pairs, levels),
-        attrs={k: first.attrs[k] for k in ("contact", "face", "face_nodes", "mode")} | {"discard_s": discard})
-    ds["axis"].attrs["units"] = "1"
+        rolled[i, k:] = 1
+        tip[i] = nom.mask_after_roll(levels, k, tip[i], cog[i], std[i], sup[i], margin[i])
+    ds = formats.nominal_dataset(pairs, levels, cog, std, sup, margin, tip, rolled,
+                                 {k: first.attrs[k] for k in ("contact", "face", "face_nodes", "mode")}
+                                 | {"discard_s": discard})
     return datasets.write(ds, out_path, _provenance(cfg, *sweep_paths),
                           f"Nominal CoG of the {first.attrs['contact']} contact case {topo.face_label(int(first.attrs['face']))}",
-                          stage="nominal", allow_nan=["tip_pressure", "cog", "cog_std", "support", "margin"])
+                          stage="nominal", allow_nan=formats.NOMINAL_ALLOW_NAN)
 
 
-def run_fit(cfg: dict, nominal_path, out_path) -> Path:
+def run_fit(cfg: dict, nominal_path: str | os.PathLike, out_path: str | os.PathLike) -> Path:
     """Fit a curve per pair and axis to the nominal CoG; write the plain-number curves."""
     from .workspace import fit  # scikit-learn is slow to import: only this stage needs it
     src = datasets.read(nominal_path)
@@ -172,117 +137,81 @@ def run_fit(cfg: dict, nominal_path, out_path) -> Path:
                              spline_knots=tuple(f["spline_knots"]), folds=f["folds"])
                for a in range(3)] for i in range(cog.shape[0])]
     arr = fit.curves_to_arrays(curves)
-    units = {"breaks": "MPa", "coefs": "m MPa-power", "degree": "1", "pmin": "MPa", "pmax": "MPa",
-             "cv_rmse": "m", "kind": "", "model": ""}
-    names = {"breaks": "piece boundaries of the piecewise polynomial (NaN padded)",
-             "coefs": "coefficients in u = p - breaks[piece], highest power first (NaN padded)",
-             "degree": "polynomial degree", "pmin": "lowest pressure of the valid range",
-             "pmax": "highest pressure of the valid range", "cv_rmse": "cross-validated RMSE of the fit",
-             "kind": "polynomial or spline", "model": "chosen model"}
-    data = {}
-    for k, a in arr.items():
-        attrs = {"long_name": names[k]}
-        if units[k]:
-            attrs["units"] = units[k]
-        data[k] = (fit.ARRAY_DIMS[k], a, attrs)
-    ds = xr.Dataset(data, coords={"pair": src["pair"], "axis": src["axis"]},
-                    attrs={k: src.attrs[k] for k in ("contact", "face", "face_nodes", "mode")})
+    ds = formats.curves_dataset(arr, src["pair"], src["axis"],
+                                {k: src.attrs[k] for k in ("contact", "face", "face_nodes", "mode")})
     return datasets.write(ds, out_path, _provenance(cfg, nominal_path),
                           f"Fitted CoG curves of the {src.attrs['contact']} contact case",
-                          stage="fit", allow_nan=["breaks", "coefs", "cv_rmse"])
+                          stage="fit", allow_nan=formats.CURVES_ALLOW_NAN)
 
 
-def curves_json(curve_paths, out_path) -> Path:
+def curves_json(curve_paths: Iterable[str | os.PathLike], out_path: str | os.PathLike) -> Path:
     """All contact cases' curves as one JSON file (plain numbers, evaluable in any language)."""
     from .workspace import fit
-    doc = {"units": {"pressure": "MPa", "cog": "m"},
-           "evaluate": "find piece i with breaks[i] <= p < breaks[i+1] (clamp to the end pieces); "
-                       "value = sum(coefs[i][k] * (p - breaks[i])**(deg - k))",
-           "contacts": {}}
+    contacts = {}
     for path in curve_paths:
         ds = datasets.read(path)
-        curves = fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS})
-        doc["contacts"][ds.attrs["contact"]] = {
-            "face_nodes": [int(n) for n in ds.attrs["face_nodes"]],
-            "pairs": {str(int(p)): {ax: fit.to_dict(curves[i][j]) for j, ax in enumerate(AXES)}
-                      for i, p in enumerate(ds["pair"].values)}}
+        contacts[ds.attrs["contact"]] = (ds.attrs["face_nodes"], ds["pair"].values,
+                                         fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS}))
+    doc = formats.curves_document(contacts)
     return datasets.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))
 
 
-def run_map(cfg: dict, nominal_paths, out_path) -> Path:
+def run_map(cfg: dict, nominal_paths: Sequence[str | os.PathLike], out_path: str | os.PathLike) -> Path:
     """Map the canonical nominal workspaces to all 20 faces."""
     src = {ds.attrs["contact"]: ds for ds in (datasets.read(p) for p in nominal_paths)}
-    levels = next(iter(src.values()))["pressure"].values
-    P = len(levels)
-    cog = np.full((20, 12, P, 3), np.nan)
-    sup = np.full((20, 12, P, 3, 3), np.nan)
-    for face in range(1, 21):
-        ds = src.get(str(topo.FACE_TYPES[face - 1]))
-        if ds is None:
-            continue
-        if not np.array_equal(ds["pressure"].values, levels):
-            raise ValueError("the contact cases were swept at different pressure levels")
-        full_c, full_s = np.full((12, P, 3), np.nan), np.full((12, P, 3, 3), np.nan)
-        idx = ds["pair"].values - 1
-        full_c[idx], full_s[idx] = ds["cog"].values, ds["support"].values
-        cog[face - 1], sup[face - 1] = mapping.map_face(face, full_c, full_s)
-    margin = np.full((20, 12, P), np.nan)
-    ok = np.isfinite(cog[..., 0])
-    margin[ok] = frames.margin_2d(cog[ok][:, :2], sup[ok][:, :, :2])
-    tip = np.array([[frames.first_crossing(levels, m)[0] if np.isfinite(m).all() else np.nan for m in mf] for mf in margin])
-    ds = xr.Dataset(
-        {"cog": datasets.var(("face", "pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the face's support frame"),
-         "support": datasets.var(("face", "pair", "pressure", "corner", "axis"), sup, "m", "deformed support triangle in the face's support frame"),
-         "margin": datasets.var(("face", "pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
-         "tip_pressure": datasets.var(("face", "pair"), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never or not computed)"),
-         "face_nodes": datasets.var(("face", "corner"), topo.FACES + 1, "1", "node numbers of the face's corners (support-frame corner order)"),
-         "face_type": (("face",), topo.FACE_TYPES.astype(str), {"long_name": "equilateral (3 cables) or isosceles (2 cables and a gap)"}),
-         "reference_corner": datasets.var(("face",), topo.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)")},
-        coords={**_coords(np.arange(1, 13), levels),
-                "face": ("face", np.arange(1, 21), {"units": "1", "long_name": "face number"})})
-    ds["axis"].attrs["units"] = "1"
+    levels = mapping.same_levels([ds["pressure"].values for ds in src.values()])
+    ws = mapping.map_workspace(levels, {c: (ds["pair"].values, ds["cog"].values, ds["support"].values)
+                                        for c, ds in src.items()})
+    ds = formats.workspace_dataset(levels, ws)
     return datasets.write(ds, out_path, _provenance(cfg, *nominal_paths),
                           "Kinematic workspace of all 20 contact faces, mapped by symmetry",
-                          stage="map", allow_nan=["cog", "support", "margin", "tip_pressure"])
+                          stage="map", allow_nan=formats.WORKSPACE_ALLOW_NAN)
 
 
-def render_robot(cfg: dict, fig1, fig4, fig5) -> None:
-    """Figs. 1, 4 and 5: the robot, its actuator pairs, and the support frame of (9,10,12)."""
+def render_robot(cfg: dict, fig1: str | os.PathLike, fig4: str | os.PathLike,
+                 fig5: str | os.PathLike) -> list[dict]:
+    """Figs. 1, 4 and 5: the robot, its actuator pairs, and the support frame of (9,10,12).
+    Returns what each figure drew (render.paper)."""
     from .physics import dynamics as d
-    from .render import scene as render
+    from .render import paper
     from .physics.terrain import Terrain
     params = params_from_config(cfg)
     nodes = topo.reference_nodes(params.strut_length)
-    render.fig_robot(nodes, fig1)
-    render.fig_robot(nodes, fig4, highlight_pairs=[4, 6, 7, 9, 10, 12])
     state = d.stand_on(params, topo.CONTACT_FACES["equilateral"], Terrain.flat())
-    render.fig_support_frame(d.nodes(state.x, state.q, params.strut_length)[0],
-                             topo.CONTACT_FACES["equilateral"], fig5)
+    return [paper.fig_robot(nodes, fig1),
+            paper.fig_robot(nodes, fig4, highlight_pairs=[4, 6, 7, 9, 10, 12]),
+            paper.fig_support_frame(d.nodes(state.x, state.q, params.strut_length)[0],
+                                    topo.CONTACT_FACES["equilateral"], fig5)]
 
 
-def render_cloud(sweep_path, nominal_path, out, max_pressure: float = 2.4) -> None:
-    """Fig. 6: the CoG point cloud and nominal CoGs of one pair, levels up to max_pressure."""
-    from .render import scene as render
+def render_cloud(sweep_path: str | os.PathLike, nominal_path: str | os.PathLike, out: str | os.PathLike,
+                 max_pressure: float = 2.4) -> dict:
+    """Fig. 6: the CoG point cloud and nominal CoGs of one pair, levels up to max_pressure
+    (MPa). Returns what the figure drew (render.paper.fig_cog_cloud)."""
+    from .render import paper
     sw_ds, nm = datasets.read(sweep_path), datasets.read(nominal_path)
     pair, face = int(sw_ds.attrs["pair"]), int(sw_ds.attrs["face"])
     levels = nm["pressure"].values
     keep = levels <= max_pressure + 1e-9
     sel = (sw_ds["level"].values >= 0) & (sw_ds["level"].values < keep.sum())
     nom = nm["cog"].sel(pair=pair).values[keep]
-    render.fig_cog_cloud(sw_ds["cog"].values[sel], nom, levels[keep], frames.rest_frame(face, datasets.strut_length(nm))[1], out,
-                         pair=pair, face_label=topo.face_label(face),
-                         sample_pressure=sw_ds["pressure_cmd"].values[sel],
-                         corner_labels=(topo.FACES[face - 1] + 1).tolist())
+    return paper.fig_cog_cloud(sw_ds["cog"].values[sel], nom, levels[keep],
+                               frames.rest_frame(face, datasets.strut_length(nm))[1], out,
+                               pair=pair, face_label=topo.face_label(face),
+                               sample_pressure=sw_ds["pressure_cmd"].values[sel],
+                               corner_labels=(topo.FACES[face - 1] + 1).tolist())
 
 
-def render_workspace(curves_path, nominal_path, out, points: int = 60) -> None:
+def render_workspace(curves_path: str | os.PathLike, nominal_path: str | os.PathLike, out: str | os.PathLike,
+                     points: int = 60) -> dict:
     """Fig. 7: every pair's fitted CoG curve from 0 MPa to the highest level, with the support
-    triangle of the unactuated robot and where each curve leaves the deformed triangle."""
+    triangle of the unactuated robot and where each curve leaves the deformed triangle.
+    Returns what the figure drew (render.paper.fig_workspace)."""
     from .workspace import fit
-    from .render import scene as render
+    from .render import paper
     cv, nm = datasets.read(curves_path), datasets.read(nominal_path)
     face = int(nm.attrs["face"])
-    rest_cog, rest_tri = frames.rest_frame(face, datasets.strut_length(nm))
+    rest_cog, rest_support = frames.rest_frame(face, datasets.strut_length(nm))
     curves = fit.arrays_to_curves({k: cv[k].values for k in fit.ARRAY_DIMS})
     lines, tips = {}, {}
     for i, pair in enumerate(cv["pair"].values):
@@ -294,49 +223,150 @@ def render_workspace(curves_path, nominal_path, out, points: int = 60) -> None:
         tips[int(pair)] = (np.array([float(fit.evaluate(c[a], tp)) for a in range(3)])
                            if np.isfinite(tp) else None)
     levels = nm["pressure"].values
-    render.fig_workspace(lines, rest_tri, out, tip_points=tips,
-                         title=f"Fig. 7  Kinematic workspace, {nm.attrs['contact']} face "
-                               f"{topo.face_label(face)}, {levels[0]:g}-{levels[-1]:g} MPa",
-                         corner_labels=(topo.FACES[face - 1] + 1).tolist())
+    return paper.fig_workspace(lines, rest_support, out, tip_points=tips,
+                               title=f"Fig. 7  Kinematic workspace, {nm.attrs['contact']} face "
+                                     f"{topo.face_label(face)}, {levels[0]:g}-{levels[-1]:g} MPa",
+                               corner_labels=(topo.FACES[face - 1] + 1).tolist())
 
 
-def render_dataset(path, out, face: int | None = None) -> str:
+def render_dataset(path: str | os.PathLike, out: str | os.PathLike, face: int | None = None) -> str:
     """Render any dataset of the toolkit to a PNG: a sweep (its CoG cloud), a nominal file or
     the workspace (the workspace of its face, or of `face`), a locomotion run (its path from
     above), a `tensegrity simulate` output (the robot at the end). Returns what was drawn."""
-    from .render import scene as render
+    from .render import paper
     ds = datasets.read(path)
     if "level" in ds and "pair" in ds.attrs:  # a sweep
         face_ = int(ds.attrs["face"])
         sel = ds["level"].values >= 0
         levels = ds["levels"].values
         nom = np.array([ds["cog"].values[ds["level"].values == k].mean(0) for k in range(levels.size)])
-        render.fig_cog_cloud(ds["cog"].values[sel], nom, levels, frames.rest_frame(face_, datasets.strut_length(ds))[1], out,
-                             pair=int(ds.attrs["pair"]), face_label=topo.face_label(face_),
-                             sample_pressure=ds["pressure_cmd"].values[sel],
-                             corner_labels=(topo.FACES[face_ - 1] + 1).tolist())
+        paper.fig_cog_cloud(ds["cog"].values[sel], nom, levels,
+                            frames.rest_frame(face_, datasets.strut_length(ds))[1], out,
+                            pair=int(ds.attrs["pair"]), face_label=topo.face_label(face_),
+                            sample_pressure=ds["pressure_cmd"].values[sel],
+                            corner_labels=(topo.FACES[face_ - 1] + 1).tolist())
         return "sweep: CoG cloud and level means"
     if "margin" in ds and "face" in ds.dims:  # the workspace
         face_ = topo.face_number(face) if face is not None else 8
         sub = ds.sel(face=face_)
         title = f"Workspace of face {face_} {topo.face_label(face_)} (nominal CoG, mapped)"
-        return _render_nominal(render, sub, face_, out, title)
+        return _render_nominal(sub, face_, out, title)
     if "margin" in ds and "pair" in ds.dims:  # a nominal file
         face_ = int(ds.attrs["face"])
-        return _render_nominal(render, ds, face_, out, f"Nominal CoG, face {topo.face_label(face_)}")
+        return _render_nominal(ds, face_, out, f"Nominal CoG, face {topo.face_label(face_)}")
     if "face_sequence" in ds or "step" in ds.dims:  # a locomotion run
-        from .render import locomotion as render_locomotion
-        render_locomotion.fig_path(ds, out, "top")
+        _path_figure(ds, out, "top")  # in the locomotion figure stages below
         return "locomotion run: path from above"
     if "nodes" in ds and "time" in ds["nodes"].dims:  # tensegrity simulate
-        render.fig_robot(ds["nodes"].values[-1], out, title=f"{ds.attrs.get('title', 'robot')} (end)")
+        paper.fig_robot(ds["nodes"].values[-1], out, title=f"{ds.attrs.get('title', 'robot')} (end)")
         return "simulation: the robot at the end"
     raise ValueError(f"{path}: not a dataset this toolkit knows how to render")
 
 
-def _render_nominal(render, ds, face: int, out, title: str) -> str:
-    rest_cog, rest_tri = frames.rest_frame(face, datasets.strut_length(ds))
+def _render_nominal(ds, face: int, out, title: str) -> str:
+    """Fig. 7 drawn from the nominal CoGs of `ds` (a nominal file or one face of the workspace)."""
+    from .render import paper
+    rest_cog, rest_support = frames.rest_frame(face, datasets.strut_length(ds))
     lines = {int(p): np.vstack([rest_cog[None], ds["cog"].sel(pair=p).values])
              for p in ds["pair"].values if np.isfinite(ds["cog"].sel(pair=p).values).all()}
-    render.fig_workspace(lines, rest_tri, out, title=title, corner_labels=(topo.FACES[face - 1] + 1).tolist())
+    paper.fig_workspace(lines, rest_support, out, title=title,
+                        corner_labels=(topo.FACES[face - 1] + 1).tolist())
     return "workspace: nominal CoG per pair"
+
+
+# ----- locomotion stages
+# (appended by the locomotion split; everything above belongs to the stages module's owner)
+
+def locomotion_run(cfg: dict, name: str, workspace_path: str | Path, out_path: str | Path) -> Path:
+    """Stage `locomotion_run`: the demonstration run `name` (one of locomotion.DEMOS), planned
+    from the workspace file (results/workspace.nc) and rolled in the grounded simulation.
+    Writes the run dataset (results/locomotion/{run}.nc, `io.formats.run_dataset`) to
+    `out_path` and returns its path; prints the steps and the outcome. `cfg`: the sections of
+    STAGE_CONFIG["locomotion_run"], merged over the workspace file's provenance."""
+    from .io import formats
+    from .locomotion import demos, runs
+    from .locomotion.control import RollSettings
+    src = datasets.read(workspace_path)  # read once: the workspace and its provenance
+    ws = formats.workspace_from_dataset(src)
+    setup = demos.demo_setup(cfg, name)
+    params = demos.locomotion_params(cfg)
+    s = RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
+    if "edges" in setup:
+        run = runs.roll_over(ws, setup["edges"], params, setup["terrain"], settings=s)
+    else:
+        run = runs.roll_to(ws, setup["goal"], params, setup["terrain"], settings=s)
+    print(runs.describe(run, name))
+    return datasets.write(formats.run_dataset(run, setup["terrain"], name), out_path,
+                          {**datasets.provenance_config(src), **cfg},
+                          f"Rolling locomotion run '{name}': {run.outcome}",
+                          stage="locomotion", allow_nan=formats.RUN_ALLOW_NAN)
+
+
+# ----- locomotion figure stages
+# (appended by the render split: Figs. 8-10, run paths and the animation. These read the run
+# datasets, results/locomotion/{run}.nc; render.locomotion and render.runs draw from arrays.)
+
+def _path_figure(ds: xr.Dataset, out, view: str) -> dict:
+    """The path of the run dataset `ds` over its terrain, from above ("top") or "3d"."""
+    from .render import runs as run_figures
+    terrain = formats.terrain_from_dataset(ds)
+    t = ds["time"].values
+    title = (f"Rolling run '{ds.attrs.get('run', '')}' on {terrain.kind} ground: "
+             f"{ds.attrs['outcome']}, {int(ds.attrs['rolls'])} rolls "
+             f"({'from above' if view == 'top' else '3D'})")
+    return run_figures.fig_path(ds["nodes"].values, terrain, out, title,
+                                faces=ds["next_face"].values,
+                                step_end=np.clip(np.searchsorted(t, ds["t_end"].values), 0, len(t) - 1),
+                                goal=ds["goal"].values, view=view)
+
+
+def locomotion_states(paper_path: str | os.PathLike, slope_path: str | os.PathLike, fig8: str | os.PathLike,
+                      fig9: str | os.PathLike, fig10: str | os.PathLike) -> list[dict]:
+    """Stage `locomotion_states`: Fig. 8 and 9 from the paper run (its first roll: #10 on
+    (9,10,12)) and Fig. 10 from a slope run (the robot at rest on the slope before its first
+    roll). Returns what each figure drew (render.locomotion)."""
+    from .physics import contact as ct
+    from .render import locomotion as state_figures
+    ds = datasets.read(paper_path)
+    terrain = formats.terrain_from_dataset(ds)
+    face = int(ds["face"].values[0])
+    pair = int(ds["step_pair"].values[0, 0])
+    tip = float(ds["tip_pressure"].values[0])
+    edge = [topo.edge_nodes(face, j) for j in range(3)].index(tuple(ds["edge"].values[0]))
+    k, p = formats.run_sample(ds, terrain, 1, "stable")
+    out = [state_figures.fig_state(
+        p, terrain, face, fig8,
+        f"Fig. 8  Stable: #{pair} at {ds['pressure'].values[k].max():.1f} MPa, the CoG "
+        f"projection stays inside {topo.face_label(face)}",
+        arrow=ct.edge_outward(p[topo.FACES[face - 1]])[edge])]
+    k, p = formats.run_sample(ds, terrain, 1, "rolling")
+    out.append(state_figures.fig_state(
+        p, terrain, face, fig9,
+        f"Fig. 9  Rolling: #{pair} tipped the robot at {tip:.2f} MPa; the CoG "
+        f"projection has left {topo.face_label(face)}"))
+    sl = datasets.read(slope_path)
+    k0 = int(np.searchsorted(sl["time"].values, sl["t_start"].values[0]))
+    out.append(state_figures.fig_slope(
+        sl["nodes"].values[k0], formats.terrain_from_dataset(sl), int(sl["face"].values[0]), fig10,
+        f"Fig. 10  Slope: the CoG projects along gravity onto the contact plane "
+        f"('{sl.attrs['run']}' run)"))
+    return out
+
+
+def locomotion_paths(run_path: str | os.PathLike, top: str | os.PathLike,
+                     three_d: str | os.PathLike) -> list[dict]:
+    """Stage `locomotion_path`: the path of one run from above (`top`) and in 3D (`three_d`).
+    Returns what each figure drew (render.runs.fig_path)."""
+    ds = datasets.read(run_path)
+    return [_path_figure(ds, top, "top"), _path_figure(ds, three_d, "3d")]
+
+
+def locomotion_animation(run_path: str | os.PathLike, gif: str | os.PathLike, fps: int = 10,
+                         speed: float = 8.0) -> dict:
+    """Stage `locomotion_animation`: a GIF of one run at `fps` frames per second, `speed`
+    times faster than simulated time. Returns {"path", "frames", "fps"}."""
+    from .render import runs as run_figures
+    ds = datasets.read(run_path)
+    return run_figures.animate(ds["nodes"].values, ds["time"].values, ds["pressure"].values,
+                               formats.terrain_from_dataset(ds), gif, goal=ds["goal"].values,
+                               label=f"run '{ds.attrs.get('run', '')}'", fps=fps, speed=speed)

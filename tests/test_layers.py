@@ -67,3 +67,27 @@ def test_modules_are_of_a_size_a_reader_holds_in_mind():
     sizes = {str(p.relative_to(PKG)): len(p.read_text().splitlines()) for p in PKG.rglob("*.py")}
     big = {k: v for k, v in sizes.items() if v > 400}
     assert not big, f"modules over 400 lines: {big}"
+
+
+def _public_functions(path: Path):
+    """(name, node) of the module- and class-level public functions of a module."""
+    def visit(body):
+        for node in body:
+            if isinstance(node, ast.ClassDef):
+                yield from visit(node.body)
+            elif isinstance(node, ast.FunctionDef) and not node.name.startswith("_"):
+                yield node.name, node
+    yield from visit(ast.parse(path.read_text()).body)
+
+
+def test_public_functions_have_type_hints():
+    missing = []
+    for path in PKG.rglob("*.py"):
+        if path.name == "kernel.py":  # numba functions: typed by their compiled signatures
+            continue
+        for name, fn in _public_functions(path):
+            args = [a for a in fn.args.args + fn.args.kwonlyargs if a.arg not in ("self", "cls")]
+            args += [a for a in (fn.args.vararg, fn.args.kwarg) if a is not None]
+            if fn.returns is None or any(a.annotation is None for a in args):
+                missing.append(f"{path.relative_to(PKG)}:{fn.lineno} {name}")
+    assert not missing, "public functions without type hints:\n" + "\n".join(missing)

@@ -213,7 +213,7 @@ def _semantic(cfg: dict) -> list[str]:
     if discard >= hold:
         out.append(f"config key nominal.discard: {discard} s is not less than sweep.hold = {hold} s")
     p = cfg["params"]
-    # Rest length of the symmetric state (design.md section 4): L = l0 - T0/K, l0 = S sqrt(6)/4.
+    # Rest length of the symmetric state (docs/design.md §4): L = l0 - T0/K, l0 = S sqrt(6)/4.
     rest = p["strut_length"] * math.sqrt(6) / 4 - p["cable_pretension"] / p["cable_stiffness"]
     if rest <= 0:
         out.append(f"config key params.cable_pretension: {p['cable_pretension']} N gives a cable "

@@ -1,4 +1,4 @@
-"""netCDF I/O for every stage (design.md section 5): checked, CF-attributed, atomic, reproducible.
+"""netCDF I/O for every stage (docs/design.md §5): checked, CF-attributed, atomic, reproducible.
 
 `write` refuses a dataset whose variables lack `units` or `long_name` or hold NaN/inf, stamps the
 global attributes of the contract (`title`, `source`, `history`, `Conventions`, `config`) and
@@ -14,9 +14,11 @@ import os
 import secrets
 from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from .config import to_json
 
@@ -81,7 +83,7 @@ def write(ds: xr.Dataset, path: str | os.PathLike, cfg: dict, title: str, *,
     return path
 
 
-def var(dims, data, units: str, long_name: str, **attrs) -> tuple:
+def var(dims: Iterable[str], data: ArrayLike, units: str, long_name: str, **attrs: Any) -> tuple:
     """An xarray variable spec (dims, data, attrs) with the `units` and `long_name` every
     variable of this toolkit carries."""
     return (tuple(dims), np.asarray(data), {"units": units, "long_name": long_name, **attrs})

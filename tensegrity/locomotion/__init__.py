@@ -1,1 +1,24 @@
-"""Rolling locomotion (paper III.C-D): workspace lookup, planning, controllers, runs, demos."""
+"""Rolling locomotion (paper III.C-D, IV; docs/design.md §6).
+
+- `lookup`: the 20-face `Workspace` (arrays) and `predict`, the CoG projection of any pair on the
+  current support triangle, along gravity.
+- `plan`: `plan` ranks the pairs (and two-pair combinations) that roll the robot toward a target.
+- `control`: `roll` and `settle` in the dynamic simulator, driven by `RollSettings`;
+  `lockstep` simulates a batch of robots, one controller each.
+- `runs`: `roll_to`, `roll_many`, `roll_over` (plan, roll, repeat) and `describe`.
+- `demos`: the workflow's demonstration runs (`DEMOS`, `demo_setup`).
+
+Files are read and written elsewhere: `io.formats` (workspace, run datasets) and
+`stages.locomotion_run`. Numbers people see (faces, pairs, nodes) start at 1; pressures in MPa,
+lengths in m, times in s.
+"""
+from .control import RollResult, RollSettings, roll, settle
+from .demos import DEMOS
+from .lockstep import Record
+from .lookup import Prediction, Workspace, predict
+from .plan import Candidate, Plan, plan
+from .runs import OUTCOMES, Run, Step, describe, roll_many, roll_over, roll_to
+
+__all__ = ["Workspace", "Prediction", "predict", "Candidate", "Plan", "plan", "RollSettings",
+           "RollResult", "Record", "roll", "settle", "Step", "Run", "roll_to", "roll_many",
+           "roll_over", "describe", "OUTCOMES", "DEMOS"]

@@ -4,13 +4,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import topology as topo
 
 MAX_PRESSURE = 10.0  # MPa; a McKibben muscle is rated well below this
 
 
-def check_pressures(p, name: str = "pressure") -> np.ndarray:
+def check_pressures(p: ArrayLike, name: str = "pressure") -> np.ndarray:
     """Return p as float array; raise ValueError naming `name` if any value is NaN or outside
     [0, MAX_PRESSURE] MPa."""
     a = np.asarray(p, dtype=float)
@@ -44,13 +45,13 @@ class Schedule:
         return float(self.durations.sum())
 
     @classmethod
-    def constant(cls, pressure, duration: float) -> "Schedule":
+    def constant(cls, pressure: ArrayLike, duration: float) -> "Schedule":
         """Pressures (B, 12) or (12,) MPa held for `duration` s."""
         p = np.asarray(pressure, dtype=float)
         return cls(np.array([duration]), p.reshape(-1, 1, topo.N_PAIRS))
 
     @classmethod
-    def staircase(cls, pairs, levels, hold: float, settle: float = 0.0) -> "Schedule":
+    def staircase(cls, pairs: ArrayLike, levels: ArrayLike, hold: float, settle: float = 0.0) -> "Schedule":
         """The paper's sweep (III.A): robot b drives pair pairs[b] (1-based) through `levels`
         MPa, each held `hold` s, after `settle` s at zero pressure."""
         pairs = [topo.check_pair(p) for p in np.atleast_1d(pairs)]

@@ -1,4 +1,4 @@
-"""Contact and stability of a robot on a terrain (paper III.B, Fig. 8-10; design.md section 6).
+"""Contact and stability of a robot on a terrain (paper III.B, Fig. 8-10; docs/design.md §6).
 
 Pure functions on node positions (12, 3) m and a `Terrain`. The contact face is the three nodes
 nearest the terrain, each within a tolerance of touching it, and they must be one of the 20
@@ -11,14 +11,16 @@ Edges are named by their two 1-based node numbers, smaller first, e.g. (10, 12).
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import frames, topology as topo
 from .terrain import Terrain
 
-GRAVITY_DIR = np.array([0.0, 0.0, -1.0])  # world frame, z up (design.md section 2)
+GRAVITY_DIR = np.array([0.0, 0.0, -1.0])  # world frame, z up (docs/design.md §2)
 
 __all__ = ["ContactError", "Contact", "check_nodes", "clearance", "contact_face", "resting_face", "face_from_gaps",
            "project_along_gravity", "edge_outward",
@@ -29,7 +31,7 @@ class ContactError(ValueError):
     """No valid contact face: fewer than three nodes touch, or the three do not form a face."""
 
 
-def check_nodes(nodes) -> np.ndarray:
+def check_nodes(nodes: ArrayLike) -> np.ndarray:
     """Node positions as a finite (12, 3) float array, m; ValueError otherwise."""
     p = np.asarray(nodes, dtype=float)
     if p.shape != (topo.N_NODES, 3):
@@ -39,7 +41,7 @@ def check_nodes(nodes) -> np.ndarray:
     return p
 
 
-def clearance(nodes, terrain: Terrain, radius: float) -> np.ndarray:
+def clearance(nodes: ArrayLike, terrain: Terrain, radius: float) -> np.ndarray:
     """Gap (..., 12) m between each node's contact sphere (radius m) and the terrain, for node
     positions (..., 12, 3) m, measured along the normal of the terrain triangle under the node as
     the simulator does (negative when the sphere penetrates). Raises ValueError for NaN nodes,
@@ -60,7 +62,7 @@ def clearance(nodes, terrain: Terrain, radius: float) -> np.ndarray:
     return (p[..., 2] - h) * nz - radius
 
 
-def contact_face(nodes, terrain: Terrain, radius: float, tol: float | None = None) -> int:
+def contact_face(nodes: ArrayLike, terrain: Terrain, radius: float, tol: float | None = None) -> int:
     """1-based face resting on the terrain: the three nodes of least clearance, each within
     `tol` m of touching (default: the radius), forming one of the 20 faces. Raises ContactError
     otherwise (the robot is in the air, tipping, or rests on three nodes that are not a face)."""
@@ -70,7 +72,7 @@ def contact_face(nodes, terrain: Terrain, radius: float, tol: float | None = Non
 _FACE_OF_NODES = {tuple(sorted(c.tolist())): f + 1 for f, c in enumerate(topo.FACES)}
 
 
-def resting_face(gap, tol: float) -> np.ndarray:
+def resting_face(gap: ArrayLike, tol: float) -> np.ndarray:
     """The one rule for "the robot stands on face F": the three nodes of least clearance
     `gap` (..., 12) m each within `tol` m of touching, and forming one of the 20 faces.
     Returns the 1-based face (...,) int, 0 where no face rests on the terrain."""
@@ -83,7 +85,7 @@ def resting_face(gap, tol: float) -> np.ndarray:
     return np.where(touching, face.reshape(low.shape[:-1]), 0)
 
 
-def face_from_gaps(gap, tol: float) -> int:
+def face_from_gaps(gap: ArrayLike, tol: float) -> int:
     """`resting_face` of one robot's clearances (12,) m; ContactError when no face rests."""
     gap = np.asarray(gap, float)
     face = int(resting_face(gap, tol))
@@ -97,7 +99,8 @@ def face_from_gaps(gap, tol: float) -> int:
                        "are not a face")
 
 
-def project_along_gravity(point, plane_point, plane_normal, gravity=GRAVITY_DIR) -> np.ndarray:
+def project_along_gravity(point: ArrayLike, plane_point: ArrayLike, plane_normal: ArrayLike,
+                          gravity: ArrayLike = GRAVITY_DIR) -> np.ndarray:
     """Point (..., 3) m moved along the gravity direction onto the plane through plane_point
     (..., 3) m with normal plane_normal (..., 3) (paper Fig. 10)."""
     gdir = np.asarray(gravity, float) / np.linalg.norm(gravity)
@@ -109,7 +112,7 @@ def project_along_gravity(point, plane_point, plane_normal, gravity=GRAVITY_DIR)
     return point + s * gdir
 
 
-def edge_outward(tri) -> np.ndarray:
+def edge_outward(tri: ArrayLike) -> np.ndarray:
     """Unit outward normals (3, 3) of the edges of triangle `tri` (3, 3) m, in its plane; row k
     belongs to the edge joining corners k and k+1 (mod 3), as in frames.edge_distances."""
     tri = np.asarray(tri, float)
@@ -130,8 +133,8 @@ class Contact:
 
     face: 1-based contact face; nodes: its node numbers in topology.FACES order;
     cog (3,): centre of gravity; projection (3,): the CoG projected along gravity onto the plane
-    of the three contact nodes; local (2,) and triangle (3, 2): that projection and the
-    triangle in the face's support frame (design.md section 2); normal (3,): the support plane's
+    of the three contact nodes; projection_2d (2,) and support (3, 2): that projection and the
+    support triangle in the face's support frame (docs/design.md §2); normal (3,): the support plane's
     unit normal, into the robot; margin: signed distance of the projection to the triangle's
     boundary (positive inside); stands: margin > 0; edge: the crossed edge (1-based nodes) or
     None; next_face: the face across that edge, or None; clearance (12,): gaps to the terrain
@@ -140,8 +143,8 @@ class Contact:
     nodes: tuple[int, int, int]
     cog: np.ndarray
     projection: np.ndarray
-    local: np.ndarray
-    triangle: np.ndarray
+    projection_2d: np.ndarray
+    support: np.ndarray
     normal: np.ndarray
     margin: float
     stands: bool
@@ -150,15 +153,15 @@ class Contact:
     clearance: np.ndarray
 
 
-def judge(nodes, face) -> Contact:
+def judge(nodes: ArrayLike, face: int | Sequence[int]) -> Contact:
     """Stability of a robot with node positions `nodes` (12, 3) m on `face` (1..20 or three node
     numbers), without a terrain: the CoG projected along gravity onto the face's plane, the
     margin, the crossed edge and the next face. `clearance` is None."""
     return _judge(check_nodes(nodes), topo.face_number(face), None)
 
 
-def analyse(nodes, terrain: Terrain, radius: float, tol: float | None = None,
-            face=None) -> Contact:
+def analyse(nodes: ArrayLike, terrain: Terrain, radius: float, tol: float | None = None,
+            face: int | Sequence[int] | None = None) -> Contact:
     """Contact face on `terrain` (see contact_face), CoG projection along gravity, margin, and
     the edge the robot rolls over if it does not stand. `face` (1..20 or three node numbers)
     skips the detection and judges stability on that face (for a robot that is tipping)."""
@@ -170,22 +173,21 @@ def analyse(nodes, terrain: Terrain, radius: float, tol: float | None = None,
 
 def _judge(p: np.ndarray, f: int, gap) -> Contact:
     corners = topo.FACES[f - 1]
-    tri = p[corners]
     cog = p.mean(axis=0)
     origin, rot = frames.face_frame(p, f)
     proj = project_along_gravity(cog, origin, rot[2])
-    local = frames.to_frame(proj, origin, rot)[:2]
-    tri_local = frames.to_frame(tri, origin, rot)[:, :2]
-    margin = float(frames.margin_2d(local, tri_local))
-    dist = frames.edge_distances(local, tri_local)
-    k = int(np.argmin(dist))
-    edge = topo.edge_nodes(f, k) if dist[k] < 0 else None
-    return Contact(f, tuple(int(n) + 1 for n in corners), cog, proj, local, tri_local, rot[2],
+    projection_2d = frames.to_frame(proj, origin, rot)[:2]
+    support = frames.to_frame(p[corners], origin, rot)[:, :2]
+    margin = float(frames.margin_2d(projection_2d, support))
+    k = frames.crossed_edge(projection_2d, support)
+    edge = None if k is None else topo.edge_nodes(f, k)
+    return Contact(f, tuple(int(n) + 1 for n in corners), cog, proj, projection_2d, support, rot[2],
                    margin, bool(margin > 0), edge, None if edge is None else topo.neighbour(f, edge),
                    gap)
 
 
-def past_edge(nodes, face, pivot, strut_length: float) -> float:
+def past_edge(nodes: ArrayLike, face: int | Sequence[int], pivot: Sequence[int],
+              strut_length: float) -> float:
     """How far (m) the CoG of the *unactuated* robot, posed like `nodes` (12, 3) m while
     pivoting on the edge `pivot` (two 1-based nodes) of `face`, lies beyond that edge,
     horizontally (negative: on the face's side). Positive means that releasing the muscles now

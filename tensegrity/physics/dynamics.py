@@ -1,10 +1,12 @@
 """State of a batch of robots, initial states, the step function and the simulation driver
-(design.md section 3). The time loop itself is compiled in `kernel.py`."""
+(docs/design.md §3). The time loop itself is compiled in `kernel.py`."""
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
 from . import topology as topo
@@ -47,7 +49,7 @@ class State:
             if bad.any():
                 raise ValueError(f"state {name} is not finite for robot {int(np.argmax(bad))}")
 
-    def take(self, idx) -> "State":
+    def take(self, idx: ArrayLike | slice) -> "State":
         """The sub-batch of robots idx."""
         return State(*(a[idx] for a in (self.x, self.v, self.q, self.w, self.anchor, self.stuck)), t=self.t)
 
@@ -58,7 +60,7 @@ def axes(q: np.ndarray) -> np.ndarray:
     return Rotation.from_quat(q.reshape(-1, 4), scalar_first=True).as_matrix().reshape(q.shape[:-1] + (3, 3))
 
 
-def nodes(x: np.ndarray, q: np.ndarray, strut_length) -> np.ndarray:
+def nodes(x: np.ndarray, q: np.ndarray, strut_length: float | np.ndarray) -> np.ndarray:
     """Node positions (..., 12, 3) m from strut centres x (..., 6, 3) and quaternions (..., 6, 4)
     (strut end = x + L c for the first node of a strut, x - L c for the second; eq. 4)."""
     half = 0.5 * np.asarray(strut_length, dtype=float)
@@ -70,7 +72,7 @@ def nodes(x: np.ndarray, q: np.ndarray, strut_length) -> np.ndarray:
     return p
 
 
-def node_velocities(state: State, strut_length) -> np.ndarray:
+def node_velocities(state: State, strut_length: float | np.ndarray) -> np.ndarray:
     """Node velocities (B, 12, 3) m/s."""
     half = 0.5 * np.asarray(strut_length, dtype=float).reshape(-1, 1, 1)
     R = axes(state.q)
@@ -104,8 +106,8 @@ def from_nodes(p: np.ndarray) -> State:
                  np.zeros((B, topo.N_NODES, 3)), np.zeros((B, topo.N_NODES), dtype=np.bool_))
 
 
-def stand_on(params: Params, face, terrain: Terrain | None = None, batch: int = 1,
-             position=(0.0, 0.0), yaw_deg: float = 0.0) -> State:
+def stand_on(params: Params, face: int | Sequence[int], terrain: Terrain | None = None, batch: int = 1,
+             position: ArrayLike = (0.0, 0.0), yaw_deg: float = 0.0) -> State:
     """The symmetric robot at rest with `face` (1..20 or three node numbers) on the terrain
     under `position` (m), turned by yaw_deg about the terrain normal. With no terrain (free
     mode) it is placed as if on flat ground at z = 0."""
@@ -144,7 +146,7 @@ class Trajectory:
     q: np.ndarray
     pressure: np.ndarray
 
-    def nodes(self, strut_length) -> np.ndarray:
+    def nodes(self, strut_length: float | np.ndarray) -> np.ndarray:
         """Node positions (B, T, 12, 3) m."""
         L = np.asarray(strut_length, float)
         if L.ndim:
@@ -208,14 +210,14 @@ def simulate(params: Params, state: State, schedule: Schedule, terrain: Terrain 
                          np.concatenate(ps, 1))
 
 
-def step(params: Params, state: State, pressure, dt: float = 1e-4,
+def step(params: Params, state: State, pressure: ArrayLike, dt: float = 1e-4,
          terrain: Terrain | None = None) -> State:
     """One time step of dt (s) with pair pressures (B, 12) or (12,) MPa: the pure step function."""
     p = check_pressures(pressure)
     return simulate(params, state, Schedule.constant(p.reshape(-1, topo.N_PAIRS), dt), terrain, dt, 1)[0]
 
 
-def tensions(params: Params, state: State, pressure) -> np.ndarray:
+def tensions(params: Params, state: State, pressure: ArrayLike) -> np.ndarray:
     """Cable tensions (B, 24) N (eq. 2 with eq. 1, never negative)."""
     B = state.batch
     p = np.ascontiguousarray(np.broadcast_to(check_pressures(pressure), (B, topo.N_PAIRS)))
@@ -224,7 +226,7 @@ def tensions(params: Params, state: State, pressure) -> np.ndarray:
     return kernel.tensions(P, U, params.pack(B), p)[0]
 
 
-def energy(params: Params, state: State, pressure) -> np.ndarray:
+def energy(params: Params, state: State, pressure: ArrayLike) -> np.ndarray:
     """Total mechanical energy (B,) J: kinetic + cable (a = 1) + gravity. Ground contact and
     damping are not conservative and are not included."""
     if np.any(np.asarray(params.cable_exponent) != 1.0):

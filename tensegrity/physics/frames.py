@@ -8,13 +8,15 @@ pressure at which a margin turns negative (`first_crossing`).
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .topology import FACE_REFERENCE, FACES, N_FACES, face_number, reference_nodes
 
 def support_frame(tri: np.ndarray, ref: int, inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Supporting-triangle frame (design.md section 2, paper Fig. 5).
+    """Supporting-triangle frame (docs/design.md §2, paper Fig. 5).
 
     tri: (..., 3, 3) corner positions, m; ref: corner index of the reference vertex;
     inside: (..., 3) a point inside the robot (the CoG) that fixes the normal's sign.
@@ -38,7 +40,7 @@ def to_frame(p: np.ndarray, origin: np.ndarray, rot: np.ndarray) -> np.ndarray:
     return np.einsum("...ij,...j->...i", rot, p - origin)
 
 
-def face_frame(nodes: np.ndarray, face) -> tuple[np.ndarray, np.ndarray]:
+def face_frame(nodes: np.ndarray, face: int | Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
     """Support frame of `face` (1..20 or three node numbers) on node positions (..., 12, 3) m:
     origin (..., 3) m and rotation (..., 3, 3), rows = axes x, y, z (z into the robot)."""
     f = face_number(face) - 1
@@ -46,7 +48,7 @@ def face_frame(nodes: np.ndarray, face) -> tuple[np.ndarray, np.ndarray]:
     return support_frame(nodes[..., FACES[f], :], int(FACE_REFERENCE[f]), nodes.mean(axis=-2))
 
 
-def in_support_frame(nodes: np.ndarray, face) -> tuple[np.ndarray, np.ndarray]:
+def in_support_frame(nodes: np.ndarray, face: int | Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
     """CoG (..., 3) m (mean of the nodes = mean of the strut centres, equal masses) and the
     support triangle (..., 3, 3) m, both in the support frame of the current, deformed `face`
     (1..20 or three node numbers); corners in the order of FACES."""
@@ -65,7 +67,7 @@ def _rest(strut_length: float) -> tuple[np.ndarray, np.ndarray]:
     return cog, support
 
 
-def rest_frame(face, strut_length: float) -> tuple[np.ndarray, np.ndarray]:
+def rest_frame(face: int | Sequence[int], strut_length: float) -> tuple[np.ndarray, np.ndarray]:
     """CoG (3,) m and support triangle (3, 3) m of the unactuated, symmetric robot of strut
     length `strut_length` m in the support frame of `face`: the 0 MPa point of every curve."""
     cog, support = _rest(float(strut_length))
@@ -110,7 +112,7 @@ def crossed_edge(point: np.ndarray, support: np.ndarray) -> int | None:
     return None if dist[k] >= 0 else k
 
 
-def first_crossing(pressure, margin) -> tuple[float, int]:
+def first_crossing(pressure: ArrayLike, margin: ArrayLike) -> tuple[float, int]:
     """Least pressure (MPa) at which `margin` (n,) m turns negative along `pressure` (n,) MPa,
     linearly interpolated, and the index of the first sample outside; (NaN, -1) if none is.
     A path that starts outside gives its first pressure (nothing to interpolate from)."""

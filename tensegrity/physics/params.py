@@ -1,4 +1,4 @@
-"""Physical parameters (design.md section 4). SI units except pressure (MPa).
+"""Physical parameters (docs/design.md §4). SI units except pressure (MPa).
 
 A `Params` never changes during a run. Each field is a float, or an array of shape (B,) when the
 robots of a batch differ.
@@ -66,7 +66,7 @@ class Params:
         if np.any(np.asarray(self.muscle_min_length) >= np.asarray(self.cable_rest_length)):
             raise ValueError("parameter muscle_min_length must be below cable_rest_length")
 
-    def replace(self, **kw) -> "Params":
+    def replace(self, **kw: float | np.ndarray) -> "Params":
         if "cable_pretension" in kw or "cable_stiffness" in kw or "strut_length" in kw:
             kw.setdefault("cable_rest_length", float("nan"))
         return replace(self, **kw)

@@ -1,6 +1,6 @@
 """Static equilibrium by energy minimisation: the independent check of the dynamic simulator.
 
-Free mode (no gravity, no ground; design.md section 3, paper III.A-B). The six struts are rigid
+Free mode (no gravity, no ground; docs/design.md §3, paper III.A-B). The six struts are rigid
 bodies, each given by its centre x (3,) m and an unnormalised direction d (3,), c = d / |d|, with
 nodes x + (S/2) c and x - (S/2) c (eq. 4). The energy is the sum over the 24 cables of the integral
 of the clamped tension of eq. 2 with the muscle of eq. 1 at zero velocity. For cable_exponent
@@ -9,7 +9,10 @@ This module never calls `kernel` or `dynamics.simulate`.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import minimize
 
 from . import frames, topology as topo
@@ -26,7 +29,7 @@ def _scalar(params: Params, name: str) -> float:
     return float(v)
 
 
-def cable_law(params: Params, pressure) -> tuple[np.ndarray, np.ndarray]:
+def cable_law(params: Params, pressure: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Per-cable stiffness k = K + Kg P (24,) N/m and slack length l* (24,) m (a = 1), for pair
     pressures (12,) MPa: the tension is k max(0, l - l*), eq. 2 with eq. 1 at zero velocity."""
     if _scalar(params, "cable_exponent") != 1.0:
@@ -119,7 +122,7 @@ def _align(nodes: np.ndarray, ref: np.ndarray) -> np.ndarray:
     return p @ r
 
 
-def equilibrium(params: Params, pressure, start: np.ndarray | None = None) -> np.ndarray:
+def equilibrium(params: Params, pressure: ArrayLike, start: np.ndarray | None = None) -> np.ndarray:
     """Node positions (12, 3) m of the free-mode static equilibrium under pair pressures (12,) MPa,
     starting from `start` (12, 3) m (default: the symmetric reference state). The rigid-motion
     gauge is fixed by putting the centroid at the origin with the best-fit rotation onto the
@@ -132,14 +135,15 @@ def equilibrium(params: Params, pressure, start: np.ndarray | None = None) -> np
     return _align(_solve(params, p, start), ref)
 
 
-def support_cog(nodes: np.ndarray, face) -> tuple[np.ndarray, np.ndarray]:
+def support_cog(nodes: np.ndarray, face: int | Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
     """CoG (mean of the 12 nodes = mean of the strut centres) (3,) m and the face's corners
     (3, 3) m, both in the supporting-triangle frame of `face` (1..20 or three node numbers),
-    design.md section 2. Corners are in the order of geometry.FACES."""
+    docs/design.md §2. Corners are in the order of geometry.FACES."""
     return frames.in_support_frame(nodes, face)
 
 
-def static_workspace(params: Params, face, pair: int, pressures) -> tuple[np.ndarray, np.ndarray]:
+def static_workspace(params: Params, face: int | Sequence[int], pair: int,
+                     pressures: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Static CoG (n, 3) m in the support frame of `face` and margin (n,) m (geometry.margin_2d
     of its in-plane coordinates against the deformed triangle, positive inside) for pressures
     (n,) MPa applied to the 1-based `pair` alone. Each level starts from the previous solution."""

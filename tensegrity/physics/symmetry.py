@@ -1,4 +1,4 @@
-"""The symmetry group of the structure, computed from the geometry (design.md section 1).
+"""The symmetry group of the structure, computed from the geometry (docs/design.md §1).
 
 An element is an orthogonal 3x3 map that permutes the nodes and keeps the sets of struts and
 cables. Each carries its node, cable, face and pair permutations (0-based: perm[i] is the image

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 KINDS = {"none": 0, "plane": 1, "heightfield": 2}
 SPEC_FIELD_SIZE = 12.0  # m, side of the height field that a `random:` spec builds
@@ -65,7 +66,7 @@ class Terrain:
         z *= amplitude / max(z.std(), 1e-12)
         return cls(kind="heightfield", origin=(-size / 2, -size / 2), spacing=spacing, heights=z)
 
-    def height(self, x, y) -> np.ndarray:
+    def height(self, x: ArrayLike, y: ArrayLike) -> np.ndarray:
         """Terrain height (m) under world points (x, y); NaN off a height field."""
         x, y = np.asarray(x, float), np.asarray(y, float)
         if self.kind == "none":
@@ -84,7 +85,7 @@ class Terrain:
         h_up = z[i + 1, j + 1] + (1 - s) * (z[i, j + 1] - z[i + 1, j + 1]) + (1 - t) * (z[i + 1, j] - z[i + 1, j + 1])
         return np.where(ok, np.where(low, h_low, h_up), np.nan)
 
-    def normal_at(self, x, y) -> np.ndarray:
+    def normal_at(self, x: ArrayLike, y: ArrayLike) -> np.ndarray:
         """Unit upward normal (..., 3) of the terrain triangle under (x, y)."""
         x, y = np.asarray(x, float), np.asarray(y, float)
         if self.kind != "heightfield":
@@ -95,7 +96,7 @@ class Terrain:
         n = np.stack([-hx, -hy, np.ones_like(hx)], axis=-1)
         return n / np.linalg.norm(n, axis=-1, keepdims=True)
 
-    def triangles(self, extent: float = 2.0, centre=(0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
+    def triangles(self, extent: float = 2.0, centre: ArrayLike = (0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
         """Vertices (V, 3) and triangles (T, 3) of the terrain mesh, for drawing. A plane is
         drawn as a square of half-side `extent` m around `centre`."""
         if self.kind == "heightfield":

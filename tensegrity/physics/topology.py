@@ -6,6 +6,8 @@ face, pair) start at 1.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 N_NODES, N_STRUTS, N_CABLES, N_FACES, N_PAIRS = 12, 6, 24, 20, 12
@@ -71,7 +73,7 @@ def check_pair(pair: int) -> int:
     return int(pair)
 
 
-def face_number(face) -> int:
+def face_number(face: int | Sequence[int]) -> int:
     """1-based face number from a number 1..20 or three 1-based node numbers in any order."""
     if np.ndim(face) == 0:
         if isinstance(face, bool) or not float(face).is_integer() or not 1 <= int(face) <= N_FACES:
@@ -96,7 +98,7 @@ def edge_nodes(face: int, k: int) -> tuple[int, int]:
     return (int(min(a, b)) + 1, int(max(a, b)) + 1)
 
 
-def neighbour(face, edge) -> int:
+def neighbour(face: int | Sequence[int], edge: Sequence[int]) -> int:
     """The 1-based face across `edge` (two 1-based node numbers) from `face`: the other face
     sharing that edge (every edge of the icosahedron lies on exactly two faces)."""
     f = face_number(face)
@@ -109,7 +111,7 @@ def neighbour(face, edge) -> int:
     raise AssertionError("unreachable: every edge lies on two faces")
 
 
-def common_edge(a, b) -> tuple[int, int] | None:
+def common_edge(a: int | Sequence[int], b: int | Sequence[int]) -> tuple[int, int] | None:
     """The edge (1-based nodes) shared by faces a and b (1..20 or node triples), or None."""
     e = set(FACES[face_number(a) - 1].tolist()) & set(FACES[face_number(b) - 1].tolist())
     return tuple(sorted(n + 1 for n in e)) if len(e) == 2 else None

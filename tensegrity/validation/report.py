@@ -1,29 +1,160 @@
-"""Outputs of the validation stage: validation.nc, summary.md and summary.html (the table
-in the HTML report). The checks themselves are in `validation`."""
+"""The validate stage and its outputs: validation.nc (every number of every check, with units and
+long names), summary.md and summary.html (the verdict table and the per-pair tables, for the
+Snakemake report). The checks (`validation.checks`) return numbers; the words are
+`validation.summary`'s; this module lays them out and reads and writes the files."""
 from __future__ import annotations
 
 import html
+import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from ..io import datasets
-from .checks import AXES, CONTACTS, FAIL, PASS, SKIP, Check, _levels, run_checks
+from ..io.config import params_from_config
+from ..physics import topology as topo
+from . import summary
+from .checks import MappingResult, StaticsResult, TimestepResult, run_checks
+from .common import CONTACTS, FAIL, PASS, SKIP, CheckSettings, Result
+from .grounded import GroundedResult
+from .nominals import SweepSetup, common_levels
+from .paper import PAPER_TIP_PRESSURE, PaperResult
+
+AXES = ("x", "y", "z")
+_CP = ("contact", "pair")                    # dimensions of the per-pair numbers
+_CPP = (*_CP, "pressure")                     # ... per level
+_CPPA = (*_CPP, "axis")                       # ... per level and axis
 
 
-def to_dataset(checks: Sequence[Check], levels, faces, statics_pressures) -> tuple[xr.Dataset, list[str]]:
+# ------------------------------------------------------------------ configuration
+
+def sweep_setup(cfg: Mapping) -> SweepSetup:
+    """The pipeline's sweep as run under the resolved configuration `cfg` (sections `sweep`,
+    `sim`, `nominal`)."""
+    s, sim = cfg["sweep"], cfg["sim"]
+    return SweepSetup(tuple(float(p) for p in s["levels"]), float(s["hold"]), float(s["settle"]),
+                      str(s["mode"]), float(sim["dt"]), int(sim["record_every"]),
+                      float(cfg["nominal"]["discard"]))
+
+
+def check_settings(cfg: Mapping) -> CheckSettings:
+    """The checks' settings from the `validate` section of the resolved configuration `cfg`."""
+    return CheckSettings(**{k: tuple(v) if isinstance(v, list) else v for k, v in cfg["validate"].items()})
+
+
+# ------------------------------------------------------------------------ dataset
+
+def _paper_vars(r: PaperResult) -> dict:
+    return {
+        "migration": datasets.var(_CP, r.migration, "m", "in-plane distance of the nominal CoG from the "
+                                  f"unactuated CoG at {r.ranking_pressure:g} MPa", pressure_MPa=r.ranking_pressure),
+        "tip_pressure": datasets.var(_CP, r.tip_pressure, "MPa", "least pressure at which the CoG projection "
+                                     "leaves the support triangle (NaN: never)"),
+        "tip_edge": datasets.var((*_CP, "end"), r.tip_edge, "1",
+                                 "nodes of the edge the CoG projection crosses first (0: none)"),
+        "paper_tip_pressure": datasets.var((), PAPER_TIP_PRESSURE, "MPa", "paper's pressure at which #10 rolls "
+                                           "the robot off (9,10,12) (III.C)", tolerance_MPa=r.tip_tolerance),
+        "orbit_pairs": datasets.var(("orbit", "member"), r.orbit_pairs, "1", "pairs of each 3-fold orbit of (9,10,12)"),
+        "orbit_difference": datasets.var(("orbit", "pressure"), r.orbit_difference, "m",
+                                         "largest difference between the orbit members' CoG, each seen from the "
+                                         "corner its rotation carries the reference vertex to",
+                                         goal_m=r.orbit_tolerance),
+        "orbit_magnitude_spread": datasets.var(("orbit", "pressure"), r.orbit_magnitude_spread, "m",
+                                               "spread of the orbit members' in-plane CoG distance from the centroid"),
+    }
+
+
+def _statics_vars(r: StaticsResult) -> dict:
+    return {"statics_cog": datasets.var((*_CP, "statics_pressure", "axis"), r.cog, "m",
+                                        "CoG of the free-mode static equilibrium in the support frame"),
+            "statics_difference": datasets.var((*_CP, "statics_pressure"), r.difference, "m",
+                                               "distance between the nominal CoG and the static-equilibrium CoG",
+                                               goal_m=r.tolerance)}
+
+
+def _mapping_vars(r: MappingResult) -> dict:
+    dims = ("sample_face", "pair", "pressure")
+    return {
+        "sample_face_type": (("sample_face",), np.array([str(topo.FACE_TYPES[f - 1]) for f in r.faces]),
+                             {"long_name": "kind of the sample face"}),
+        "direct_cog": datasets.var((*dims, "axis"), r.cog, "m", "nominal CoG of a direct simulation standing "
+                                   "on the sample face, in its support frame"),
+        "mapping_difference": datasets.var(dims, r.difference, "m", "distance between the mapped and the "
+                                           "directly simulated nominal CoG", goal_m=r.tolerance),
+        "mapping_support_difference": datasets.var(dims, r.support_difference, "m", "largest corner distance "
+                                                   "between the mapped and the directly simulated support "
+                                                   "triangle", goal_m=r.tolerance)}
+
+
+def _grounded_vars(r: GroundedResult) -> dict:
+    v = datasets.var
+    return {
+        "grounded_cog": v(_CPPA, r.cog, "m", "nominal CoG in the grounded mode, support frame (NaN once the "
+                          "robot rolled)"),
+        "grounded_shift": v(_CPPA, r.shift, "m", "grounded minus free nominal CoG, support frame (NaN once "
+                            "the robot rolled)", goal_m=r.tolerance),
+        "grounded_margin_change": v(_CPP, r.margin_change, "m", "grounded minus free margin of the CoG "
+                                    "projection (NaN once rolled)"),
+        "grounded_rolled": v(_CPP, r.rolled.astype(np.int8), "1", "1 if the grounded robot has left its "
+                             "contact face by the end of the level"),
+        "grounded_face": v(_CPP, r.end_face, "1", "face of the three lowest nodes at the end of the level "
+                           "(0: none)"),
+        "grounded_roll_pressure": v(_CP, r.roll_pressure, "MPa", "level at which the grounded robot first "
+                                    "left its face (NaN: never)"),
+        "grounded_roll_face": v(_CP, r.roll_face, "1", "face the grounded robot rolled onto (0: none)"),
+        "free_roll_pressure": v(_CP, r.free_roll_pressure, "MPa", "first level at which the free nominal "
+                                "CoG projection is outside the triangle"),
+        "free_roll_face": v(_CP, r.free_roll_face, "1", "face across the edge the free CoG projection crosses"),
+        "grounded_settle": v((), r.settle, "s", "time on the ground at zero pressure before the first level"),
+    }
+
+
+def _timestep_vars(r: TimestepResult) -> dict:
+    return {"half_dt_cog": datasets.var(_CPPA, r.cog, "m", "nominal CoG at half the time step, support frame",
+                                        dt_s=r.dt / 2),
+            "timestep_difference": datasets.var(_CPP, r.difference, "m", "distance between the nominal CoG "
+                                                "at dt and at dt/2", goal_m=r.tolerance)}
+
+
+# result type -> (its variables, the variables where NaN means 'not computed')
+_VARIABLES = {
+    PaperResult: (_paper_vars, ("migration", "tip_pressure", "orbit_difference", "orbit_magnitude_spread")),
+    StaticsResult: (_statics_vars, ("statics_cog", "statics_difference")),
+    MappingResult: (_mapping_vars, ("direct_cog", "mapping_difference", "mapping_support_difference")),
+    GroundedResult: (_grounded_vars, ("grounded_cog", "grounded_shift", "grounded_margin_change",
+                                      "grounded_roll_pressure", "free_roll_pressure")),
+    TimestepResult: (_timestep_vars, ("half_dt_cog", "timestep_difference")),
+}
+
+
+def variables(result: Result) -> tuple[dict, tuple[str, ...]]:
+    """One check's numbers as netCDF variable specs, name -> (dims, values, attrs with units and
+    long_name), and the names of those that may hold NaN (not computed); nothing for a check
+    that raised."""
+    for kind, (make, allow_nan) in _VARIABLES.items():
+        if isinstance(result, kind):
+            return make(result), allow_nan
+    return {}, ()
+
+
+def to_dataset(results: Sequence[Result], levels: ArrayLike, faces: Sequence[int],
+               statics_pressures: Sequence[float]) -> tuple[xr.Dataset, list[str]]:
     """All checks' numbers and verdicts as one dataset, and the names of the variables that may
-    hold NaN. Verdicts are on the dimension `check`: status (string) and passed (1/0/-1)."""
-    rows = [r for c in checks for r in c.verdicts]
+    hold NaN. levels (P,) MPa, the sample faces (F,) of check 3 and the pressures (S,) MPa of
+    check 2 are coordinates. Verdicts are on the dimension `check`: status (string), passed
+    (1/0/-1) and the texts of `summary.verdicts`."""
+    rows = [row for r in results for row in summary.verdicts(r)]
     data, allow = {}, []
-    for c in checks:
-        data.update(c.data)
-        allow += list(c.allow_nan)
+    for r in results:
+        more, nan = variables(r)
+        data.update(more)
+        allow += list(nan)
     data["passed"] = datasets.var(("check",), np.array([1 if r.status == PASS else 0 if r.status == FAIL else -1
-                                                for r in rows], np.int8), "1",
-                          "1: passed, 0: failed, -1: not evaluated")
+                                                        for r in rows], np.int8), "1",
+                                  "1: passed, 0: failed, -1: not evaluated")
     for key in ("statement", "measured", "reference", "status"):
         data[key] = (("check",), np.array([getattr(r, key) for r in rows], dtype=str),
                      {"long_name": {"statement": "what is checked", "measured": "measured value, with units",
@@ -32,7 +163,7 @@ def to_dataset(checks: Sequence[Check], levels, faces, statics_pressures) -> tup
     coords = {
         "check": ("check", np.array([r.id for r in rows], dtype=str), {"long_name": "check number"}),
         "contact": ("contact", np.array(CONTACTS), {"long_name": "contact case"}),
-        "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "actuator pair number"}),
+        "pair": ("pair", np.arange(1, topo.N_PAIRS + 1), {"units": "1", "long_name": "actuator pair number"}),
         "pressure": ("pressure", np.asarray(levels, float), {"units": "MPa", "long_name": "muscle pressure"}),
         "statics_pressure": ("statics_pressure", np.asarray(statics_pressures, float),
                              {"units": "MPa", "long_name": "pressure of the statics check"}),
@@ -50,43 +181,47 @@ def to_dataset(checks: Sequence[Check], levels, faces, statics_pressures) -> tup
     return ds, [a for a in allow if a in ds]
 
 
-def summary_tables(checks: Sequence[Check]) -> list[tuple[str, list[str], list[list[str]]]]:
-    rows = [[r.id, r.statement, r.measured, r.reference, r.status.upper()] for c in checks for r in c.verdicts]
+# ------------------------------------------------------------------------ summary
+
+def summary_tables(results: Sequence[Result]) -> list[summary.Table]:
+    """The verdict table of every check, then the checks' extra tables: (title, header, rows)."""
+    rows = [[r.id, r.statement, r.measured, r.reference, r.status.upper()]
+            for res in results for r in summary.verdicts(res)]
     tables = [("Checks", ["#", "statement", "measured", "paper / goal", "verdict"], rows)]
-    for c in checks:
-        tables += list(c.tables)
+    for res in results:
+        tables += summary.tables(res)
     return tables
 
 
-def _counts(checks: Sequence[Check]) -> str:
-    rows = [r for c in checks for r in c.verdicts]
-    n = {s: sum(r.status == s for r in rows) for s in (PASS, FAIL, SKIP)}
-    return f"{n[PASS]} of {len(rows)} checks passed, {n[FAIL]} failed, {n[SKIP]} not evaluated."
+def _counts(results: Sequence[Result]) -> str:
+    st = [s for r in results for s in r.status.values()]
+    n = {s: st.count(s) for s in (PASS, FAIL, SKIP)}
+    return f"{n[PASS]} of {len(st)} checks passed, {n[FAIL]} failed, {n[SKIP]} not evaluated."
 
 
-def summary_markdown(checks: Sequence[Check], note: str = "") -> str:
+def summary_markdown(results: Sequence[Result], note: str = "") -> str:
     """The summary as Markdown: the verdict table and the per-pair tables."""
     esc = lambda s: str(s).replace("|", "\\|").replace("\n", " ")
-    out = ["# Validation of the kinematic workspace", "", _counts(checks)]
+    out = ["# Validation of the kinematic workspace", "", _counts(results)]
     if note:
         out += ["", note]
-    for title, header, rows in summary_tables(checks):
+    for title, header, rows in summary_tables(results):
         out += ["", f"## {title}", "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
         out += ["| " + " | ".join(esc(x) for x in row) + " |" for row in rows]
     return "\n".join(out) + "\n"
 
 
-def summary_html(checks: Sequence[Check], note: str = "") -> str:
+def summary_html(results: Sequence[Result], note: str = "") -> str:
     """The summary as a self-contained HTML page (for the Snakemake report)."""
     colour = {PASS.upper(): "#1a7f37", FAIL.upper(): "#cf222e", SKIP.upper(): "#9a6700"}
     parts = ["<!doctype html><html><head><meta charset='utf-8'><title>Validation</title><style>",
              "body{font-family:sans-serif;font-size:14px;margin:1em}table{border-collapse:collapse;"
              "margin-bottom:1.5em}td,th{border:1px solid #ccc;padding:4px 8px;vertical-align:top;"
              "text-align:left}th{background:#f3f3f3}", "</style></head><body>",
-             "<h1>Validation of the kinematic workspace</h1>", f"<p>{html.escape(_counts(checks))}</p>"]
+             "<h1>Validation of the kinematic workspace</h1>", f"<p>{html.escape(_counts(results))}</p>"]
     if note:
         parts.append(f"<p>{html.escape(note)}</p>")
-    for title, header, rows in summary_tables(checks):
+    for title, header, rows in summary_tables(results):
         parts.append(f"<h2>{html.escape(title)}</h2><table><tr>"
                      + "".join(f"<th>{html.escape(h)}</th>" for h in header) + "</tr>")
         for row in rows:
@@ -100,12 +235,22 @@ def summary_html(checks: Sequence[Check], note: str = "") -> str:
     return "\n".join(parts) + "\n"
 
 
-def run_stage(cfg: Mapping, nominal_paths, workspace_path, nc_path, md_path, html_path=None) -> list[Path]:
-    """The validate stage, files to files: read the pipeline's nominal CoG files and workspace,
-    run every check, write validation.nc (every number, with units), the Markdown summary and,
-    if `html_path` is given, the HTML summary for the report. Failed checks do not raise."""
-    nominals = {}
-    prov = {}
+# -------------------------------------------------------------------------- stage
+
+def _log(result: Result) -> None:
+    for row in summary.verdicts(result):
+        print(f"  {row.id} {row.status}: {row.measured}", flush=True)
+
+
+def run_stage(cfg: Mapping, nominal_paths: Sequence[str | os.PathLike],
+              workspace_path: str | os.PathLike | None, nc_path: str | os.PathLike,
+              md_path: str | os.PathLike, html_path: str | os.PathLike | None = None) -> list[Path]:
+    """The validate stage, files to files: read the pipeline's nominal CoG files
+    (results/nominal/{contact}.nc) and workspace (results/workspace.nc), run every check with the
+    resolved configuration `cfg` (sections params, sim, sweep, nominal, validate), write
+    validation.nc (every number, with units), the Markdown summary and, if `html_path` is given,
+    the HTML summary for the report. Failed checks do not raise. Returns the paths written."""
+    nominals, prov = {}, {}
     for p in nominal_paths:
         ds = datasets.read(p)
         nominals[str(ds.attrs["contact"])] = ds
@@ -114,17 +259,17 @@ def run_stage(cfg: Mapping, nominal_paths, workspace_path, nc_path, md_path, htm
     if workspace_path:
         prov.update(datasets.provenance_config(workspace_path))
     prov.update(cfg)
-    checks = run_checks(cfg, nominals, workspace)
-    v = cfg["validate"]
-    ds, allow = to_dataset(checks, _levels(nominals), v["faces"], v["statics_pressures"])
+    setup, settings = sweep_setup(cfg), check_settings(cfg)
+    results = run_checks(params_from_config(cfg), setup, nominals, workspace, settings, on_result=_log)
+    ds, allow = to_dataset(results, common_levels(nominals), settings.faces, settings.statics_pressures)
     note = ("Every number, with units: validation.nc. Sweeps: "
-            f"{', '.join(f'{float(p):g}' for p in cfg['sweep']['levels'])} MPa held {cfg['sweep']['hold']:g} s, "
-            f"{cfg['sweep']['mode']} mode, dt {cfg['sim']['dt']:g} s, nominal = mean after the first "
-            f"{cfg['nominal']['discard']:g} s of each level.")
+            f"{', '.join(f'{p:g}' for p in setup.levels)} MPa held {setup.hold:g} s, "
+            f"{setup.mode} mode, dt {setup.dt:g} s, nominal = mean after the first "
+            f"{setup.discard:g} s of each level.")
     paths = [datasets.write(ds, nc_path, prov, "Validation of the workspace against the paper, statics, "
                             "symmetry, the grounded mode and a halved time step", stage="validate",
                             allow_nan=allow),
-             datasets.write_text(md_path, summary_markdown(checks, note))]
+             datasets.write_text(md_path, summary_markdown(results, note))]
     if html_path:
-        paths.append(datasets.write_text(html_path, summary_html(checks, note)))
+        paths.append(datasets.write_text(html_path, summary_html(results, note)))
     return paths

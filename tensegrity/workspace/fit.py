@@ -9,11 +9,16 @@ inside the valid range. Evaluation needs numpy only (no sklearn, no pickle).
 """
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 from numpy.polynomial import Polynomial
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from sklearn.pipeline import Pipeline
 
 # scikit-learn and scipy are imported where curves are fitted, so that evaluating an exported
 # curve (evaluate, from_dict, arrays_to_curves) needs numpy only.
@@ -57,7 +62,7 @@ class Curve:
         return evaluate(self, pressure)
 
 
-def evaluate(curve: Curve | Mapping, pressure) -> np.ndarray:
+def evaluate(curve: Curve | Mapping, pressure: ArrayLike) -> np.ndarray:
     """Value at `pressure` (any shape, MPa), same shape; `curve` is a Curve or a mapping with
     `breaks` and `coefs` (e.g. from JSON; trailing NaN padding is ignored)."""
     b = np.asarray(curve.breaks if isinstance(curve, Curve) else curve["breaks"], float).ravel()
@@ -120,8 +125,9 @@ def _export(name: str, est, p: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]
     return "spline", spl.t[k:k + m + 1].copy(), coefs
 
 
-def fit_curve(pressure, values, max_degree: int = 3, spline_knots=(3, 4), folds: int = 5,
-              tie_rtol: float = TIE_RTOL, return_model: bool = False):
+def fit_curve(pressure: ArrayLike, values: ArrayLike, max_degree: int = 3,
+              spline_knots: Iterable[int] = (3, 4), folds: int = 5, tie_rtol: float = TIE_RTOL,
+              return_model: bool = False) -> Curve | tuple[Curve, Pipeline]:
     """Fit value(pressure): pressure (n,) MPa, values (n,) (e.g. CoG in m) -> Curve.
 
     CV: points sorted by pressure go to fold (rank mod folds) (interleaved, deterministic; leave-
@@ -159,7 +165,7 @@ def fit_curve(pressure, values, max_degree: int = 3, spline_knots=(3, 4), folds:
     return (curve, est) if return_model else curve
 
 
-def fit_pairs(pressure, cog, **opts) -> list[list[Curve]]:
+def fit_pairs(pressure: ArrayLike, cog: ArrayLike, **opts: Any) -> list[list[Curve]]:
     """Curves for cog (npair, n, 3) m against pressure (n,) MPa -> curves[pair-1][axis]."""
     cog = np.asarray(cog, dtype=float)
     if cog.ndim != 3 or cog.shape[2] != 3:
@@ -191,7 +197,7 @@ def from_dict(d: Mapping) -> Curve:
                  np.nan if cv is None else cv, d["model"])
 
 
-def curves_to_arrays(curves) -> dict[str, np.ndarray]:
+def curves_to_arrays(curves: Sequence[Sequence[Curve]]) -> dict[str, np.ndarray]:
     """curves[pair][axis] -> arrays with dims ARRAY_DIMS; breaks/coefs padded with NaN to the
     most pieces, coefs left-padded with zeros (highest powers) to the highest degree."""
     flat = [c for row in curves for c in row]

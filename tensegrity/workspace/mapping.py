@@ -1,9 +1,10 @@
 """Map the canonical workspaces to all 20 faces with the symmetry group (paper III.A)."""
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..physics import frames, topology as topo
 from ..physics import symmetry as sym
@@ -23,14 +24,14 @@ def face_map(face: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return pair_src, corner_src, np.array([np.linalg.det(s.matrix), 1.0, 1.0])
 
 
-def map_face(face: int, cog: np.ndarray, support: np.ndarray):
+def map_face(face: int, cog: np.ndarray, support: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Workspace of `face` from the canonical one of its kind: cog (12, P, 3) and support
     (12, P, 3, 3) indexed by 0-based canonical pair -> the same for `face`'s pairs."""
     pair_src, corner_src, diag = face_map(face)
     return cog[pair_src] * diag, support[pair_src][:, :, corner_src] * diag
 
 
-def all_pairs(pairs, values: np.ndarray) -> np.ndarray:
+def all_pairs(pairs: ArrayLike, values: np.ndarray) -> np.ndarray:
     """`values` (n, ...) of the swept 1-based `pairs` (n,) spread over all 12 pairs (12, ...),
     NaN for the pairs that were not swept."""
     values = np.asarray(values, float)
@@ -39,7 +40,18 @@ def all_pairs(pairs, values: np.ndarray) -> np.ndarray:
     return out
 
 
-def map_workspace(levels, canonical: Mapping[str, tuple]) -> dict[str, np.ndarray]:
+def same_levels(levels: Iterable[ArrayLike]) -> np.ndarray:
+    """The pressure levels (P,) MPa shared by every contact case in `levels` (a sequence of
+    (P,) arrays); ValueError if there is none or they differ."""
+    levels = [np.asarray(lv, float) for lv in levels]
+    if not levels:
+        raise ValueError("no nominal dataset given")
+    if any(not np.array_equal(lv, levels[0]) for lv in levels[1:]):
+        raise ValueError("the contact cases were swept at different pressure levels")
+    return levels[0]
+
+
+def map_workspace(levels: ArrayLike, canonical: Mapping[str, tuple]) -> dict[str, np.ndarray]:
     """The workspace of all 20 faces from the canonical contact cases.
 
     levels (P,) MPa; canonical maps 'equilateral'/'isosceles' to (pairs (n,), cog (n, P, 3) m,

@@ -1,12 +1,16 @@
 """Nominal CoG: the average of the CoG over the samples of each pressure level (paper III.A)."""
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..physics import frames
 
 
-def nominal(t, level, cog, support, n_levels: int, hold: float, discard: float = 0.0):
+def nominal(t: ArrayLike, level: ArrayLike, cog: np.ndarray, support: np.ndarray, n_levels: int,
+            hold: float, discard: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Average one sweep per level.
 
     t (T,) s; level (T,) index of the level held at each sample (-1 while settling);
@@ -30,7 +34,7 @@ def nominal(t, level, cog, support, n_levels: int, hold: float, discard: float =
     return out_c, out_s, out_t, margin
 
 
-def first_roll(level, on_face, n_levels: int) -> int:
+def first_roll(level: ArrayLike, on_face: ArrayLike, n_levels: int) -> int:
     """Index of the first level at whose end the robot no longer stands on its contact face
     (on_face False at the level's last sample: a pressure step can make the feet hop, which
     is not a roll), or n_levels if it never left it (always so in the free mode)."""
@@ -42,7 +46,7 @@ def first_roll(level, on_face, n_levels: int) -> int:
     return n_levels
 
 
-def mask_after_roll(levels, k: int, tip: float, *arrays: np.ndarray) -> float:
+def mask_after_roll(levels: Sequence[float] | np.ndarray, k: int, tip: float, *arrays: np.ndarray) -> float:
     """A grounded robot that rolled off its face at level index `k` (first_roll): from that
     level on the numbers are not of this face any more, so `arrays` (P, ...) become NaN in
     place, and the roll counts as the tip. Returns the tipping pressure (MPa): `tip` if the

@@ -1,10 +1,13 @@
 """Workspace queries from the exported curves: the nominal CoG and margin of any face, pair and
-pressure (design.md section 5: results/curves/curves.json and results/workspace.nc)."""
+pressure (docs/design.md §5: results/curves/curves.json and results/workspace.nc)."""
 from __future__ import annotations
 
 import json
+import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -12,6 +15,9 @@ from ..io.datasets import strut_length
 from . import fit
 from ..physics import frames, topology as topo
 from . import mapping
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 AXES = ("x", "y", "z")
 
@@ -30,12 +36,13 @@ class Answer:
     source_pair: int
 
 
-def load_curves(path) -> dict:
+def load_curves(path: str | os.PathLike) -> dict:
     """The curves document written by the workflow (results/curves/curves.json)."""
     return json.loads(Path(path).read_text())
 
 
-def curve_cog(curves: dict, face, pair, pressure: float) -> tuple[np.ndarray, str, int]:
+def curve_cog(curves: dict, face: int | Sequence[int], pair: int,
+              pressure: float) -> tuple[np.ndarray, str, int]:
     """CoG (3,) m of `pair` at `pressure` MPa in the support frame of `face`, from the fitted
     curve of the canonical face of its kind mapped by symmetry."""
     face, pair = topo.face_number(face), topo.check_pair(pair)
@@ -54,7 +61,7 @@ def curve_cog(curves: dict, face, pair, pressure: float) -> tuple[np.ndarray, st
     return cog, kind, src
 
 
-def support_at(workspace, face: int, pair: int, pressure: float) -> np.ndarray:
+def support_at(workspace: xr.Dataset, face: int, pair: int, pressure: float) -> np.ndarray:
     """Deformed support triangle (3, 3) m interpolated linearly in pressure from workspace.nc,
     starting from the symmetric triangle at 0 MPa."""
     levels = workspace["pressure"].values
@@ -65,7 +72,8 @@ def support_at(workspace, face: int, pair: int, pressure: float) -> np.ndarray:
     return np.stack([[np.interp(pressure, p, s[:, c, a]) for a in range(3)] for c in range(3)])
 
 
-def query(curves: dict, workspace, face, pair, pressure: float) -> Answer:
+def query(curves: dict, workspace: xr.Dataset, face: int | Sequence[int], pair: int,
+          pressure: float) -> Answer:
     """Nominal CoG, deformed triangle and margin of `pair` at `pressure` MPa on `face`."""
     face, pair = topo.face_number(face), topo.check_pair(pair)
     cog, kind, src = curve_cog(curves, face, pair, float(pressure))

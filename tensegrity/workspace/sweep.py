@@ -1,9 +1,11 @@
 """Pressure sweeps of the actuator pairs on a contact face (paper III.A)."""
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..physics import dynamics as d
 from ..physics import frames, topology as topo
@@ -37,14 +39,14 @@ class Sweep:
 
 def setup(params: Params, mode: str) -> tuple[Params, Terrain]:
     """Parameters and terrain of a sweep mode: 'free' (no gravity, no ground: the paper's
-    assumption, design.md section 3) or 'grounded' (gravity, flat ground, friction)."""
+    assumption, docs/design.md §3) or 'grounded' (gravity, flat ground, friction)."""
     if mode not in MODES:
         raise ValueError(f"unknown sweep mode {mode!r}: use one of {MODES}")
     return (params.replace(gravity=0.0), Terrain.none()) if mode == "free" else (params, Terrain.flat())
 
 
-def run(params: Params, face, pairs, levels, hold: float, settle: float = 0.0, mode: str = "free",
-        dt: float = 1e-4, record_every: int = 10) -> Sweep:
+def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, levels: ArrayLike, hold: float,
+        settle: float = 0.0, mode: str = "free", dt: float = 1e-4, record_every: int = 10) -> Sweep:
     """Stand the robot on `face`, apply the staircase `levels` (MPa, each held `hold` s after
     `settle` s at zero) to each pair in `pairs` (one robot each, batched)."""
     face = topo.face_number(face)
@@ -66,7 +68,7 @@ def run(params: Params, face, pairs, levels, hold: float, settle: float = 0.0, m
                  cog, support, nodes, level, resting == face, resting)
 
 
-def resting_faces(nodes: np.ndarray, terrain: Terrain, radius) -> np.ndarray:
+def resting_faces(nodes: np.ndarray, terrain: Terrain, radius: float | np.ndarray) -> np.ndarray:
     """Face (B, T) each robot rests on, 0 for none, for node positions (B, T, 12, 3) m: the
     contact rule `contact.resting_face` with a tolerance of one contact radius (m, scalar or
     (B,))."""

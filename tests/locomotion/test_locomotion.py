@@ -1,4 +1,4 @@
-"""tensegrity.locomotion.core: workspace lookup, planner, rolls and runs (issue 4, items 2-4).
+"""tensegrity.locomotion: workspace lookup, planner, rolls and runs (issue 4, items 2-4).
 
 The workspace here is computed once per session by the independent static solver
 (tensegrity.physics.statics) at 0.8..4.8 MPa; it agrees with the dynamic free-mode workspace of the
@@ -16,8 +16,8 @@ from tensegrity.io import datasets
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import frames, topology as topo
 from tensegrity import cli
-from tensegrity.locomotion import core as lo
-from tensegrity.locomotion import demos as lio
+from tensegrity import locomotion as lo
+from tensegrity.io import formats
 from tensegrity.workspace import mapping
 from tensegrity.physics import statics
 from tensegrity.physics.params import Params
@@ -89,7 +89,7 @@ def outward(nodes, face, edge):
 # ------------------------------------------------------------------------- workspace, plan
 
 def test_workspace_file_round_trip(ws, ws_path):
-    back = lo.Workspace.load(ws_path)
+    back = formats.read_workspace(ws_path)
     assert np.array_equal(back.levels, ws.levels)
     assert np.allclose(back.cog, ws.cog, atol=0) and np.allclose(back.support, ws.support, atol=0)
     assert back.max_pressure == 4.8
@@ -111,7 +111,7 @@ def test_prediction_on_a_slope_moves_the_projection_downhill_by_h_tan(ws):
     flat = lo.predict(ws, EQUI, standing(EQUI), [(10,)])
     slope = lo.predict(ws, EQUI, standing(EQUI, Terrain.slope(angle)), [(10,)])
     h = ws.cog[EQUI - 1, 9, :, 2]
-    shift = np.linalg.norm(slope.local[0, 1:] - flat.local[0, 1:], axis=-1)
+    shift = np.linalg.norm(slope.projection_2d[0, 1:] - flat.projection_2d[0, 1:], axis=-1)
     assert np.allclose(shift, h * math.tan(math.radians(angle)), rtol=1e-9)
 
 
@@ -196,12 +196,12 @@ def test_plan_bad_input(ws):
 
 def test_settings_are_checked():
     with pytest.raises(ValueError, match="ramp_rate"):
-        lo.Settings(ramp_rate=-1.0)
+        lo.RollSettings(ramp_rate=-1.0)
     with pytest.raises(ValueError, match="whole number of time steps"):
-        lo.Settings(interval=0.00015)
+        lo.RollSettings(interval=0.00015)
     with pytest.raises(ValueError, match="max_rolls"):
-        lo.Settings(max_rolls=2.5)
-    assert lo.Settings.from_config({"max_rolls": 7, "goal_distance": 2.0}, 5e-5).max_rolls == 7
+        lo.RollSettings(max_rolls=2.5)
+    assert lo.RollSettings.from_config({"max_rolls": 7, "goal_distance": 2.0}, 5e-5).max_rolls == 7
 
 
 # ------------------------------------------------------------------------- rolling (slower)
@@ -227,17 +227,35 @@ def test_paper_experiment(paper):
 
 def test_run_dataset_round_trip(paper, tmp_path):
     terrain = Terrain.flat()
-    path = datasets.write(lio.run_dataset(paper, terrain, "paper"), tmp_path / "paper.nc", {},
-                          "paper run", allow_nan=["planned_pressure", "tip_pressure", "goal"])
+    path = datasets.write(formats.run_dataset(paper, terrain, "paper"), tmp_path / "paper.nc", {},
+                          "paper run", allow_nan=formats.RUN_ALLOW_NAN)
     ds = datasets.read(path)
     assert list(ds["faces"].values) == [EQUI, ISO, NEXT]
     assert ds["step_pair"].values.tolist() == [[10, 0], [11, 0]]
     assert ds["tip_pressure"].values == pytest.approx([st.used.tip_pressure for st in paper.steps])
     assert ds.attrs["outcome"] == "arrived"
     assert ds["nodes"].shape == (len(paper.record.t), 12, 3)
-    back = lio.terrain_from_dataset(ds)
+    back = formats.terrain_from_dataset(ds)
     assert back.kind == "plane" and back.height(1.0, 2.0) == terrain.height(1.0, 2.0)
 
+
+
+def test_locomotion_run_stage_writes_the_paper_run(paper, ws_path, tmp_path, capsys):
+    """stages.locomotion_run (the workflow's rule): the workspace file in, the run dataset
+    out, with the stage's configuration merged over the workspace's provenance."""
+    from tensegrity import stages
+    from tensegrity.io import config
+    cfg = config.load()
+    cfg = {k: cfg[k] for k in ("params", "sim", "locomotion")}
+    out = stages.locomotion_run(cfg, "paper", ws_path, tmp_path / "paper.nc")
+    ds = datasets.read(out)
+    assert ds.attrs["outcome"] == "arrived" and ds.attrs["run"] == "paper"
+    assert list(ds["faces"].values) == [EQUI, ISO, NEXT]
+    assert ds["step_pair"].values.tolist() == [[10, 0], [11, 0]]
+    assert datasets.provenance_config(ds)["locomotion"]["goal_distance"] == cfg["locomotion"]["goal_distance"]
+    assert "run paper: arrived" in capsys.readouterr().out
+    with pytest.raises(ValueError, match="unknown locomotion run"):
+        stages.locomotion_run(cfg, "moon", ws_path, tmp_path / "moon.nc")
 
 @pytest.fixture(scope="module")
 def flat_run(ws):
@@ -255,7 +273,7 @@ def test_roll_to_a_goal_on_flat_ground(flat_run):
 
 
 def test_runs_are_deterministic_and_batches_equal_single_runs(ws, flat_run):
-    s = lo.Settings(max_rolls=2)
+    s = lo.RollSettings(max_rolls=2)
     single = lo.roll_to(ws, (1.2, 0.7), DAMPED, settings=s)
     assert np.array_equal(single.record.nodes, flat_run.record.nodes[:len(single.record.t)])
     both = lo.roll_many(ws, [(1.2, 0.7), (-0.4, -1.0)], DAMPED, settings=s)
@@ -274,7 +292,7 @@ def test_stuck_when_the_workspace_cannot_roll_the_robot(ws):
     """A workspace swept only to 1.6 MPa rolls nothing off (9,10,12): the run stops "stuck"
     after trying max_attempts candidates, each escalated to 1.6 MPa, and says so."""
     low = lo.Workspace.from_arrays(LEVELS[:2], ws.cog[:, :, :2], ws.support[:, :, :2])
-    run = lo.roll_to(low, (2.0, 0.0), DAMPED, settings=lo.Settings(max_attempts=2, combine=False))
+    run = lo.roll_to(low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(max_attempts=2, combine=False))
     assert run.outcome == "stuck"
     assert len(run.steps) == 1 and len(run.steps[0].attempts) == 2
     assert all(a.peak_pressure == pytest.approx(1.6) and not a.rolled for a in run.steps[0].attempts)
@@ -283,7 +301,7 @@ def test_stuck_when_the_workspace_cannot_roll_the_robot(ws):
 
 def test_leaving_the_terrain_is_an_outcome(ws):
     terrain = Terrain.random(seed=3, size=1.2, amplitude=0.002)
-    run = lo.roll_to(ws, (0.55, 0.0), DAMPED, terrain, settings=lo.Settings(arrive_tolerance=0.01))
+    run = lo.roll_to(ws, (0.55, 0.0), DAMPED, terrain, settings=lo.RollSettings(arrive_tolerance=0.01))
     assert run.outcome == "off_terrain"
     assert "no terrain under it" in run.message
 
@@ -345,9 +363,14 @@ def test_state_figures_show_the_projection_inside_and_outside(tmp_path):
 
 
 def test_path_figure_and_animation_of_a_run(paper, tmp_path):
-    from tensegrity.render import locomotion as rl
-    ds = lio.run_dataset(paper, Terrain.flat(), "paper")
-    out = rl.fig_path(ds, tmp_path / "top.png", "top")
-    assert out["rolls"] == 2 and {"cog track", "contact 1", "contact 2"} <= set(out["actors"])
-    anim = rl.animate(ds, tmp_path / "run.gif", fps=5, speed=10.0, size=(320, 240))
+    from tensegrity.render import runs as rr
+    ds = formats.run_dataset(paper, Terrain.flat(), "paper")
+    terrain, t = formats.terrain_from_dataset(ds), ds["time"].values
+    step_end = np.searchsorted(t, ds["t_end"].values)  # each step's last sample
+    assert np.array_equal(t[step_end], ds["t_end"].values)
+    out = rr.fig_path(ds["nodes"].values, terrain, tmp_path / "top.png", "paper",
+                      faces=ds["next_face"].values, step_end=step_end, goal=ds["goal"].values)
+    assert out["contacts"] == 2 and {"cog track", "contact 1", "contact 2"} <= set(out["actors"])
+    anim = rr.animate(ds["nodes"].values, t, ds["pressure"].values, terrain, tmp_path / "run.gif",
+                      fps=5, speed=10.0, size=(320, 240))
     assert anim["frames"] >= 5 and (tmp_path / "run.gif").stat().st_size > 10_000

@@ -1,4 +1,4 @@
-"""tensegrity.physics.contact: contact face, CoG projection along gravity, rolling edge (issue 4, item 1).
+"""tensegrity.physics.contact: contact face, CoG projection along gravity, rolling edge.
 
 Checked against geometry that is known in closed form: the symmetric robot's support margins
 (the in-radius of the equilateral face, S sqrt(6)/4 / (2 sqrt 3) = 88.4 mm for S = 0.5 m), the
@@ -44,7 +44,7 @@ def test_every_face_is_detected_and_stands(face):
 def test_equilateral_margin_is_the_in_radius():
     c = ct.analyse(standing(EQUI), Terrain.flat(), R)
     assert c.margin == pytest.approx(IN_RADIUS, abs=1e-12)
-    assert c.local == pytest.approx([0, 0], abs=1e-12)
+    assert c.projection_2d == pytest.approx([0, 0], abs=1e-12)
 
 
 @pytest.mark.parametrize("angle", [5.0, 10.0, 20.0])
@@ -91,7 +91,7 @@ def test_rolling_edge_and_past_edge_cross_zero_at_the_tipping_angle(face, edge):
     h = c0[2] - R
     dist = -ct.past_edge(p0, face, edge, 0.5)
     k = [topo.edge_nodes(face, j) for j in range(3)].index(edge)
-    assert dist == pytest.approx(frames.edge_distances(rest.local, rest.triangle)[k], abs=1e-12)
+    assert dist == pytest.approx(frames.edge_distances(rest.projection_2d, rest.support)[k], abs=1e-12)
     crit = math.degrees(math.atan2(dist, h))
     before, after = tipped(face, edge, crit - 1.0), tipped(face, edge, crit + 1.0)
     assert ct.past_edge(before, face, edge, 0.5) < 0 < ct.past_edge(after, face, edge, 0.5)

@@ -1,4 +1,4 @@
-"""Physics of the simulator (design.md section 3), tested as physics."""
+"""Physics of the simulator (docs/design.md §3), tested as physics."""
 from dataclasses import replace
 
 import numpy as np
@@ -108,7 +108,7 @@ def test_standing_robot_does_not_creep(slope):
     """No creep: over 10 s the feet do not slide and the mean CoG does not drift along the
     ground (1 mm). The body itself keeps breathing vertically by a few mm at about 1 Hz: the
     soft mechanism mode, loaded by gravity from the symmetric start and barely damped by the
-    cables (design.md section 3), so positions are compared as 1 s means."""
+    cables (docs/design.md §3), so positions are compared as 1 s means."""
     params = Params()
     terrain = Terrain.slope(slope, azimuth_deg=30.0) if slope else Terrain.flat()
     s = d.stand_on(params, EQUI, terrain)

@@ -1,4 +1,4 @@
-"""Bad input and blown-up runs stop loudly (issue 2, item 5)."""
+"""Bad input and blown-up runs stop loudly."""
 from dataclasses import replace
 
 import numpy as np

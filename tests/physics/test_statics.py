@@ -1,5 +1,5 @@
 """Static-equilibrium solver (tensegrity.physics.statics): symmetric state, gradient, force balance,
-and the tipping pressures of design.md section 4."""
+and the tipping pressures of docs/design.md §4."""
 import math
 
 import numpy as np

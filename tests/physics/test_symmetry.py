@@ -1,4 +1,4 @@
-"""The symmetry group computed from the geometry (design.md section 1)."""
+"""The symmetry group computed from the geometry (docs/design.md §1)."""
 import numpy as np
 
 from tensegrity.physics import topology as topo

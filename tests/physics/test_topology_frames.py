@@ -1,4 +1,4 @@
-"""Topology and frames (design.md sections 1-2)."""
+"""Topology and frames (docs/design.md §1-2)."""
 import numpy as np
 import pytest
 

@@ -1,12 +1,13 @@
-"""Rendered figures (design.md section 7): the scene's contents and that each PNG is a real,
-non-blank picture of the expected size. Synthetic inputs keep the file fast (a few s)."""
+"""The paper's figures (render.paper, docs/design.md §7): the scene's contents and that each PNG
+is a real, non-blank picture of the expected size. Synthetic inputs keep the file fast (a few s)."""
 import numpy as np
 import pytest
 import pyvista as pv
 from matplotlib.colors import rgb_to_hsv
 
 from tensegrity.physics import topology as topo
-from tensegrity.render import scene as render
+from tensegrity.render import paper as render
+from tensegrity.render.scene import AXIS_COLOURS, PAIR_COLOURS, STRUT_COLOURS, WINDOW
 
 
 def _pixels(path) -> np.ndarray:
@@ -18,7 +19,7 @@ def _pixels(path) -> np.ndarray:
 
 def _check_png(path, min_colours: int = 30) -> np.ndarray:
     px = _pixels(path)
-    assert px.shape == (render.WINDOW[1], render.WINDOW[0], 3)
+    assert px.shape == (WINDOW[1], WINDOW[0], 3)
     assert px.std() > 15  # far from blank
     assert (px.min(axis=2) < 200).mean() > 0.01  # >1 % of the picture is drawn, not white
     assert (px == 255).all(axis=2).mean() > 0.3  # the background is white
@@ -46,7 +47,7 @@ def nodes():
 def test_fig1_robot_has_six_struts_24_cables_and_12_numbered_nodes(tmp_path, nodes):
     out = render.fig_robot(nodes, tmp_path / "fig1.png")
     assert out["path"] == str(tmp_path / "fig1.png")
-    assert out["size"] == render.WINDOW and out["title"].startswith("Fig. 1")
+    assert out["size"] == WINDOW and out["title"].startswith("Fig. 1")
     assert out["struts"] == 6 and out["cables"] == 24
     assert out["node_labels"] == [str(n) for n in range(1, 13)]
     assert out["highlighted"] == {} and out["pair_labels"] == []
@@ -54,7 +55,7 @@ def test_fig1_robot_has_six_struts_24_cables_and_12_numbered_nodes(tmp_path, nod
     assert sorted(struts) == sorted(f"strut {a + 1}-{b + 1}" for a, b in topo.STRUTS)
     assert {"cables", "nodes", "node labels"} <= set(out["actors"])
     px = _check_png(out["path"])
-    assert all(_has_colour(px, c) for c in render.STRUT_COLOURS)  # one colour per strut
+    assert all(_has_colour(px, c) for c in STRUT_COLOURS)  # one colour per strut
 
 
 def test_fig1_is_deterministic(tmp_path, nodes):
@@ -76,7 +77,7 @@ def test_fig4_highlights_the_pairs_cables_and_labels_them(tmp_path, nodes):
         assert all(v - 1 in topo.CABLES[c] for c in out["highlighted"][v])
     px = _check_png(out["path"])
     for v in pairs:
-        assert _has_colour(px, render.PAIR_COLOURS[v - 1]), f"pair #{v} colour not drawn"
+        assert _has_colour(px, PAIR_COLOURS[v - 1]), f"pair #{v} colour not drawn"
 
 
 def test_fig_robot_rejects_bad_input(tmp_path, nodes):
@@ -100,7 +101,7 @@ def test_fig5_support_frame(tmp_path, nodes):
             "cog"} <= set(out["actors"])
     assert len([a for a in out["actors"] if a.startswith("strut ")]) == 6
     px = _check_png(out["path"])
-    for c in render.AXIS_COLOURS.values():
+    for c in AXIS_COLOURS.values():
         assert _has_colour(px, c, count=20)
 
 
@@ -132,7 +133,7 @@ def test_fig6_cog_cloud(tmp_path):
     assert out["title"].startswith("Fig. 6") and "#10" in out["title"]
     assert out["samples"] == len(samples) and out["nominal"] == 6
     assert out["labels"] == ["0.4 MPa", "0.8 MPa", "1.2 MPa", "1.6 MPa", "2 MPa", "2.4 MPa"]
-    assert out["triangle_edges"] >= 1  # the edge the CoG heads for is in view
+    assert out["support_edges"] >= 1  # the edge the CoG heads for is in view
     x0, x1, y0, y1 = out["view_mm"]  # the whole cloud is in the main view
     assert x0 <= 1e3 * samples[:, 0].min() and 1e3 * samples[:, 0].max() <= x1
     assert y0 <= 1e3 * samples[:, 1].min() and 1e3 * samples[:, 1].max() <= y1
@@ -140,7 +141,7 @@ def test_fig6_cog_cloud(tmp_path):
     assert {"cog samples", "nominal labels", "legend", "context triangle fill"} <= set(out["actors"])
     assert len([a for a in out["actors"] if a.startswith("nominal ring")]) == 6
     px = _check_png(out["path"])
-    for c in render._level_colours(6)[[0, -1]]:
+    for c in render.level_colours(6)[[0, -1]]:
         assert _has_colour(px, "#" + "".join(f"{int(round(255 * v)):02x}" for v in c))
 
 
@@ -168,7 +169,7 @@ def test_fig7_workspace(tmp_path):
     out = render.fig_workspace(curves, tri, tmp_path / "fig7.png", "Fig. 7 test",
                                tip_points=tips, corner_labels=[9, 12, 10])
     assert out["title"] == "Fig. 7 test"
-    assert out["curves"] == {v: 13 for v in range(1, 13)}
+    assert out["cog_paths"] == {v: 13 for v in range(1, 13)}
     assert out["tips"] == [9, 10, 12]
     assert set(out["labels"]) == {f"#{v}" for v in (4, 6, 7, 9, 10, 12)}
     assert set(out["zoom_labels"]) == {f"#{v}" for v in range(1, 13)}
@@ -180,7 +181,7 @@ def test_fig7_workspace(tmp_path):
     assert y0 <= 1e3 * tri[:, 1].min() and 1e3 * tri[:, 1].max() <= y1
     px = _check_png(out["path"])
     for v in (9, 10, 12):
-        assert _has_colour(px, render.PAIR_COLOURS[v - 1])
+        assert _has_colour(px, PAIR_COLOURS[v - 1])
 
 
 def test_fig7_rejects_unknown_pair(tmp_path):

@@ -1,5 +1,6 @@
-"""The validate stage (tensegrity.validation.checks): every check passes on a case where the claim holds
-and fails on one where it does not (a check that cannot fail is a defect)."""
+"""The validate stage (tensegrity.validation): every check passes on a case where the claim holds
+and fails on one where it does not (a check that cannot fail is a defect). The checks return
+numbers and statuses; `summary` words them and `report` writes them."""
 import re
 from pathlib import Path
 
@@ -13,8 +14,10 @@ from tensegrity.io import datasets
 from tensegrity.physics import frames, topology as topo
 from tensegrity.workspace import mapping
 from tensegrity.physics import statics
-from tensegrity.validation import checks as v
+from tensegrity.validation import checks, grounded, paper, summary
 from tensegrity.validation import report as validation_report
+from tensegrity.validation.common import FAIL, PASS, SKIP, CheckError, CheckSettings
+from tensegrity.validation.nominals import SweepSetup, full_nominal, simulate_nominal
 from tensegrity.physics.params import Params
 
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
@@ -41,8 +44,13 @@ def from_run(contact, face, run, levels, mode="free"):
     return nominal_dataset(contact, face, run.pairs, levels, run.cog, run.support, mode)
 
 
-def status(check, vid):
-    return next(r.status for r in check.verdicts if r.id == vid)
+def status(result, vid):
+    return result.status[vid]
+
+
+def measured(result, vid):
+    """The `measured` text of verdict `vid` of a check's result."""
+    return next(r.measured for r in summary.verdicts(result) if r.id == vid)
 
 
 # ------------------------------------------------------------------ 1. paper statements
@@ -77,54 +85,58 @@ def with_pair_data(ds, pair, from_pair):
 
 
 def test_paper_statements_hold_on_the_static_workspace(static_nominals):
-    chk = v.check_paper(static_nominals)
-    assert [r.status for r in chk.verdicts] == [v.PASS] * 5, chk.verdicts
-    tipp = chk.data["tip_pressure"][1]
+    chk = paper.check_paper(static_nominals)
+    assert list(chk.status.items()) == [(k, PASS) for k in ("1.1", "1.2", "1.3", "1.4", "1.5")], chk.status
+    tipp = chk.tip_pressure
     assert abs(tipp[0, 9] - 4.2) < 0.1 and 2.0 < tipp[1, 10] < 2.4
-    assert set(chk.data["tip_edge"][1][0, 9]) == {10, 12} and set(chk.data["tip_edge"][1][1, 10]) == {10, 11}
-    mig = chk.data["migration"][1][0]
-    assert set(np.argsort(-mig)[:3] + 1) == {9, 10, 12}
-    assert np.nanmax(chk.data["orbit_difference"][1]) < 1e-6  # statics is exactly symmetric
-    assert sorted(map(tuple, chk.data["orbit_pairs"][1])) == [(1, 8, 11), (2, 3, 5), (4, 6, 7), (9, 10, 12)]
+    assert set(chk.tip_edge[0, 9]) == {10, 12} and set(chk.tip_edge[1, 10]) == {10, 11}
+    assert set(np.argsort(-chk.migration[0])[:3] + 1) == {9, 10, 12} == set(chk.ranking[:3])
+    assert np.nanmax(chk.orbit_difference) < 1e-6  # statics is exactly symmetric
+    assert sorted(map(tuple, chk.orbit_pairs)) == [(1, 8, 11), (2, 3, 5), (4, 6, 7), (9, 10, 12)]
+    assert measured(chk, "1.2") == "#10: 4.21 MPa over edge 10-12 (standing on (9,10,12))"
 
 
 def test_wrong_ranking_fails(static_nominals):
     bad = dict(static_nominals, equilateral=with_pair_data(static_nominals["equilateral"], 9, 1))
-    chk = v.check_paper(bad)
-    assert status(chk, "1.1") == v.FAIL
-    assert status(chk, "1.5") == v.FAIL  # #9 no longer moves like #10 and #12
-    assert status(chk, "1.2") == v.PASS  # #10 itself is untouched
+    chk = paper.check_paper(bad)
+    assert status(chk, "1.1") == FAIL
+    assert status(chk, "1.5") == FAIL  # #9 no longer moves like #10 and #12
+    assert status(chk, "1.2") == PASS  # #10 itself is untouched
 
 
 def test_wrong_tip_edge_or_pressure_fails(static_nominals):
     eq = static_nominals["equilateral"]
-    chk = v.check_paper(dict(static_nominals, equilateral=with_pair_data(eq, 10, 12)))
-    assert status(chk, "1.2") == v.FAIL and "edge 10-12" not in chk.verdicts[1].measured
+    chk = paper.check_paper(dict(static_nominals, equilateral=with_pair_data(eq, 10, 12)))
+    assert status(chk, "1.2") == FAIL and "edge 10-12" not in measured(chk, "1.2")
     # the same data reported at 20 % higher pressures: #10 leaves at about 5 MPa, not 4.2
     scaled = {k: ds.assign_coords(pressure=ds["pressure"] * 1.2) for k, ds in static_nominals.items()}
-    chk = v.check_paper(scaled, ranking_pressure=2.4)
-    assert status(chk, "1.2") == v.FAIL and status(chk, "1.3") == v.PASS
+    chk = paper.check_paper(scaled, ranking_pressure=2.4)
+    assert status(chk, "1.2") == FAIL and status(chk, "1.3") == PASS
+    chk = paper.check_paper(scaled, ranking_pressure=9.0)
+    assert status(chk, "1.1") == SKIP and measured(chk, "1.1") == "9 MPa is outside the swept levels"
 
 
 def test_second_roll_must_cross_10_11_at_a_lower_pressure(static_nominals):
     iso = with_pair_data(static_nominals["isosceles"], 11, 1)  # #1 never tips the robot
-    chk = v.check_paper(dict(static_nominals, isosceles=iso))
-    assert status(chk, "1.3") == v.FAIL and status(chk, "1.4") == v.FAIL
-    chk = v.check_paper({"equilateral": static_nominals["equilateral"]})
-    assert status(chk, "1.3") == v.SKIP and status(chk, "1.4") == v.SKIP
-    assert status(chk, "1.2") == v.PASS
+    chk = paper.check_paper(dict(static_nominals, isosceles=iso))
+    assert status(chk, "1.3") == FAIL and status(chk, "1.4") == FAIL
+    assert measured(chk, "1.4") == "#11 never (up to 4.4 MPa), #10 4.21 MPa"
+    chk = paper.check_paper({"equilateral": static_nominals["equilateral"]})
+    assert status(chk, "1.3") == SKIP and status(chk, "1.4") == SKIP
+    assert measured(chk, "1.3") == "#11 not swept isosceles case not computed"
+    assert status(chk, "1.2") == PASS
 
 
 def test_orbit_compares_each_member_from_its_own_corner(static_nominals):
     """The members' CoGs in the one support frame are not 120 deg rotations of each other (the
     deformed triangle is not equilateral); seen from their own corners they coincide."""
     ds = static_nominals["equilateral"]
-    cog, sup, _ = v.full_nominal(ds)
-    diff, spread = v.orbit_spread(cog, sup, EQUI, (9, 10, 12))
+    cog, sup, _ = full_nominal(ds)
+    diff, spread = paper.orbit_spread(cog, sup, EQUI, (9, 10, 12))
     assert diff.max() < 1e-6 and spread.max() < 1e-6
     moved = cog.copy()
     moved[11, :, 0] += 2e-4  # #12 0.2 mm off
-    assert v.orbit_spread(moved, sup, EQUI, (9, 10, 12))[0].min() > 1.5e-4
+    assert paper.orbit_spread(moved, sup, EQUI, (9, 10, 12))[0].min() > 1.5e-4
 
 
 # ----------------------------------------------------------------------- 2. statics
@@ -132,30 +144,31 @@ def test_orbit_compares_each_member_from_its_own_corner(static_nominals):
 @pytest.fixture(scope="module")
 def free_run():
     """A short free-mode staircase of #10 and #4 on (9,10,12), averaged as the pipeline does."""
-    setup = v.SweepSetup(levels=(1.2, 2.4), hold=1.0)
-    return setup, v.simulate_nominal(FREE, EQUI, [10, 4], setup)
+    setup = SweepSetup(levels=(1.2, 2.4), hold=1.0)
+    return setup, simulate_nominal(FREE, EQUI, [10, 4], setup)
 
 
 def test_statics_check_passes_on_the_dynamic_nominal_and_fails_when_perturbed(free_run):
     setup, run = free_run
     nominals = {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}
-    chk = v.check_statics(P, nominals, [1.2, 2.4], 1e-4)
-    assert status(chk, "2") == v.PASS
-    diff = chk.data["statics_difference"][1]
+    chk = checks.check_statics(P, nominals, [1.2, 2.4], 1e-4)
+    assert status(chk, "2") == PASS
+    diff = chk.difference
     assert np.nanmax(diff) < 1e-4 and np.isfinite(diff[0, [3, 9]]).all() and np.isnan(diff[1]).all()
     cog = run.cog.copy()
     cog[1, 1, 0] += 2e-4  # #4 at 2.4 MPa, 0.2 mm off
     bad = {"equilateral": nominal_dataset("equilateral", EQUI, run.pairs, setup.levels, cog, run.support)}
-    chk = v.check_statics(P, bad, [1.2, 2.4], 1e-4)
-    assert status(chk, "2") == v.FAIL and "#4 at 2.4 MPa" in chk.verdicts[0].measured
+    chk = checks.check_statics(P, bad, [1.2, 2.4], 1e-4)
+    assert status(chk, "2") == FAIL and "#4 at 2.4 MPa" in measured(chk, "2")
 
 
 def test_statics_check_is_not_evaluated_off_the_levels_or_in_the_grounded_mode(free_run):
     setup, run = free_run
     nominals = {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}
-    assert status(v.check_statics(P, nominals, [3.0]), "2") == v.SKIP
-    grounded = {"equilateral": from_run("equilateral", EQUI, run, setup.levels, mode="grounded")}
-    assert status(v.check_statics(P, grounded, [2.4]), "2") == v.SKIP
+    assert status(checks.check_statics(P, nominals, [3.0]), "2") == SKIP
+    on_ground = {"equilateral": from_run("equilateral", EQUI, run, setup.levels, mode="grounded")}
+    chk = checks.check_statics(P, on_ground, [2.4])
+    assert status(chk, "2") == SKIP and "grounded mode" in measured(chk, "2")
 
 
 # ------------------------------------------------------------------ 3. mapping
@@ -163,10 +176,10 @@ def test_statics_check_is_not_evaluated_off_the_levels_or_in_the_grounded_mode(f
 @pytest.fixture(scope="module")
 def small_workspace():
     """The workspace of #10 and #11 at one level, mapped from both canonical faces."""
-    setup = v.SweepSetup(levels=(2.4,), hold=0.5)
+    setup = SweepSetup(levels=(2.4,), hold=0.5)
     full = {}
     for face in (EQUI, ISO):
-        run = v.simulate_nominal(FREE, face, [10, 11], setup)
+        run = simulate_nominal(FREE, face, [10, 11], setup)
         c, s = np.full((12, 1, 3), np.nan), np.full((12, 1, 3, 3), np.nan)
         c[[9, 10]], s[[9, 10]] = run.cog, run.support
         full[str(topo.FACE_TYPES[face - 1])] = (c, s)
@@ -181,9 +194,9 @@ def small_workspace():
 
 def test_mapping_check_passes_for_the_symmetry_map(small_workspace):
     setup, ws, _ = small_workspace
-    chk = v.check_mapping(FREE, ws, [1, 7, 9, 18], setup, 1e-4)
-    assert status(chk, "3") == v.PASS, chk.verdicts
-    d = chk.data["mapping_difference"][1]
+    chk = checks.check_mapping(FREE, ws, [1, 7, 9, 18], setup, 1e-4)
+    assert status(chk, "3") == PASS, summary.verdicts(chk)
+    d = chk.difference
     assert np.isfinite(d).sum() == 4 * 2 and np.nanmax(d) < 1e-9  # free dynamics are equivariant
 
 
@@ -193,16 +206,19 @@ def test_mapping_check_fails_for_a_wrong_map_or_a_small_sample(small_workspace):
     bad = ws.copy(deep=True)
     c, s = full["equilateral"]
     bad["cog"][0], bad["support"][0] = c, s
-    chk = v.check_mapping(FREE, bad, [1, 7, 9, 18], setup, 1e-4)
-    assert status(chk, "3") == v.FAIL and np.nanmax(chk.data["mapping_difference"][1][0]) > 1e-3
+    chk = checks.check_mapping(FREE, bad, [1, 7, 9, 18], setup, 1e-4)
+    assert status(chk, "3") == FAIL and np.nanmax(chk.difference[0]) > 1e-3
     # the right CoG but the triangle's corners in the wrong order
     bad = ws.copy(deep=True)
     bad["support"][6] = ws["support"].values[6][..., [1, 2, 0], :]  # face 7, (6,10,11)
-    chk = v.check_mapping(FREE, bad, [1, 7, 9, 18], setup, 1e-4)
-    assert status(chk, "3") == v.FAIL and np.nanmax(chk.data["mapping_difference"][1]) < 1e-9
-    assert np.nanmax(chk.data["mapping_support_difference"][1][1]) > 1e-2
-    chk = v.check_mapping(FREE, ws, [1, 9], setup, 1e-4)  # one face of each kind is too few
-    assert status(chk, "3") == v.FAIL and np.nanmax(chk.data["mapping_difference"][1]) < 1e-9
+    chk = checks.check_mapping(FREE, bad, [1, 7, 9, 18], setup, 1e-4)
+    assert status(chk, "3") == FAIL and np.nanmax(chk.difference) < 1e-9
+    assert np.nanmax(chk.support_difference[1]) > 1e-2
+    chk = checks.check_mapping(FREE, ws, [1, 9], setup, 1e-4)  # one face of each kind is too few
+    assert status(chk, "3") == FAIL and np.nanmax(chk.difference) < 1e-9
+    assert chk.kinds == {"equilateral": 1, "isosceles": 1} and chk.faces_with_data == 2
+    chk = checks.check_mapping(FREE, ws.assign_coords(pressure=[2.0]), [1, 9], setup, 1e-4)
+    assert status(chk, "3") == SKIP and measured(chk, "3") == "the workspace was swept at other levels"
 
 
 # ------------------------------------------------------------------ 4. grounded vs free
@@ -221,54 +237,72 @@ def _synthetic(shift, end_face, free_xy=(0.0, 0.0)):
 
 def test_compare_grounded_judges_the_shift_with_its_tolerance():
     args = _synthetic([1e-3, 0.0, -3e-3], [EQUI, EQUI])
-    out = v.compare_grounded(*args, tolerance=5e-3)
-    assert out["shift_ok"] and out["roll_ok"] and abs(out["in_plane_max"] - 1e-3) < 1e-12
-    assert not v.compare_grounded(*args, tolerance=5e-4)["shift_ok"]  # 1 mm is not under 0.5 mm
+    out = grounded.compare_grounded(*args, tolerance=5e-3)
+    assert out.shift_ok and out.roll_ok and abs(out.in_plane_max - 1e-3) < 1e-12
+    assert not grounded.compare_grounded(*args, tolerance=5e-4).shift_ok  # 1 mm is not under 0.5 mm
 
 
 def test_compare_grounded_flags_rolls_and_their_disagreement():
     # the robot rolls at the second level, where the free CoG is still inside: NaN + mismatch
-    out = v.compare_grounded(*_synthetic([0.0, 0.0, 0.0], [EQUI, ISO]), tolerance=5e-3)
-    assert out["rolled"].tolist() == [[False, True]] and np.isnan(out["shift"][0, 1]).all()
-    assert out["roll_pressure"][0] == 2.0 and out["roll_face"][0] == ISO and np.isnan(out["free_roll_pressure"][0])
-    assert not out["roll_ok"]
+    out = grounded.compare_grounded(*_synthetic([0.0, 0.0, 0.0], [EQUI, ISO]), tolerance=5e-3)
+    assert out.rolled.tolist() == [[False, True]] and np.isnan(out.shift[0, 1]).all()
+    assert out.roll_pressure[0] == 2.0 and out.roll_face[0] == ISO and np.isnan(out.free_roll_pressure[0])
+    assert not out.roll_ok
     # free CoG beyond edge 10-12 at both levels; the grounded robot rolls over it at once: agreement
     tri = frames.in_support_frame(topo.reference_nodes(), EQUI)[1]
     nodes = list(topo.FACES[EQUI - 1] + 1)
     mid = 0.5 * (tri[nodes.index(10), :2] + tri[nodes.index(12), :2])
-    out = v.compare_grounded(*_synthetic([0.0, 0.0, 0.0], [ISO, ISO], free_xy=1.2 * mid), tolerance=5e-3)
-    assert out["free_roll_face"][0] == ISO == out["roll_face"][0] and out["roll_ok"]
+    out = grounded.compare_grounded(*_synthetic([0.0, 0.0, 0.0], [ISO, ISO], free_xy=1.2 * mid), tolerance=5e-3)
+    assert out.free_roll_face[0] == ISO == out.roll_face[0] and out.roll_ok
     # ... but rolling onto another face is a disagreement
-    out = v.compare_grounded(*_synthetic([0.0, 0.0, 0.0], [10, 10], free_xy=1.2 * mid), tolerance=5e-3)
-    assert not out["roll_ok"]
+    out = grounded.compare_grounded(*_synthetic([0.0, 0.0, 0.0], [10, 10], free_xy=1.2 * mid), tolerance=5e-3)
+    assert not out.roll_ok
 
 
 def test_grounded_check_reports_where_the_robot_rolled():
     """A step to 2.4 MPa on #10 rolls the grounded robot onto (10,11,12) although the free CoG
     stays 19 mm inside: 4.2 fails, with the roll in the numbers; #1 stands and moves little."""
-    setup = v.SweepSetup(levels=(2.4,), hold=1.0)
-    run = v.simulate_nominal(FREE, EQUI, [10, 1], setup)
+    setup = SweepSetup(levels=(2.4,), hold=1.0)
+    run = simulate_nominal(FREE, EQUI, [10, 1], setup)
     nominals = {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}
-    chk = v.check_grounded(P, nominals, setup, settle=0.5, tolerance=5e-3)
-    assert status(chk, "4.2") == v.FAIL and "#10 rolls at 2.4 MPa onto (10,11,12)" in chk.verdicts[1].measured
-    assert status(chk, "4.1") == v.PASS
-    rolled = chk.data["grounded_rolled"][1]
-    assert rolled[0, 9, 0] == 1 and rolled[0, 0, 0] == 0
-    assert np.isnan(chk.data["grounded_shift"][1][0, 9]).all()
-    assert 0 < np.linalg.norm(chk.data["grounded_shift"][1][0, 0, 0, :2]) < 5e-3
-    assert status(v.check_grounded(P, nominals, setup, settle=0.5, tolerance=1e-5), "4.1") == v.FAIL
+    chk = grounded.check_grounded(P, nominals, setup, settle=0.5, tolerance=5e-3)
+    assert status(chk, "4.2") == FAIL and "#10 rolls at 2.4 MPa onto (10,11,12)" in measured(chk, "4.2")
+    assert status(chk, "4.1") == PASS
+    assert chk.rolled[0, 9, 0] and not chk.rolled[0, 0, 0]
+    assert np.isnan(chk.shift[0, 9]).all()
+    assert 0 < np.linalg.norm(chk.shift[0, 0, 0, :2]) < 5e-3
+    table = summary.tables(chk)[0][2]
+    assert [row[:2] for row in table] == [["(9,10,12)", "#1"], ["(9,10,12)", "#10"]]
+    assert table[1][2:] == ["n/a", "n/a", "n/a", "-", "2.4 -> (10,11,12)"]
+    assert status(grounded.check_grounded(P, nominals, setup, settle=0.5, tolerance=1e-5), "4.1") == FAIL
 
 
 # ------------------------------------------------------------------ 5. time step
 
 def test_timestep_check_passes_and_fails_when_perturbed():
-    setup = v.SweepSetup(levels=(2.4,), hold=0.5)
-    run = v.simulate_nominal(FREE, EQUI, [10], setup)
-    ok = v.check_timestep(FREE, {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}, setup, 1e-4)
-    assert status(ok, "5") == v.PASS and np.nanmax(ok.data["timestep_difference"][1]) < 5e-5
+    setup = SweepSetup(levels=(2.4,), hold=0.5)
+    run = simulate_nominal(FREE, EQUI, [10], setup)
+    ok = checks.check_timestep(FREE, {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}, setup, 1e-4)
+    assert status(ok, "5") == PASS and np.nanmax(ok.difference) < 5e-5
     cog = run.cog + [3e-4, 0, 0]
     bad = {"equilateral": nominal_dataset("equilateral", EQUI, run.pairs, setup.levels, cog, run.support)}
-    assert status(v.check_timestep(FREE, bad, setup, 1e-4), "5") == v.FAIL
+    chk = checks.check_timestep(FREE, bad, setup, 1e-4)
+    assert status(chk, "5") == FAIL and measured(chk, "5").startswith("largest 0.3 mm (#10 at 2.4 MPa")
+
+
+def test_checks_without_a_complete_pair_are_not_evaluated():
+    """A contact case with no pair swept at every level is left out (no empty simulation)."""
+    cog0, tri = frames.in_support_frame(topo.reference_nodes(), EQUI)
+    cog = np.tile(cog0, (1, 1, 1))
+    cog[0, 0, 0] = np.nan
+    nominals = {"equilateral": nominal_dataset("equilateral", EQUI, [10], [2.4], cog, np.tile(tri, (1, 1, 1, 1)))}
+    setup = SweepSetup(levels=(2.4,), hold=0.5)
+    chk = checks.check_timestep(FREE, nominals, setup)
+    assert status(chk, "5") == SKIP and measured(chk, "5") == "no sweep"
+    chk = grounded.check_grounded(P, nominals, setup)
+    assert chk.status == {"4.1": SKIP, "4.2": SKIP} and not chk.faces
+    chk = checks.check_statics(P, nominals, [2.4])
+    assert status(chk, "2") == SKIP and measured(chk, "2") == "no pair swept at every level"
 
 
 # ------------------------------------------------------------------ the stage
@@ -301,9 +335,9 @@ def test_stage_writes_every_number_with_units_and_a_table(tiny_stage):
     assert ids == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4.1", "4.2", "5"]
     assert datasets.provenance_config(out / "validation.nc")["validate"] == cfg["validate"]
     st = dict(zip(ids, ds["status"].values))
-    assert st["1.1"] == v.SKIP  # only two pairs swept: no ranking
-    assert st["2"] == st["3"] == st["5"] == v.PASS
-    assert list(ds["passed"].values) == [{v.PASS: 1, v.FAIL: 0, v.SKIP: -1}[s] for s in ds["status"].values]
+    assert st["1.1"] == SKIP  # only two pairs swept: no ranking
+    assert st["2"] == st["3"] == st["5"] == PASS
+    assert list(ds["passed"].values) == [{PASS: 1, FAIL: 0, SKIP: -1}[s] for s in ds["status"].values]
     md = (out / "summary.md").read_text()
     for i in ids:
         assert re.search(rf"^\| {re.escape(i)} \|", md, re.M), i
@@ -317,15 +351,27 @@ def test_a_check_that_raises_is_shown_as_failed(tiny_stage, monkeypatch):
 
     def boom(*a, **k):
         raise RuntimeError("solver diverged")
-    monkeypatch.setattr(v, "check_statics", boom)
-    monkeypatch.setattr(v, "check_mapping", boom)
-    monkeypatch.setattr(v, "check_grounded", boom)
-    monkeypatch.setattr(v, "check_timestep", boom)
-    checks = v.run_checks(cfg, {ds.attrs["contact"]: ds for ds in map(datasets.read, noms)},
-                          datasets.read(ws))
-    rows = {r.id: r for c in checks for r in c.verdicts}
-    assert rows["2"].status == v.FAIL and "solver diverged" in rows["2"].measured
-    assert rows["1.2"].status in (v.PASS, v.FAIL)
+    monkeypatch.setattr(checks, "check_statics", boom)
+    monkeypatch.setattr(checks, "check_mapping", boom)
+    monkeypatch.setattr(grounded, "check_grounded", boom)
+    monkeypatch.setattr(checks, "check_timestep", boom)
+    nominals = {ds.attrs["contact"]: ds for ds in map(datasets.read, noms)}
+    results = checks.run_checks(config.params_from_config(cfg), validation_report.sweep_setup(cfg), nominals,
+                                datasets.read(ws), validation_report.check_settings(cfg))
+    assert isinstance(results[1], CheckError) and results[1].status == {"2": FAIL}
+    rows = {r.id: r for res in results for r in summary.verdicts(res)}
+    assert rows["2"].status == FAIL and rows["2"].measured == "error: RuntimeError: solver diverged"
+    assert rows["1.2"].status in (PASS, FAIL)
+    ds, _ = validation_report.to_dataset(results, [2.0, 2.4], [1, 7, 9, 18], [2.4])
+    assert list(ds["check"].values) == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4", "5"]
+    assert "statics_difference" not in ds and "tip_pressure" in ds
+
+
+def test_setup_and_settings_defaults_are_the_schema_defaults():
+    """SweepSetup and CheckSettings repeat the schema's defaults: they must not drift."""
+    cfg = config.defaults()
+    assert validation_report.sweep_setup(cfg) == SweepSetup(levels=tuple(cfg["sweep"]["levels"]))
+    assert validation_report.check_settings(cfg) == CheckSettings()
 
 
 def test_the_rule_puts_the_summary_in_the_report():

@@ -1,4 +1,4 @@
-"""The public Python API and the command line (issue 6)."""
+"""The public Python API and the command line."""
 import json
 import subprocess
 import sys
@@ -110,3 +110,75 @@ def test_render_command_draws_a_dataset_and_refuses_a_foreign_file(small_results
     bad.write_text("not a netCDF")
     assert cli.main(["render", str(bad), "--out", str(tmp_path / "x.png")]) == cli.EXIT_INPUT
     assert "bad.nc" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------- one parser per argument kind
+
+def test_numbers_after_an_option_may_be_negative():
+    assert cli._join_negative_values(["roll", "--goal", "-1.2,1.5", "--yaw", "-30"]) == \
+        ["roll", "--goal=-1.2,1.5", "--yaw=-30"]
+    assert cli._join_negative_values(["plan", "--face", "9,10,12", "-h"]) == ["plan", "--face", "9,10,12", "-h"]
+    args = cli.build_parser().parse_args(cli._join_negative_values(
+        ["plan", "--goal", "-1.2,-0.5", "--yaw", "-30"]))
+    assert args.goal == [-1.2, -0.5] and args.yaw == -30
+    args = cli.build_parser().parse_args(cli._join_negative_values(["plan", "--direction", "-90"]))
+    np.testing.assert_allclose(args.direction, [0.0, -1.0], atol=1e-15)
+
+
+def test_the_same_terrain_spec_builds_the_same_ground_under_every_command():
+    """Regression: `--terrain random:3` was a 6 m field under simulate and a 12 m one under
+    roll/plan."""
+    p = cli.build_parser()
+    sim = p.parse_args(["simulate", "--pair", "10", "--pressure", "1", "--out", "x.nc", "--terrain", "random:3"])
+    roll = p.parse_args(["roll", "--goal", "1,1", "--terrain", "random:3"])
+    plan = p.parse_args(["plan", "--goal", "1,1", "--terrain", "random:3"])
+    for other in (roll, plan):
+        np.testing.assert_array_equal(sim.terrain.heights, other.terrain.heights)
+        assert sim.terrain.origin == other.terrain.origin and sim.terrain.spacing == other.terrain.spacing
+
+
+@pytest.mark.parametrize("cmd", [["simulate", "--pair", "10", "--pressure", "1", "--out", "x.nc"],
+                                 ["roll", "--goal", "1,1", "--workspace", "missing.nc"]])
+def test_a_fractional_face_is_refused_by_every_command(tmp_path, monkeypatch, capsys, cmd):
+    """Regression: `roll --face 9.5` was truncated to face 9."""
+    monkeypatch.chdir(tmp_path)
+    assert cli.main([*cmd, "--face", "9.5"]) == cli.EXIT_INPUT
+    assert "unknown face 9.5" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("option, value", [("--duration", "0"), ("--duration", "-1"), ("--ramp", "-1")])
+def test_durations_are_checked_and_named(capsys, option, value):
+    with pytest.raises(SystemExit) as e:
+        cli.main(["simulate", "--pair", "10", "--pressure", "1", "--out", "x.nc", option, value])
+    assert e.value.code == cli.EXIT_USAGE
+    assert f"argument {option}" in capsys.readouterr().err
+
+
+def test_config_show_and_check(tmp_path, capsys):
+    import yaml
+    assert cli.main(["config", "show"]) == 0
+    assert yaml.safe_load(capsys.readouterr().out) == config.load()
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("sweep:\n  levels: [0.4, -0.8]\n")
+    assert cli.main(["config", "check", str(bad)]) == cli.EXIT_INPUT
+    assert "sweep.levels[1]" in capsys.readouterr().err
+
+
+def test_render_draws_the_reference_support_of_the_datasets_strut_length(tmp_path, monkeypatch):
+    """Regression: `tensegrity render` drew the support triangle of a 0.5 m strut whatever
+    strut length the dataset was made with."""
+    from tensegrity.io import formats
+    from tensegrity.physics import frames
+    from tensegrity.render import paper
+    P, n = 2, 1
+    ds = formats.nominal_dataset([10], [1.0, 2.0], np.full((n, P, 3), 0.1), np.zeros((n, P, 3)),
+                                 np.zeros((n, P, 3, 3)), np.full((n, P), 0.05), np.array([np.nan]),
+                                 np.zeros((n, P), np.int8),
+                                 {"contact": "equilateral", "face": 8, "face_nodes": [9, 12, 10], "mode": "free"})
+    path = datasets.write(ds, tmp_path / "n.nc", {"params": {"strut_length": 0.8}}, "test", stage="nominal",
+                          allow_nan=formats.NOMINAL_ALLOW_NAN)
+    seen = {}
+    monkeypatch.setattr(paper, "fig_workspace", lambda lines, support, out, **kw: seen.update(support=support))
+    stages.render_dataset(path, tmp_path / "n.png")
+    np.testing.assert_allclose(seen["support"], frames.rest_frame(8, 0.8)[1])
+    assert not np.allclose(seen["support"], frames.rest_frame(8, 0.5)[1])

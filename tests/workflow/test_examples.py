@@ -94,9 +94,9 @@ def test_example_runs(tiny, doc, lang, text, line):
 
 
 BENCHMARKS = {
-    "bench_step.py": ["--seconds", "0.005"],
+    "bench_step.py": ["--seconds", "0.01"],
     "bench_locomotion.py": ["--workspace", "{tiny}/results/workspace.nc", "--runs", "2",
-                            "--distance", "0.4"],
+                            "--distance", "0.6"],
     "calibration.py": ["--quick"],
 }
 

@@ -1,4 +1,4 @@
-"""The tiny workflow submitted through a real single-node SLURM cluster (issue 6): run unchanged
+"""The tiny workflow submitted through a real single-node SLURM cluster: run unchanged
 with `--workflow-profile workflow/profiles/slurm`, it gives the same datasets as a local run.
 
 The cluster (munged, slurmctld, slurmd from Debian's packages) is started by

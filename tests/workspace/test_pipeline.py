@@ -1,4 +1,4 @@
-"""Nominal averaging, tipping, and the symmetry mapping of the workspace (issue 3)."""
+"""Nominal averaging, tipping, and the symmetry mapping of the workspace."""
 import numpy as np
 import pytest
 

@@ -1,6 +1,6 @@
-# Rolling locomotion (issue 4; paper III.C-D, IV): demonstration runs planned from the
+# Rolling locomotion (paper III.C-D, IV): demonstration runs planned from the
 # workspace and rolled in the grounded simulation, then Fig. 8-10, paths and an animation.
-# Rules call tensegrity.locomotion.demos and tensegrity.render.locomotion.
+# Rules call tensegrity.stages (locomotion_run and the figure stages).
 from tensegrity.locomotion.demos import DEMOS
 
 LOCO = config["locomotion"]

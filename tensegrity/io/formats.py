@@ -1,0 +1,288 @@
+"""The dataset contract file by file (docs/design.md §5, docs/datasets.md): what each file of
+the workflow holds, built from and read back into the package's arrays and types.
+
+Each file type has a builder (`*_dataset`: arrays or results -> xarray Dataset with units and
+long names, written by `datasets.write`) and, where the package reads it back, a reader
+(`*_from_dataset`, `read_*`):
+
+- Sweeps, results/sweeps/{contact}/pairNN.nc: `sweep_dataset`, `SWEEP_FILE`.
+- Nominal CoG, results/nominal/{contact}.nc: `nominal_dataset`.
+- Curves, results/curves/{contact}.nc and curves.json: `curves_dataset`, `curves_document`.
+- Workspace, results/workspace.nc: `workspace_dataset`; read as a `Workspace`:
+  `workspace_from_dataset`, `read_workspace`.
+- Locomotion run, results/locomotion/{run}.nc: `run_dataset`, `terrain_from_dataset`,
+  `RUN_ALLOW_NAN`.
+"""
+from __future__ import annotations
+
+import os
+from typing import TYPE_CHECKING
+
+import numpy as np
+import xarray as xr
+from numpy.typing import ArrayLike
+
+AXES = ["x", "y", "z"]
+
+from ..physics import topology as topo
+from ..physics.terrain import Terrain
+from . import datasets
+
+if TYPE_CHECKING:  # imported where used: importing io.formats loads no simulator (numba)
+    from ..workspace.sweep import Sweep
+    from ..locomotion.lookup import Workspace
+    from ..locomotion.runs import Run
+
+__all__ = ["coords", "SWEEP_FILE", "sweep_dataset", "NOMINAL_ALLOW_NAN", "nominal_dataset",
+           "CURVES_ALLOW_NAN", "curves_dataset", "curves_document", "WORKSPACE_ALLOW_NAN",
+           "workspace_dataset", "read_workspace", "workspace_from_dataset", "run_dataset",
+           "terrain_from_dataset", "run_sample", "RUN_ALLOW_NAN"]
+
+
+# ------------------------------------------------------------------ coordinates (all files)
+
+def coords(pairs: ArrayLike | None = None, levels: ArrayLike | None = None) -> dict:
+    """The coordinates every workspace file shares, one long_name each: axis, corner, node, and
+    optionally pair (1-based) and pressure (MPa)."""
+    c = {"axis": ("axis", AXES, {"long_name": "support-frame axis", "units": "1"}),
+         "corner": ("corner", [1, 2, 3], {"units": "1", "long_name": "support triangle corner"}),
+         "node": ("node", np.arange(1, topo.N_NODES + 1), {"units": "1", "long_name": "node number"})}
+    if pairs is not None:
+        c["pair"] = ("pair", np.asarray(pairs), {"units": "1", "long_name": "actuator pair number"})
+    if levels is not None:
+        c["pressure"] = ("pressure", np.asarray(levels, float), {"units": "MPa", "long_name": "muscle pressure"})
+    return c
+
+
+# ------------------------------------------------------ results/sweeps/{contact}/pairNN.nc
+
+SWEEP_FILE = "pair{pair:02d}.nc"
+
+
+def sweep_dataset(res: Sweep, b: int, contact: str, sweep: dict) -> xr.Dataset:
+    """Robot `b` of a sweep result (workspace.sweep.Sweep) as the sweep file of its pair:
+    CoG and support per sample in the support frame (m), the commanded pressure (MPa), the
+    level held, whether it rests on the face, and every `sweep['node_stride']`-th node sample."""
+    var = datasets.var
+    pair, stride = int(res.pairs[b]), int(sweep["node_stride"])
+    return xr.Dataset(
+        {"cog": var(("time", "axis"), res.cog[b], "m", "centre of gravity in the support frame"),
+         "support": var(("time", "corner", "axis"), res.support[b], "m",
+                         "deformed support triangle in the support frame"),
+         "pressure_cmd": var(("time",), res.pressure_cmd[b], "MPa", f"pressure commanded to pair #{pair}"),
+         "level": var(("time",), res.level, "1", "index of the pressure level held (-1: settling)"),
+         "on_face": var(("time",), res.on_face[b].astype(np.int8), "1",
+                         "1 while the contact face's three nodes touch the ground (always 1 in the free mode)"),
+         "nodes": var(("time_nodes", "node", "axis"), res.nodes[b, ::stride], "m",
+                       "node positions, world frame (every node_stride-th sample)")},
+        coords={**coords(), "time": ("time", res.t, {"units": "s", "long_name": "time"}),
+                "time_nodes": ("time_nodes", res.t[::stride], {"units": "s", "long_name": "time of node samples"}),
+                "levels": ("levels", res.levels, {"units": "MPa", "long_name": "pressure levels of the staircase"})},
+        attrs={"contact": contact, "face": res.face, "face_nodes": topo.FACES[res.face - 1] + 1,
+               "pair": int(pair), "mode": sweep["mode"], "hold_s": float(sweep["hold"]), "settle_s": float(sweep["settle"])})
+
+
+# ---------------------------------------------------------- results/nominal/{contact}.nc
+
+NOMINAL_ALLOW_NAN = ["tip_pressure", "cog", "cog_std", "support", "margin"]
+
+
+def nominal_dataset(pairs: ArrayLike, levels: ArrayLike, cog: ArrayLike, std: ArrayLike, sup: ArrayLike,
+                    margin: ArrayLike, tip: ArrayLike, rolled: ArrayLike, attrs: dict) -> xr.Dataset:
+    """The nominal file of one contact case: per pair (n,) and level (P,) MPa the nominal CoG,
+    its spread and the mean support (m, support frame), the margin (m), the tipping pressure
+    (MPa) and where the grounded robot rolled off; `attrs` of the sweep files."""
+    var = datasets.var
+    return xr.Dataset(
+        {"cog": var(("pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the support frame"),
+         "cog_std": var(("pair", "pressure", "axis"), std, "m", "standard deviation of the CoG over the level (oscillation)"),
+         "support": var(("pair", "pressure", "corner", "axis"), sup, "m", "mean deformed support triangle in the support frame"),
+         "margin": var(("pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
+         "tip_pressure": var(("pair",), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never)"),
+         "rolled": var(("pair", "pressure"), rolled, "1", "1 from the level at which the grounded robot rolled off the face (always 0 in the free mode)")},
+        coords=coords(pairs, levels),
+        attrs=attrs)
+
+
+# ----------------------------------------------------------- results/curves/{contact}.nc
+
+CURVES_ALLOW_NAN = ["breaks", "coefs", "cv_rmse"]
+
+
+def curves_dataset(arrays: dict, pair: ArrayLike, axis: ArrayLike, attrs: dict) -> xr.Dataset:
+    """The fitted curves of one contact case (workspace.fit.curves_to_arrays) as plain numbers."""
+    units = {"breaks": "MPa", "coefs": "m MPa-power", "degree": "1", "pmin": "MPa", "pmax": "MPa",
+             "cv_rmse": "m", "kind": "", "model": ""}
+    names = {"breaks": "piece boundaries of the piecewise polynomial (NaN padded)",
+             "coefs": "coefficients in u = p - breaks[piece], highest power first (NaN padded)",
+             "degree": "polynomial degree", "pmin": "lowest pressure of the valid range",
+             "pmax": "highest pressure of the valid range", "cv_rmse": "cross-validated RMSE of the fit",
+             "kind": "polynomial or spline", "model": "chosen model"}
+    from ..workspace.fit import ARRAY_DIMS
+    data = {}
+    for k, a in arrays.items():
+        spec = {"long_name": names[k]}
+        if units[k]:
+            spec["units"] = units[k]
+        data[k] = (ARRAY_DIMS[k], a, spec)
+    return xr.Dataset(data, coords={"pair": pair, "axis": axis}, attrs=attrs)
+
+
+def curves_document(contacts: dict) -> dict:
+    """results/curves/curves.json: `contacts` maps a contact case to (face_nodes, pairs (n,),
+    curves [n][3] of workspace.fit.Curve); plain numbers, evaluable in any language."""
+    from ..workspace.fit import to_dict
+    doc = {"units": {"pressure": "MPa", "cog": "m"},
+           "evaluate": "find piece i with breaks[i] <= p < breaks[i+1] (clamp to the end pieces); "
+                       "value = sum(coefs[i][k] * (p - breaks[i])**(deg - k))",
+           "contacts": {}}
+    for contact, (face_nodes, pairs, curves) in contacts.items():
+        doc["contacts"][contact] = {
+            "face_nodes": [int(n) for n in face_nodes],
+            "pairs": {str(int(p)): {ax: to_dict(curves[i][j]) for j, ax in enumerate(AXES)}
+                      for i, p in enumerate(pairs)}}
+    return doc
+
+
+# ------------------------------------------------------------------ results/workspace.nc
+
+WORKSPACE_ALLOW_NAN = ["cog", "support", "margin", "tip_pressure"]
+
+
+def workspace_dataset(levels: ArrayLike, ws: dict) -> xr.Dataset:
+    """The 20-face workspace (workspace.mapping.map_workspace) with the face table."""
+    var = datasets.var
+    return xr.Dataset(
+        {"cog": var(("face", "pair", "pressure", "axis"), ws["cog"], "m", "nominal centre of gravity in the face's support frame"),
+         "support": var(("face", "pair", "pressure", "corner", "axis"), ws["support"], "m", "deformed support triangle in the face's support frame"),
+         "margin": var(("face", "pair", "pressure"), ws["margin"], "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
+         "tip_pressure": var(("face", "pair"), ws["tip_pressure"], "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never or not computed)"),
+         "face_nodes": var(("face", "corner"), topo.FACES + 1, "1", "node numbers of the face's corners (support-frame corner order)"),
+         "face_type": (("face",), topo.FACE_TYPES.astype(str), {"long_name": "equilateral (3 cables) or isosceles (2 cables and a gap)"}),
+         "reference_corner": var(("face",), topo.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)")},
+        coords={**coords(np.arange(1, topo.N_PAIRS + 1), levels),
+                "face": ("face", np.arange(1, topo.N_FACES + 1), {"units": "1", "long_name": "face number"})})
+
+
+def workspace_from_dataset(ds: xr.Dataset) -> Workspace:
+    """The `Workspace` of a dataset with the contract of results/workspace.nc: cog
+    (face, pair, pressure, axis) m and support (face, pair, pressure, corner, axis) m at the
+    levels `pressure` MPa; the 0 MPa point is the symmetric robot of the dataset's strut length
+    (`datasets.strut_length`, m)."""
+    from ..locomotion.lookup import Workspace
+    order = {"face": np.arange(1, 21), "pair": np.arange(1, 13), "axis": ["x", "y", "z"]}
+    sel = {k: v for k, v in order.items() if k in ds.dims}
+    cog = ds["cog"].sel(sel).transpose("face", "pair", "pressure", "axis").values
+    support = ds["support"].sel(sel).transpose("face", "pair", "pressure", "corner", "axis").values
+    return Workspace.from_arrays(ds["pressure"].values, cog, support, datasets.strut_length(ds))
+
+
+def read_workspace(path: str | os.PathLike) -> Workspace:
+    """Read results/workspace.nc (or a file of the same contract) as a `Workspace`."""
+    return workspace_from_dataset(datasets.read(path))
+
+
+# ------------------------------------------------------------ results/locomotion/{run}.nc
+
+RUN_ALLOW_NAN = ("planned_pressure", "tip_pressure", "goal")  # NaN: no roll predicted / none / no goal
+
+
+def run_dataset(run: Run, terrain: Terrain, name: str = "") -> xr.Dataset:
+    """A run as an xarray Dataset (docs/design.md §5, results/locomotion/{run}.nc): samples
+    (time), steps (step, with the chosen pair(s) and pressures), the faces visited (visit) and
+    the terrain, with units and long names. Nothing time-dependent (no wall time) is stored.
+    Write it with `datasets.write(..., allow_nan=RUN_ALLOW_NAN)`."""
+    var = datasets.var
+    rec, steps = run.record, run.steps
+    n = len(steps)
+    used = [st.used for st in steps]
+    pairs = np.zeros((n, 2), np.int64)
+    for i, r in enumerate(used):
+        pairs[i, :len(r.pairs)] = r.pairs
+    edge = np.array([st.plan.edge for st in steps], np.int64).reshape(n, 2)
+    return xr.Dataset(
+        {"nodes": var(("time", "node", "axis"), rec.nodes, "m", "node positions, world frame"),
+         "cog": var(("time", "axis"), rec.cog, "m", "centre of gravity, world frame"),
+         "pressure": var(("time", "pair"), rec.pressure, "MPa", "pressure applied to each actuator pair"),
+         "contact_face": var(("time",), rec.face, "1", "face resting on the terrain (0: none)"),
+         "face": var(("step",), np.array([st.face for st in steps], np.int64), "1", "face the step started on"),
+         "next_face": var(("step",), np.array([st.face_after or 0 for st in steps], np.int64), "1",
+                          "face the robot settled on after the step (0: none)"),
+         "predicted_face": var(("step",), np.array([st.plan.next_face for st in steps], np.int64), "1",
+                               "face the plan predicted (across the planned edge)"),
+         "step_pair": var(("step", "slot"), pairs, "1", "actuator pair(s) driven in the step's rolling attempt (0: none)"),
+         "planned_pressure": var(("step",), np.array([st.plan.pressure for st in steps]), "MPa",
+                                 "least rolling pressure predicted by the workspace (NaN: no roll predicted)"),
+         "tip_pressure": var(("step",), np.array([r.tip_pressure for r in used]), "MPa",
+                             "pressure held when the robot tipped in the simulation (NaN: it did not roll)"),
+         "peak_pressure": var(("step",), np.array([r.peak_pressure for r in used]), "MPa",
+                              "highest pressure applied in the step's last attempt"),
+         "edge": var(("step", "end"), edge, "1", "nodes of the planned edge"),
+         "alignment": var(("step",), np.array([st.plan.alignment for st in steps]), "1",
+                          "cosine between the planned edge's outward direction and the target direction"),
+         "reach": var(("step",), np.array([st.plan.reach for st in steps]), "m",
+                      "predicted margin at the workspace's highest level (negative: outside)"),
+         "attempts": var(("step",), np.array([len(st.attempts) for st in steps], np.int64), "1",
+                         "candidates tried in the step"),
+         "t_start": var(("step",), np.array([st.attempts[0].t_start for st in steps]), "s", "start of the step"),
+         "t_end": var(("step",), np.array([r.t_end for r in used]), "s", "end of the step (settled)"),
+         "position": var(("step", "axis"), np.array([r.cog_after for r in used]).reshape(n, 3), "m",
+                         "centre of gravity after the step, world frame"),
+         "faces": var(("visit",), np.array(run.faces, np.int64), "1", "contact faces visited, in order"),
+         "goal": var(("axis",), run.goal, "m", "goal, world frame (NaN: a run over given edges)"),
+         "start": var(("axis",), run.start, "m", "centre of gravity at the start, world frame"),
+         "terrain_heights": var(("tx", "ty"), terrain.heights, "m",
+                                "height field of the terrain (kind heightfield)")},
+        coords={"time": ("time", rec.t, {"units": "s", "long_name": "time"}),
+                "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"}),
+                "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "actuator pair number"}),
+                "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "world axis"}),
+                "step": ("step", np.arange(1, n + 1), {"units": "1", "long_name": "step number"}),
+                "slot": ("slot", [1, 2], {"units": "1", "long_name": "pair slot (two pairs when combined)"}),
+                "end": ("end", [1, 2], {"units": "1", "long_name": "edge end"}),
+                "visit": ("visit", np.arange(1, len(run.faces) + 1), {"units": "1", "long_name": "visit number"})},
+        attrs={"run": name, "outcome": run.outcome, "message": run.message, "rolls": run.rolls,
+               "terrain_kind": terrain.kind, "terrain_normal": terrain.normal,
+               "terrain_offset": float(terrain.offset), "terrain_origin": np.asarray(terrain.origin, float),
+               "terrain_spacing": float(terrain.spacing)})
+
+
+def terrain_from_dataset(ds: xr.Dataset) -> Terrain:
+    """The terrain a run dataset (results/locomotion/{run}.nc) was simulated on: kind, normal,
+    offset (m), origin (m), spacing (m) from the attributes, heights (m) from terrain_heights."""
+    return Terrain(kind=str(ds.attrs["terrain_kind"]), normal=np.asarray(ds.attrs["terrain_normal"], float),
+                   offset=float(ds.attrs["terrain_offset"]), origin=tuple(np.asarray(ds.attrs["terrain_origin"], float)),
+                   spacing=float(ds.attrs["terrain_spacing"]), heights=ds["terrain_heights"].values)
+
+
+def run_sample(ds: xr.Dataset, terrain: Terrain, step: int, which: str) -> tuple[int, np.ndarray]:
+    """Index and nodes (12, 3) m of a sample of step `step` (1-based) of a run: 'stable' (the
+    pressure at half the tipping pressure, the robot still on its face) or 'rolling' (pivoting
+    on an edge of its face, the first sample with the CoG projection 25 mm outside, else the
+    furthest)."""
+    from ..physics import contact as ct
+    best = None
+    radius = float(datasets.provenance_config(ds)["params"]["strut_radius"])
+    t = ds["time"].values
+    k0 = int(np.searchsorted(t, ds["t_start"].values[step - 1]))
+    k1 = int(np.searchsorted(t, ds["t_end"].values[step - 1]))
+    face = int(ds["face"].values[step - 1])
+    nodes = ds["nodes"].values
+    pres = ds["pressure"].values.max(axis=1)
+    tip = float(ds["tip_pressure"].values[step - 1])
+    for k in range(k0, k1):
+        if which == "stable" and np.isfinite(tip) and pres[k] >= 0.5 * tip:
+            return k, nodes[k]
+        if which == "rolling":
+            touching = ct.clearance(nodes[k], terrain, radius)[topo.FACES[face - 1]] < 0.002
+            m = ct.judge(nodes[k], face).margin
+            if touching.sum() == 2 and m < 0:
+                if m < -0.025:
+                    return k, nodes[k]
+                if best is None or m < best[0]:
+                    best = (m, k)
+    if which == "stable":
+        return k0, nodes[k0]
+    if best is not None:
+        return best[1], nodes[best[1]]
+    raise ValueError(f"step {step} of run {ds.attrs.get('run')!r} never leaves its face")

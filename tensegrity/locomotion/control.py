@@ -1,0 +1,221 @@
+"""Rolling control in the dynamic simulator (paper III.C step 4; docs/design.md §6).
+
+A roll ramps the pressure slowly (quasi-static, as the paper's rolling is), holds it once a
+support node lifts, releases it once the unactuated robot would fall over the pivot edge anyway
+(`contact.past_edge`), catches the robot on the next face and lets it settle. Controllers are
+generators: they yield the pair pressures (12,) MPa for the next check interval and receive an
+observation of the robot after it; `yield from` composes them, and their return value is their
+result; `lockstep.lockstep` drives any number of them as one simulated batch. Each robot's
+samples are recorded (`lockstep.Record`).
+"""
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field, fields, replace
+
+import numpy as np
+
+from ..physics import contact as ct
+from ..physics import dynamics as d
+from ..physics import topology as topo
+from ..physics.actuation import MAX_PRESSURE
+from ..physics.params import Params
+from ..physics.terrain import Terrain
+from .lockstep import Controller, Obs, Record, lockstep
+
+__all__ = ["RollSettings", "RollResult", "roll", "settle"]
+
+
+@dataclass(frozen=True)
+class RollSettings:
+    """How rolls are driven and judged (the keys of config section `locomotion`, which also
+    documents them): ramp_rate MPa/s; interval s (pressure step and check period);
+    lift_tolerance m; hold_time s; release_margin m; release_time s; catch_time s;
+    settle_speed m/s; settle_time s; contact_tolerance m; combine; min_alignment;
+    max_attempts; max_rolls; arrive_tolerance m; dt s (the simulator's time step).
+
+    A roll (see `roll`) ramps the pressure at ramp_rate; a support node lifted by more than
+    lift_tolerance holds it (at most hold_time s); once the unactuated robot would fall over the
+    pivot edge by release_margin (`contact.past_edge`) the pressure ramps down over
+    release_time, and once it has landed on the next face over catch_time (held while it tips
+    back); it has settled when its CoG moves slower than settle_speed on a face (contact_
+    tolerance) for three checks, or after settle_time."""
+    ramp_rate: float = 1.0
+    interval: float = 0.02
+    lift_tolerance: float = 0.001
+    hold_time: float = 1.0
+    release_margin: float = 0.005
+    release_time: float = 0.4
+    catch_time: float = 1.5
+    settle_speed: float = 0.03
+    settle_time: float = 6.0
+    contact_tolerance: float = 0.01
+    combine: bool = True
+    min_alignment: float = 0.0
+    max_attempts: int = 3
+    max_rolls: int = 80
+    arrive_tolerance: float = 0.3
+    dt: float = 1e-4
+
+    def __post_init__(self):
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.name in ("combine", "min_alignment"):
+                continue
+            if isinstance(v, bool) or not (np.isfinite(v) and v > 0):
+                raise ValueError(f"locomotion setting {f.name} must be a positive number, got {v!r}")
+        for name in ("max_attempts", "max_rolls"):
+            v = getattr(self, name)
+            if float(v) != int(v):
+                raise ValueError(f"locomotion setting {name} must be a whole number, got {v!r}")
+            object.__setattr__(self, name, int(v))
+        if not (np.isfinite(self.min_alignment) and -1.0 <= self.min_alignment < 1.0):
+            raise ValueError(f"locomotion setting min_alignment must be in [-1, 1), got {self.min_alignment!r}")
+        if abs(self.interval / self.dt - round(self.interval / self.dt)) > 1e-6:
+            raise ValueError(f"locomotion interval {self.interval} s is not a whole number of "
+                             f"time steps of {self.dt} s")
+
+    @classmethod
+    def from_config(cls, section: dict, dt: float | None = None) -> "RollSettings":
+        """From the `locomotion` config section (keys that are not settings are ignored) and
+        the time step `dt` s (config sim.dt)."""
+        names = {f.name for f in fields(cls)}
+        kw = {k: v for k, v in section.items() if k in names}
+        if dt is not None:
+            kw["dt"] = dt
+        return cls(**kw)
+
+
+@dataclass(frozen=True)
+class RollResult:
+    """One roll attempt. rolled: the robot ended on another face; face_before/face_after
+    (1-based; face_after None if it settled on no face); tip_pressure: the pressure held when a
+    support node lifted, if the robot then rolled (MPa, NaN if not); peak_pressure MPa;
+    t_start, t_end s; cog_before, cog_after (3,) m world. From `roll` also the final `state`
+    and the `record`."""
+    pairs: tuple[int, ...]
+    rolled: bool
+    face_before: int
+    face_after: int | None
+    tip_pressure: float
+    peak_pressure: float
+    t_start: float
+    t_end: float
+    cog_before: np.ndarray
+    cog_after: np.ndarray
+    state: d.State | None = field(default=None, repr=False)
+    record: Record | None = field(default=None, repr=False)
+
+
+_CALM = 3  # checks in a row that count as settled
+
+
+def _settle_gen(s: RollSettings, obs: Obs) -> Controller:
+    """Zero pressure until settled (see RollSettings). Returns (face or None, last observation)."""
+    zero, calm, waited = np.zeros(topo.N_PAIRS), 0, 0.0
+    while waited < s.settle_time - 1e-9:
+        obs = yield zero
+        waited += s.interval
+        calm = calm + 1 if (obs.face is not None and obs.speed < s.settle_speed) else 0
+        if calm >= _CALM:
+            break
+    return obs.face, obs
+
+
+def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
+              max_pressure: float) -> Controller:
+    """See `roll`. Returns (RollResult, last observation)."""
+    if obs.face is None:
+        raise ct.ContactError("a roll must start from a robot resting on a face")
+    face0, t0, cog0 = obs.face, obs.t, obs.nodes.mean(axis=0)
+    support = topo.FACES[face0 - 1]  # node indices of the support triangle
+    base = obs.gap[support]
+    S = float(params.strut_length)
+    idx = np.asarray(pairs) - 1
+    level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
+    landed, apex = None, -1
+    while phase != "settle":
+        if phase == "ramp":
+            level = min(level + s.ramp_rate * s.interval, max_pressure)
+        elif phase == "release":
+            level = max(0.0, level - peak * s.interval / s.release_time)
+        elif phase == "land":
+            # catch the robot on the new face: let go slowly, hold while it tips back over the
+            # edge it came across, let go fast if it tips on over another edge
+            up = obs.gap[topo.FACES[landed - 1]] > s.lift_tolerance
+            if not (up[apex] and up.sum() == 1 and t_phase < 2 * s.catch_time):
+                level = max(0.0, level - peak * s.interval / (s.release_time if up.any() else s.catch_time))
+        pres = np.zeros(topo.N_PAIRS)
+        pres[idx] = level
+        peak = max(peak, level)
+        obs = yield pres
+        t_phase += s.interval
+        if phase in ("release", "land"):
+            if landed is None and obs.face is not None and obs.face != face0:
+                back = topo.common_edge(face0, obs.face)
+                if back is not None:
+                    landed, phase, t_phase = obs.face, "land", 0.0
+                    apex = int(np.flatnonzero(~np.isin(topo.FACES[landed - 1] + 1, back))[0])
+            if level <= 0.0:
+                phase = "settle"
+            continue
+        lifted = obs.gap[support] - base > s.lift_tolerance
+        over = False
+        if lifted.sum() == 1:
+            pivot = tuple(int(n) + 1 for n in support[~lifted])
+            over = ct.past_edge(obs.nodes, face0, pivot, S) > s.release_margin
+        if over or (obs.face is not None and obs.face != face0):
+            if not np.isfinite(tip):
+                tip = level
+            phase, t_phase = "release", 0.0
+        elif phase == "ramp" and lifted.any():
+            tip, phase, t_phase = level, "hold", 0.0
+        elif phase == "ramp" and level >= max_pressure:
+            phase, t_phase = "top", 0.0
+        elif phase == "hold" and t_phase >= s.hold_time - 1e-9:
+            if level < max_pressure:
+                phase, tip = "ramp", float("nan")  # rocking without rolling: keep raising
+            else:
+                phase, t_phase = "release", 0.0  # escalated to the limit: give up
+        elif phase == "top" and t_phase >= s.hold_time - 1e-9:
+            phase, t_phase = "release", 0.0
+        elif obs.t - t0 > max_pressure / s.ramp_rate + 10 * s.hold_time:
+            phase, t_phase = "release", 0.0  # a safety net: no attempt runs on forever
+    after, obs = yield from _settle_gen(s, obs)
+    rolled = after is not None and after != face0
+    return RollResult(tuple(int(q) for q in pairs), rolled, face0, after,
+                      tip if rolled else float("nan"), peak, t0, obs.t, cog0,
+                      obs.nodes.mean(axis=0)), obs
+
+
+def settle(params: Params, state: d.State, terrain: Terrain,
+           settings: RollSettings | None = None) -> tuple[d.State, int | None]:
+    """Let one robot settle at zero pressure (see RollSettings). Returns the state and its
+    1-based contact face (None if it rests on no face)."""
+    s = settings or RollSettings()
+    if state.batch != 1:
+        raise ValueError(f"settle drives one robot; the state holds {state.batch}")
+    (face, _), st, _ = lockstep(params, terrain, state, lambda b, o: _settle_gen(s, o), s)[0]
+    return st, face
+
+
+def roll(params: Params, state: d.State, terrain: Terrain, pairs: int | Sequence[int], max_pressure: float,
+         settings: RollSettings | None = None) -> RollResult:
+    """One roll in the dynamic simulator (paper III.C step 4) of one robot resting on a face:
+    drive 1-based `pairs` together from 0 toward `max_pressure` MPa at ramp_rate. When a support
+    node lifts the pressure is held (at most hold_time s, then the ramp resumes: escalation);
+    once the unactuated robot would fall over the pivot edge (`contact.past_edge`), or it has
+    landed on another face, the pressure is released, slowly once it has landed (held while it
+    tips back); then it settles. If nothing lifts by max_pressure (held hold_time s), it is
+    released too. Returns the RollResult with the final state and the record.
+    Raises SimulationError if the simulation blows up or leaves the terrain, ContactError if
+    the robot does not rest on a face."""
+    s = settings or RollSettings()
+    pairs = tuple(topo.check_pair(q) for q in np.atleast_1d(pairs))
+    if not (np.isfinite(max_pressure) and 0 < max_pressure <= MAX_PRESSURE):
+        raise ValueError(f"max_pressure {max_pressure!r} MPa must be in (0, {MAX_PRESSURE}]")
+    if state.batch != 1:
+        raise ValueError(f"roll drives one robot; the state holds {state.batch}")
+    (res, _), st, rec = lockstep(params, terrain, state, lambda b, o: _roll_gen(
+        params, s, o, pairs, max_pressure), s)[0]
+    return replace(res, state=st, record=rec)

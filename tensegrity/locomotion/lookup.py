@@ -1,0 +1,130 @@
+"""Workspace lookup (paper III.C step 2; docs/design.md §2, 5, 6).
+
+`Workspace` holds the 20-face workspace as arrays (the contract of results/workspace.nc), with the
+unactuated robot prepended as the 0 MPa point. `predict` places a face's curves in the support
+frame of the robot's *current*, deformed support triangle and projects the CoG along gravity onto
+the support plane (slopes, paper Fig. 10). No files here: `io.formats.read_workspace` reads one.
+"""
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..physics import contact as ct
+from ..physics import frames, topology as topo
+
+__all__ = ["Workspace", "Prediction", "predict", "Face", "Action"]
+
+Face = int | Sequence[int]  # a face: 1..20, or its three 1-based node numbers in any order
+Action = Sequence[int]  # 1-based pairs driven together at the same pressure
+
+
+@dataclass(frozen=True)
+class Workspace:
+    """levels (P,) MPa; cog (20, 12, P, 3) m and support (20, 12, P, 3, 3) m in each face's
+    support frame (NaN where a pair was not swept); rest_cog (20, 3) m and rest_support
+    (20, 3, 3) m: the unactuated symmetric robot in the same frames (the 0 MPa point)."""
+    levels: np.ndarray
+    cog: np.ndarray
+    support: np.ndarray
+    rest_cog: np.ndarray
+    rest_support: np.ndarray
+
+    def __post_init__(self):
+        lv = np.asarray(self.levels, float)
+        if lv.ndim != 1 or lv.size < 1 or np.any(np.diff(lv) <= 0) or lv[0] <= 0:
+            raise ValueError("workspace levels must be positive, strictly increasing MPa")
+        P = lv.size
+        shapes = {"cog": (20, 12, P, 3), "support": (20, 12, P, 3, 3), "rest_cog": (20, 3),
+                  "rest_support": (20, 3, 3)}
+        for name, shape in shapes.items():
+            if np.shape(getattr(self, name)) != shape:
+                raise ValueError(f"workspace {name} must have shape {shape}, "
+                                 f"got {np.shape(getattr(self, name))}")
+        object.__setattr__(self, "levels", lv)
+
+    @classmethod
+    def from_arrays(cls, levels: ArrayLike, cog: ArrayLike, support: ArrayLike,
+                    strut_length: float = 0.5) -> "Workspace":
+        """From cog (20, 12, P, 3) m and support (20, 12, P, 3, 3) m at `levels` (P,) MPa; the
+        0 MPa point is the symmetric robot of strut length `strut_length` m
+        (`frames.rest_frame`)."""
+        rest = [frames.rest_frame(f, strut_length) for f in range(1, topo.N_FACES + 1)]
+        return cls(np.asarray(levels, float), np.asarray(cog, float), np.asarray(support, float),
+                   np.stack([r[0] for r in rest]), np.stack([r[1] for r in rest]))
+
+    @property
+    def max_pressure(self) -> float:
+        """The highest swept level, MPa: where escalation stops."""
+        return float(self.levels[-1])
+
+    @property
+    def pressures(self) -> np.ndarray:
+        """(P + 1,) MPa: 0 followed by the levels."""
+        return np.concatenate([[0.0], self.levels])
+
+    def pairs(self, face: int) -> np.ndarray:
+        """1-based pairs with a complete curve on 1-based `face`."""
+        ok = np.all(np.isfinite(self.cog[face - 1]), axis=(1, 2))
+        return np.flatnonzero(ok) + 1
+
+    def curve(self, face: int, actions: Iterable[Action]) -> tuple[np.ndarray, np.ndarray]:
+        """CoG (A, P+1, 3) m and support (A, P+1, 3, 3) m in the support frame of 1-based
+        `face` for each of A actions (tuples of 1-based pairs driven at the same pressure), the
+        rest state first. Two or more pairs are superposed: rest + sum of the single
+        displacements (an estimate; statics shows it is conservative for the combinations that
+        matter)."""
+        f = face - 1
+        rest_cog, rest_support = self.rest_cog[f], self.rest_support[f]
+        cog = np.concatenate([np.broadcast_to(rest_cog, (12, 1, 3)), self.cog[f]], axis=1)
+        support = np.concatenate([np.broadcast_to(rest_support, (12, 1, 3, 3)), self.support[f]],
+                                 axis=1)
+        out_cog, out_support = [], []
+        for act in actions:
+            idx = np.asarray(act, int) - 1
+            out_cog.append(rest_cog + np.sum(cog[idx] - rest_cog, axis=0))
+            out_support.append(rest_support + np.sum(support[idx] - rest_support, axis=0))
+        return np.stack(out_cog), np.stack(out_support)
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """Workspace curves of A actions placed on the current support triangle, n = P + 1 samples.
+    pressure (n,) MPa; cog (A, n, 3) m and projection (A, n, 3) m (the CoG moved along gravity
+    onto the support plane), world frame; projection_2d (A, n, 2) m and support (A, n, 3, 2) m:
+    the projection and the support triangle in the face's support frame (in-plane x, y);
+    margin (A, n) m (positive inside); edge_dist (A, n, 3) m signed distances to the edge lines
+    (edge k joins corners k, k+1)."""
+    pressure: np.ndarray
+    cog: np.ndarray
+    projection: np.ndarray
+    projection_2d: np.ndarray
+    support: np.ndarray
+    margin: np.ndarray
+    edge_dist: np.ndarray
+
+
+_UP = np.array([0.0, 0.0, 1.0])  # the support plane's normal in its own frame
+
+
+def predict(workspace: Workspace, face: Face, nodes: ArrayLike,
+            actions: Iterable[Action]) -> Prediction:
+    """Where the workspace puts the CoG projection for `actions` (tuples of 1-based pairs) on
+    `face` (1..20 or three node numbers), in the support frame of the current triangle of
+    `nodes` (12, 3) m, projected along gravity (paper Fig. 10)."""
+    f = topo.face_number(face)
+    p = ct.check_nodes(nodes)
+    origin, rot = frames.face_frame(p, f)
+    gravity = rot @ ct.GRAVITY_DIR  # in the support frame
+    if gravity[2] > -1e-6:
+        raise ValueError(f"face {topo.face_label(f)} is not below the robot: gravity does not "
+                         "press it onto its support")
+    cog, support = workspace.curve(f, actions)
+    proj = ct.project_along_gravity(cog, np.zeros(3), _UP, gravity)
+    margin = frames.margin_2d(proj[..., :2], support[..., :2])
+    dist = frames.edge_distances(proj[..., :2], support[..., :2])
+    return Prediction(workspace.pressures, origin + cog @ rot, origin + proj @ rot, proj[..., :2],
+                      support[..., :2], margin, dist)

@@ -1,0 +1,269 @@
+"""Runs: plan, roll, repeat toward a goal or over given edges (paper III.C, IV.B; design.md
+section 6).
+
+`roll_to` / `roll_many` / `roll_over` settle the robot, then repeat the paper's steps: find the
+contact face, plan from the workspace (`plan`), roll in the dynamic simulator (`control`). A
+plan the simulation does not follow is escalated along the ramp to the workspace's highest
+level, then the next candidate is tried, then the run ends "stuck"; a step limit bounds every
+run, and every run ends with one of OUTCOMES and a message. Runs of a batch are simulated
+together (`lockstep`); each equals its single run. `describe` says what happened in words.
+"""
+from __future__ import annotations
+
+import time as _time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..physics import contact as ct
+from ..physics import dynamics as d
+from ..physics import topology as topo
+from ..physics.params import Params
+from ..physics.terrain import Terrain
+from .control import RollResult, RollSettings, _roll_gen, _settle_gen
+from .lockstep import Controller, Obs, Record, lockstep
+from .lookup import Face, Workspace
+from .plan import Plan, plan
+
+__all__ = ["OUTCOMES", "Step", "Run", "roll_to", "roll_many", "roll_over", "describe"]
+
+OUTCOMES = ("arrived", "step_limit", "stuck", "no_contact", "off_terrain", "sim_error")
+
+_TABU = 4  # a run avoids rolling back onto the faces of its last four steps
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step of a run: the plan made on `face` (1-based), the attempts in order, and the
+    face the robot ended on (None if on no face)."""
+    face: int
+    plan: Plan
+    attempts: tuple[RollResult, ...]
+    face_after: int | None
+
+    @property
+    def rolled(self) -> bool:
+        """The step's last attempt rolled the robot onto another face."""
+        return bool(self.attempts) and self.attempts[-1].rolled
+
+    @property
+    def used(self) -> RollResult:
+        """The attempt that rolled the robot (or the last one)."""
+        return self.attempts[-1]
+
+
+@dataclass(frozen=True)
+class Run:
+    """A run. outcome: one of OUTCOMES; message: why it ended; goal (3,) m (NaN for a run over
+    a list of edges); start (3,) m: the CoG at the start; steps; record: the samples; wall:
+    wall-clock time, s (shared by the runs of a batch); state: the final state."""
+    outcome: str
+    message: str
+    goal: np.ndarray
+    start: np.ndarray
+    steps: tuple[Step, ...]
+    record: Record
+    wall: float
+    state: d.State = field(repr=False)
+
+    @property
+    def final(self) -> np.ndarray:
+        """Final CoG (3,) m."""
+        return self.record.cog[-1] if len(self.record.t) else self.start
+
+    @property
+    def distance_to_goal(self) -> float:
+        """Horizontal distance of the final CoG to the goal, m (NaN without a goal)."""
+        return float(np.linalg.norm(self.final[:2] - self.goal[:2]))
+
+    @property
+    def travelled(self) -> float:
+        """Horizontal distance from the start to the final CoG, m."""
+        return float(np.linalg.norm(self.final[:2] - self.start[:2]))
+
+    @property
+    def rolls(self) -> int:
+        """Number of steps that rolled the robot."""
+        return sum(1 for st in self.steps if st.rolled)
+
+    @property
+    def faces(self) -> list[int]:
+        """The contact faces visited, in order (start, then after each roll)."""
+        return [st.face for st in self.steps[:1]] + [st.face_after for st in self.steps if st.rolled]
+
+
+def _drive(workspace: Workspace, params: Params, s: RollSettings, obs: Obs,
+           goal: np.ndarray | None = None, edges: list[tuple[int, ...]] | None = None,
+           direction: ArrayLike | None = None) -> Controller:
+    """The run controller (paper III.C, repeated): toward `goal` (3,) m, or over each edge of
+    `edges` in turn. Returns (outcome, message, steps)."""
+    steps: list[Step] = []
+    visited: list[int] = []
+    outcome, message = "step_limit", f"step limit of {s.max_rolls} rolls reached"
+    try:
+        face, obs = yield from _settle_gen(s, obs)
+        for k in range(s.max_rolls + 1):
+            if face is None:
+                outcome, message = "no_contact", (
+                    f"the robot did not come to rest on a face within {s.settle_time} s (it is "
+                    "tumbling, e.g. down a slope too steep, or its nodes on the terrain are not "
+                    "one of the 20 faces)")
+                break
+            if edges is not None and k == len(edges):
+                outcome, message = "arrived", (f"rolled over {len(edges)} edge(s) onto "
+                                               f"{topo.face_label(face)}")
+                break
+            if edges is None and np.linalg.norm(obs.nodes.mean(axis=0)[:2] - goal[:2]) <= s.arrive_tolerance:
+                outcome, message = "arrived", f"within {s.arrive_tolerance} m of the goal"
+                break
+            if k == s.max_rolls:
+                break
+            target = dict(goal=goal) if direction is None else dict(direction=direction)
+            if edges is not None:
+                e = tuple(sorted(int(n) for n in edges[k]))
+                corners = [topo.edge_nodes(face, j) for j in range(3)]
+                if e not in corners:
+                    outcome, message = "stuck", (f"edge {e[0]}-{e[1]} is not an edge of face "
+                                                 f"{topo.face_label(face)}")
+                    break
+                target = dict(direction=ct.edge_outward(obs.nodes[topo.FACES[face - 1]])[corners.index(e)])
+            visited = (visited + [face])[-_TABU - 1:]
+            pl = plan(workspace, face, obs.nodes, avoid=visited[:-1], combine=s.combine,
+                      min_alignment=s.min_alignment, **target)
+            tries = []
+            for cand in pl.candidates[:s.max_attempts]:
+                res, obs = yield from _roll_gen(params, s, obs, cand.pairs, workspace.max_pressure)
+                tries.append(res)
+                if res.face_after is None or res.rolled:
+                    break
+            after = tries[-1].face_after
+            steps.append(Step(face, pl, tuple(tries), after))
+            if after is not None and not tries[-1].rolled:
+                outcome = "stuck"
+                message = (f"no candidate rolled the robot off face {topo.face_label(face)}: tried "
+                           + ", ".join(f"{'+'.join(f'#{q}' for q in r.pairs)} up to "
+                                       f"{r.peak_pressure:.2f} MPa" for r in tries)
+                           + ("" if pl.predicted else "; the workspace predicted no roll here "
+                              "(e.g. a slope too steep for it)"))
+                break
+            face = after
+    except d.SimulationError as e:
+        outcome = "off_terrain" if "no terrain" in str(e) else "sim_error"
+        message = str(e)
+    return outcome, message, steps
+
+
+def _start(params: Params, terrain: Terrain, state: d.State | None, face: Face, batch: int,
+           position: Sequence[float], yaw_deg: float) -> tuple[d.State, np.ndarray]:
+    """The checked start state of `batch` robots and their CoGs (batch, 3) m, world."""
+    if terrain.kind == "none":
+        raise ValueError("rolling needs a terrain: the free mode has no ground")
+    if state is None:
+        state = d.stand_on(params, face, terrain, batch=batch, position=position, yaw_deg=yaw_deg)
+    elif state.batch != batch:
+        raise ValueError(f"the state holds {state.batch} robots for {batch} runs")
+    state.check()
+    P = d.nodes(state.x, state.q, params.strut_length)
+    for b in range(batch):
+        ct.clearance(P[b], terrain, 0.0)  # nothing under the robot -> ValueError
+    return state, P.mean(axis=1)
+
+
+def _check_goal(goal, terrain: Terrain, start: np.ndarray, size: float) -> np.ndarray:
+    """The goal (3,) m on the terrain, at least `size` m from the start."""
+    gl = np.asarray(goal, float).ravel()
+    if gl.size not in (2, 3) or not np.all(np.isfinite(gl)):
+        raise ValueError(f"goal must be a finite world point (x, y) m, got {goal!r}")
+    h = float(terrain.height(gl[0], gl[1]))
+    if np.isnan(h):
+        raise ValueError(f"terrain has nothing under the goal ({gl[0]:.3f}, {gl[1]:.3f}) m")
+    dist = float(np.linalg.norm(gl[:2] - start[:2]))
+    if dist < size:
+        raise ValueError(f"goal ({gl[0]:.3f}, {gl[1]:.3f}) m is {dist:.3f} m from the robot, "
+                         f"closer than its size ({size} m, the strut length)")
+    return np.array([gl[0], gl[1], h])
+
+
+def roll_many(workspace: Workspace, goals: ArrayLike, params: Params | None = None,
+              terrain: Terrain | None = None, state: d.State | None = None,
+              face: Face = (9, 10, 12), settings: RollSettings | None = None,
+              position: Sequence[float] = (0.0, 0.0), yaw_deg: float = 0.0,
+              direction: ArrayLike | None = None) -> list[Run]:
+    """`roll_to` for several goals (G, 2) m at once, one robot each, simulated as one batch
+    (same parameters and terrain); each run equals its single run."""
+    params = params or Params()
+    terrain = terrain or Terrain.flat()
+    s = settings or RollSettings()
+    goals = np.asarray(goals, float)
+    if goals.ndim != 2 or goals.shape[1] not in (2, 3) or not len(goals):
+        raise ValueError(f"goals must have shape (G, 2) m, got {goals.shape}")
+    state, start = _start(params, terrain, state, face, len(goals), position, yaw_deg)
+    S = float(np.max(params.strut_length))
+    checked = [_check_goal(gl, terrain, start[b], S) for b, gl in enumerate(goals)]
+    t0 = _time.perf_counter()
+    out = lockstep(params, terrain, state, lambda b, o: _drive(
+        workspace, params, s, o, goal=checked[b], direction=direction), s)
+    wall = _time.perf_counter() - t0
+    return [Run(res[0], res[1], checked[b], start[b], tuple(res[2]), rec, wall, st)
+            for b, (res, st, rec) in enumerate(out)]
+
+
+def roll_to(workspace: Workspace, goal: ArrayLike, params: Params | None = None,
+            terrain: Terrain | None = None, state: d.State | None = None,
+            face: Face = (9, 10, 12), settings: RollSettings | None = None,
+            position: Sequence[float] = (0.0, 0.0), yaw_deg: float = 0.0,
+            direction: ArrayLike | None = None) -> Run:
+    """Roll toward the world point `goal` (x, y) m: settle, then plan, roll, repeat (paper
+    III.C) until the CoG is within arrive_tolerance of the goal ("arrived"), after max_rolls
+    rolls ("step_limit"), when no candidate rolls the robot ("stuck"), it rests on no face
+    ("no_contact"), leaves the terrain ("off_terrain") or the simulation fails ("sim_error").
+    Starts from `state` (one robot), or stands the robot on `face` at `position` (m) turned by
+    yaw_deg (deg). `direction` (a world vector) replaces the goal's direction for planning.
+
+    Raises ValueError for bad input: a goal closer than the robot's size (the strut length),
+    a non-finite goal or state, a terrain with nothing under the robot or the goal."""
+    gl = np.asarray(goal, dtype=float).ravel()
+    if gl.size not in (2, 3):
+        raise ValueError(f"goal must be a finite world point (x, y) m, got {goal!r}")
+    return roll_many(workspace, gl[None, :2], params, terrain, state, face, settings, position,
+                     yaw_deg, direction)[0]
+
+
+def roll_over(workspace: Workspace, edges: Sequence[Sequence[int]], params: Params | None = None,
+              terrain: Terrain | None = None, state: d.State | None = None,
+              face: Face = (9, 10, 12), settings: RollSettings | None = None,
+              position: Sequence[float] = (0.0, 0.0), yaw_deg: float = 0.0) -> Run:
+    """Roll over each edge of `edges` (pairs of 1-based node numbers) in turn, planning each
+    roll toward that edge's outward direction, e.g. the paper's experiment (IV.B):
+    roll_over(ws, [(10, 12), (10, 11)]) from (9,10,12) by #10 onto (10,11,12), then by #11
+    onto (6,10,11). Outcome "arrived" once every edge is crossed (the plan may choose any
+    pair), "stuck" if an edge is not on the current face or nothing rolls the robot."""
+    params = params or Params()
+    terrain = terrain or Terrain.flat()
+    s = settings or RollSettings()
+    edges = [tuple(int(n) for n in e) for e in edges]
+    if not edges or any(len(e) != 2 for e in edges):
+        raise ValueError(f"edges must be pairs of node numbers, got {edges!r}")
+    state, start = _start(params, terrain, state, face, 1, position, yaw_deg)
+    t0 = _time.perf_counter()
+    (res, st, rec), = lockstep(params, terrain, state, lambda b, o: _drive(
+        workspace, params, s, o, edges=edges), s)
+    return Run(res[0], res[1], np.full(3, np.nan), start[0], tuple(res[2]), rec,
+               _time.perf_counter() - t0, st)
+
+
+def describe(run: Run, name: str = "") -> str:
+    """A few lines a person can read: the outcome and every step."""
+    lines = [f"run {name}: {run.outcome} ({run.message}); {run.rolls} rolls, "
+             f"{run.travelled:.2f} m from the start" + ("" if np.isnan(run.goal[0]) else
+                                                   f", {run.distance_to_goal:.2f} m from the goal")]
+    for k, st in enumerate(run.steps, 1):
+        r = st.used
+        lines.append(f"  step {k}: {topo.face_label(st.face)} -> "
+                     f"{topo.face_label(st.face_after) if st.face_after else 'no face'}: planned "
+                     f"{st.plan.pairs} at {st.plan.pressure:.2f} MPa over {st.plan.edge}; rolled by "
+                     f"{r.pairs} at {r.tip_pressure:.2f} MPa (peak {r.peak_pressure:.2f}), "
+                     f"{len(st.attempts)} attempt(s)")
+    return "\n".join(lines)

@@ -1,0 +1,82 @@
+"""The nominal CoG the checks compare: the pipeline's nominal datasets
+(results/nominal/{contact}.nc) as arrays over all 12 pairs, and the checks' own sweeps, run and
+averaged as the pipeline does (workspace.sweep, workspace.nominal)."""
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from ..physics import topology as topo
+from ..physics.params import Params
+from ..workspace import nominal as nom
+from ..workspace.mapping import all_pairs, same_levels
+from ..workspace import sweep as sw
+
+
+def full_nominal(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A nominal dataset (results/nominal/{contact}.nc, pairs swept (n,) at P levels) as arrays
+    over all pairs: cog (N_PAIRS, P, 3) m, support (N_PAIRS, P, 3, 3) m and margin (N_PAIRS, P)
+    m, NaN for the pairs not swept."""
+    pairs = ds["pair"].values
+    return tuple(all_pairs(pairs, ds[k].values) for k in ("cog", "support", "margin"))
+
+
+def common_levels(nominals: Mapping[str, xr.Dataset]) -> np.ndarray:
+    """The pressure levels (P,) MPa shared by the nominal datasets (contact -> dataset);
+    ValueError if none is given or the contact cases were swept at different levels."""
+    return same_levels([ds["pressure"].values for ds in nominals.values()])
+
+
+def nominal_face(ds: xr.Dataset) -> int:
+    """The face (1..20) a nominal dataset's robot stood on (its `face` attribute)."""
+    return int(ds.attrs["face"])
+
+
+@dataclass(frozen=True)
+class SweepSetup:
+    """How the pipeline's sweeps were run, so that the checks can run the same sweep: levels
+    (P,) MPa, hold s, settle s, mode ('free' or 'grounded'), dt s, record_every steps, discard s
+    (the nominal average). The defaults are the schema's `sweep`, `sim` and `nominal` defaults
+    (pinned by tests/validation); `report.sweep_setup` makes one from a configuration."""
+    levels: tuple[float, ...]
+    hold: float = 1.0
+    settle: float = 0.0
+    mode: str = "free"
+    dt: float = 1e-4
+    record_every: int = 10
+    discard: float = 0.2
+
+
+@dataclass(frozen=True)
+class NominalRun:
+    """Nominal CoG of a simulated sweep, per pair (n,) and level (P,): pairs (n,) 1-based,
+    cog (n, P, 3) m and support (n, P, 3, 3) m in the face's support frame, margin (n, P) m,
+    and end_face (n, P), the face the robot rests on at the end of each level
+    (`contact.resting_face`; 0: none)."""
+    pairs: np.ndarray
+    cog: np.ndarray
+    support: np.ndarray
+    margin: np.ndarray
+    end_face: np.ndarray
+
+
+def simulate_nominal(params: Params, face: int | Sequence[int], pairs: Sequence[int], setup: SweepSetup, *,
+                     mode: str | None = None, settle: float | None = None, dt: float | None = None,
+                     record_every: int | None = None) -> NominalRun:
+    """Run the staircase of `setup` on `pairs` (1-based, batched) standing on `face` (1..20 or
+    three node numbers) and average each level as the pipeline does (workspace.nominal.nominal);
+    `mode`, `settle` (s), `dt` (s) and `record_every` (steps) override the setup's."""
+    face = topo.face_number(face)
+    res = sw.run(params, face, pairs, setup.levels, setup.hold,
+                 setup.settle if settle is None else settle, mode or setup.mode,
+                 setup.dt if dt is None else dt,
+                 setup.record_every if record_every is None else record_every)
+    P = len(setup.levels)
+    out = [nom.nominal(res.t, res.level, res.cog[b], res.support[b], P, setup.hold, setup.discard)
+           for b in range(len(res.pairs))]
+    last = np.array([np.flatnonzero(res.level == k)[-1] for k in range(P)])
+    end_face = res.resting_face[:, last]
+    return NominalRun(res.pairs, *(np.stack([o[k] for o in out]) for k in (0, 2, 3)), end_face)
