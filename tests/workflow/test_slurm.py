@@ -18,7 +18,7 @@ import pytest
 import xarray as xr
 
 ROOT = Path(__file__).resolve().parents[2]
-SCRIPTS = ROOT / "tests" / "slurm"
+SCRIPTS = ROOT / "tests" / "workflow" / "slurm"
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 # Up to the workspace, the curves and the validation (the figures are local rules, left out).
 TARGETS = ["results/workspace.nc", "results/curves/curves.json", "results/validation/validation.nc"]
