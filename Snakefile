@@ -1,12 +1,18 @@
 # The workspace pipeline: sweeps -> nominal CoG -> fitted curves -> 20-face workspace
 # -> figures. Rules live in workflow/rules/<stage>.smk and call tensegrity.stages.
-from tensegrity.io.config import validate as validate_config
+import sys
+
+from tensegrity.io.config import check_files as check_config_files, validate as validate_config
 from tensegrity.stages import stage_config  # the config sections each rule passes
+from tensegrity.validation.runs import warning as runs_warning
 
 configfile: "config/config.yaml"
 
 
-# A bad config stops here, before any job runs, with a message naming the key.
+# A bad config stops here, before any job runs, with a message naming the key. Snakemake's own
+# YAML reader keeps the last of two equal keys: re-read every file it loaded (config/config.yaml
+# and each --configfile) strictly, so that a duplicate key stops the run naming file and key.
+check_config_files(workflow.configfiles)
 config.update(validate_config(config))
 
 CONTACTS = config["sweep"]["contacts"]
@@ -37,3 +43,11 @@ rule all:
         rules.validate.output,
         rules.locomotion_all.input,
     default_target: True
+
+
+# A demonstration run that did not arrive does not stop the workflow (its file and path figures
+# show what happened; validation check 6 fails), but the run must not look like a success.
+onsuccess:
+    text = runs_warning(expand("results/locomotion/{run}.nc", run=LOCO_RUNS))
+    if text:
+        print(text, file=sys.stderr)

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import argparse
 import collections
+import contextlib
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -37,6 +39,28 @@ def workspace(path: str) -> lo.Workspace:
         nominal = [stages.run_nominal(cfg, stages.run_sweep(cfg, c, f"{tmp}/{c}"), f"{tmp}/{c}.nc")
                    for c in cfg["sweep"]["contacts"]]
         return formats.read_workspace(stages.run_map(cfg, nominal, f"{tmp}/workspace.nc"))
+
+
+@contextlib.contextmanager
+def progress(desc: str):
+    """A count of the simulated seconds on stderr (tqdm) while the batch runs; shown only when
+    stderr is a terminal."""
+    from tqdm import tqdm
+
+    from tensegrity.physics import dynamics
+    simulate = dynamics.simulate
+
+    def counted(params, state, schedule, *a, **k):
+        out = simulate(params, state, schedule, *a, **k)
+        bar.update(schedule.duration)
+        return out
+    with tqdm(desc=desc, unit="s sim", disable=None, file=sys.stderr, leave=False,
+              bar_format="{desc}: {n:.1f} s simulated per run [{elapsed}, {rate_fmt}]") as bar:
+        dynamics.simulate = counted
+        try:
+            yield
+        finally:
+            dynamics.simulate = simulate
 
 
 def report(name: str, runs: list[lo.Run], wall: float, tol: float) -> None:
@@ -100,7 +124,8 @@ def main() -> None:
           f"{params.strut_damping} 1/s; dt {settings.dt} s")
     for name, terrain in cases.values():
         t0 = time.perf_counter()
-        runs = lo.roll_many(ws, goals, params, terrain, settings=settings)
+        with progress(name):
+            runs = lo.roll_many(ws, goals, params, terrain, settings=settings)
         report(name, runs, time.perf_counter() - t0, settings.arrive_tolerance)
 
 

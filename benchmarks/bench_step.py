@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import time
 
 import numpy as np
@@ -42,10 +43,14 @@ def main() -> None:
     print(f"first call (compile or load cached code): {time.perf_counter() - t0:.2f} s")
     print(f"cores: {os.cpu_count()}, numba threads: {__import__('numba').get_num_threads()}, dt = 1e-4 s")
     print(f"{'batch':>6} {'mode':>9} {'robot-steps/s':>15}")
-    for grounded in (False, True):
-        for batch in (1, 24, 288):
+    from tqdm import tqdm
+    cases = [(grounded, batch) for grounded in (False, True) for batch in (1, 24, 288)]
+    # a bar on stderr while the cases run, only on a terminal; the table goes to stdout
+    with tqdm(cases, desc="cases", unit="case", disable=None, file=sys.stderr, leave=False) as bar:
+        for grounded, batch in bar:
             secs = a.seconds if batch > 1 else 4 * a.seconds
-            print(f"{batch:>6} {'grounded' if grounded else 'free':>9} {run(batch, grounded, secs):>15,.0f}")
+            bar.write(f"{batch:>6} {'grounded' if grounded else 'free':>9} "
+                      f"{run(batch, grounded, secs):>15,.0f}", file=sys.stdout)
 
 
 if __name__ == "__main__":

@@ -90,9 +90,16 @@ def _load_cfg(args):
     return config.load(args.config, overrides=args.set or None)
 
 
-def _progress(total: float, desc: str):
+def _progress(total: float | None, desc: str):
+    """A progress bar on stderr in simulated seconds (tqdm; total None: a count without a bar),
+    shown only when stderr is a terminal."""
     from tqdm import tqdm
-    return tqdm(total=round(total, 6), desc=desc, unit="s sim", disable=None, file=sys.stderr)
+    if total is None:
+        fmt = "{desc}: {n:.1f} s simulated [{elapsed}, {rate_fmt}]"
+    else:
+        fmt = "{desc}: {percentage:3.0f}%|{bar}| {n:.1f}/{total:.1f} s simulated [{elapsed}<{remaining}]"
+    return tqdm(total=None if total is None else round(total, 6), desc=desc, unit="s sim",
+                disable=None, file=sys.stderr, bar_format=fmt)
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
@@ -262,8 +269,19 @@ def cmd_roll(args: argparse.Namespace) -> int:
     from .io import datasets
     from .io.formats import RUN_ALLOW_NAN, run_dataset
     from .locomotion.runs import describe, roll_to
+    from .physics import dynamics
     cfg, face, terrain, params, s, ws = _locomotion_setup(args)
-    run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw)
+    simulate = dynamics.simulate
+    with _progress(None, "roll") as bar:
+        def counted(params_, state, schedule, *a, **k):  # the simulated time, as it passes
+            out = simulate(params_, state, schedule, *a, **k)
+            bar.update(schedule.duration)
+            return out
+        dynamics.simulate = counted  # the run's length is not known beforehand: no total
+        try:
+            run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw)
+        finally:
+            dynamics.simulate = simulate
     print(describe(run, "roll"))
     if args.out:
         datasets.write(run_dataset(run, terrain, "roll"), args.out, cfg,

@@ -1,7 +1,8 @@
-"""The workflow's stages as functions from files to files (design.md section 5).
+"""The workflow's stages as functions from files to files (docs/design.md §5).
 
 Each reads its inputs, calls the pure modules (sweep, nominal, fit, mapping, render) and writes
-its outputs with `datasets.write`. The Snakemake scripts and the command line call these.
+its outputs with `datasets.write`. The Snakemake scripts and the command line call these; the
+figure stages live in `figure_stages` and are re-exported here.
 `cfg` holds the configuration sections a stage depends on; it is stored, merged with the
 inputs' own, as each output's provenance.
 """
@@ -14,13 +15,15 @@ from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
-import xarray as xr
 
 from .io import datasets, formats
 from .physics import frames, topology as topo
 from .workspace import mapping
 from .workspace import nominal as nom
 from .io.config import params_from_config
+from .figure_stages import (  # noqa: F401  (the figure rules call them as stages.*)
+    locomotion_animation, locomotion_paths, locomotion_states, render_cloud, render_dataset,
+    render_robot, render_workspace)
 
 CONTACTS = list(topo.CONTACT_FACES)
 
@@ -168,112 +171,6 @@ def run_map(cfg: dict, nominal_paths: Sequence[str | os.PathLike], out_path: str
                           stage="map", allow_nan=formats.WORKSPACE_ALLOW_NAN)
 
 
-def render_robot(cfg: dict, fig1: str | os.PathLike, fig4: str | os.PathLike,
-                 fig5: str | os.PathLike) -> list[dict]:
-    """Figs. 1, 4 and 5: the robot, its actuator pairs, and the support frame of (9,10,12).
-    Returns what each figure drew (render.paper)."""
-    from .physics import dynamics as d
-    from .render import paper
-    from .physics.terrain import Terrain
-    params = params_from_config(cfg)
-    nodes = topo.reference_nodes(params.strut_length)
-    state = d.stand_on(params, topo.CONTACT_FACES["equilateral"], Terrain.flat())
-    return [paper.fig_robot(nodes, fig1),
-            paper.fig_robot(nodes, fig4, highlight_pairs=[4, 6, 7, 9, 10, 12]),
-            paper.fig_support_frame(d.nodes(state.x, state.q, params.strut_length)[0],
-                                    topo.CONTACT_FACES["equilateral"], fig5)]
-
-
-def render_cloud(sweep_path: str | os.PathLike, nominal_path: str | os.PathLike, out: str | os.PathLike,
-                 max_pressure: float = 2.4) -> dict:
-    """Fig. 6: the CoG point cloud and nominal CoGs of one pair, levels up to max_pressure
-    (MPa). Returns what the figure drew (render.paper.fig_cog_cloud)."""
-    from .render import paper
-    sw_ds, nm = datasets.read(sweep_path), datasets.read(nominal_path)
-    pair, face = int(sw_ds.attrs["pair"]), int(sw_ds.attrs["face"])
-    levels = nm["pressure"].values
-    keep = levels <= max_pressure + 1e-9
-    sel = (sw_ds["level"].values >= 0) & (sw_ds["level"].values < keep.sum())
-    nom = nm["cog"].sel(pair=pair).values[keep]
-    return paper.fig_cog_cloud(sw_ds["cog"].values[sel], nom, levels[keep],
-                               frames.rest_frame(face, datasets.strut_length(nm))[1], out,
-                               pair=pair, face_label=topo.face_label(face),
-                               sample_pressure=sw_ds["pressure_cmd"].values[sel],
-                               corner_labels=(topo.FACES[face - 1] + 1).tolist())
-
-
-def render_workspace(curves_path: str | os.PathLike, nominal_path: str | os.PathLike, out: str | os.PathLike,
-                     points: int = 60) -> dict:
-    """Fig. 7: every pair's fitted CoG curve from 0 MPa to the highest level, with the support
-    triangle of the unactuated robot and where each curve leaves the deformed triangle.
-    Returns what the figure drew (render.paper.fig_workspace)."""
-    from .workspace import fit
-    from .render import paper
-    cv, nm = datasets.read(curves_path), datasets.read(nominal_path)
-    face = int(nm.attrs["face"])
-    rest_cog, rest_support = frames.rest_frame(face, datasets.strut_length(nm))
-    curves = fit.arrays_to_curves({k: cv[k].values for k in fit.ARRAY_DIMS})
-    lines, tips = {}, {}
-    for i, pair in enumerate(cv["pair"].values):
-        c = curves[i]
-        p = np.linspace(c[0].pmin, c[0].pmax, points)
-        xyz = np.stack([fit.evaluate(c[a], p) for a in range(3)], axis=-1)
-        lines[int(pair)] = np.vstack([rest_cog[None], xyz])
-        tp = float(nm["tip_pressure"].sel(pair=pair))
-        tips[int(pair)] = (np.array([float(fit.evaluate(c[a], tp)) for a in range(3)])
-                           if np.isfinite(tp) else None)
-    levels = nm["pressure"].values
-    return paper.fig_workspace(lines, rest_support, out, tip_points=tips,
-                               title=f"Fig. 7  Kinematic workspace, {nm.attrs['contact']} face "
-                                     f"{topo.face_label(face)}, {levels[0]:g}-{levels[-1]:g} MPa",
-                               corner_labels=(topo.FACES[face - 1] + 1).tolist())
-
-
-def render_dataset(path: str | os.PathLike, out: str | os.PathLike, face: int | None = None) -> str:
-    """Render any dataset of the toolkit to a PNG: a sweep (its CoG cloud), a nominal file or
-    the workspace (the workspace of its face, or of `face`), a locomotion run (its path from
-    above), a `tensegrity simulate` output (the robot at the end). Returns what was drawn."""
-    from .render import paper
-    ds = datasets.read(path)
-    if "level" in ds and "pair" in ds.attrs:  # a sweep
-        face_ = int(ds.attrs["face"])
-        sel = ds["level"].values >= 0
-        levels = ds["levels"].values
-        nom = np.array([ds["cog"].values[ds["level"].values == k].mean(0) for k in range(levels.size)])
-        paper.fig_cog_cloud(ds["cog"].values[sel], nom, levels,
-                            frames.rest_frame(face_, datasets.strut_length(ds))[1], out,
-                            pair=int(ds.attrs["pair"]), face_label=topo.face_label(face_),
-                            sample_pressure=ds["pressure_cmd"].values[sel],
-                            corner_labels=(topo.FACES[face_ - 1] + 1).tolist())
-        return "sweep: CoG cloud and level means"
-    if "margin" in ds and "face" in ds.dims:  # the workspace
-        face_ = topo.face_number(face) if face is not None else 8
-        sub = ds.sel(face=face_)
-        title = f"Workspace of face {face_} {topo.face_label(face_)} (nominal CoG, mapped)"
-        return _render_nominal(sub, face_, out, title)
-    if "margin" in ds and "pair" in ds.dims:  # a nominal file
-        face_ = int(ds.attrs["face"])
-        return _render_nominal(ds, face_, out, f"Nominal CoG, face {topo.face_label(face_)}")
-    if "face_sequence" in ds or "step" in ds.dims:  # a locomotion run
-        _path_figure(ds, out, "top")  # in the locomotion figure stages below
-        return "locomotion run: path from above"
-    if "nodes" in ds and "time" in ds["nodes"].dims:  # tensegrity simulate
-        paper.fig_robot(ds["nodes"].values[-1], out, title=f"{ds.attrs.get('title', 'robot')} (end)")
-        return "simulation: the robot at the end"
-    raise ValueError(f"{path}: not a dataset this toolkit knows how to render")
-
-
-def _render_nominal(ds, face: int, out, title: str) -> str:
-    """Fig. 7 drawn from the nominal CoGs of `ds` (a nominal file or one face of the workspace)."""
-    from .render import paper
-    rest_cog, rest_support = frames.rest_frame(face, datasets.strut_length(ds))
-    lines = {int(p): np.vstack([rest_cog[None], ds["cog"].sel(pair=p).values])
-             for p in ds["pair"].values if np.isfinite(ds["cog"].sel(pair=p).values).all()}
-    paper.fig_workspace(lines, rest_support, out, title=title,
-                        corner_labels=(topo.FACES[face - 1] + 1).tolist())
-    return "workspace: nominal CoG per pair"
-
-
 # ----- locomotion stages
 # (appended by the locomotion split; everything above belongs to the stages module's owner)
 
@@ -302,71 +199,3 @@ def locomotion_run(cfg: dict, name: str, workspace_path: str | Path, out_path: s
                           stage="locomotion", allow_nan=formats.RUN_ALLOW_NAN)
 
 
-# ----- locomotion figure stages
-# (appended by the render split: Figs. 8-10, run paths and the animation. These read the run
-# datasets, results/locomotion/{run}.nc; render.locomotion and render.runs draw from arrays.)
-
-def _path_figure(ds: xr.Dataset, out, view: str) -> dict:
-    """The path of the run dataset `ds` over its terrain, from above ("top") or "3d"."""
-    from .render import runs as run_figures
-    terrain = formats.terrain_from_dataset(ds)
-    t = ds["time"].values
-    title = (f"Rolling run '{ds.attrs.get('run', '')}' on {terrain.kind} ground: "
-             f"{ds.attrs['outcome']}, {int(ds.attrs['rolls'])} rolls "
-             f"({'from above' if view == 'top' else '3D'})")
-    return run_figures.fig_path(ds["nodes"].values, terrain, out, title,
-                                faces=ds["next_face"].values,
-                                step_end=np.clip(np.searchsorted(t, ds["t_end"].values), 0, len(t) - 1),
-                                goal=ds["goal"].values, view=view)
-
-
-def locomotion_states(paper_path: str | os.PathLike, slope_path: str | os.PathLike, fig8: str | os.PathLike,
-                      fig9: str | os.PathLike, fig10: str | os.PathLike) -> list[dict]:
-    """Stage `locomotion_states`: Fig. 8 and 9 from the paper run (its first roll: #10 on
-    (9,10,12)) and Fig. 10 from a slope run (the robot at rest on the slope before its first
-    roll). Returns what each figure drew (render.locomotion)."""
-    from .physics import contact as ct
-    from .render import locomotion as state_figures
-    ds = datasets.read(paper_path)
-    terrain = formats.terrain_from_dataset(ds)
-    face = int(ds["face"].values[0])
-    pair = int(ds["step_pair"].values[0, 0])
-    tip = float(ds["tip_pressure"].values[0])
-    edge = [topo.edge_nodes(face, j) for j in range(3)].index(tuple(ds["edge"].values[0]))
-    k, p = formats.run_sample(ds, terrain, 1, "stable")
-    out = [state_figures.fig_state(
-        p, terrain, face, fig8,
-        f"Fig. 8  Stable: #{pair} at {ds['pressure'].values[k].max():.1f} MPa, the CoG "
-        f"projection stays inside {topo.face_label(face)}",
-        arrow=ct.edge_outward(p[topo.FACES[face - 1]])[edge])]
-    k, p = formats.run_sample(ds, terrain, 1, "rolling")
-    out.append(state_figures.fig_state(
-        p, terrain, face, fig9,
-        f"Fig. 9  Rolling: #{pair} tipped the robot at {tip:.2f} MPa; the CoG "
-        f"projection has left {topo.face_label(face)}"))
-    sl = datasets.read(slope_path)
-    k0 = int(np.searchsorted(sl["time"].values, sl["t_start"].values[0]))
-    out.append(state_figures.fig_slope(
-        sl["nodes"].values[k0], formats.terrain_from_dataset(sl), int(sl["face"].values[0]), fig10,
-        f"Fig. 10  Slope: the CoG projects along gravity onto the contact plane "
-        f"('{sl.attrs['run']}' run)"))
-    return out
-
-
-def locomotion_paths(run_path: str | os.PathLike, top: str | os.PathLike,
-                     three_d: str | os.PathLike) -> list[dict]:
-    """Stage `locomotion_path`: the path of one run from above (`top`) and in 3D (`three_d`).
-    Returns what each figure drew (render.runs.fig_path)."""
-    ds = datasets.read(run_path)
-    return [_path_figure(ds, top, "top"), _path_figure(ds, three_d, "3d")]
-
-
-def locomotion_animation(run_path: str | os.PathLike, gif: str | os.PathLike, fps: int = 10,
-                         speed: float = 8.0) -> dict:
-    """Stage `locomotion_animation`: a GIF of one run at `fps` frames per second, `speed`
-    times faster than simulated time. Returns {"path", "frames", "fps"}."""
-    from .render import runs as run_figures
-    ds = datasets.read(run_path)
-    return run_figures.animate(ds["nodes"].values, ds["time"].values, ds["pressure"].values,
-                               formats.terrain_from_dataset(ds), gif, goal=ds["goal"].values,
-                               label=f"run '{ds.attrs.get('run', '')}'", fps=fps, speed=speed)

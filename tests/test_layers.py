@@ -7,14 +7,15 @@ from pathlib import Path
 import pytest
 
 PKG = Path(__file__).resolve().parents[1] / "tensegrity"
-LAYERS = ("physics", "workspace", "locomotion", "validation", "io", "render", "stages", "cli")
+LAYERS = ("physics", "workspace", "locomotion", "validation", "io", "render", "stages", "figure_stages",
+          "cli")
 # what each layer must never import (besides itself)
 FORBIDDEN = {
-    "physics": {"workspace", "locomotion", "validation", "io", "render", "stages", "cli"},
-    "render": {"io", "locomotion", "validation", "stages", "cli"},
-    "workspace": {"locomotion", "validation", "render", "stages", "cli"},
-    "locomotion": {"validation", "render", "stages", "cli"},
-    "validation": {"render", "stages", "cli"},
+    "physics": {"workspace", "locomotion", "validation", "io", "render", "stages", "figure_stages", "cli"},
+    "render": {"io", "locomotion", "validation", "stages", "figure_stages", "cli"},
+    "workspace": {"locomotion", "validation", "render", "stages", "figure_stages", "cli"},
+    "locomotion": {"validation", "render", "stages", "figure_stages", "cli"},
+    "validation": {"render", "stages", "figure_stages", "cli"},
     "io": {"render", "stages", "cli", "validation"},
 }
 

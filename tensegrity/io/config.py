@@ -6,7 +6,9 @@ converts numeric strings to numbers (Snakemake parses nested `--config` values w
 BaseLoader, so `sweep='{levels: [0.5, 1.0]}'` arrives as ['0.5', '1.0'], and PyYAML reads `1e-4`
 without a dot as a string), rejects NaN and infinities (JSON Schema bounds let NaN through), and
 checks what the schema cannot say: strictly increasing pressure levels, nominal.discard below
-sweep.hold, and a muscle minimum length below the cable rest length.
+sweep.hold, a muscle minimum length below the cable rest length, a locomotion interval that is a
+whole number of time steps, and demonstration runs only with a workspace of both contact cases.
+`read_yaml` is the strict reader (a key given twice is an error) for any configuration file.
 
 Every error is a `ConfigError` naming the offending key, e.g.
 ``config key sweep.pairs[0]: 13 is greater than the maximum of 12``.
@@ -30,7 +32,7 @@ import yaml
 from ..physics.params import Params
 
 __all__ = ["ConfigError", "load", "validate", "params_from_config", "to_json", "merge", "schema",
-           "defaults", "SCHEMA_PATH", "DEFAULT_PATH"]
+           "defaults", "read_yaml", "check_files", "SCHEMA_PATH", "DEFAULT_PATH"]
 
 SCHEMA_PATH = Path(__file__).with_name("config.schema.yaml")  # package data: works from any install
 _CONFIG_REL = Path("config", "config.yaml")
@@ -75,7 +77,9 @@ def _construct_mapping(loader: _StrictLoader, node: yaml.MappingNode, deep: bool
 _StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
 
 
-def _read_yaml(path: str | os.PathLike) -> Any:
+def read_yaml(path: str | os.PathLike) -> Any:
+    """The YAML file `path`, read strictly: a key given twice in a mapping is a ConfigError
+    naming the file, line and key (PyYAML, and so Snakemake, would silently keep the last)."""
     with open(path, encoding="utf-8") as f:
         try:
             return yaml.load(f, Loader=_StrictLoader)
@@ -83,11 +87,28 @@ def _read_yaml(path: str | os.PathLike) -> Any:
             raise ConfigError(f"config file {path}: {e}") from None
 
 
+_read_yaml = read_yaml  # the name used before it was public
+
+
+def check_files(paths: Iterable[str | os.PathLike]) -> None:
+    """Re-read every configuration file in `paths` strictly (`read_yaml`); raises one ConfigError
+    listing every file with a duplicate key or a YAML error. The Snakefile runs it on the files
+    Snakemake loaded itself (`workflow.configfiles`), whose parser keeps the last of two keys."""
+    errors = []
+    for p in paths:
+        try:
+            read_yaml(p)
+        except ConfigError as e:
+            errors += e.errors
+    if errors:
+        raise ConfigError(errors)
+
+
 # -------------------------------------------------------------------------------------- schema
 
 @functools.lru_cache(maxsize=1)
 def _schema() -> dict:
-    return _read_yaml(SCHEMA_PATH)
+    return read_yaml(SCHEMA_PATH)
 
 
 def schema() -> dict:
@@ -138,6 +159,8 @@ def _plain(obj: Any) -> Any:
         return {k: _plain(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [_plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return [_plain(v) for v in obj.tolist()]
     if isinstance(obj, np.generic):
         return obj.item()
     return obj
@@ -221,6 +244,20 @@ def _semantic(cfg: dict) -> list[str]:
     elif p["muscle_min_length"] >= rest:
         out.append(f"config key params.muscle_min_length: {p['muscle_min_length']} m is not below "
                    f"the cable rest length L = l0 - T0/K = {rest:.4g} m")
+    dt, interval = cfg["sim"]["dt"], cfg["locomotion"]["interval"]
+    steps = interval / dt
+    if abs(steps - round(steps)) > 1e-6:  # the tolerance of locomotion.control.RollSettings
+        out.append(f"config key locomotion.interval: {interval:g} s is not a whole number of time steps "
+                   f"sim.dt = {dt:g} s ({steps:.4g} steps; e.g. {max(1, round(steps)) * dt:g} s)")
+    runs, contacts = cfg["locomotion"]["runs"], cfg["sweep"]["contacts"]
+    missing = [c for c in ("equilateral", "isosceles") if c not in contacts]
+    if runs and missing:
+        # every demonstration run rolls onto faces of both kinds: its plans need both workspaces
+        out.append(f"config key locomotion.runs: the demonstration runs {', '.join(runs)} roll over faces "
+                   f"of both kinds, but sweep.contacts = [{', '.join(contacts)}] leaves out "
+                   f"{' and '.join(missing)}, so the workspace has no curves to plan them with; add "
+                   f"{' and '.join(missing)} to sweep.contacts, or leave out the runs with "
+                   f"locomotion='{{runs: []}}'")
     if not out:
         try:
             Params(**p)
@@ -308,7 +345,7 @@ def load(path_or_dict: str | os.PathLike | Mapping | None = None,
     if isinstance(path_or_dict, Mapping):
         cfg = _plain(path_or_dict)
     else:
-        cfg = _read_yaml(path_or_dict)
+        cfg = read_yaml(path_or_dict)
         if cfg is None:  # an empty file is an empty configuration
             cfg = {}
         if not isinstance(cfg, Mapping):

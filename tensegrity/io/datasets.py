@@ -3,8 +3,13 @@
 `write` refuses a dataset whose variables lack `units` or `long_name` or hold NaN/inf, stamps the
 global attributes of the contract (`title`, `source`, `history`, `Conventions`, `config`) and
 writes through a temporary file renamed into place, so an interrupted job never leaves a
-complete-looking file. Nothing time-dependent is written: the same dataset and configuration give
+complete-looking file (temporaries a killed writer left behind are removed by the next write of
+the same file). Nothing time-dependent is written: the same dataset and configuration give
 a byte-identical file, which is what lets re-runs be compared.
+
+Every numeric array variable is stored with the HDF5 Fletcher-32 checksum filter, so a file whose
+data bytes were corrupted fails to read (`read` raises `CorruptDatasetError`, naming the file)
+instead of returning wrong numbers. Coordinate variables carry no `_FillValue` (CF 2.5.1).
 """
 from __future__ import annotations
 
@@ -12,6 +17,7 @@ import json
 from importlib import metadata as _metadata
 import os
 import secrets
+import time
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
@@ -27,10 +33,16 @@ try:
 except _metadata.PackageNotFoundError:  # a source tree that was never installed
     __version__ = "0+unknown"
 
-__all__ = ["write", "read", "provenance_config", "CONVENTIONS"]
+__all__ = ["write", "read", "provenance_config", "CONVENTIONS", "CorruptDatasetError"]
 
 CONVENTIONS = "CF-1.10"
 _STRING_KINDS = "USO"  # unicode, bytes, object (strings as read back by xarray)
+_STALE_TMP_S = 60.0  # a temporary of the same target older than this is left by a killed writer
+
+
+class CorruptDatasetError(ValueError):
+    """A netCDF file that cannot be read: corrupted (checksum mismatch), truncated or not netCDF.
+    The message names the file."""
 
 
 def _check(ds: xr.Dataset, allow_nan: Iterable[str]) -> None:
@@ -71,16 +83,85 @@ def write(ds: xr.Dataset, path: str | os.PathLike, cfg: dict, title: str, *,
                  "history": f"{old}\n{line}" if old else line, "Conventions": CONVENTIONS,
                  "config": to_json(cfg)}
     path.parent.mkdir(parents=True, exist_ok=True)
+    remove_stale_temporaries(path)
     # Same directory, so that os.replace is an atomic rename on one file system; a hidden name
     # that no Snakemake output pattern matches.
     tmp = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
     try:
-        out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4")
+        out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(out))
         os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
     return path
+
+
+def _encoding(ds: xr.Dataset) -> dict:
+    """Per-variable netCDF encoding: Fletcher-32 checksums on every numeric array (chunked
+    storage; scalars and variable-length strings cannot carry the filter), no `_FillValue` on
+    coordinate variables (CF 2.5.1: they hold no missing values, `_check` ensures it)."""
+    enc = {}
+    for name, v in ds.variables.items():
+        e: dict[str, Any] = {}
+        if v.ndim and v.dtype.kind not in _STRING_KINDS:
+            e.update(fletcher32=True, contiguous=False)
+        if name in ds.dims and v.dims == (name,):
+            e["_FillValue"] = None
+        enc[name] = e
+    return enc
+
+
+def _temporaries(path: Path) -> list[Path]:
+    """The temporary files `write`/`write_text` create for `path`: .NAME.PID.HEX.tmp."""
+    pre = f".{path.name}."
+    out = []
+    for p in path.parent.glob(f".{_glob_escape(path.name)}.*.tmp"):
+        mid = p.name[len(pre):-len(".tmp")].split(".")
+        if len(mid) == 2 and mid[0].isdigit() and len(mid[1]) == 8 and all(c in "0123456789abcdef" for c in mid[1]):
+            out.append(p)
+    return out
+
+
+def _glob_escape(name: str) -> str:
+    """`name` with the glob metacharacters *, ?, [ quoted."""
+    return "".join(f"[{c}]" if c in "*?[" else c for c in name)
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OSError):
+        return True
+    return True
+
+
+def remove_stale_temporaries(path: str | os.PathLike, min_age_s: float = _STALE_TMP_S) -> list[Path]:
+    """Remove the temporaries of `path` left by killed writers; returns those removed.
+
+    A temporary `.NAME.PID.HEX.tmp` of the same target is stale when its writer's process no
+    longer exists on this host, or when it was last modified more than `min_age_s` seconds ago
+    (another host of a shared file system, or a recycled PID). A temporary of a live writer
+    that is still being written (younger than `min_age_s`) is left alone: the two writers'
+    renames are atomic, the last one wins. (A writer on another host of a shared file system
+    whose PID does not exist here counts as dead: do not let two hosts write one file at once.)"""
+    path = Path(path)
+    removed = []
+    now = time.time()
+    for p in _temporaries(path):
+        pid = int(p.name[len(path.name) + 2:].split(".")[0])
+        try:
+            age = now - p.stat().st_mtime
+        except FileNotFoundError:
+            continue
+        if age > min_age_s or not _pid_alive(pid):
+            try:
+                p.unlink()
+                removed.append(p)
+            except FileNotFoundError:
+                pass
+    return removed
 
 
 def var(dims: Iterable[str], data: ArrayLike, units: str, long_name: str, **attrs: Any) -> tuple:
@@ -93,6 +174,7 @@ def write_text(path: str | os.PathLike, text: str) -> Path:
     """Write a text file atomically (a temporary file renamed into place); returns the path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    remove_stale_temporaries(path)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
     try:
         tmp.write_text(text)
@@ -104,9 +186,22 @@ def write_text(path: str | os.PathLike, text: str) -> Path:
 
 
 def read(path: str | os.PathLike) -> xr.Dataset:
-    """The dataset at `path`, loaded into memory; the file is closed on return."""
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        return ds.load()
+    """The dataset at `path`, loaded into memory; the file is closed on return.
+
+    Raises FileNotFoundError if there is no file, and `CorruptDatasetError` (a ValueError) naming
+    the file if it cannot be read: a checksum mismatch (corrupted data), a truncated file, not
+    netCDF. `ds.encoding["source"]` of the result is the path."""
+    if not Path(path).is_file():
+        raise FileNotFoundError(f"no dataset file {os.fspath(path)!r}")
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            out = ds.load()
+    except (RuntimeError, OSError, ValueError, KeyError, IndexError) as e:
+        raise CorruptDatasetError(
+            f"cannot read dataset {os.fspath(path)!r}: {type(e).__name__}: {e} (the file is corrupted "
+            "- an HDF5 checksum or structure error -, truncated or not netCDF; re-create it)") from e
+    out.encoding["source"] = os.fspath(path)
+    return out
 
 
 def strut_length(ds: xr.Dataset | str | os.PathLike) -> float:
@@ -122,11 +217,18 @@ def strut_length(ds: xr.Dataset | str | os.PathLike) -> float:
 
 def provenance_config(ds: xr.Dataset | str | os.PathLike) -> dict:
     """The resolved configuration a dataset (or the file at a path) was produced with."""
-    if not isinstance(ds, xr.Dataset):
-        with xr.open_dataset(ds, engine="netcdf4") as f:
-            attrs = dict(f.attrs)
-    else:
+    where = "dataset" if isinstance(ds, xr.Dataset) else f"{ds}"
+    if isinstance(ds, xr.Dataset):
         attrs = ds.attrs
+    else:
+        try:
+            with xr.open_dataset(ds, engine="netcdf4") as f:  # the attributes only, not the data
+                attrs = dict(f.attrs)
+        except (OSError, RuntimeError, ValueError) as e:
+            raise ValueError(f"cannot read dataset '{ds}': {e}") from None
     if "config" not in attrs:
-        raise ValueError("dataset has no 'config' attribute (not written by tensegrity.datasets)")
-    return json.loads(attrs["config"])
+        raise ValueError(f"{where} has no 'config' attribute (not written by tensegrity.io.datasets)")
+    try:
+        return json.loads(attrs["config"])
+    except json.JSONDecodeError as e:
+        raise ValueError(f"{where}: its 'config' attribute is not valid JSON: {e}") from None

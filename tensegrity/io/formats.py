@@ -35,7 +35,7 @@ if TYPE_CHECKING:  # imported where used: importing io.formats loads no simulato
 
 __all__ = ["coords", "SWEEP_FILE", "sweep_dataset", "NOMINAL_ALLOW_NAN", "nominal_dataset",
            "CURVES_ALLOW_NAN", "curves_dataset", "curves_document", "WORKSPACE_ALLOW_NAN",
-           "workspace_dataset", "read_workspace", "workspace_from_dataset", "run_dataset",
+           "workspace_dataset", "check_workspace", "read_workspace", "workspace_from_dataset", "run_dataset",
            "terrain_from_dataset", "run_sample", "RUN_ALLOW_NAN"]
 
 
@@ -111,10 +111,11 @@ CURVES_ALLOW_NAN = ["breaks", "coefs", "cv_rmse"]
 
 def curves_dataset(arrays: dict, pair: ArrayLike, axis: ArrayLike, attrs: dict) -> xr.Dataset:
     """The fitted curves of one contact case (workspace.fit.curves_to_arrays) as plain numbers."""
-    units = {"breaks": "MPa", "coefs": "m MPa-power", "degree": "1", "pmin": "MPa", "pmax": "MPa",
+    units = {"breaks": "MPa", "coefs": "m", "degree": "1", "pmin": "MPa", "pmax": "MPa",
              "cv_rmse": "m", "kind": "", "model": ""}
     names = {"breaks": "piece boundaries of the piecewise polynomial (NaN padded)",
-             "coefs": "coefficients in u = p - breaks[piece], highest power first (NaN padded)",
+             "coefs": "coefficients of the polynomial in u = (p - breaks[piece]) / (1 MPa), "
+                      "highest power first (NaN padded)",
              "degree": "polynomial degree", "pmin": "lowest pressure of the valid range",
              "pmax": "highest pressure of the valid range", "cv_rmse": "cross-validated RMSE of the fit",
              "kind": "polynomial or spline", "model": "chosen model"}
@@ -164,12 +165,74 @@ def workspace_dataset(levels: ArrayLike, ws: dict) -> xr.Dataset:
                 "face": ("face", np.arange(1, topo.N_FACES + 1), {"units": "1", "long_name": "face number"})})
 
 
+def check_workspace(ds: xr.Dataset, source: str | os.PathLike | None = None) -> None:
+    """Raise ValueError (naming `source`, default the file the dataset was read from) unless `ds`
+    holds what the contract of results/workspace.nc says: `cog` (face, pair, pressure, axis)
+    and `support` (face, pair, pressure, corner, axis) with face 1..20, axis x, y, z, corner
+    1..3 and the pairs among 1..12; levels `pressure` finite, positive, strictly increasing
+    MPa; cog and support NaN (a pair or face not computed) or finite, NaN together, and within
+    one strut length S of the support-frame origin (the robot is S across); `margin` within S
+    and `tip_pressure` NaN or within the levels where present."""
+    src = os.fspath(source) if source is not None else ds.encoding.get("source", "<dataset>")
+
+    def bad(what: str) -> ValueError:
+        return ValueError(f"workspace {src!r} is not a valid workspace (corrupted?): {what}")
+
+    need = {"cog": ("face", "pair", "pressure", "axis"),
+            "support": ("face", "pair", "pressure", "corner", "axis")}
+    for name, dims in need.items():
+        if name not in ds.variables:
+            raise bad(f"no variable {name!r}")
+        if set(ds[name].dims) != set(dims):
+            raise bad(f"{name!r} has dimensions {ds[name].dims}, expected {dims}")
+        if ds[name].dtype.kind != "f":
+            raise bad(f"{name!r} has dtype {ds[name].dtype}, expected float")
+    expect = {"face": np.arange(1, topo.N_FACES + 1), "axis": np.array(AXES), "corner": np.arange(1, 4)}
+    for dim, values in expect.items():
+        if dim not in ds.coords or ds.sizes[dim] != values.size or \
+                not np.array_equal(np.sort(np.asarray(ds[dim].values).astype(values.dtype)), values):
+            raise bad(f"coordinate {dim!r} must be {values.tolist()}")
+    pairs = np.asarray(ds["pair"].values) if "pair" in ds.coords else np.array([])
+    if pairs.size == 0 or pairs.dtype.kind not in "iu" or len(set(pairs.tolist())) != pairs.size \
+            or pairs.min() < 1 or pairs.max() > topo.N_PAIRS:
+        raise bad(f"coordinate 'pair' must be distinct pair numbers 1..{topo.N_PAIRS}, got {pairs.tolist()}")
+    lv = np.asarray(ds["pressure"].values) if "pressure" in ds.coords else np.array([])
+    if lv.ndim != 1 or lv.size == 0 or lv.dtype.kind != "f" or not np.all(np.isfinite(lv)) \
+            or lv[0] <= 0 or np.any(np.diff(lv) <= 0):
+        raise bad(f"levels 'pressure' must be finite, positive and strictly increasing MPa, got {lv.tolist()}")
+    S = datasets.strut_length(ds)
+    if not (np.isfinite(S) and S > 0):
+        raise bad(f"strut length {S} m in its configuration")
+    cog, sup = ds["cog"].values, ds["support"].values
+    for name, a in (("cog", cog), ("support", sup)):
+        if np.any(np.isinf(a)):
+            raise bad(f"{name!r} holds infinite values")
+        fin = a[np.isfinite(a)]
+        if fin.size and np.max(np.abs(fin)) >= S:
+            raise bad(f"{name!r} reaches {np.max(np.abs(fin)):.6g} m, not within the strut length {S} m")
+    cog_nan = np.isnan(ds["cog"].transpose("face", "pair", "pressure", "axis").values).any(axis=-1)
+    sup_nan = np.isnan(ds["support"].transpose("face", "pair", "pressure", "corner", "axis").values).any(axis=(-2, -1))
+    if np.any(cog_nan != sup_nan):
+        raise bad("'cog' and 'support' are not NaN at the same faces, pairs and levels")
+    if "margin" in ds.variables:
+        m = ds["margin"].values
+        if np.any(np.isinf(m)) or (np.isfinite(m).any() and np.max(np.abs(m[np.isfinite(m)])) >= S):
+            raise bad(f"'margin' is infinite or not within the strut length {S} m")
+    if "tip_pressure" in ds.variables:
+        t = ds["tip_pressure"].values
+        t = t[~np.isnan(t)]
+        if np.any(~np.isfinite(t)) or np.any(t < lv[0] - 1e-9) or np.any(t > lv[-1] + 1e-9):
+            raise bad(f"'tip_pressure' is outside the levels {lv[0]}..{lv[-1]} MPa")
+
+
 def workspace_from_dataset(ds: xr.Dataset) -> Workspace:
     """The `Workspace` of a dataset with the contract of results/workspace.nc: cog
     (face, pair, pressure, axis) m and support (face, pair, pressure, corner, axis) m at the
     levels `pressure` MPa; the 0 MPa point is the symmetric robot of the dataset's strut length
-    (`datasets.strut_length`, m)."""
+    (`datasets.strut_length`, m). Checked first (`check_workspace`): a dataset that breaks the
+    contract raises ValueError naming its file."""
     from ..locomotion.lookup import Workspace
+    check_workspace(ds)
     order = {"face": np.arange(1, 21), "pair": np.arange(1, 13), "axis": ["x", "y", "z"]}
     sel = {k: v for k, v in order.items() if k in ds.dims}
     cog = ds["cog"].sel(sel).transpose("face", "pair", "pressure", "axis").values

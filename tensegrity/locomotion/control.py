@@ -63,14 +63,14 @@ class RollSettings:
             if f.name in ("combine", "min_alignment"):
                 continue
             if isinstance(v, bool) or not (np.isfinite(v) and v > 0):
-                raise ValueError(f"locomotion setting {f.name} must be a positive number, got {v!r}")
+                raise ValueError(f"locomotion setting {f.name} must be a positive number, got {np.asarray(v).tolist()!r}")
         for name in ("max_attempts", "max_rolls"):
             v = getattr(self, name)
             if float(v) != int(v):
-                raise ValueError(f"locomotion setting {name} must be a whole number, got {v!r}")
+                raise ValueError(f"locomotion setting {name} must be a whole number, got {np.asarray(v).tolist()!r}")
             object.__setattr__(self, name, int(v))
         if not (np.isfinite(self.min_alignment) and -1.0 <= self.min_alignment < 1.0):
-            raise ValueError(f"locomotion setting min_alignment must be in [-1, 1), got {self.min_alignment!r}")
+            raise ValueError(f"locomotion setting min_alignment must be in [-1, 1), got {np.asarray(self.min_alignment).tolist()!r}")
         if abs(self.interval / self.dt - round(self.interval / self.dt)) > 1e-6:
             raise ValueError(f"locomotion interval {self.interval} s is not a whole number of "
                              f"time steps of {self.dt} s")
@@ -213,7 +213,7 @@ def roll(params: Params, state: d.State, terrain: Terrain, pairs: int | Sequence
     s = settings or RollSettings()
     pairs = tuple(topo.check_pair(q) for q in np.atleast_1d(pairs))
     if not (np.isfinite(max_pressure) and 0 < max_pressure <= MAX_PRESSURE):
-        raise ValueError(f"max_pressure {max_pressure!r} MPa must be in (0, {MAX_PRESSURE}]")
+        raise ValueError(f"max_pressure {np.asarray(max_pressure).tolist()!r} MPa must be in (0, {MAX_PRESSURE}]")
     if state.batch != 1:
         raise ValueError(f"roll drives one robot; the state holds {state.batch}")
     (res, _), st, rec = lockstep(params, terrain, state, lambda b, o: _roll_gen(

@@ -44,6 +44,12 @@ class Workspace:
             if np.shape(getattr(self, name)) != shape:
                 raise ValueError(f"workspace {name} must have shape {shape}, "
                                  f"got {np.shape(getattr(self, name))}")
+        for name in ("cog", "support"):  # NaN: a pair not swept; never inf
+            if np.any(np.isinf(getattr(self, name))):
+                raise ValueError(f"workspace {name} holds infinite values")
+        for name in ("rest_cog", "rest_support"):
+            if not np.all(np.isfinite(getattr(self, name))):
+                raise ValueError(f"workspace {name} must be finite")
         object.__setattr__(self, "levels", lv)
 
     @classmethod

@@ -201,7 +201,7 @@ def past_edge(nodes: ArrayLike, face: int | Sequence[int], pivot: Sequence[int],
     a_i, b_i = (int(n) - 1 for n in pivot)
     others = [int(n) for n in topo.FACES[f - 1] if n not in (a_i, b_i)]
     if len(others) != 1:
-        raise ValueError(f"edge {tuple(pivot)} is not an edge of face {topo.face_label(f)}")
+        raise ValueError(f"edge {tuple(np.asarray(pivot).tolist())} is not an edge of face {topo.face_label(f)}")
     c_i = others[0]
 
     def basis(P, centre):

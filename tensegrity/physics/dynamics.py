@@ -168,9 +168,9 @@ def simulate(params: Params, state: State, schedule: Schedule, terrain: Terrain 
     `record_every` steps. Returns the final state and the trajectory; the input is unchanged.
     Raises SimulationError naming the robot, the time and the quantity if a run blows up."""
     if not (np.isfinite(dt) and 0 < dt <= 1e-3):
-        raise ValueError(f"time step dt = {dt!r} s must be in (0, 1e-3]")
+        raise ValueError(f"time step dt = {np.asarray(dt).tolist()!r} s must be in (0, 1e-3]")
     if int(record_every) < 1:
-        raise ValueError(f"record_every must be a positive number of steps, got {record_every!r}")
+        raise ValueError(f"record_every must be a positive number of steps, got {np.asarray(record_every).tolist()!r}")
     state.check()
     B = state.batch
     if schedule.pressure.shape[0] not in (1, B):

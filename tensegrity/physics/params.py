@@ -58,11 +58,11 @@ class Params:
             if val.ndim > 1:
                 raise ValueError(f"parameter {f.name}: expected a number or a 1-D array, got shape {val.shape}")
             if not np.all(np.isfinite(val)):
-                raise ValueError(f"parameter {f.name} is not finite: {getattr(self, f.name)!r}")
+                raise ValueError(f"parameter {f.name} is not finite: {np.asarray(getattr(self, f.name)).tolist()!r}")
             if f.name in POSITIVE and np.any(val <= 0):
-                raise ValueError(f"parameter {f.name} must be positive, got {getattr(self, f.name)!r}")
+                raise ValueError(f"parameter {f.name} must be positive, got {np.asarray(getattr(self, f.name)).tolist()!r}")
             if np.any(val < 0):
-                raise ValueError(f"parameter {f.name} must not be negative, got {getattr(self, f.name)!r}")
+                raise ValueError(f"parameter {f.name} must not be negative, got {np.asarray(getattr(self, f.name)).tolist()!r}")
         if np.any(np.asarray(self.muscle_min_length) >= np.asarray(self.cable_rest_length)):
             raise ValueError("parameter muscle_min_length must be below cable_rest_length")
 

@@ -49,7 +49,7 @@ class Terrain:
     def slope(cls, angle_deg: float, azimuth_deg: float = 0.0) -> "Terrain":
         """A plane through the origin rising by angle_deg toward the azimuth (deg from +x)."""
         if not -60 < angle_deg < 60:
-            raise ValueError(f"slope angle {angle_deg!r} deg out of range (-60, 60)")
+            raise ValueError(f"slope angle {np.asarray(angle_deg).tolist()!r} deg out of range (-60, 60)")
         a, b = np.radians(angle_deg), np.radians(azimuth_deg)
         n = np.array([-np.sin(a) * np.cos(b), -np.sin(a) * np.sin(b), np.cos(a)])
         return cls(kind="plane", normal=n, offset=0.0)

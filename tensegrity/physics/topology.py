@@ -84,7 +84,7 @@ def face_number(face: int | Sequence[int]) -> int:
     for k, f in enumerate(FACES):
         if sorted((f + 1).tolist()) == key:
             return k + 1
-    raise ValueError(f"unknown face {tuple(face)!r}: no face has these three nodes")
+    raise ValueError(f"unknown face {tuple(np.asarray(face).tolist())!r}: no face has these three nodes")
 
 
 def face_label(face: int) -> str:
@@ -104,7 +104,7 @@ def neighbour(face: int | Sequence[int], edge: Sequence[int]) -> int:
     f = face_number(face)
     e = {int(n) - 1 for n in edge}
     if len(e) != 2 or not e <= set(FACES[f - 1].tolist()):
-        raise ValueError(f"edge {tuple(edge)} is not an edge of face {face_label(f)}")
+        raise ValueError(f"edge {tuple(np.asarray(edge).tolist())} is not an edge of face {face_label(f)}")
     for k, corners in enumerate(FACES):
         if k + 1 != f and e <= set(corners.tolist()):
             return k + 1

@@ -28,6 +28,7 @@ __all__ = ["fig_state", "fig_slope"]
 
 STANDS, ROLLS = "#2e9d3a", "#d62728"  # support triangle: CoG projection inside / outside
 GRAVITY = "#1f4fd6"
+INSET_FONT = 15  # text of the side panels: readable at the figure's 1200 x 900 px
 
 
 # --- scene pieces ----------------------------------------------------------------------------
@@ -84,9 +85,8 @@ def _inset(pl, k, contact: ct.Contact, colour, arrow=None, normal_xy=None):
                              tip_length=0.3, tip_radius=0.12, shaft_radius=0.04),
                     color=ROLLS, name="inset arrow")
     plot2d.camera_2d(pl, k, box, margins=(0.06, 0.06, 0.06, 0.1))
-    pl.add_text(f"seen from above, support frame: corners are nodes\nCoG projection (blue) "
-                f"margin {contact.margin * 1e3:+.1f} mm", position="upper_left", font_size=10,
-                color="black", name=f"inset {k} text")
+    pl.add_text(f"from above (support frame)\nCoG projection (blue):\nmargin {contact.margin * 1e3:+.1f} mm",
+                position="upper_left", font_size=INSET_FONT, color="black", name=f"inset {k} text")
     pl.subplot(0, 0)
 
 
@@ -134,13 +134,13 @@ def fig_state(nodes: np.ndarray, terrain: Terrain, face: int | Sequence[int], pa
     _side_camera(pl, p, up, toward)
     _inset(pl, 1, c, colour, arrow2)
     pl.subplot(0, 2)
-    legend = ("black: CoG   blue: its projection along gravity\n"
-              + ("orange arrow: the target direction\n" if arrow is not None else "")
-              + f"{'green' if c.stands else 'red'} triangle: contact face {topo.face_label(f)}\n"
-              + ("the projection is inside: the robot stands" if c.stands else
-                 f"outside, over edge {c.edge[0]}-{c.edge[1]}: it rolls onto "
+    legend = ("black: CoG\nblue: its projection along gravity\n"
+              + ("orange arrow: target direction\n" if arrow is not None else "")
+              + f"{'green' if c.stands else 'red'} triangle: contact face\n{topo.face_label(f)}; "
+              + ("the projection is inside:\nthe robot stands" if c.stands else
+                 f"the projection is outside,\nover edge {c.edge[0]}-{c.edge[1]}: it rolls onto "
                  f"{topo.face_label(c.next_face)}"))
-    pl.add_text(legend, position="upper_left", font_size=11, color="black", name="legend")
+    pl.add_text(legend, position="upper_left", font_size=INSET_FONT, color="black", name="legend")
     pl.subplot(0, 0)
     return finish(pl, path, title, face=f, margin=c.margin, stands=c.stands, edge=c.edge,
                   next_face=c.next_face)
@@ -182,10 +182,10 @@ def fig_slope(nodes: np.ndarray, terrain: Terrain, face: int | Sequence[int], pa
     origin, rot = frames.face_frame(p, f)
     _inset(pl, 1, c, STANDS if c.stands else ROLLS, normal_xy=frames.to_frame(c.cog, origin, rot)[:2])
     pl.subplot(0, 2)
-    pl.add_text(f"slope {angle:.1f} deg, seen across it (downhill to the side)\n"
-                f"blue: projection along gravity (paper Fig. 10)\n"
-                f"grey: along the face normal\nthey differ by h tan(angle) = {shift * 1e3:.1f} mm "
-                f"downhill\n(h = {h * 1e3:.0f} mm: CoG height above the face)",
-                position="upper_left", font_size=11, color="black", name="legend")
+    pl.add_text(f"slope {angle:.1f} deg, seen across it\n(downhill to the side)\n"
+                f"blue: projection along gravity\n(paper Fig. 10)\n"
+                f"grey: along the face normal\nthey differ by h tan(angle)\n= {shift * 1e3:.1f} mm "
+                f"downhill\n(h = {h * 1e3:.0f} mm: CoG height\nabove the face)",
+                position="upper_left", font_size=INSET_FONT, color="black", name="legend")
     pl.subplot(0, 0)
     return finish(pl, path, title, face=f, margin=c.margin, shift=shift, angle=angle)

@@ -124,10 +124,13 @@ def segment_distance(q: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
 
 def support_2d(pl: pv.Plotter, support: np.ndarray, box: Box, width: float, name: str,
                fill: str = "#fff6d5", edge: str = "#b8860b",
-               corner_labels: Sequence[int] | np.ndarray | None = None) -> int:
+               corner_labels: Sequence[int] | np.ndarray | None = None,
+               avoid: np.ndarray | None = None) -> int:
     """The support triangle `support` (3, 2+) (x, y of its corners, mm), filled and outlined,
     clipped to box; with corner_labels (three node numbers), each visible edge is named
-    ("edge 10-12") at the middle of its visible part. Returns the number of edges drawn."""
+    ("edge 10-12") on its visible part: at its middle, or with `avoid` (n, 2) (points that
+    labels are drawn at, say) at whichever of 15, 50 or 85 % of it is furthest from them.
+    Returns the number of edges drawn."""
     poly = clip_polygon(support[:, :2], box)
     if len(poly) >= 3:
         faces = np.hstack([[len(poly)], np.arange(len(poly))])
@@ -143,6 +146,10 @@ def support_2d(pl: pv.Plotter, support: np.ndarray, box: Box, width: float, name
             if corner_labels is not None:
                 a, b = sorted((int(corner_labels[k]), int(corner_labels[(k + 1) % 3])))
                 mid = 0.5 * (seg[0] + seg[1])
+                if avoid is not None and len(avoid):
+                    cand = [seg[0] + f * (seg[1] - seg[0]) for f in (0.5, 0.15, 0.85)]
+                    mid = max(cand, key=lambda q: np.min(np.linalg.norm(
+                        np.asarray(avoid)[:, :2] - q, axis=1)))
                 pl.add_point_labels(np.array([[*mid, 5.0]]), [f"edge {a}-{b}"], font_size=16,
                                     name=f"{name} edge label {k + 1}",
                                     **{**LABEL, "text_color": edge})
@@ -168,7 +175,7 @@ def corner_labels(pl: pv.Plotter, support: np.ndarray, labels: Sequence[int] | n
     """The node numbers `labels` (3,) just outside the corners of `support` (3, 2+), at z."""
     c = support[:, :2].mean(axis=0)
     out = support[:, :2] - c
-    pos = support[:, :2] + 0.07 * np.linalg.norm(out, axis=1).max() * out / np.linalg.norm(
+    pos = support[:, :2] + 0.1 * np.linalg.norm(out, axis=1).max() * out / np.linalg.norm(
         out, axis=1, keepdims=True)
     pl.add_point_labels(np.column_stack([pos, np.full(3, z)]), [str(s) for s in labels],
                         font_size=font_size, name=name, **LABEL)

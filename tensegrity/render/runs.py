@@ -60,6 +60,46 @@ def _oblique_camera(pl: pv.Plotter, centre, cog: np.ndarray, distance: float) ->
     pl.camera.view_angle = 30.0
 
 
+def _fit_camera(pl: pv.Plotter, points: np.ndarray, top: float = 0.86, right: float = 0.95) -> None:
+    """Keep the camera's direction and view angle, and move it so that every row of points
+    (n, 3) m is in the picture: within 95 % of the half-width and half-height, below `top`
+    of the half-height (the title is above) and left of `right` of the half-width (a colour
+    bar may be to the right). Perspective, found by bisection."""
+    cam = pl.camera
+    pos, focal = np.asarray(cam.position, float), np.asarray(cam.focal_point, float)
+    d = (pos - focal) / np.linalg.norm(pos - focal)
+    up = np.asarray(cam.up, float)
+    up = up - np.dot(up, d) * d
+    up /= np.linalg.norm(up)
+    side = np.cross(up, d)
+    tan = np.tan(np.radians(cam.view_angle) / 2)
+    aspect = WINDOW[0] / WINDOW[1]
+    pts = np.asarray(points, float)
+    pts = pts[np.isfinite(pts).all(axis=1)]
+    centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+
+    def spread(c, dist):  # normalised image coordinates of the points
+        rel = pts - (c + dist * d)
+        depth = -(rel @ d)
+        return rel @ side / (depth * tan * aspect), rel @ up / (depth * tan), depth
+
+    size = float(np.max(np.linalg.norm(pts - centre, axis=1)))
+    for _ in range(3):  # centre the points in the free part of the picture
+        lo, hi = 0.1 * size, 20 * size
+        for _ in range(40):
+            mid = 0.5 * (lo + hi)
+            x, y, depth = spread(centre, mid)
+            ok = ((depth > 0).all() and x.min() >= -0.95 and x.max() <= right and y.max() <= top
+                  and y.min() >= -0.95)
+            lo, hi = (lo, mid) if ok else (mid, hi)
+        x, y, depth = spread(centre, hi)
+        shift_y = 0.5 * (y.max() + y.min()) - 0.5 * (top - 0.95)
+        shift_x = 0.5 * (x.max() + x.min()) - 0.5 * (right - 0.95)
+        centre = centre + np.median(depth) * tan * (shift_y * up + shift_x * aspect * side)
+    cam.focal_point = centre
+    cam.position = centre + hi * d
+
+
 def _top_camera(pl: pv.Plotter, centre, extent: float) -> None:
     """From above with a parallel projection; a 0.5 m scale bar and the world x, y axes in the
     lower right corner."""
@@ -106,7 +146,9 @@ def fig_path(nodes: np.ndarray, terrain: Terrain, path: str | Path, title: str, 
     goal = _goal(goal)
     centre, extent = _area(cog, goal)
     pl = plotter(title)
-    add_terrain(pl, terrain, centre, 1.45 * extent, coloured=True)
+    # 3d: only the ground near the run, all of it in the picture (below the title)
+    ground = 1.45 * extent if view == "top" else 1.1 * extent
+    add_terrain(pl, terrain, centre, ground, coloured=True)
     lift = 0.02
     track = cog + [0, 0, lift] if view == "3d" else np.column_stack([cog[:, :2], np.full(len(cog), 1.0)])
     pl.add_mesh(pv.lines_from_points(track).tube(radius=0.007), color=PATH, name="cog track")
@@ -132,6 +174,9 @@ def fig_path(nodes: np.ndarray, terrain: Terrain, path: str | Path, title: str, 
     if view == "3d":
         robot(pl, nodes[0], opacity=0.35, name="robot at the start")
         _oblique_camera(pl, centre, cog, 2.6 * extent)
+        _fit_camera(pl, np.vstack([terrain_mesh(terrain, centre, ground).points, nodes[0],
+                                   nodes[-1], track]),
+                    right=0.7 if terrain.kind == "heightfield" else 0.95)  # the colour bar
     else:
         _top_camera(pl, centre, extent)
     pl.renderer.ResetCameraClippingRange()
@@ -146,14 +191,20 @@ def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: 
             speed: float = 8.0, size: tuple[int, int] = (640, 480)) -> dict:
     """An animation (GIF) of a run: the robot rolling over its terrain toward the goal, the
     CoG track so far, and in each frame's title `label`, the time and the pressures applied.
-    The meshes are built once and moved in place, so a frame costs one render.
+    The meshes and the title are built once and changed in place, so a frame costs one
+    render; every frame is mapped to one palette (made from the first frame and the scene's
+    colours) instead of being quantized on its own, and the GIF is written to a temporary file
+    in the same folder and renamed, so a run killed midway leaves no file at `path`.
 
     nodes: (T, 12, 3) world, m; time: (T,) s, increasing; pressure: (T, 12) MPa per pair;
     goal: (3,) world, m (None or NaN: none); label: e.g. "run 'paper'"; fps: frames per
     second; speed: playback speed relative to simulated time; size: (width, height) px.
     Returns {"path", "frames", "fps"}.
     """
-    import imageio.v2 as imageio
+    import os
+    import secrets
+
+    from PIL import Image
     if not (fps >= 1 and speed > 0):
         raise ValueError(f"fps must be >= 1 and speed > 0, got {fps!r}, {speed!r}")
     nodes, cog = _check_run(nodes)
@@ -166,6 +217,7 @@ def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: 
                                0, len(t) - 1))
     centre, extent = _area(cog, goal)
     pl = plotter(None, size=size)
+    pl.ren_win.SetMultiSamples(0)  # MSAA costs a third of the time in software; no better in a GIF
     ground = terrain_mesh(terrain, centre, extent)
     pl.add_mesh(ground, color="#cfc8b4", name="terrain")  # one colour: a small GIF
     if terrain.kind == "heightfield":
@@ -191,16 +243,38 @@ def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     head = f"{label}  " if label else ""
-    with imageio.get_writer(path, mode="I", duration=1000.0 / fps, loop=0) as writer:
-        for n, i in enumerate(frames):
-            robot_struts.points = nodes[i]
-            cables.points = nodes[i]
-            trail[n:] = cog[i] + [0, 0, 0.02]
-            track.points = trail
-            on = np.flatnonzero(pres[i] > 0)
-            act = ", ".join(f"#{k + 1} {pres[i, k]:.1f} MPa" for k in on) or "released"
-            pl.add_text(f"{head}t = {t[i]:5.1f} s ({speed:g}x)  {act}", position="upper_edge",
-                        font_size=10, color="black", name="title")
-            writer.append_data(pl.screenshot(return_img=True))
+    title = pl.add_text("", position="upper_edge", font_size=10, color="black", name="title")
+    # The palette: the robot's, track's and goal's colours in four shades (the tubes are lit),
+    # then the rest of the first frame's colours (mostly the terrain), 256 in all.
+    key = np.array([[int(c[k:k + 2], 16) for k in (1, 3, 5)]
+                    for c in [*STRUT_COLOURS, CABLE_COLOUR, GOAL]], float)
+    shades = np.vstack([key * f for f in (0.45, 0.7, 1.0)] + [key + 0.35 * (255 - key)]
+                       + [[[0, 0, 0], [255, 255, 255]]])
+    shades = np.clip(np.rint(shades), 0, 255).astype(np.uint8)
+    palette, images = None, []
+    for n, i in enumerate(frames):
+        robot_struts.points = nodes[i]
+        cables.points = nodes[i]
+        trail[n:] = cog[i] + [0, 0, 0.02]
+        track.points = trail
+        on = np.flatnonzero(pres[i] > 0)
+        act = ", ".join(f"#{k + 1} {pres[i, k]:.1f} MPa" for k in on) or "released"
+        title.set_text("upper_edge", f"{head}t = {t[i]:5.1f} s ({speed:g}x)  {act}")
+        pl.render()
+        rgb = np.ascontiguousarray(pl.screenshot(return_img=True)[..., :3])
+        if palette is None:
+            rest = Image.fromarray(rgb).quantize(256 - len(shades), method=Image.Quantize.MEDIANCUT)
+            colours = np.vstack([shades, np.reshape(rest.getpalette()[:3 * (256 - len(shades))],
+                                                    (-1, 3))]).astype(np.uint8)
+            palette = Image.new("P", (1, 1))
+            palette.putpalette(colours.ravel().tolist())
+        images.append(Image.fromarray(rgb).quantize(palette=palette, dither=Image.Dither.NONE))
     pl.close()
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}-{secrets.token_hex(3)}.tmp{path.suffix}")
+    try:
+        images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:],
+                       duration=1000.0 / fps, loop=0)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
     return {"path": str(path), "frames": len(frames), "fps": fps}

@@ -82,13 +82,21 @@ def plotter(title: str | None, panels: int = 1, size: tuple[int, int] = WINDOW) 
 
 def finish(pl: pv.Plotter, path: str | Path, title: str, **what: Any) -> dict:
     """Write the PNG `path` (folders made), close the plotter and return what was drawn:
-    {"path", "size" (px), "title", "actors" (sorted actor names), **what}."""
+    {"path", "size" (px), "title", "actors" (sorted actor names), **what}. The PNG is written
+    to a temporary file in the same folder and renamed, so that a process killed while writing
+    leaves no partial file at `path`."""
+    import secrets
     # PyVista names a point-label actor "<name>-labels"; report the name we gave it
     names = sorted(name.removesuffix("-labels") for r in pl.renderers for name in r.actors)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    pl.screenshot(str(path))
-    pl.close()
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}-{secrets.token_hex(3)}.tmp{path.suffix}")
+    try:
+        pl.screenshot(str(tmp))
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+        pl.close()
     return {"path": str(path), "size": WINDOW, "title": title, "actors": names, **what}
 
 
@@ -166,11 +174,18 @@ def node_labels(pl: pv.Plotter, nodes: np.ndarray, idx: Sequence[int] | np.ndarr
 
 
 def terrain_mesh(terrain: Terrain, centre: ArrayLike, extent: float) -> pv.PolyData:
-    """The terrain's triangles within `extent` m of `centre` (2,) m, world, with the point
-    data "height (m)"."""
+    """The terrain's triangles within `extent` m of `centre` (2,) m, world (a height field is
+    cut to that square), with the point data "height (m)"."""
     verts, tris = terrain.triangles(extent=extent, centre=centre)
     mesh = pv.PolyData(verts, faces=np.hstack([np.full((len(tris), 1), 3), tris]).ravel())
     mesh["height (m)"] = verts[:, 2]
+    if terrain.kind == "heightfield":
+        c = np.asarray(centre, float)
+        lo, hi = verts[:, 2].min() - 1.0, verts[:, 2].max() + 1.0
+        cut = mesh.clip_box((c[0] - extent, c[0] + extent, c[1] - extent, c[1] + extent, lo, hi),
+                            invert=False).extract_surface(algorithm="dataset_surface")
+        if cut.n_points:
+            mesh = cut
     return mesh
 
 

@@ -1,6 +1,6 @@
 """Validation of the kinematic workspace (issue 5): the workflow checks its own results.
 
-Five checks, each a function returning a result dataclass of numbers and statuses (PASS, FAIL,
+Six checks, each a function returning a result dataclass of numbers and statuses (PASS, FAIL,
 SKIP), never words or files:
 
 1. `paper.check_paper`         the paper's statements (III.A, III.C, IV.B) against the nominal CoG;
@@ -9,10 +9,11 @@ SKIP), never words or files:
                                other faces;
 4. `grounded.check_grounded`   the paper's assumption: the same sweep with gravity, ground and
                                friction;
-5. `check_timestep`            the nominal CoG at the time step against half of it.
+5. `check_timestep`            the nominal CoG at the time step against half of it;
+6. `runs.check_runs`           the workflow's demonstration runs arrived (results/locomotion/).
 
 A check never raises because a comparison failed: a failure is a status next to its numbers.
-Checks 3-5 run their own (batched) simulations. `run_checks` runs all five; `validation.report`
+Checks 3-5 run their own (batched) simulations. `run_checks` runs all six; `validation.report`
 turns the results into summary.md/html and validation.nc.
 """
 from __future__ import annotations
@@ -26,7 +27,7 @@ import xarray as xr
 
 from ..physics import statics, topology as topo
 from ..physics.params import Params
-from . import grounded, paper
+from . import grounded, paper, runs as demo_runs
 from .common import CONTACTS, FAIL, LEVEL_TOL, N_CONTACTS, SKIP, CheckError, CheckSettings, Result, status
 from .nominals import SweepSetup, common_levels, full_nominal, nominal_face, simulate_nominal
 
@@ -202,9 +203,12 @@ def check_timestep(params: Params, nominals: Mapping[str, xr.Dataset], setup: Sw
 
 def run_checks(params: Params, setup: SweepSetup, nominals: Mapping[str, xr.Dataset],
                workspace: xr.Dataset | None, settings: CheckSettings = CheckSettings(),
-               on_result: Callable[[Result], None] | None = None) -> list[Result]:
-    """Every check, in order 1-5, with `params` and the pipeline's sweep `setup` on the nominal
-    datasets (contact -> results/nominal/{contact}.nc) and the workspace (results/workspace.nc).
+               on_result: Callable[[Result], None] | None = None,
+               runs: Mapping[str, xr.Dataset] | None = None) -> list[Result]:
+    """Every check, in order 1-6, with `params` and the pipeline's sweep `setup` on the nominal
+    datasets (contact -> results/nominal/{contact}.nc), the workspace (results/workspace.nc) and
+    the demonstration runs (name -> results/locomotion/{run}.nc; None or empty: check 6 is not
+    evaluated).
     A check that raises gives a `CheckError` (FAIL; the traceback goes to stderr, i.e. the job's
     log). `on_result` is called with each result as soon as it is known (progress logging)."""
     s = settings
@@ -216,6 +220,7 @@ def run_checks(params: Params, setup: SweepSetup, nominals: Mapping[str, xr.Data
         ("grounded", "4", lambda: grounded.check_grounded(params, nominals, setup, s.grounded_settle,
                                                           s.grounded_tolerance)),
         ("timestep", "5", lambda: check_timestep(params, nominals, setup, s.timestep_tolerance)),
+        ("runs", "6", lambda: demo_runs.check_runs(runs or {})),
     ]
     out = []
     for name, num, fn in todo:

@@ -22,6 +22,7 @@ from .common import CONTACTS, FAIL, PASS, SKIP, CheckSettings, Result
 from .grounded import GroundedResult
 from .nominals import SweepSetup, common_levels
 from .paper import PAPER_TIP_PRESSURE, PaperResult
+from .runs import RunsResult, read_runs
 
 AXES = ("x", "y", "z")
 _CP = ("contact", "pair")                    # dimensions of the per-pair numbers
@@ -119,6 +120,19 @@ def _timestep_vars(r: TimestepResult) -> dict:
                                                 "at dt and at dt/2", goal_m=r.tolerance)}
 
 
+def _runs_vars(r: RunsResult) -> dict:
+    if not r.runs:
+        return {}
+    return {"run_outcome": (("run",), np.array(r.outcome, dtype=str),
+                            {"long_name": "how the demonstration run ended (arrived, stuck, no_contact, "
+                                          "step_limit, off_terrain, sim_error)"}),
+            "run_arrived": datasets.var(("run",), r.arrived.astype(np.int8), "1",
+                                        "1 if the demonstration run arrived, else 0"),
+            "run_rolls": datasets.var(("run",), r.rolls, "1", "rolls of the demonstration run"),
+            "run_distance_to_goal": datasets.var(("run",), r.distance, "m", "horizontal distance of the final "
+                                                 "CoG from the goal (NaN: a run over given edges)")}
+
+
 # result type -> (its variables, the variables where NaN means 'not computed')
 _VARIABLES = {
     PaperResult: (_paper_vars, ("migration", "tip_pressure", "orbit_difference", "orbit_magnitude_spread")),
@@ -127,6 +141,7 @@ _VARIABLES = {
     GroundedResult: (_grounded_vars, ("grounded_cog", "grounded_shift", "grounded_margin_change",
                                       "grounded_roll_pressure", "free_roll_pressure")),
     TimestepResult: (_timestep_vars, ("half_dt_cog", "timestep_difference")),
+    RunsResult: (_runs_vars, ("run_distance_to_goal",)),
 }
 
 
@@ -172,6 +187,10 @@ def to_dataset(results: Sequence[Result], levels: ArrayLike, faces: Sequence[int
         "axis": ("axis", np.array(AXES), {"long_name": "support-frame axis"}),
         "end": ("end", np.array([1, 2]), {"units": "1", "long_name": "edge end"}),
     }
+    run_results = [r for r in results if isinstance(r, RunsResult)]
+    if run_results:
+        coords["run"] = ("run", np.array(run_results[0].runs, dtype=str),
+                         {"long_name": "demonstration run (results/locomotion/{run}.nc)"})
     if "orbit_pairs" in data:
         n_orb, size = data["orbit_pairs"][1].shape
         coords["orbit"] = ("orbit", np.arange(1, n_orb + 1), {"units": "1", "long_name": "3-fold orbit number"})
@@ -202,7 +221,7 @@ def _counts(results: Sequence[Result]) -> str:
 def summary_markdown(results: Sequence[Result], note: str = "") -> str:
     """The summary as Markdown: the verdict table and the per-pair tables."""
     esc = lambda s: str(s).replace("|", "\\|").replace("\n", " ")
-    out = ["# Validation of the kinematic workspace", "", _counts(results)]
+    out = ["# Validation of the kinematic workspace and the demonstration runs", "", _counts(results)]
     if note:
         out += ["", note]
     for title, header, rows in summary_tables(results):
@@ -218,7 +237,7 @@ def summary_html(results: Sequence[Result], note: str = "") -> str:
              "body{font-family:sans-serif;font-size:14px;margin:1em}table{border-collapse:collapse;"
              "margin-bottom:1.5em}td,th{border:1px solid #ccc;padding:4px 8px;vertical-align:top;"
              "text-align:left}th{background:#f3f3f3}", "</style></head><body>",
-             "<h1>Validation of the kinematic workspace</h1>", f"<p>{html.escape(_counts(results))}</p>"]
+             "<h1>Validation of the kinematic workspace and the demonstration runs</h1>", f"<p>{html.escape(_counts(results))}</p>"]
     if note:
         parts.append(f"<p>{html.escape(note)}</p>")
     for title, header, rows in summary_tables(results):
@@ -244,9 +263,11 @@ def _log(result: Result) -> None:
 
 def run_stage(cfg: Mapping, nominal_paths: Sequence[str | os.PathLike],
               workspace_path: str | os.PathLike | None, nc_path: str | os.PathLike,
-              md_path: str | os.PathLike, html_path: str | os.PathLike | None = None) -> list[Path]:
+              md_path: str | os.PathLike, html_path: str | os.PathLike | None = None,
+              run_paths: Sequence[str | os.PathLike] = ()) -> list[Path]:
     """The validate stage, files to files: read the pipeline's nominal CoG files
-    (results/nominal/{contact}.nc) and workspace (results/workspace.nc), run every check with the
+    (results/nominal/{contact}.nc), workspace (results/workspace.nc) and demonstration runs
+    (results/locomotion/{run}.nc, `run_paths`; none: check 6 is not evaluated), run every check with the
     resolved configuration `cfg` (sections params, sim, sweep, nominal, validate), write
     validation.nc (every number, with units), the Markdown summary and, if `html_path` is given,
     the HTML summary for the report. Failed checks do not raise. Returns the paths written."""
@@ -260,14 +281,16 @@ def run_stage(cfg: Mapping, nominal_paths: Sequence[str | os.PathLike],
         prov.update(datasets.provenance_config(workspace_path))
     prov.update(cfg)
     setup, settings = sweep_setup(cfg), check_settings(cfg)
-    results = run_checks(params_from_config(cfg), setup, nominals, workspace, settings, on_result=_log)
+    results = run_checks(params_from_config(cfg), setup, nominals, workspace, settings, on_result=_log,
+                         runs=read_runs(run_paths))
     ds, allow = to_dataset(results, common_levels(nominals), settings.faces, settings.statics_pressures)
     note = ("Every number, with units: validation.nc. Sweeps: "
             f"{', '.join(f'{p:g}' for p in setup.levels)} MPa held {setup.hold:g} s, "
             f"{setup.mode} mode, dt {setup.dt:g} s, nominal = mean after the first "
             f"{setup.discard:g} s of each level.")
     paths = [datasets.write(ds, nc_path, prov, "Validation of the workspace against the paper, statics, "
-                            "symmetry, the grounded mode and a halved time step", stage="validate",
+                            "symmetry, the grounded mode and a halved time step, and of the "
+                            "demonstration runs", stage="validate",
                             allow_nan=allow),
              datasets.write_text(md_path, summary_markdown(results, note))]
     if html_path:

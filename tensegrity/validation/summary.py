@@ -14,6 +14,7 @@ from .checks import MappingResult, StaticsResult, TimestepResult
 from .common import CONTACTS, PASS, SKIP, CheckError, Result
 from .grounded import GroundedResult
 from .paper import PAPER_TIP_PRESSURE, PAPER_VOLTAGE, PaperResult
+from .runs import RunsResult
 
 Table = tuple[str, list[str], list[list[str]]]   # title, header, rows
 
@@ -232,6 +233,30 @@ def _grounded_table(r: GroundedResult) -> Table:
              "free: leaves at -> face", "grounded: rolls at -> face"], rows)
 
 
+# --------------------------------------------------------------- 6. demonstration runs
+
+def _run_text(r: RunsResult, i: int) -> str:
+    d = r.distance[i]
+    far = f", {d:.2f} m from the goal" if np.isfinite(d) else ""
+    why = "" if r.arrived[i] else f": {r.message[i]}"
+    return f"{r.runs[i]} {r.outcome[i]} ({int(r.rolls[i])} rolls{far}){why}"
+
+
+def _runs(r: RunsResult) -> list[Verdict]:
+    meas = ("no demonstration runs configured (locomotion.runs)" if not r.runs else
+            "; ".join(_run_text(r, i) for i in range(len(r.runs))))
+    return [Verdict("6", "Every demonstration run arrives (results/locomotion/{run}.nc, outcome)", meas,
+                    "outcome 'arrived' (III.C-D: the workspace plans rolls that reach the goal)", r.status["6"])]
+
+
+def _runs_table(r: RunsResult) -> Table:
+    rows = [[name, r.outcome[i], str(int(r.rolls[i])),
+             f"{r.distance[i]:.3f}" if np.isfinite(r.distance[i]) else "-", r.message[i]]
+            for i, name in enumerate(r.runs)]
+    return ("Demonstration runs (check 6; m)", ["run", "outcome", "rolls", "distance to goal", "why it ended"],
+            rows)
+
+
 # ------------------------------------------------------------------------ any check
 
 def verdicts(result: Result) -> list[Verdict]:
@@ -240,12 +265,17 @@ def verdicts(result: Result) -> list[Verdict]:
         return [Verdict(result.number, f"{result.name} check", f"error: {result.error}", "runs",
                         result.status[result.number])]
     for kind, words in ((PaperResult, _paper), (StaticsResult, _statics), (MappingResult, _mapping),
-                        (GroundedResult, _grounded), (TimestepResult, _timestep)):
+                        (GroundedResult, _grounded), (TimestepResult, _timestep), (RunsResult, _runs)):
         if isinstance(result, kind):
             return words(result)
     raise TypeError(f"no wording for a {type(result).__name__}")
 
 
 def tables(result: Result) -> list[Table]:
-    """The extra tables (title, header, rows) of one check's result: check 4's per-pair table."""
-    return [_grounded_table(result)] if isinstance(result, GroundedResult) else []
+    """The extra tables (title, header, rows) of one check's result: check 4's per-pair table,
+    check 6's per-run table."""
+    if isinstance(result, GroundedResult):
+        return [_grounded_table(result)]
+    if isinstance(result, RunsResult) and result.runs:
+        return [_runs_table(result)]
+    return []

@@ -1,5 +1,6 @@
 """tensegrity.io.config: defaults, validation messages, overrides, Params and JSON provenance."""
 import json
+from pathlib import Path
 import math
 from dataclasses import fields
 
@@ -143,6 +144,66 @@ def test_duplicate_yaml_key_is_rejected(tmp_path):
     p.write_text("sweep:\n  hold: 1.0\n  hold: 2.0\n")
     with pytest.raises(ConfigError, match="line 3: duplicate key 'hold'"):
         config.load(p)
+
+
+def test_check_files_names_every_file_with_a_duplicate_key(tmp_path):
+    """The Snakefile re-reads the files Snakemake loaded (PyYAML keeps the last of two keys)."""
+    good, bad, worse = tmp_path / "good.yaml", tmp_path / "bad.yaml", tmp_path / "worse.yaml"
+    good.write_text("sweep:\n  hold: 1.0\n")
+    bad.write_text("params:\n  cable_stiffness: 2000.0\n  cable_stiffness: 3000.0\n")
+    worse.write_text("sim:\n  dt: 1.0e-4\nsim:\n  record_every: 5\n")
+    config.check_files([good, config.DEFAULT_PATH])
+    with pytest.raises(ConfigError) as exc:
+        config.check_files([good, bad, worse])
+    assert exc.value.errors == [f"config file {bad} line 3: duplicate key 'cable_stiffness'",
+                                f"config file {worse} line 3: duplicate key 'sim'"]
+    assert config.read_yaml(good) == {"sweep": {"hold": 1.0}}
+
+
+def test_the_snakefile_rereads_every_config_file_strictly():
+    text = (Path(__file__).resolve().parents[2] / "Snakefile").read_text()
+    assert text.index("check_config_files(workflow.configfiles)") < text.index("validate_config(config)")
+
+
+@pytest.mark.parametrize("dt, interval, ok", [(1e-4, 0.02, True), (5e-5, 0.02, True), (3e-5, 0.02, False),
+                                              (1e-4, 0.00015, False), (1e-4, 0.0001, True), (2e-4, 0.0001, False)])
+def test_locomotion_interval_must_be_whole_time_steps(dt, interval, ok):
+    """Caught before any job runs, as locomotion.control.RollSettings would in the job."""
+    from tensegrity.locomotion.control import RollSettings
+    over = {"sim": {"dt": dt}, "locomotion": {"interval": interval}}
+    if ok:
+        cfg = config.validate(over)
+        RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
+        return
+    with pytest.raises(ConfigError, match=r"^config key locomotion\.interval: .* is not a whole number of time "
+                                          r"steps sim\.dt"):
+        config.validate(over)
+    with pytest.raises(ValueError):
+        RollSettings(interval=interval, dt=dt)
+
+
+def test_runs_need_both_contact_cases():
+    """The demonstration runs roll onto faces of both kinds: a one-case workspace cannot plan them
+    (locomotion_run would fail late with 'the workspace has no curve for face ...')."""
+    for contacts, missing in ((["equilateral"], "isosceles"), (["isosceles"], "equilateral")):
+        with pytest.raises(ConfigError) as exc:
+            config.validate({"sweep": {"contacts": contacts}})
+        msg, = exc.value.errors
+        assert msg.startswith("config key locomotion.runs:") and f"sweep.contacts = [{contacts[0]}]" in msg
+        assert f"leaves out {missing}" in msg and "locomotion='{runs: []}'" in msg
+        config.validate({"sweep": {"contacts": contacts}, "locomotion": {"runs": []}})
+    config.validate({"sweep": {"contacts": ["isosceles", "equilateral"]}})
+
+
+def test_messages_hold_no_numpy_reprs():
+    import numpy as np
+    for bad in ({"sweep": {"pairs": np.array([10, 13])}}, {"sweep": {"hold": np.float64(-1.0)}},
+                {"sweep": {"pairs": [np.int64(13)]}}, {"sweep": {"levels": [np.float64(1.0), np.float64(0.5)]}},
+                {"sim": {"dt": np.float64(1e-4)}, "locomotion": {"interval": np.float64(1.5e-4)}}):
+        with pytest.raises(ConfigError) as exc:
+            config.validate(bad)
+        assert "np." not in str(exc.value) and "array(" not in str(exc.value), str(exc.value)
+    assert config.validate({"sweep": {"pairs": np.array([10, 11])}})["sweep"]["pairs"] == [10, 11]
 
 
 def test_numbers_as_strings_are_converted():

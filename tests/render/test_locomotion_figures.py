@@ -87,6 +87,16 @@ def test_path_of_a_run(tmp_path, run, view):
     _png_ok(out["path"], spread=10.0)  # mostly ground
 
 
+def test_3d_path_shows_all_of_its_ground(tmp_path, run):
+    """The 3D view was clipped at the top: the ground drawn now fits below the title."""
+    out = runs.fig_path(run["nodes"], Terrain.slope(10.0), tmp_path / "p.png", " ",
+                        faces=run["faces"], step_end=run["step_end"], goal=run["goal"], view="3d")
+    img = imageio.imread(out["path"])[..., :3].astype(int)
+    white = (img >= 250).all(axis=2)
+    assert white[:60].all()  # the title strip (a blank title here) holds no ground
+    assert white[:, 0].mean() > 0.5 and white[:, -1].mean() > 0.5  # nor reaches past the sides
+
+
 def test_path_without_a_goal_and_bad_input(tmp_path, run):
     out = runs.fig_path(run["nodes"], Terrain.flat(), tmp_path / "p.png", "t",
                         goal=np.full(3, np.nan))

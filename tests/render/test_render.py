@@ -5,7 +5,8 @@ import pytest
 import pyvista as pv
 from matplotlib.colors import rgb_to_hsv
 
-from tensegrity.physics import topology as topo
+from tensegrity.physics import frames, topology as topo
+from tensegrity.render import frame_plots
 from tensegrity.render import paper as render
 from tensegrity.render.scene import AXIS_COLOURS, PAIR_COLOURS, STRUT_COLOURS, WINDOW
 
@@ -50,7 +51,7 @@ def test_fig1_robot_has_six_struts_24_cables_and_12_numbered_nodes(tmp_path, nod
     assert out["size"] == WINDOW and out["title"].startswith("Fig. 1")
     assert out["struts"] == 6 and out["cables"] == 24
     assert out["node_labels"] == [str(n) for n in range(1, 13)]
-    assert out["highlighted"] == {} and out["pair_labels"] == []
+    assert out["highlighted"] == {} and out["pair_labels"] == [] and out["shifted"] == []
     struts = [a for a in out["actors"] if a.startswith("strut ")]
     assert sorted(struts) == sorted(f"strut {a + 1}-{b + 1}" for a, b in topo.STRUTS)
     assert {"cables", "nodes", "node labels"} <= set(out["actors"])
@@ -75,6 +76,18 @@ def test_fig4_highlights_the_pairs_cables_and_labels_them(tmp_path, nodes):
     # each pair's cables are the two cables at node v
     for v in pairs:
         assert all(v - 1 in topo.CABLES[c] for c in out["highlighted"][v])
+    # 9-10 (#10) and 10-12 (#12) leave node 10 almost together on screen: drawn side by side
+    assert [tuple(topo.CABLES[c] + 1) for c in out["shifted"]] == [(9, 10), (10, 12)]
+    # each "#v" sits on one of its own pair's cables, 25-55 % of the way from node v
+    for v in pairs:
+        q = out["pair_label_positions"][v]
+        dist = []
+        for a, b in topo.CABLES[out["highlighted"][v]]:
+            e = nodes[b] - nodes[a]
+            t = np.clip(np.dot(q - nodes[a], e) / np.dot(e, e), 0, 1)
+            dist.append(np.linalg.norm(nodes[a] + t * e - q))
+        assert min(dist) < 1e-9
+        assert 0.2 * 0.5 < np.linalg.norm(q - nodes[v - 1]) < 0.6 * 0.5 * 1.1
     px = _check_png(out["path"])
     for v in pairs:
         assert _has_colour(px, PAIR_COLOURS[v - 1]), f"pair #{v} colour not drawn"
@@ -127,12 +140,15 @@ def _triangle(side=0.306):
 def test_fig6_cog_cloud(tmp_path):
     levels = np.round(0.4 * np.arange(1, 7), 2)
     samples, nominal, pressure = _staircase_cloud(levels)
-    out = render.fig_cog_cloud(samples, nominal, levels, _triangle(), tmp_path / "fig6.png",
+    out = frame_plots.fig_cog_cloud(samples, nominal, levels, _triangle(), tmp_path / "fig6.png",
                                pair=10, face_label="(9,10,12)", sample_pressure=pressure,
                                corner_labels=[9, 12, 10])
     assert out["title"].startswith("Fig. 6") and "#10" in out["title"]
     assert out["samples"] == len(samples) and out["nominal"] == 6
     assert out["labels"] == ["0.4 MPa", "0.8 MPa", "1.2 MPa", "1.6 MPa", "2 MPa", "2.4 MPa"]
+    # the labels written beside the markers: the first and the last, none left overlapping
+    assert out["labelled"][0] == "0.4 MPa" and out["labelled"][-1] == "2.4 MPa"
+    assert set(out["labelled"]) <= set(out["labels"])
     assert out["support_edges"] >= 1  # the edge the CoG heads for is in view
     x0, x1, y0, y1 = out["view_mm"]  # the whole cloud is in the main view
     assert x0 <= 1e3 * samples[:, 0].min() and 1e3 * samples[:, 0].max() <= x1
@@ -141,7 +157,7 @@ def test_fig6_cog_cloud(tmp_path):
     assert {"cog samples", "nominal labels", "legend", "context triangle fill"} <= set(out["actors"])
     assert len([a for a in out["actors"] if a.startswith("nominal ring")]) == 6
     px = _check_png(out["path"])
-    for c in render.level_colours(6)[[0, -1]]:
+    for c in frame_plots.level_colours(6)[[0, -1]]:
         assert _has_colour(px, "#" + "".join(f"{int(round(255 * v)):02x}" for v in c))
 
 
@@ -149,10 +165,10 @@ def test_fig6_rejects_mismatched_pressures(tmp_path):
     levels = np.array([0.4, 0.8])
     samples, nominal, pressure = _staircase_cloud(levels, per_level=10)
     with pytest.raises(ValueError, match="sample_pressure"):
-        render.fig_cog_cloud(samples, nominal, levels, _triangle(), tmp_path / "x.png", 10,
+        frame_plots.fig_cog_cloud(samples, nominal, levels, _triangle(), tmp_path / "x.png", 10,
                              "(9,10,12)", sample_pressure=pressure[:-1])
     with pytest.raises(ValueError, match="nominal"):
-        render.fig_cog_cloud(samples, nominal[:1], levels, _triangle(), tmp_path / "x.png", 10,
+        frame_plots.fig_cog_cloud(samples, nominal[:1], levels, _triangle(), tmp_path / "x.png", 10,
                              "(9,10,12)")
 
 
@@ -165,9 +181,23 @@ def test_fig7_workspace(tmp_path):
         s = np.linspace(0, 1, 13)[:, None]
         curves[v] = np.column_stack([reach * s * np.cos(ang), reach * s * np.sin(ang),
                                      0.2 - 0.01 * s])
-        tips[v] = curves[v][-2] if v in (9, 10, 12) else None
-    out = render.fig_workspace(curves, tri, tmp_path / "fig7.png", "Fig. 7 test",
-                               tip_points=tips, corner_labels=[9, 12, 10])
+        tips[v] = curves[v][8] if v in (9, 10, 12) else None
+    # the deformed support each ring is judged against: shrunk so that the ring is on it
+    deformed = {}
+    for v in (9, 10, 12):
+        q = tips[v][:2]
+        shrink = 1.0 - (frames.edge_distances(q, tri[:, :2]).min()
+                        / frames.edge_distances(np.zeros(2), tri[:, :2]).min())
+        deformed[v] = tri * shrink
+    out = frame_plots.fig_workspace(curves, tri, tmp_path / "fig7.png", "Fig. 7 test",
+                               tip_points=tips, corner_labels=[9, 12, 10], tip_supports=deformed)
+    for v in (9, 10, 12):
+        np.testing.assert_allclose(out["tip_points"][v], 1e3 * tips[v][:2])
+        np.testing.assert_allclose(out["tip_supports"][v], 1e3 * deformed[v][:, :2])
+        assert abs(frames.margin_2d(out["tip_points"][v], out["tip_supports"][v])) < 1e-6
+        assert frames.margin_2d(out["tip_points"][v], 1e3 * tri[:, :2]) > 1.0  # inside the filled one
+        assert f"tip support #{v}" in out["actors"]
+    assert out["legend"][-2:] == ["CoG leaves dashed triangle", "- - deformed, at tipping"]
     assert out["title"] == "Fig. 7 test"
     assert out["cog_paths"] == {v: 13 for v in range(1, 13)}
     assert out["tips"] == [9, 10, 12]
@@ -186,6 +216,24 @@ def test_fig7_workspace(tmp_path):
 
 def test_fig7_rejects_unknown_pair(tmp_path):
     with pytest.raises(ValueError, match="pair"):
-        render.fig_workspace({13: np.zeros((3, 3))}, _triangle(), tmp_path / "x.png", "t")
+        frame_plots.fig_workspace({13: np.zeros((3, 3))}, _triangle(), tmp_path / "x.png", "t")
     with pytest.raises(ValueError, match="empty"):
-        render.fig_workspace({}, _triangle(), tmp_path / "x.png", "t")
+        frame_plots.fig_workspace({}, _triangle(), tmp_path / "x.png", "t")
+
+
+def test_fig7_curves_drop_sub_pixel_segments():
+    """Wide VTK lines of segments shorter than a pixel drew stripes at the curves' ends."""
+    c = np.column_stack([np.r_[np.linspace(0, 10, 11), 10 + np.geomspace(1e-3, 0.5, 30)],
+                         np.zeros(41), np.zeros(41)])
+    thin = frame_plots._thin(c, 1.0)
+    steps = np.linalg.norm(np.diff(thin[:, :2], axis=0), axis=1)
+    assert np.all(steps >= 0.5 - 1e-12) and np.array_equal(thin[-1], c[-1])
+    assert np.array_equal(thin[0], c[0]) and len(thin) < 15
+
+
+def test_values_at_a_pressure_skip_nan_levels():
+    levels = np.array([1.0, 2.0, 3.0])
+    values = np.array([[0.0, 0.0], [1.0, 2.0], [np.nan, np.nan]])
+    np.testing.assert_allclose(frame_plots.at_pressure(levels, values, 1.5), [0.5, 1.0])
+    np.testing.assert_allclose(frame_plots.at_pressure(levels, values, 2.5), [1.0, 2.0])  # held
+    assert np.isnan(frame_plots.at_pressure(levels, np.full((3, 2), np.nan), 1.0)).all()

@@ -53,3 +53,13 @@ def test_nice_box_has_round_ticks_around_the_data():
     assert box[0] <= -13 and box[1] >= 71 and box[2] <= 2 and box[3] >= 48
     step = (box[1] - box[0]) / (nx - 1)
     assert step in (10.0, 20.0, 50.0) and (box[3] - box[2]) / (ny - 1) == step
+
+
+def test_terrain_mesh_of_a_height_field_is_cut_to_the_area_shown():
+    from tensegrity.physics.terrain import Terrain
+    t = Terrain(kind="heightfield", origin=np.array([-4.0, -4.0]), spacing=0.25,
+                heights=np.zeros((33, 33)))
+    mesh = scene.terrain_mesh(t, (0.5, 0.3), 1.0)
+    b = mesh.bounds
+    assert b[0] >= -0.5 - 1e-9 and b[1] <= 1.5 + 1e-9 and b[2] >= -0.7 - 1e-9 and b[3] <= 1.3 + 1e-9
+    assert "height (m)" in mesh.point_data and mesh.n_cells > 0

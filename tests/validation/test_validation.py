@@ -15,6 +15,7 @@ from tensegrity.physics import frames, topology as topo
 from tensegrity.workspace import mapping
 from tensegrity.physics import statics
 from tensegrity.validation import checks, grounded, paper, summary
+from tensegrity.validation import runs as demo_runs
 from tensegrity.validation import report as validation_report
 from tensegrity.validation.common import FAIL, PASS, SKIP, CheckError, CheckSettings
 from tensegrity.validation.nominals import SweepSetup, full_nominal, simulate_nominal
@@ -332,11 +333,12 @@ def test_stage_writes_every_number_with_units_and_a_table(tiny_stage):
         if var.dtype.kind in "fi":
             assert var.attrs.get("units"), name
     ids = list(ds["check"].values)
-    assert ids == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4.1", "4.2", "5"]
+    assert ids == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4.1", "4.2", "5", "6"]
     assert datasets.provenance_config(out / "validation.nc")["validate"] == cfg["validate"]
     st = dict(zip(ids, ds["status"].values))
     assert st["1.1"] == SKIP  # only two pairs swept: no ranking
     assert st["2"] == st["3"] == st["5"] == PASS
+    assert st["6"] == SKIP and "run" not in ds.dims  # no run files given
     assert list(ds["passed"].values) == [{PASS: 1, FAIL: 0, SKIP: -1}[s] for s in ds["status"].values]
     md = (out / "summary.md").read_text()
     for i in ids:
@@ -363,8 +365,53 @@ def test_a_check_that_raises_is_shown_as_failed(tiny_stage, monkeypatch):
     assert rows["2"].status == FAIL and rows["2"].measured == "error: RuntimeError: solver diverged"
     assert rows["1.2"].status in (PASS, FAIL)
     ds, _ = validation_report.to_dataset(results, [2.0, 2.4], [1, 7, 9, 18], [2.4])
-    assert list(ds["check"].values) == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4", "5"]
+    assert list(ds["check"].values) == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4", "5", "6"]
     assert "statics_difference" not in ds and "tip_pressure" in ds
+
+
+def run_file(path, name, outcome, goal=(1.0, 0.0, np.nan), final=(0.9, 0.1, 0.2), rolls=3):
+    """A file shaped like results/locomotion/{run}.nc (only what check 6 reads)."""
+    ds = xr.Dataset({"cog": (("time", "axis"), np.array([[0.0, 0.0, 0.2], final])),
+                     "goal": (("axis",), np.array(goal, float))},
+                    attrs={"run": name, "outcome": outcome, "message": f"{outcome} because", "rolls": rolls})
+    ds.to_netcdf(path)
+    return path
+
+
+def test_runs_check_fails_for_a_run_that_did_not_arrive(tmp_path):
+    good = run_file(tmp_path / "flat.nc", "flat", "arrived")
+    bad = run_file(tmp_path / "slope_up.nc", "slope_up", "no_contact", goal=(1.0, 0.0, 0.0), final=(-0.5, 0.0, 0.1))
+    edges = run_file(tmp_path / "paper.nc", "paper", "arrived", goal=(np.nan,) * 3)
+    res = demo_runs.check_runs(demo_runs.read_runs([edges, good]))
+    assert res.status == {"6": PASS} and np.isnan(res.distance[0]) and res.distance[1] == pytest.approx(0.1414, abs=1e-4)
+    res = demo_runs.check_runs(demo_runs.read_runs([edges, good, bad]))
+    assert res.status == {"6": FAIL} and list(res.arrived) == [True, True, False]
+    row, = summary.verdicts(res)
+    assert row.status == FAIL and "slope_up no_contact (3 rolls, 1.50 m from the goal): no_contact because" in row.measured
+    title, header, rows = summary.tables(res)[0]
+    assert [r[:2] for r in rows] == [["paper", "arrived"], ["flat", "arrived"], ["slope_up", "no_contact"]]
+    assert demo_runs.check_runs({}).status == {"6": SKIP}
+    # the end-of-workflow warning names the runs that did not arrive, and only those
+    text = demo_runs.warning([edges, good, bad, tmp_path / "missing.nc"])
+    assert "slope_up: no_contact (no_contact because)" in text and "flat" not in text
+    assert demo_runs.warning([edges, good]) == ""
+
+
+def test_stage_fails_check_6_in_every_output(tiny_stage, tmp_path):
+    cfg, noms, ws, _, _ = tiny_stage
+    runs = [run_file(tmp_path / "paper.nc", "paper", "arrived", goal=(np.nan,) * 3),
+            run_file(tmp_path / "slope_up.nc", "slope_up", "no_contact")]
+    out = tmp_path / "validation"
+    validation_report.run_stage(cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html",
+                                run_paths=runs)
+    ds = datasets.read(out / "validation.nc")
+    st = dict(zip(ds["check"].values, ds["status"].values))
+    assert st["6"] == FAIL
+    assert list(ds["run"].values) == ["paper", "slope_up"] and list(ds["run_arrived"].values) == [1, 0]
+    assert list(ds["run_outcome"].values) == ["arrived", "no_contact"]
+    assert ds["run_distance_to_goal"].attrs["units"] == "m" and ds["run_rolls"].attrs["long_name"]
+    assert re.search(r"^\| 6 \| .* \| FAIL \|$", (out / "summary.md").read_text(), re.M)
+    assert "slope_up no_contact" in (out / "summary.html").read_text()
 
 
 def test_setup_and_settings_defaults_are_the_schema_defaults():
@@ -378,4 +425,5 @@ def test_the_rule_puts_the_summary_in_the_report():
     smk = (REPO / "workflow" / "rules" / "validate.smk").read_text()
     assert re.search(r'report\(\s*"results/validation/summary\.html"', smk)
     assert "rules.validate.output" in (REPO / "Snakefile").read_text()
+    assert re.search(r'runs=expand\(\s*"results/locomotion/\{run\}\.nc"', smk)  # check 6 reads the runs
     assert (REPO / "workflow" / "report" / "validation.rst").is_file()

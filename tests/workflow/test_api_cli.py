@@ -169,7 +169,7 @@ def test_render_draws_the_reference_support_of_the_datasets_strut_length(tmp_pat
     strut length the dataset was made with."""
     from tensegrity.io import formats
     from tensegrity.physics import frames
-    from tensegrity.render import paper
+    from tensegrity.render import frame_plots as paper
     P, n = 2, 1
     ds = formats.nominal_dataset([10], [1.0, 2.0], np.full((n, P, 3), 0.1), np.zeros((n, P, 3)),
                                  np.zeros((n, P, 3, 3)), np.full((n, P), 0.05), np.array([np.nan]),

@@ -1,5 +1,6 @@
 """Smoke test: the whole workflow on tests/workflow/tiny.yaml in a scratch copy, and a bad config that
 stops before any job runs and writes nothing."""
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -26,6 +27,10 @@ def test_tiny_workflow_makes_every_output(tiny):
         assert (res / "figures" / f"{name}.png").stat().st_size > 20_000
     assert (res / "curves" / "curves.json").stat().st_size > 1000
     assert (res / "validation" / "summary.md").exists()
+    val = datasets.read(res / "validation" / "validation.nc")  # check 6 read the runs
+    assert list(val["run"].values) == ["paper", "slope_down"]
+    st = dict(zip(val["check"].values, val["status"].values))
+    assert st["6"] == ("pass" if val["run_arrived"].values.all() else "fail")
     cfg = datasets.provenance_config(res / "nominal" / "equilateral.nc")
     assert cfg["sweep"]["levels"] == [1.2, 2.4, 3.6, 4.8] and cfg["nominal"]["discard"] == 0.1
 
@@ -52,6 +57,41 @@ def test_bad_config_stops_before_any_job(workflow_copy, override, key):
                        capture_output=True, text=True)
     assert r.returncode != 0
     assert f"config key {key}" in r.stdout + r.stderr
+    assert not (wd / "results").exists()
+
+
+def test_a_run_that_does_not_arrive_warns_and_fails_check_6(tiny, tmp_path):
+    """The workflow still exits 0 (the run's files show what happened) but names the run at the
+    end, and validation check 6 fails. In a copy of the tiny results: only the runs, their
+    figures and the validation re-run (about 20 s)."""
+    wd = tmp_path / "wf"
+    shutil.copytree(tiny, wd, symlinks=True)
+    r = subprocess.run(SNAKEMAKE + ["--cores", "2", "--configfile", str(ROOT / "tests/workflow/tiny.yaml"),
+                                    "--config", "locomotion={max_rolls: 1}", "--omit-from", "locomotion_animation"],
+                       cwd=wd, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr[-3000:]
+    assert "WARNING: 2 demonstration run(s) did not arrive" in r.stderr
+    assert "  paper: step_limit (step limit of 1 rolls reached)" in r.stderr
+    val = datasets.read(wd / "results" / "validation" / "validation.nc")
+    assert dict(zip(val["check"].values, val["status"].values))["6"] == "fail"
+    assert list(val["run_outcome"].values) == ["step_limit", "step_limit"]
+    assert "| 6 |" in (wd / "results" / "validation" / "summary.md").read_text()
+
+
+@pytest.mark.parametrize("where", ["--configfile", "config/config.yaml"])
+def test_duplicate_key_in_a_config_file_stops_before_any_job(workflow_copy, where):
+    """Snakemake's YAML reader keeps the last of two keys; the Snakefile re-reads the files."""
+    wd = workflow_copy
+    if where == "--configfile":
+        (wd / "mine.yaml").write_text("sweep:\n  hold: 0.3\n  hold: 0.5\n")
+        args, message = ["--configfile", "mine.yaml"], "mine.yaml line 3: duplicate key 'hold'"
+    else:
+        cfg = wd / "config" / "config.yaml"
+        line = len(cfg.read_text().splitlines()) + 1
+        cfg.write_text(cfg.read_text() + "sim:\n  record_every: 5\n")
+        args, message = [], f"config/config.yaml line {line}: duplicate key 'sim'"
+    r = subprocess.run(SNAKEMAKE + ["--cores", "1", *args], cwd=wd, capture_output=True, text=True)
+    assert r.returncode != 0 and message in r.stdout + r.stderr, r.stderr[-2000:]
     assert not (wd / "results").exists()
 
 

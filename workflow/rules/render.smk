@@ -5,9 +5,9 @@ FIG6_CONTACT = "equilateral" if "equilateral" in CONTACTS else CONTACTS[0]
 rule render_robot:
     """Fig. 1 (the robot, numbered), Fig. 4 (actuator pairs), Fig. 5 (support frame)."""
     output:
-        fig1=report("results/figures/fig1_robot.png", caption="../report/fig1.rst", category="Figures"),
-        fig4=report("results/figures/fig4_pairs.png", caption="../report/fig4.rst", category="Figures"),
-        fig5=report("results/figures/fig5_support_frame.png", caption="../report/fig5.rst", category="Figures"),
+        fig1=report("results/figures/fig1_robot.png", caption="../report/fig1.rst", category="Figures", subcategory="robot"),
+        fig4=report("results/figures/fig4_pairs.png", caption="../report/fig4.rst", category="Figures", subcategory="robot"),
+        fig5=report("results/figures/fig5_support_frame.png", caption="../report/fig5.rst", category="Figures", subcategory="robot"),
     params:
         cfg=stage_config(config, "render_robot"),
     log:
@@ -23,7 +23,7 @@ rule render_cloud:
         sweep=f"results/sweeps/{FIG6_CONTACT}/pair{FIG6_PAIR:02d}.nc",
         nominal=f"results/nominal/{FIG6_CONTACT}.nc",
     output:
-        report("results/figures/fig6_cog_cloud.png", caption="../report/fig6.rst", category="Figures"),
+        report("results/figures/fig6_cog_cloud.png", caption="../report/fig6.rst", category="Figures", subcategory="CoG cloud"),
     params:
         max_pressure=2.4,
     log:

@@ -1,8 +1,10 @@
 rule validate:
-    """Check the workspace against the paper, statics, symmetry, the grounded mode and dt/2."""
+    """Check the workspace against the paper, statics, symmetry, the grounded mode and dt/2, and
+    that the demonstration runs arrived (check 6: it waits for the runs)."""
     input:
         nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
         workspace="results/workspace.nc",
+        runs=expand("results/locomotion/{run}.nc", run=config["locomotion"]["runs"]),
     output:
         nc="results/validation/validation.nc",
         md="results/validation/summary.md",

@@ -3,4 +3,5 @@ from tensegrity.validation import report as validation_report
 
 with stages.logging_to(snakemake.log[0], snakemake.threads):
     validation_report.run_stage(snakemake.params.cfg, snakemake.input.nominal, snakemake.input.workspace,
-                                snakemake.output.nc, snakemake.output.md, snakemake.output.html)
+                                snakemake.output.nc, snakemake.output.md, snakemake.output.html,
+                                run_paths=snakemake.input.runs)

@@ -3,7 +3,10 @@
 # munged, slurmctld and slurmd from Debian's packages, detached from the caller's process group,
 # one partition "debug" holding this node. Idempotent: installs only what is missing, rewrites
 # /etc/slurm/slurm.conf only if it changed, starts only daemons that are not running, then waits
-# until the node is idle. Needs root. Stop with tests/workflow/slurm/stop_cluster.sh.
+# until the node is idle. Needs root. Stop with tests/workflow/slurm/stop_cluster.sh, which puts back
+# what this script changed: the first start records the machine's prior state in $STATE
+# (a slurm.conf of its own, the munge key) so that the stop can restore it; a slurm.conf left
+# behind makes every later `scontrol` (and Snakemake's SLURM plugin) wait for a controller.
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 T0=$(date +%s.%N)
@@ -22,6 +25,18 @@ if ! command -v slurmctld >/dev/null || ! command -v slurmd >/dev/null \
     apt-get update -qq || { echo "start_cluster: apt-get update failed" >&2; exit 3; }
     apt-get install -y -qq --no-install-recommends slurmctld slurmd slurm-client munge >/dev/null \
         || { echo "start_cluster: apt-get install slurmctld slurmd slurm-client munge failed" >&2; exit 3; }
+fi
+
+# --- the machine's state before the first start (after the packages, which may bring a munge key)
+STATE=/var/lib/tensegrity-slurm-test   # read by stop_cluster.sh
+MARK='# Written by tests/'                # the first line of a slurm.conf this script wrote (any version)
+if [ ! -d "$STATE" ]; then
+    mkdir -p "$STATE.new"
+    if [ -s /etc/slurm/slurm.conf ] && ! head -1 /etc/slurm/slurm.conf | grep -q "^$MARK"; then
+        cp -p /etc/slurm/slurm.conf "$STATE.new/slurm.conf"    # the machine's own: put back on stop
+    fi
+    [ -s /etc/munge/munge.key ] || touch "$STATE.new/created-munge-key"
+    mv "$STATE.new" "$STATE"
 fi
 
 # --- munge
@@ -67,9 +82,8 @@ EOF
 )
 mkdir -p /etc/slurm /var/spool/slurmd /var/spool/slurmctld /var/log/slurm
 if [ "$(cat /etc/slurm/slurm.conf 2>/dev/null)" != "$CONF" ]; then
-    if [ -s /etc/slurm/slurm.conf ] && ! grep -q '^# Written by tests/workflow/slurm/start_cluster.sh' /etc/slurm/slurm.conf; then
-        cp /etc/slurm/slurm.conf /etc/slurm/slurm.conf.bak
-        echo "start_cluster: kept the previous /etc/slurm/slurm.conf as slurm.conf.bak"
+    if [ -s "$STATE/slurm.conf" ]; then
+        echo "start_cluster: replacing /etc/slurm/slurm.conf (kept in $STATE; stop_cluster.sh puts it back)"
     fi
     # daemons running with another configuration are restarted with this one
     for f in /run/slurmd.pid /run/slurmctld.pid; do
