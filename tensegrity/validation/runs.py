@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..io import datasets
 from .common import FAIL, PASS, SKIP, Result
 
 ARRIVED = "arrived"
@@ -68,8 +69,8 @@ def read_runs(paths: Iterable[str | os.PathLike]) -> dict[str, xr.Dataset]:
     """The run files, name -> dataset (read into memory, the files closed)."""
     out = {}
     for p in paths:
-        with xr.open_dataset(p) as ds:
-            out[str(ds.attrs.get("run") or run_name(p))] = ds.load()
+        ds = datasets.read(p)  # a corrupted or missing file is named in the error
+        out[str(ds.attrs.get("run") or run_name(p))] = ds
     return out
 
 

@@ -4,7 +4,7 @@ Lengths are written in mm, pressures in MPa. `validation.report` lays them out a
 and the text variables of validation.nc."""
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,6 +50,14 @@ def label(face: int) -> str:
 def edge_label(edge: Sequence[int] | None) -> str:
     """An edge (two 1-based nodes; 0 or None: none) as '10-12', or 'none'."""
     return "-".join(str(int(n)) for n in sorted(edge)) if edge is not None and min(edge) > 0 else "none"
+
+
+def _largest_case(difference: np.ndarray, pressures, faces: Mapping) -> str:
+    """'largest X mm (#pair at P MPa on face) over N cases' of a (contact, pair, pressure)
+    difference in m."""
+    c, p, k = _largest(difference)
+    return (f"largest {mm(np.nanmax(difference))} (#{p + 1} at {pressures[k]:g} MPa on "
+            f"{label(faces[CONTACTS[c]])}) over {int(np.isfinite(difference).sum())} cases")
 
 
 def _largest(values: np.ndarray) -> tuple[int, ...]:
@@ -134,9 +142,7 @@ def _statics(r: StaticsResult) -> list[Verdict]:
     elif not np.isfinite(r.difference).any():
         meas = "no pair swept at every level"
     else:
-        c, p, j = _largest(r.difference)
-        meas = (f"largest {mm(np.nanmax(r.difference))} (#{p + 1} at {r.pressures[j]:g} MPa on "
-                f"{label(r.faces[CONTACTS[c]])}) over {int(np.isfinite(r.difference).sum())} cases")
+        meas = _largest_case(r.difference, r.pressures, r.faces)
     return [Verdict("2", stmt, meas, f"under {mm(r.tolerance)}", r.status["2"])]
 
 
@@ -165,9 +171,7 @@ def _timestep(r: TimestepResult) -> list[Verdict]:
     if r.status["5"] == SKIP:
         meas = "no sweep"
     else:
-        c, p, k = _largest(r.difference)
-        meas = (f"largest {mm(np.nanmax(r.difference))} (#{p + 1} at {r.levels[k]:g} MPa on "
-                f"{label(r.faces[CONTACTS[c]])}) over {int(np.isfinite(r.difference).sum())} cases")
+        meas = _largest_case(r.difference, r.levels, r.faces)
     return [Verdict("5", stmt, meas, f"under {mm(r.tolerance)}", r.status["5"])]
 
 
