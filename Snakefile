@@ -31,6 +31,9 @@ include: "workflow/rules/map.smk"
 include: "workflow/rules/render.smk"
 include: "workflow/rules/validate.smk"
 include: "workflow/rules/locomotion.smk"
+include: "workflow/rules/study.smk"
+include: "workflow/rules/two_pair.smk"
+include: "workflow/rules/gravity.smk"
 
 
 rule all:
@@ -42,6 +45,8 @@ rule all:
         rules.render_all.input,
         rules.validate.output,
         rules.locomotion_all.input,
+        rules.two_pair_all.input,
+        rules.gravity_all.input,
     default_target: True
 
 

@@ -1,15 +1,25 @@
-"""Goal-directed rolling (issue 4, item 6). Prints figures; asserts nothing.
+"""Goal-directed rolling where it can fail (issue 4 item 6, issue 10 item 5). Prints figures;
+asserts nothing.
 
-Over N seeded random goal directions `--distance` m away (default 50 directions, 2 m), on flat
-ground and on a seeded uneven terrain: the fraction of runs that arrive within the arrival
-tolerance (default 0.3 m), the outcomes, distance per roll, rolls per metre, the mean pressure
-of the rolls, and wall time per metre travelled. All runs of a terrain are simulated as one
-batch (`locomotion.roll_many`); each run equals its single run.
+Goals `--distance` m away (default 2 m) in `--directions` evenly spaced directions (default 8;
+direction 0 is +x, which is uphill on the slopes) from the robot standing on (9,10,12) at the
+origin, on each scenario:
+- flat: flat ground;
+- terrain: seeded random terrain, height std `--amplitudes` (0.03, 0.05 m) x `--seeds` (1, 2, 3);
+- slope: planes rising toward +x by `--slopes` deg (10, 15, 20, 24); the runs are also reported
+  per class of goal direction: uphill (within 45 deg of +x), across (+-90 deg), downhill.
+Per scenario: arrival rate within the arrival tolerance (config, 0.3 m), outcomes, rolls per
+metre (rolls of the arrived runs over their net distance: a tumble is no progress), mean
+pressure at which the rolls tipped, wall time (inflated on a busy
+machine). A summary table closes the output. All runs of a scenario are one batch
+(`locomotion.roll_many`); each equals its single run.
 
-Usage: python benchmarks/bench_locomotion.py [--workspace results/workspace.nc] [--runs 50]
-       [--distance 2.0] [--seed 0] [--terrain-seed 1] [--amplitude 0.03] [--only flat|terrain]
-       [--strut-damping 1.0]
+Usage: python benchmarks/bench_locomotion.py [--workspace results/workspace.nc]
+       [--two-pair results/workspace_two_pair.nc] [--directions 8] [--distance 2.0]
+       [--only flat terrain slope] [--amplitudes 0.03 0.05] [--seeds 1 2 3]
+       [--slopes 10 15 20 24] [--strut-damping 1.0] [--set brake=true escape_attempts=0 ...]
 Without the workspace file, one is computed first with the default configuration (~30 s).
+`--runs` is a synonym of `--directions`.
 """
 from __future__ import annotations
 
@@ -22,6 +32,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 from tensegrity import locomotion as lo
 from tensegrity.io import config, formats
@@ -29,16 +40,21 @@ from tensegrity.locomotion.demos import locomotion_params
 from tensegrity.physics.terrain import Terrain
 
 
-def workspace(path: str) -> lo.Workspace:
+def workspace(path: str, two_pair: str | None) -> lo.Workspace:
     if Path(path).is_file():
-        return formats.read_workspace(path)
-    from tensegrity import stages
-    print(f"{path} not found: computing the workspace with the default configuration")
-    cfg = config.load()
-    with tempfile.TemporaryDirectory() as tmp:
-        nominal = [stages.run_nominal(cfg, stages.run_sweep(cfg, c, f"{tmp}/{c}"), f"{tmp}/{c}.nc")
-                   for c in cfg["sweep"]["contacts"]]
-        return formats.read_workspace(stages.run_map(cfg, nominal, f"{tmp}/workspace.nc"))
+        ws = formats.read_workspace(path)
+    else:
+        from tensegrity import stages
+        print(f"{path} not found: computing the workspace with the default configuration")
+        cfg = config.load()
+        with tempfile.TemporaryDirectory() as tmp:
+            nominal = [stages.run_nominal(cfg, stages.run_sweep(cfg, c, f"{tmp}/{c}"), f"{tmp}/{c}.nc")
+                       for c in cfg["sweep"]["contacts"]]
+            ws = formats.read_workspace(stages.run_map(cfg, nominal, f"{tmp}/workspace.nc"))
+    if two_pair:
+        from tensegrity.io.two_pair_formats import read_two_pair
+        ws = ws.with_two_pair(*read_two_pair(two_pair))
+    return ws
 
 
 @contextlib.contextmanager
@@ -63,43 +79,78 @@ def progress(desc: str):
             dynamics.simulate = simulate
 
 
-def report(name: str, runs: list[lo.Run], wall: float, tol: float) -> None:
+def _cls(heading_deg: float) -> str:
+    """uphill / across / downhill for a goal direction (deg from +x, the uphill direction)."""
+    a = abs((heading_deg + 180.0) % 360.0 - 180.0)
+    return "uphill" if a < 67.5 else ("across" if a <= 112.5 else "downhill")
+
+
+def _rate(runs: list[lo.Run]) -> str:
+    n = sum(r.outcome == "arrived" for r in runs)
+    return f"{n}/{len(runs)} = {100 * n / max(len(runs), 1):.0f} %"
+
+
+def report(name: str, runs: list[lo.Run], headings: np.ndarray, wall: float, tol: float,
+           by_class: bool) -> dict:
+    """Print one scenario; return its row of the summary table."""
     n = len(runs)
-    arrived = [r for r in runs if r.outcome == "arrived"]
     rolls = sum(r.rolls for r in runs)
-    travelled = sum(r.travelled for r in runs)
-    path = sum(float(np.sum(np.linalg.norm(np.diff(np.array([r.start] + [
-        st.used.cog_after for st in r.steps if st.rolled])[:, :2], axis=0), axis=1))) for r in runs)
+    done = [r for r in runs if r.outcome == "arrived"]
+    rpm = sum(r.rolls for r in done) / sum(r.travelled for r in done) if done else float("nan")
     tips = [a.tip_pressure for r in runs for st in r.steps for a in st.attempts
             if a.rolled and np.isfinite(a.tip_pressure)]
     combos = sum(1 for r in runs for st in r.steps if st.rolled and len(st.used.pairs) > 1)
-    sim = sum(float(r.record.t[-1] - r.record.t[0]) for r in runs if len(r.record.t))
+    outcomes = ", ".join(f"{k} {v}" for k, v in collections.Counter(r.outcome for r in runs).most_common())
+    tip = float(np.mean(tips)) if tips else float("nan")
     print(f"\n== {name}: {n} runs")
-    print(f"arrived within {tol} m: {len(arrived)}/{n} = {100 * len(arrived) / n:.0f} %")
-    print("outcomes: " + ", ".join(f"{k} {v}" for k, v in collections.Counter(r.outcome for r in runs).most_common()))
+    print(f"arrived within {tol} m: {_rate(runs)}")
+    print(f"outcomes: {outcomes}")
+    if by_class:
+        for c in ("uphill", "across", "downhill"):
+            sel = [r for r, h in zip(runs, headings) if _cls(h) == c]
+            if sel:
+                print(f"  {c:8s}: arrived {_rate(sel)}; " + ", ".join(
+                    f"{k} {v}" for k, v in collections.Counter(r.outcome for r in sel).most_common()))
     print(f"final distance to goal: median {np.median([r.distance_to_goal for r in runs]):.3f} m, "
           f"max {max(r.distance_to_goal for r in runs):.3f} m")
-    print(f"rolls: {rolls} ({combos} with two pairs); distance per roll "
-          f"{travelled / max(rolls, 1):.3f} m net, {path / max(rolls, 1):.3f} m along the path; "
-          f"rolls per metre {rolls / max(travelled, 1e-9):.2f}")
-    print(f"pressure at which the rolls tipped: mean {np.mean(tips):.2f} MPa "
-          f"(min {np.min(tips):.2f}, max {np.max(tips):.2f})")
-    print(f"simulated {sim:.0f} s; wall {wall:.1f} s for the batch = {wall / max(travelled, 1e-9):.3f} s "
-          f"per metre travelled ({wall / n:.2f} s per run)")
-    bad = [r for r in runs if r.outcome != "arrived"]
-    for r in bad[:10]:
-        print(f"  not arrived: goal ({r.goal[0]:+.2f}, {r.goal[1]:+.2f}) -> {r.outcome}: {r.message}")
+    print(f"rolls: {rolls} ({combos} with two pairs); rolls per metre of the arrived runs {rpm:.2f}")
+    print(f"pressure at which the rolls tipped: mean {tip:.2f} MPa" + (
+        f" (min {np.min(tips):.2f}, max {np.max(tips):.2f})" if tips else " (no roll)"))
+    print(f"wall {wall:.1f} s for the batch ({wall / n:.2f} s per run)")
+    for r, h in [(r, h) for r, h in zip(runs, headings) if r.outcome != "arrived"][:8]:
+        print(f"  not arrived: goal at {h:.0f} deg -> {r.outcome} after {r.rolls} rolls: {r.message}")
+    return dict(name=name, rate=_rate(runs), outcomes=outcomes,
+                rpm=rpm, tip=tip)
+
+
+def scenarios(a: argparse.Namespace) -> list[tuple[str, Terrain, bool]]:
+    """(name, terrain, report per direction class) of every scenario asked for."""
+    size = 2 * a.distance + 4.0
+    out = []
+    if "flat" in a.only:
+        out.append(("flat ground", Terrain.flat(), False))
+    if "terrain" in a.only:
+        out += [(f"terrain std {amp} m seed {seed}", Terrain.random(seed, size=size, amplitude=amp), False)
+                for amp in a.amplitudes for seed in a.seeds]
+    if "slope" in a.only:
+        out += [(f"slope {s:g} deg", Terrain.slope(s, 0.0), True) for s in a.slopes]
+    return out
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--workspace", default="results/workspace.nc")
-    ap.add_argument("--runs", type=int, default=50)
+    ap.add_argument("--two-pair", default=None, help="two-pair workspace (results/workspace_two_pair.nc)"
+                    "; without it combinations are superposed")
+    ap.add_argument("--directions", "--runs", type=int, default=8, help="number of goal directions")
     ap.add_argument("--distance", type=float, default=2.0, help="goal distance, m")
-    ap.add_argument("--seed", type=int, default=0, help="seed of the goal directions")
-    ap.add_argument("--terrain-seed", type=int, default=1)
-    ap.add_argument("--amplitude", type=float, default=0.03, help="terrain height std, m")
-    ap.add_argument("--only", choices=["flat", "terrain"])
+    ap.add_argument("--only", nargs="+", choices=["flat", "terrain", "slope"],
+                    default=["flat", "terrain", "slope"])
+    ap.add_argument("--amplitudes", nargs="+", type=float, default=[0.03, 0.05], help="terrain height std, m")
+    ap.add_argument("--seeds", nargs="+", type=int, default=[1, 2, 3], help="terrain seeds")
+    ap.add_argument("--slopes", nargs="+", type=float, default=[10, 15, 20, 24], help="slope angles, deg")
+    ap.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE",
+                    help="override locomotion settings (RollSettings), e.g. brake=true escape_attempts=0")
     ap.add_argument("--strut-damping", type=float, default=None,
                     help="strut damping of the rolling simulations, 1/s (default: config locomotion.strut_damping)")
     a = ap.parse_args()
@@ -108,25 +159,37 @@ def main() -> None:
     if a.distance < float(params.strut_length):  # roll_many refuses goals closer than the robot
         ap.error(f"--distance {a.distance} m is less than the robot's size (strut length "
                  f"{params.strut_length} m)")
-    ws = workspace(a.workspace)
+    if a.directions < 1:
+        ap.error(f"--directions {a.directions}: at least one direction")
+    cases = scenarios(a)  # bad slopes etc. raise here, before any work
+    try:
+        over = {k: yaml.safe_load(v) for k, v in (kv.split("=", 1) for kv in a.set)}
+        settings = lo.RollSettings.from_config({**cfg["locomotion"], **over}, cfg["sim"]["dt"])
+    except ValueError as e:
+        ap.error(f"--set {' '.join(a.set)}: {e}")
+    unknown = set(over) - set(lo.RollSettings.__dataclass_fields__)
+    if unknown:
+        ap.error(f"--set: unknown locomotion setting(s) {sorted(unknown)}")
+    ws = workspace(a.workspace, a.two_pair)
     if a.strut_damping is not None:
         params = params.replace(strut_damping=a.strut_damping)
-    settings = lo.RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
-    heading = np.random.default_rng(a.seed).uniform(0, 2 * np.pi, a.runs)
-    goals = a.distance * np.stack([np.cos(heading), np.sin(heading)], axis=1)
-    cases = {"flat": ("flat ground", Terrain.flat()),
-             "terrain": (f"uneven terrain (seed {a.terrain_seed}, height std {a.amplitude} m)",
-                         Terrain.random(a.terrain_seed, size=2 * a.distance + 4.0, amplitude=a.amplitude))}
-    if a.only:
-        cases = {a.only: cases[a.only]}
-    print(f"{a.runs} goals {a.distance} m away (directions seeded {a.seed}); start on (9,10,12) "
-          f"at the origin; ramp {settings.ramp_rate} MPa/s; strut damping "
-          f"{params.strut_damping} 1/s; dt {settings.dt} s")
-    for name, terrain in cases.values():
+    headings = np.arange(a.directions) * 360.0 / a.directions
+    goals = a.distance * np.stack([np.cos(np.radians(headings)), np.sin(np.radians(headings))], axis=1)
+    print(f"{a.directions} goals {a.distance} m away at {', '.join(f'{h:.0f}' for h in headings)} deg "
+          f"from +x (uphill on slopes); start on (9,10,12) at the origin; ramp {settings.ramp_rate} "
+          f"MPa/s; strut damping {params.strut_damping} 1/s; dt {settings.dt} s; combinations "
+          + ("from the two-pair workspace" if a.two_pair else "superposed")
+          + (f"; settings {' '.join(a.set)}" if a.set else ""))
+    rows = []
+    for name, terrain, by_class in cases:
         t0 = time.perf_counter()
         with progress(name):
             runs = lo.roll_many(ws, goals, params, terrain, settings=settings)
-        report(name, runs, time.perf_counter() - t0, settings.arrive_tolerance)
+        rows.append(report(name, runs, headings, time.perf_counter() - t0,
+                           settings.arrive_tolerance, by_class))
+    print("\n| scenario | arrived | outcomes | rolls/m | mean tip MPa |\n|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['name']} | {r['rate']} | {r['outcomes']} | {r['rpm']:.2f} | {r['tip']:.2f} |")
 
 
 if __name__ == "__main__":

@@ -246,7 +246,11 @@ def _locomotion_setup(args):
     cfg = _load_cfg(args)
     face = face_number(args.face)
     settings = RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
-    return cfg, face, args.terrain, locomotion_params(cfg), settings, read_workspace(args.workspace)
+    ws = read_workspace(args.workspace)
+    if args.two_pair:  # measured two-pair curves instead of superposed ones
+        from .io.two_pair_formats import read_two_pair
+        ws = ws.with_two_pair(*read_two_pair(args.two_pair))
+    return cfg, face, args.terrain, locomotion_params(cfg), settings, ws
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -288,6 +292,13 @@ def cmd_roll(args: argparse.Namespace) -> int:
                        f"Rolling locomotion run: {run.outcome}", stage="locomotion",
                        allow_nan=RUN_ALLOW_NAN)
     return 0 if run.outcome == "arrived" else 1
+
+
+def cmd_study(args: argparse.Namespace) -> int:
+    """Run a design study (config/studies/NAME.yaml or a YAML path) without Snakemake: every chunk
+    not yet written, the merge and the analysis, into results/studies/NAME (docs/datasets.md)."""
+    from . import study_stages
+    return study_stages.cmd_study(_load_cfg(args), args.study, args.out, args.limit)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -341,10 +352,19 @@ def build_parser() -> argparse.ArgumentParser:
                                           "schema's defaults; check: required)")
     p.set_defaults(func=cmd_config)
 
+    p = sub.add_parser("study", parents=[common], help="run a design study without Snakemake",
+                       description=cmd_study.__doc__)
+    p.add_argument("study", help="study name (config/studies/NAME.yaml) or a YAML file")
+    p.add_argument("--out", help="output folder (default results/studies/NAME)")
+    p.add_argument("--limit", type=int, default=0, help="only the first N designs (default 0: all)")
+    p.set_defaults(func=cmd_study)
+
     for name, func, helptext in (("plan", cmd_plan, "choose the pair and pressure that roll the robot toward a target"),
                                  ("roll", cmd_roll, "roll the robot toward a goal in the dynamic simulator")):
         p = sub.add_parser(name, parents=[common], help=helptext, description=func.__doc__)
         p.add_argument("--workspace", default="results/workspace.nc", help="workspace file (default results/workspace.nc)")
+        p.add_argument("--two-pair", help="two-pair workspace file (results/workspace_two_pair.nc): "
+                       "combinations from it, not superposed (default: superposed)")
         p.add_argument("--face", type=_face, default=(9, 10, 12), help="start face: 1..20 or 'a,b,c' (default 9,10,12)")
         p.add_argument("--terrain", type=_terrain, default="flat",
                        help="flat (default), slope:ANGLE[:AZIMUTH] or random:SEED[:AMPLITUDE]")

@@ -56,6 +56,14 @@ STAGE_CONFIG: dict[str, tuple[str, ...]] = {
     "render_robot": ("params",),
     "validate": ("params", "sim", "sweep", "nominal", "validate"),
     "locomotion_run": ("params", "sim", "locomotion"),
+    "study": ("params", "sim", "locomotion"),  # design studies (study_stages)
+    "two_pair": ("params", "sim", "two_pair"),  # the two-pair workspace (two_pair_stages)
+    "two_pair_map": (),
+    "two_pair_curves": ("fit",),
+    "validate_two_pair": ("params", "sim", "two_pair"),
+    "gravity": ("params", "sim", "locomotion", "gravity"),  # gravity-aware workspace (gravity_stages)
+    "slope_limit": ("params", "sim", "locomotion", "gravity"),
+    "validate_gravity": ("params", "sim", "locomotion", "gravity"),
 }
 
 
@@ -65,7 +73,7 @@ def stage_config(cfg: dict, stage: str) -> dict:
     if stage not in STAGE_CONFIG:
         raise ValueError(f"unknown stage {stage!r}: use one of {sorted(STAGE_CONFIG)}")
     out = {k: cfg[k] for k in STAGE_CONFIG[stage]}
-    if stage == "locomotion_run":
+    if stage in ("locomotion_run", "study"):
         out["locomotion"] = {k: v for k, v in out["locomotion"].items()
                              if k != "runs" and not k.startswith("animation_")}
     return out
@@ -174,9 +182,12 @@ def run_map(cfg: dict, nominal_paths: Sequence[str | os.PathLike], out_path: str
 # ----- locomotion stages
 # (appended by the locomotion split; everything above belongs to the stages module's owner)
 
-def locomotion_run(cfg: dict, name: str, workspace_path: str | Path, out_path: str | Path) -> Path:
+def locomotion_run(cfg: dict, name: str, workspace_path: str | Path, out_path: str | Path,
+                   two_pair_path: str | Path | None = None) -> Path:
     """Stage `locomotion_run`: the demonstration run `name` (one of locomotion.DEMOS), planned
-    from the workspace file (results/workspace.nc) and rolled in the grounded simulation.
+    from the workspace file (results/workspace.nc) and, if given, the measured two-pair
+    curves of results/workspace_two_pair.nc (`Workspace.with_two_pair`; without it two pairs
+    are superposed), and rolled in the grounded simulation.
     Writes the run dataset (results/locomotion/{run}.nc, `io.formats.run_dataset`) to
     `out_path` and returns its path; prints the steps and the outcome. `cfg`: the sections of
     STAGE_CONFIG["locomotion_run"], merged over the workspace file's provenance."""
@@ -185,6 +196,9 @@ def locomotion_run(cfg: dict, name: str, workspace_path: str | Path, out_path: s
     from .locomotion.control import RollSettings
     src = datasets.read(workspace_path)  # read once: the workspace and its provenance
     ws = formats.workspace_from_dataset(src)
+    if two_pair_path is not None:
+        from .io.two_pair_formats import read_two_pair
+        ws = ws.with_two_pair(*read_two_pair(two_pair_path))
     setup = demos.demo_setup(cfg, name)
     params = demos.locomotion_params(cfg)
     s = RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])

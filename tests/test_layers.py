@@ -18,6 +18,12 @@ FORBIDDEN = {
     "validation": {"render", "stages", "figure_stages", "cli"},
     "io": {"render", "stages", "cli", "validation"},
 }
+# Design studies (issue 12): studies/ builds on physics, workspace, locomotion and io; only the
+# entry points (study_stages, cli) import it.
+LAYERS += ("studies", "study_stages")
+FORBIDDEN["studies"] = {"validation", "render", "stages", "figure_stages", "cli", "study_stages"}
+for _layer in ("physics", "render", "workspace", "locomotion", "validation", "io"):
+    FORBIDDEN[_layer] = FORBIDDEN[_layer] | {"studies", "study_stages"}
 
 
 def _layer_imports(path: Path, pkg: Path = PKG) -> set[str]:

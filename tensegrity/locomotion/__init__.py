@@ -1,10 +1,12 @@
 """Rolling locomotion (paper III.C-D, IV; docs/design.md §6).
 
-- `lookup`: the 20-face `Workspace` (arrays) and `predict`, the CoG projection of any pair on the
-  current support triangle, along gravity.
+- `lookup`: the 20-face `Workspace` (arrays; measured two-pair curves with `with_two_pair`) and
+  `predict`, the CoG projection of any pair on the current support triangle, along gravity.
 - `plan`: `plan` ranks the pairs (and two-pair combinations) that roll the robot toward a target.
 - `control`: `roll` and `settle` in the dynamic simulator, driven by `RollSettings`;
   `lockstep` simulates a batch of robots, one controller each.
+- `brake`: the actuation that holds the robot on a face (slopes) and the escape order of
+  actions off a face where the planned candidates failed.
 - `runs`: `roll_to`, `roll_many`, `roll_over` (plan, roll, repeat) and `describe`.
 - `demos`: the workflow's demonstration runs (`DEMOS`, `demo_setup`).
 

@@ -21,6 +21,7 @@ from ..physics import topology as topo
 from ..physics.actuation import MAX_PRESSURE
 from ..physics.params import Params
 from ..physics.terrain import Terrain
+from .brake import Brake
 from .lockstep import Controller, Obs, Record, lockstep
 
 __all__ = ["RollSettings", "RollResult", "roll", "settle"]
@@ -32,14 +33,19 @@ class RollSettings:
     documents them): ramp_rate MPa/s; interval s (pressure step and check period);
     lift_tolerance m; hold_time s; release_margin m; release_time s; catch_time s;
     settle_speed m/s; settle_time s; contact_tolerance m; combine; min_alignment;
-    max_attempts; max_rolls; arrive_tolerance m; dt s (the simulator's time step).
+    max_attempts; max_rolls; arrive_tolerance m; brake; brake_margin m; brake_rate MPa/s;
+    escape_attempts; dt s (the simulator's time step).
 
     A roll (see `roll`) ramps the pressure at ramp_rate; a support node lifted by more than
     lift_tolerance holds it (at most hold_time s); once the unactuated robot would fall over the
     pivot edge by release_margin (`contact.past_edge`) the pressure ramps down over
     release_time, and once it has landed on the next face over catch_time (held while it tips
     back); it has settled when its CoG moves slower than settle_speed on a face (contact_
-    tolerance) for three checks, or after settle_time."""
+    tolerance) for three checks, or after settle_time. With brake, a run holds the robot on
+    each face where the workspace puts its CoG projection less than brake_margin inside, with
+    the pair `brake.hold` chooses, raised at most at brake_rate. When all max_attempts
+    candidates fail, escape_attempts more actions are tried in the order of `brake.escape`
+    before the run ends "stuck"."""
     ramp_rate: float = 1.0
     interval: float = 0.02
     lift_tolerance: float = 0.001
@@ -55,18 +61,22 @@ class RollSettings:
     max_attempts: int = 3
     max_rolls: int = 80
     arrive_tolerance: float = 0.3
+    brake: bool = False
+    brake_margin: float = 0.035
+    brake_rate: float = 10.0
+    escape_attempts: int = 0
     dt: float = 1e-4
 
     def __post_init__(self):
         for f in fields(self):
             v = getattr(self, f.name)
-            if f.name in ("combine", "min_alignment"):
+            if f.name in ("combine", "min_alignment", "brake", "escape_attempts"):
                 continue
             if isinstance(v, bool) or not (np.isfinite(v) and v > 0):
                 raise ValueError(f"locomotion setting {f.name} must be a positive number, got {np.asarray(v).tolist()!r}")
-        for name in ("max_attempts", "max_rolls"):
+        for name in ("max_attempts", "max_rolls", "escape_attempts"):
             v = getattr(self, name)
-            if float(v) != int(v):
+            if isinstance(v, bool) or not np.isfinite(v) or v < 0 or float(v) != int(v):
                 raise ValueError(f"locomotion setting {name} must be a whole number, got {np.asarray(v).tolist()!r}")
             object.__setattr__(self, name, int(v))
         if not (np.isfinite(self.min_alignment) and -1.0 <= self.min_alignment < 1.0):
@@ -110,11 +120,20 @@ class RollResult:
 _CALM = 3  # checks in a row that count as settled
 
 
-def _settle_gen(s: RollSettings, obs: Obs) -> Controller:
-    """Zero pressure until settled (see RollSettings). Returns (face or None, last observation)."""
-    zero, calm, waited = np.zeros(topo.N_PAIRS), 0, 0.0
+def _settle_gen(s: RollSettings, obs: Obs, brake: Brake | None = None,
+                last: np.ndarray | None = None) -> Controller:
+    """Zero pressure (or the `brake` of the face it rests on, rising at most at brake_rate from
+    the pressures `last`) until settled (see RollSettings). Returns (face or None, last
+    observation)."""
+    calm, waited = 0, 0.0
+    pres = np.zeros(topo.N_PAIRS) if last is None else last
     while waited < s.settle_time - 1e-9:
-        obs = yield zero
+        if brake:
+            calm_face = None if obs.speed >= s.settle_speed else obs.face  # never mid-tumble
+            pres = np.minimum(brake.for_face(calm_face, obs.nodes), pres + s.brake_rate * s.interval)
+        else:
+            pres = np.zeros(topo.N_PAIRS)
+        obs = yield pres
         waited += s.interval
         calm = calm + 1 if (obs.face is not None and obs.speed < s.settle_speed) else 0
         if calm >= _CALM:
@@ -123,8 +142,11 @@ def _settle_gen(s: RollSettings, obs: Obs) -> Controller:
 
 
 def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
-              max_pressure: float) -> Controller:
-    """See `roll`. Returns (RollResult, last observation)."""
+              max_pressure: float, brake: Brake | None = None) -> Controller:
+    """See `roll`. With a `brake` (`brake.Brake`), the braking pressures of the start face stay on
+    while the pressure rises (fading out over hold_time once it is at the top without a roll);
+    once the robot tips over, those of the face it rolls onto (`Brake.landing`). Returns
+    (RollResult, last observation)."""
     if obs.face is None:
         raise ct.ContactError("a roll must start from a robot resting on a face")
     face0, t0, cog0 = obs.face, obs.t, obs.nodes.mean(axis=0)
@@ -134,6 +156,9 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
     idx = np.asarray(pairs) - 1
     level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
     landed, apex = None, -1
+    held = brake.for_face(face0, obs.nodes) if brake else np.zeros(topo.N_PAIRS)
+    fade, rolling = 1.0, False  # share of the start face's brake still on; it is rolling over
+    last = held
     while phase != "settle":
         if phase == "ramp":
             level = min(level + s.ramp_rate * s.interval, max_pressure)
@@ -145,8 +170,15 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
             up = obs.gap[topo.FACES[landed - 1]] > s.lift_tolerance
             if not (up[apex] and up.sum() == 1 and t_phase < 2 * s.catch_time):
                 level = max(0.0, level - peak * s.interval / (s.release_time if up.any() else s.catch_time))
-        pres = np.zeros(topo.N_PAIRS)
-        pres[idx] = level
+        if phase == "top":
+            fade = max(0.0, fade - s.interval / s.hold_time)
+        pres = held * fade
+        if brake and phase in ("release", "land"):  # braced for the face it is rolling onto,
+            pres = brake.for_face(landed, obs.nodes) if rolling else held  # or back on its own
+        if brake:  # braking pressures rise at most at brake_rate
+            pres = np.minimum(pres, last + s.brake_rate * s.interval)
+        pres[idx] = np.maximum(pres[idx], level)
+        last = pres
         peak = max(peak, level)
         obs = yield pres
         t_phase += s.interval
@@ -167,6 +199,9 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
         if over or (obs.face is not None and obs.face != face0):
             if not np.isfinite(tip):
                 tip = level
+            rolling = True
+            if brake and over:  # brace for the landing on the face across the pivot edge
+                brake.landing(face0, pivot, obs.nodes)
             phase, t_phase = "release", 0.0
         elif phase == "ramp" and lifted.any():
             tip, phase, t_phase = level, "hold", 0.0
@@ -177,11 +212,11 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
                 phase, tip = "ramp", float("nan")  # rocking without rolling: keep raising
             else:
                 phase, t_phase = "release", 0.0  # escalated to the limit: give up
-        elif phase == "top" and t_phase >= s.hold_time - 1e-9:
+        elif phase == "top" and t_phase >= s.hold_time - 1e-9 and fade <= 1e-9:
             phase, t_phase = "release", 0.0
         elif obs.t - t0 > max_pressure / s.ramp_rate + 10 * s.hold_time:
             phase, t_phase = "release", 0.0  # a safety net: no attempt runs on forever
-    after, obs = yield from _settle_gen(s, obs)
+    after, obs = yield from _settle_gen(s, obs, brake, last)
     rolled = after is not None and after != face0
     return RollResult(tuple(int(q) for q in pairs), rolled, face0, after,
                       tip if rolled else float("nan"), peak, t0, obs.t, cog0,

@@ -8,7 +8,7 @@ the support plane (slopes, paper Fig. 10). No files here: `io.formats.read_works
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -26,12 +26,17 @@ Action = Sequence[int]  # 1-based pairs driven together at the same pressure
 class Workspace:
     """levels (P,) MPa; cog (20, 12, P, 3) m and support (20, 12, P, 3, 3) m in each face's
     support frame (NaN where a pair was not swept); rest_cog (20, 3) m and rest_support
-    (20, 3, 3) m: the unactuated symmetric robot in the same frames (the 0 MPa point)."""
+    (20, 3, 3) m: the unactuated symmetric robot in the same frames (the 0 MPa point).
+    Optional measured two-pair curves (`with_two_pair`): combos (C, 2) 1-based pairs ascending,
+    combo_cog (20, C, P, 3) m and combo_support (20, C, P, 3, 3) m, both pairs at each level."""
     levels: np.ndarray
     cog: np.ndarray
     support: np.ndarray
     rest_cog: np.ndarray
     rest_support: np.ndarray
+    combos: np.ndarray | None = None
+    combo_cog: np.ndarray | None = None
+    combo_support: np.ndarray | None = None
 
     def __post_init__(self):
         lv = np.asarray(self.levels, float)
@@ -62,6 +67,51 @@ class Workspace:
         return cls(np.asarray(levels, float), np.asarray(cog, float), np.asarray(support, float),
                    np.stack([r[0] for r in rest]), np.stack([r[1] for r in rest]))
 
+    def with_two_pair(self, combos: ArrayLike, levels: ArrayLike, cog: ArrayLike,
+                      support: ArrayLike) -> "Workspace":
+        """This workspace with the measured two-pair curves of the two-pair workspace
+        (`io.two_pair_formats.read_two_pair`): combos (C, 2) 1-based, levels (L,) MPa, cog
+        (20, C, L, L, 3) m and support (20, C, L, L, 3, 3) m, [f, c, i, j] = face f+1 with
+        combos[c, 0] at levels[i] and combos[c, 1] at levels[j]. The diagonal (equal pressures)
+        is interpolated linearly onto this workspace's levels, from the unactuated robot (0 MPa)
+        below levels[0]; a level above levels[-1] is NaN (that combination on that face then
+        falls back to superposition, see `curve`)."""
+        cb, lv = np.asarray(combos, int), np.asarray(levels, float)
+        cog, sup = np.asarray(cog, float), np.asarray(support, float)
+        C, L = len(cb), lv.size
+        if cb.shape != (C, 2) or np.any(cb[:, 0] >= cb[:, 1]) or cb.min(initial=1) < 1 or cb.max(initial=12) > 12:
+            raise ValueError(f"two-pair combos must be (C, 2) ascending pairs 1..12, got shape {cb.shape}")
+        if lv.ndim != 1 or L < 2 or np.any(np.diff(lv) <= 0):
+            raise ValueError("two-pair levels must be at least two strictly increasing MPa")
+        for name, a, shape in (("cog", cog, (20, C, L, L, 3)), ("support", sup, (20, C, L, L, 3, 3))):
+            if a.shape != shape:
+                raise ValueError(f"two-pair {name} must have shape {shape}, got {a.shape}")
+        # the unactuated robot is the 0 MPa point of every combination: levels below the
+        # first two-pair level are interpolated from it
+        k, lv = np.arange(L), np.concatenate([[0.0], lv])
+        x = self.levels
+        j = np.clip(np.searchsorted(lv, x) - 1, 0, L - 1)  # linear weights onto our levels
+        w = (x - lv[j]) / (lv[j + 1] - lv[j])
+        on = []
+        for a, rest in ((cog, self.rest_cog), (sup, self.rest_support)):
+            d = np.concatenate([np.broadcast_to(rest[:, None, None], (20, C, 1) + rest.shape[1:]),
+                                a[:, :, k, k]], axis=2)  # (20, C, L+1, ...): both at lv
+            wb = w.reshape((-1,) + (1,) * (d.ndim - 3))
+            v = d[:, :, j] * (1 - wb) + d[:, :, j + 1] * wb
+            v[:, :, x > lv[-1] + 1e-12] = np.nan
+            on.append(v)
+        return replace(self, combos=cb, combo_cog=on[0], combo_support=on[1])
+
+    def measured(self, face: int, action: Action) -> int | None:
+        """Index of the measured two-pair curve of `action` (two 1-based pairs) on 1-based
+        `face`, None if there is none (no two-pair data, or NaN anywhere along it)."""
+        if self.combos is None or len(action) != 2:
+            return None
+        hit = np.flatnonzero(np.all(self.combos == sorted(int(q) for q in action), axis=1))
+        if hit.size == 0 or not np.all(np.isfinite(self.combo_cog[face - 1, hit[0]])):
+            return None
+        return int(hit[0])
+
     @property
     def max_pressure(self) -> float:
         """The highest swept level, MPa: where escalation stops."""
@@ -80,9 +130,10 @@ class Workspace:
     def curve(self, face: int, actions: Iterable[Action]) -> tuple[np.ndarray, np.ndarray]:
         """CoG (A, P+1, 3) m and support (A, P+1, 3, 3) m in the support frame of 1-based
         `face` for each of A actions (tuples of 1-based pairs driven at the same pressure), the
-        rest state first. Two or more pairs are superposed: rest + sum of the single
-        displacements (an estimate; statics shows it is conservative for the combinations that
-        matter)."""
+        rest state first. Two pairs take the measured two-pair curve (`with_two_pair`) where
+        there is one; otherwise (fallback) pairs are superposed: rest + sum of the single
+        displacements (an estimate that underestimates the shift: 46 mm for 58 mm measured, #10
+        with #6 on (9,10,12))."""
         f = face - 1
         rest_cog, rest_support = self.rest_cog[f], self.rest_support[f]
         cog = np.concatenate([np.broadcast_to(rest_cog, (12, 1, 3)), self.cog[f]], axis=1)
@@ -90,6 +141,11 @@ class Workspace:
                                  axis=1)
         out_cog, out_support = [], []
         for act in actions:
+            c = self.measured(face, act)
+            if c is not None:
+                out_cog.append(np.concatenate([rest_cog[None], self.combo_cog[f, c]]))
+                out_support.append(np.concatenate([rest_support[None], self.combo_support[f, c]]))
+                continue
             idx = np.asarray(act, int) - 1
             out_cog.append(rest_cog + np.sum(cog[idx] - rest_cog, axis=0))
             out_support.append(rest_support + np.sum(support[idx] - rest_support, axis=0))

@@ -1,7 +1,8 @@
 """The planner (paper III.C steps 2-3; docs/design.md §6).
 
 On the current face, rank every pair (and, when no single pair makes progress, every two-pair
-combination, predicted by superposing the single-pair curves) by how well the outward direction
+combination, from the measured two-pair curves or else by superposing the single-pair curves,
+`Workspace.curve`) by how well the outward direction
 of the edge its CoG projection crosses matches the target, then by the least pressure. `plan`
 returns a `Plan` with its reasons, sentences a person can check.
 """
@@ -178,8 +179,9 @@ def _reasons(workspace: Workspace, f: int, margin: float, u: np.ndarray, combine
                f"is {margin * 1e3:.1f} mm inside the support triangle",
                f"target direction {math.degrees(math.atan2(u[1], u[0])):.1f} deg from +x"]
     if combined:
+        how = ("measured two-pair curves" if workspace.combos is not None else "superposed workspace curves")
         reasons.append("no single pair is predicted to roll the robot toward the target: "
-                       "two-pair combinations (superposed workspace curves) considered")
+                       f"two-pair combinations ({how}) considered")
     if best.predicted:
         reasons.append(
             f"chosen {best.label()} at {best.pressure:.2f} MPa: the CoG projection leaves the "

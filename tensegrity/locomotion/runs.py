@@ -4,7 +4,8 @@ section 6).
 `roll_to` / `roll_many` / `roll_over` settle the robot, then repeat the paper's steps: find the
 contact face, plan from the workspace (`plan`), roll in the dynamic simulator (`control`). A
 plan the simulation does not follow is escalated along the ramp to the workspace's highest
-level, then the next candidate is tried, then the run ends "stuck"; a step limit bounds every
+level, then the next candidate is tried, then (escape_attempts) the actions `brake.escape`
+orders, then the run ends "stuck"; a step limit bounds every
 run, and every run ends with one of OUTCOMES and a message. Runs of a batch are simulated
 together (`lockstep`); each equals its single run. `describe` says what happened in words.
 """
@@ -23,6 +24,7 @@ from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from .control import RollResult, RollSettings, _roll_gen, _settle_gen
+from .brake import Brake, escape
 from .lockstep import Controller, Obs, Record, lockstep
 from .lookup import Face, Workspace
 from .plan import Plan, plan
@@ -102,8 +104,9 @@ def _drive(workspace: Workspace, params: Params, s: RollSettings, obs: Obs,
     steps: list[Step] = []
     visited: list[int] = []
     outcome, message = "step_limit", f"step limit of {s.max_rolls} rolls reached"
+    brk = Brake(workspace, s.brake_margin) if s.brake else None
     try:
-        face, obs = yield from _settle_gen(s, obs)
+        face, obs = yield from _settle_gen(s, obs, brk)
         for k in range(s.max_rolls + 1):
             if face is None:
                 outcome, message = "no_contact", (
@@ -133,11 +136,16 @@ def _drive(workspace: Workspace, params: Params, s: RollSettings, obs: Obs,
             pl = plan(workspace, face, obs.nodes, avoid=visited[:-1], combine=s.combine,
                       min_alignment=s.min_alignment, **target)
             tries = []
-            for cand in pl.candidates[:s.max_attempts]:
-                res, obs = yield from _roll_gen(params, s, obs, cand.pairs, workspace.max_pressure)
+            todo = [c.pairs for c in pl.candidates[:s.max_attempts]]
+            while todo:
+                res, obs = yield from _roll_gen(params, s, obs, todo.pop(0), workspace.max_pressure, brk)
                 tries.append(res)
                 if res.face_after is None or res.rolled:
                     break
+                if not todo and len(tries) == min(s.max_attempts, len(pl.candidates)) and s.escape_attempts:
+                    # stuck: other actions, those predicted to roll toward the target first
+                    todo = escape(workspace, face, obs.nodes, {r.pairs for r in tries},
+                                  **target)[:s.escape_attempts]
             after = tries[-1].face_after
             steps.append(Step(face, pl, tuple(tries), after))
             if after is not None and not tries[-1].rolled:

@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike
 
 from ..physics import topology as topo
 from ..physics.terrain import Terrain
+from .files import atomic
 from .scene import (CABLE_COLOUR, LABEL, STRUT_COLOURS, WINDOW, add_terrain, finish,
                     plotter, robot, terrain_mesh)
 
@@ -201,9 +202,6 @@ def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: 
     second; speed: playback speed relative to simulated time; size: (width, height) px.
     Returns {"path", "frames", "fps"}.
     """
-    import os
-    import secrets
-
     from PIL import Image
     if not (fps >= 1 and speed > 0):
         raise ValueError(f"fps must be >= 1 and speed > 0, got {fps!r}, {speed!r}")
@@ -270,11 +268,7 @@ def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: 
             palette.putpalette(colours.ravel().tolist())
         images.append(Image.fromarray(rgb).quantize(palette=palette, dither=Image.Dither.NONE))
     pl.close()
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}-{secrets.token_hex(3)}.tmp{path.suffix}")
-    try:
+    with atomic(path) as tmp:
         images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:],
                        duration=1000.0 / fps, loop=0)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
     return {"path": str(path), "frames": len(frames), "fps": fps}

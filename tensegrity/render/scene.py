@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
 from ..physics import topology as topo
+from .files import atomic
 from ..physics.terrain import Terrain
 
 __all__ = ["WINDOW", "STRUT_COLOURS", "CABLE_COLOUR", "PAIR_COLOURS", "AXIS_COLOURS", "LABEL",
@@ -85,17 +86,12 @@ def finish(pl: pv.Plotter, path: str | Path, title: str, **what: Any) -> dict:
     {"path", "size" (px), "title", "actors" (sorted actor names), **what}. The PNG is written
     to a temporary file in the same folder and renamed, so that a process killed while writing
     leaves no partial file at `path`."""
-    import secrets
     # PyVista names a point-label actor "<name>-labels"; report the name we gave it
     names = sorted(name.removesuffix("-labels") for r in pl.renderers for name in r.actors)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}-{secrets.token_hex(3)}.tmp{path.suffix}")
     try:
-        pl.screenshot(str(tmp))
-        os.replace(tmp, path)
+        with atomic(path) as tmp:
+            pl.screenshot(str(tmp))
     finally:
-        tmp.unlink(missing_ok=True)
         pl.close()
     return {"path": str(path), "size": WINDOW, "title": title, "actors": names, **what}
 

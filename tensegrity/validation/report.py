@@ -4,7 +4,6 @@ Snakemake report). The checks (`validation.checks`) return numbers; the words ar
 `validation.summary`'s; this module lays them out and reads and writes the files."""
 from __future__ import annotations
 
-import html
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -16,7 +15,7 @@ from numpy.typing import ArrayLike
 from ..io import datasets
 from ..io.config import params_from_config
 from ..physics import topology as topo
-from . import summary
+from . import pages, summary
 from .checks import MappingResult, StaticsResult, TimestepResult, run_checks
 from .common import CONTACTS, FAIL, PASS, SKIP, CheckSettings, Result
 from .grounded import GroundedResult
@@ -204,54 +203,27 @@ def to_dataset(results: Sequence[Result], levels: ArrayLike, faces: Sequence[int
 
 def summary_tables(results: Sequence[Result]) -> list[summary.Table]:
     """The verdict table of every check, then the checks' extra tables: (title, header, rows)."""
-    rows = [[r.id, r.statement, r.measured, r.reference, r.status.upper()]
-            for res in results for r in summary.verdicts(res)]
-    tables = [("Checks", ["#", "statement", "measured", "paper / goal", "verdict"], rows)]
+    tables = [pages.verdict_table([r for res in results for r in summary.verdicts(res)], "paper / goal")]
     for res in results:
         tables += summary.tables(res)
     return tables
 
 
-def _counts(results: Sequence[Result]) -> str:
-    st = [s for r in results for s in r.status.values()]
-    n = {s: st.count(s) for s in (PASS, FAIL, SKIP)}
-    return f"{n[PASS]} of {len(st)} checks passed, {n[FAIL]} failed, {n[SKIP]} not evaluated."
+TITLE = "Validation of the kinematic workspace and the demonstration runs"
 
 
 def summary_markdown(results: Sequence[Result], note: str = "") -> str:
     """The summary as Markdown: the verdict table and the per-pair tables."""
-    esc = lambda s: str(s).replace("|", "\\|").replace("\n", " ")
-    out = ["# Validation of the kinematic workspace and the demonstration runs", "", _counts(results)]
-    if note:
-        out += ["", note]
-    for title, header, rows in summary_tables(results):
-        out += ["", f"## {title}", "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-        out += ["| " + " | ".join(esc(x) for x in row) + " |" for row in rows]
-    return "\n".join(out) + "\n"
+    return pages.markdown(TITLE, [_counts(results), note], summary_tables(results))
 
 
 def summary_html(results: Sequence[Result], note: str = "") -> str:
     """The summary as a self-contained HTML page (for the Snakemake report)."""
-    colour = {PASS.upper(): "#1a7f37", FAIL.upper(): "#cf222e", SKIP.upper(): "#9a6700"}
-    parts = ["<!doctype html><html><head><meta charset='utf-8'><title>Validation</title><style>",
-             "body{font-family:sans-serif;font-size:14px;margin:1em}table{border-collapse:collapse;"
-             "margin-bottom:1.5em}td,th{border:1px solid #ccc;padding:4px 8px;vertical-align:top;"
-             "text-align:left}th{background:#f3f3f3}", "</style></head><body>",
-             "<h1>Validation of the kinematic workspace and the demonstration runs</h1>", f"<p>{html.escape(_counts(results))}</p>"]
-    if note:
-        parts.append(f"<p>{html.escape(note)}</p>")
-    for title, header, rows in summary_tables(results):
-        parts.append(f"<h2>{html.escape(title)}</h2><table><tr>"
-                     + "".join(f"<th>{html.escape(h)}</th>" for h in header) + "</tr>")
-        for row in rows:
-            cells = []
-            for x in row:
-                style = f" style='color:{colour[x]};font-weight:bold'" if x in colour else ""
-                cells.append(f"<td{style}>{html.escape(str(x))}</td>")
-            parts.append("<tr>" + "".join(cells) + "</tr>")
-        parts.append("</table>")
-    parts.append("</body></html>")
-    return "\n".join(parts) + "\n"
+    return pages.html_page(TITLE, [_counts(results), note], summary_tables(results))
+
+
+def _counts(results: Sequence[Result]) -> str:
+    return pages.counts([s for r in results for s in r.status.values()])
 
 
 # -------------------------------------------------------------------------- stage

@@ -31,28 +31,6 @@ NEXT = topo.face_number((6, 10, 11))
 DAMPED = Params(strut_damping=1.0)  # the rolling runs' default (config locomotion.strut_damping)
 
 
-@pytest.fixture(scope="session")
-def ws():
-    free = Params(gravity=0.0)
-    canon = {}
-    for kind, face in topo.CONTACT_FACES.items():
-        c = np.empty((12, len(LEVELS), 3))
-        t = np.empty((12, len(LEVELS), 3, 3))
-        for pair in range(1, 13):
-            nodes = None
-            for k, lev in enumerate(LEVELS):
-                p = np.zeros(12)
-                p[pair - 1] = lev
-                nodes = statics.equilibrium(free, p, start=nodes)
-                c[pair - 1, k], t[pair - 1, k] = statics.support_cog(nodes, face)
-        canon[kind] = (c, t)
-    cog = np.empty((20, 12, len(LEVELS), 3))
-    sup = np.empty((20, 12, len(LEVELS), 3, 3))
-    for face in range(1, 21):
-        cog[face - 1], sup[face - 1] = mapping.map_face(face, *canon[str(topo.FACE_TYPES[face - 1])])
-    return lo.Workspace.from_arrays(LEVELS, cog, sup)
-
-
 def as_dataset(ws):
     """The workspace with the contract of results/workspace.nc (design.md section 5)."""
     def var(dims, data, units):

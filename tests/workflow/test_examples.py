@@ -77,6 +77,8 @@ def _snakemake_argv(argv: list[str]) -> list[str]:
             continue
         args.append(argv[i])
         i += 1
+    # a design study (README "Design studies") runs its first 2 designs only
+    args = [a for b in args for a in ([b, "study_limit=2"] if b.startswith("study=") else [b])]
     out = [sys.executable, "-m", "snakemake", *args, "--configfile", str(TINY), *files]
     if "--report" not in argv:
         omit = ["locomotion_animation"]
@@ -164,9 +166,11 @@ def test_example_runs(request, workflow_copy, doc, lang, text, line):
 
 BENCHMARKS = {
     "bench_step.py": ["--seconds", "0.01"],
-    "bench_locomotion.py": ["--workspace", "{tiny}/results/workspace.nc", "--runs", "2",
-                            "--distance", "0.6"],
+    "bench_locomotion.py": ["--workspace", "{tiny}/results/workspace.nc", "--directions", "2",
+                            "--distance", "0.6", "--only", "flat", "slope", "--slopes", "15"],
     "calibration.py": ["--quick"],
+    "bench_study.py": ["--designs", "2", "--hold", "0.05"],
+    "bench_mujoco.py": ["--seconds", "0.01", "--batch", "2", "--repeat", "1"],
 }
 
 
@@ -174,10 +178,43 @@ def test_every_benchmark_is_listed():
     assert sorted(p.name for p in (ROOT / "benchmarks").glob("*.py")) == sorted(BENCHMARKS)
 
 
+def _benchmark_env(name: str, tmp_path_factory) -> dict:
+    """The environment of a benchmark. MuJoCo (bench_mujoco.py's optional requirement, not in
+    environment.txt) is installed with pip into a temporary folder on PYTHONPATH if missing, as
+    test_slurm.py does with the SLURM plugin (a few seconds; 30 MB); skipped if pip cannot."""
+    import importlib.util
+    env = _env()
+    if name != "bench_mujoco.py" or importlib.util.find_spec("mujoco") is not None:
+        return env
+    target = tmp_path_factory.mktemp("mujoco")
+    r = subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--target",
+                        str(target), "-r", str(ROOT / "benchmarks" / "requirements-mujoco.txt")],
+                       capture_output=True, text=True, timeout=300)
+    if r.returncode != 0:
+        pytest.skip(f"MuJoCo could not be installed with pip: {r.stderr.strip()[-500:]}")
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(target), env.get("PYTHONPATH")) if p)
+    return env
+
+
 @pytest.mark.parametrize("name", sorted(BENCHMARKS))
-def test_benchmark_runs_with_tiny_arguments(tiny, name):
+def test_benchmark_runs_with_tiny_arguments(tiny, tmp_path_factory, name):
     args = [a.format(tiny=tiny) for a in BENCHMARKS[name]]
     r = subprocess.run([sys.executable, str(ROOT / "benchmarks" / name), *args], cwd=ROOT,
-                       capture_output=True, text=True, env=_env(), timeout=600)
+                       capture_output=True, text=True, env=_benchmark_env(name, tmp_path_factory),
+                       timeout=600)
     assert r.returncode == 0, r.stderr[-3000:]
     assert r.stdout.strip(), "a benchmark prints figures"
+    if name == "bench_mujoco.py":  # the same scheme in MuJoCo: free-mode nodes agree to round-off
+        diff = float(re.search(r"largest node-trajectory difference .*?: (\S+) mm", r.stdout).group(1))
+        assert diff < 1e-6, r.stdout  # (3e-13 mm; another scheme, RK4 or implicit damping: > 0.09 mm)
+
+
+def test_bench_mujoco_without_mujoco_says_what_to_install():
+    """Without MuJoCo the benchmark stops at once, non-zero, naming the requirements file."""
+    script = str(ROOT / "benchmarks" / "bench_mujoco.py")
+    code = ("import runpy, sys; sys.modules['mujoco'] = None; sys.argv = [sys.argv[0]]; "
+            f"runpy.run_path({script!r}, run_name='__main__')")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=_env(),
+                       timeout=120)
+    assert r.returncode != 0 and not r.stdout
+    assert "pip install -r benchmarks/requirements-mujoco.txt" in r.stderr, r.stderr

@@ -7,7 +7,8 @@ stopped by tests/workflow/slurm/stop_cluster.sh if this module started it, which
 /etc/slurm back as it was. The executor plugin (workflow/profiles/slurm/requirements.txt, not in
 environment.txt) is used from the environment if installed there, else installed with pip into a
 temporary folder put on the runs' PYTHONPATH. Needs root; skipped otherwise, or with
-TENSEGRITY_SKIP_SLURM=1. Takes about 2 minutes on 2 cores.
+TENSEGRITY_SKIP_SLURM=1. Takes about 2 minutes on 2 cores. A tiny design study (issue 12) goes
+through the cluster too and must give the same bytes as locally.
 """
 import collections
 import os
@@ -192,6 +193,32 @@ def test_slurm_gives_the_same_datasets_as_local(runs):
             assert a.identical(b), f
     json = "results/curves/curves.json"
     assert (slurm / json).read_bytes() == (local / json).read_bytes()
+
+
+# Design studies (issue 12): the tiny study (tests/studies/tiny_study.yaml, two chunk jobs) through
+# the cluster and locally, after the workflow runs above (their files are counted first).
+STUDY = ROOT / "tests" / "studies" / "tiny_study.yaml"
+STUDY_FILES = ["chunks/chunk0000.nc", "chunks/chunk0001.nc", "designs.nc", "analysis.nc"]
+
+
+def _study(wd: Path, *args: str, env: dict | None = None) -> str:
+    shutil.copy(STUDY, wd / "config" / "studies" / "tiny_study.yaml")
+    cmd = SNAKEMAKE + ["study", *args, "--config", "study=tiny_study",
+                       "--configfile", str(ROOT / "tests/workflow/tiny.yaml")]
+    r = subprocess.run(cmd, cwd=wd, capture_output=True, text=True, timeout=600, env=env)
+    assert r.returncode == 0, f"{' '.join(args)}:\n{(r.stdout + r.stderr)[-3000:]}"
+    return r.stdout + r.stderr
+
+
+def test_a_design_study_runs_through_slurm_as_locally(runs, plugin_env):
+    slurm, _, local = runs
+    log = _study(slurm, "--workflow-profile", "workflow/profiles/slurm", env=plugin_env)
+    _study(local, "--cores", "2")
+    submitted = collections.Counter(rule for _, rule in SUBMIT_LINE.findall(log))
+    assert submitted == {"study_chunk": 2}, log[-3000:]   # merge and analysis are local rules
+    for f in STUDY_FILES:
+        a, b = (wd / "results/studies/tiny_study" / f for wd in (slurm, local))
+        assert a.read_bytes() == b.read_bytes(), f     # same bytes: deterministic, wherever it ran
 
 
 def test_stop_cluster_puts_the_machine_back(cluster, runs):

@@ -14,9 +14,11 @@ ANIMATION = LOCO["animation_run"] in LOCO_RUNS
 
 
 rule locomotion_run:
-    """One demonstration run: plan from the workspace, roll in the grounded simulation, repeat."""
+    """One demonstration run: plan from the workspace (two pairs from the two-pair workspace),
+    roll in the grounded simulation, repeat."""
     input:
-        "results/workspace.nc",
+        workspace="results/workspace.nc",
+        two_pair="results/workspace_two_pair.nc",
     output:
         "results/locomotion/{run}.nc",
     params:

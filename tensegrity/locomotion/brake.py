@@ -1,0 +1,118 @@
+"""Braking and escaping, chosen from the workspace (issue 10, item 3; docs/design.md §6).
+
+On a slope (or a tilted patch of rough ground) the unactuated robot may not stay on the face it
+lands on: its CoG projection along gravity lies near or beyond the downhill edge. `Brake` holds it
+there with the single pair and level the workspace predicts to move the projection furthest
+inside the support triangle, chosen as the robot lands (from its pose rotated onto the next face,
+`landing_pose`) so that it is on before the robot can tumble on. It keeps a robot standing on a
+20 deg slope where it tumbles off without; it does not yet keep rolls on 15 deg and steeper
+slopes under control (benchmarks/bench_locomotion.py --set brake=true), hence off by default.
+`escape` orders the actions not yet tried on a face where the planned candidates all failed
+("stuck"): those predicted to roll toward the target first, then the others.
+"""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from ..physics import topology as topo
+from .lookup import Workspace, predict
+from .plan import _candidates, _direction
+
+__all__ = ["Brake", "hold", "escape", "landing_pose"]
+
+
+def _actions(workspace: Workspace, face: int, combos: bool) -> list[tuple[int, ...]]:
+    singles = [int(q) for q in workspace.pairs(face)]
+    out = [(q,) for q in singles]
+    return out + (list(itertools.combinations(singles, 2)) if combos else [])
+
+
+def hold(workspace: Workspace, face: int, nodes: np.ndarray, margin: float) -> np.ndarray:
+    """Pair pressures (12,) MPa that keep the robot resting on 1-based `face` with nodes
+    (12, 3) m: zero if the unactuated CoG projection along gravity is predicted at least `margin`
+    m inside the support triangle; else the single pair and level with the largest predicted
+    margin (if larger than the unactuated one). The largest, not the least that reaches
+    `margin`: the free-mode workspace leaves out the robot's sag under gravity, which on a
+    20 deg slope takes about 20 mm of it (a brake predicted 35 mm inside holds, 20 mm does not).
+    Combinations are not used: superposed, they hold worse than predicted."""
+    out = np.zeros(topo.N_PAIRS)
+    acts = _actions(workspace, face, False)
+    if not acts:
+        return out
+    pred = predict(workspace, face, nodes, acts)
+    if pred.margin[0, 0] >= margin:
+        return out
+    a, k = np.unravel_index(int(np.argmax(pred.margin[:, 1:])), pred.margin[:, 1:].shape)
+    if pred.margin[a, k + 1] > pred.margin[0, 0]:
+        out[acts[a][0] - 1] = pred.pressure[k + 1]
+    return out
+
+
+class Brake:
+    """The braking policy of a run: `for_face(face, nodes)` returns the pressures (12,) MPa of
+    `hold` on `face`, chosen once per visit of a face (a new face, a new choice) so that the
+    actuation does not chatter while the robot settles."""
+
+    def __init__(self, workspace: Workspace, margin: float, confirm: int = 3):
+        self.workspace, self.margin, self.confirm = workspace, float(margin), int(confirm)
+        self._face, self._p, self._seen = None, np.zeros(topo.N_PAIRS), (None, 0)
+
+    def for_face(self, face: int | None, nodes: np.ndarray) -> np.ndarray:
+        """Pressures (12,) MPa for the robot on `face` (None: in the air, keep the last). A
+        face other than the braced one is taken once seen `confirm` times in a row (the first
+        time, with nothing braced yet), so that a momentary contact while rocking does not
+        switch the brake."""
+        if face is not None and face != self._face:
+            n = self._seen[1] + 1 if self._seen[0] == face else 1
+            self._seen = (face, n)
+            if n >= self.confirm or self._face is None:
+                self._face, self._p = face, hold(self.workspace, face, nodes, self.margin)
+        return self._p.copy()
+
+    def landing(self, face: int, pivot: tuple[int, int], nodes: np.ndarray) -> np.ndarray:
+        """Pressures (12,) MPa of `hold` on the face across edge `pivot` (1-based nodes) of
+        `face`, for the robot `nodes` (12, 3) m tipping over it, posed as it will land
+        (`landing_pose`); that face's choice for its visit."""
+        nxt = topo.neighbour(face, pivot)
+        self._seen = (None, 0)
+        self._face, self._p = nxt, hold(self.workspace, nxt, landing_pose(nodes, face, pivot), self.margin)
+        return self._p.copy()
+
+
+def landing_pose(nodes: np.ndarray, face: int, pivot: tuple[int, int]) -> np.ndarray:
+    """Nodes (12, 3) m rotated rigidly about the edge `pivot` (1-based nodes) of 1-based `face`
+    until the face across it lies in the plane `face` lies in now (where it will land)."""
+    p = np.asarray(nodes, float)
+    a, b = (int(n) - 1 for n in pivot)
+    nxt = topo.FACES[topo.neighbour(face, pivot) - 1]
+    centre = p.mean(axis=0)
+
+    def inward(tri):  # unit normal of a triangle of nodes, pointing into the robot
+        n = np.cross(p[tri[1]] - p[tri[0]], p[tri[2]] - p[tri[0]])
+        return n / np.linalg.norm(n) * np.sign(np.dot(n, centre - p[tri[0]]))
+    axis = (p[b] - p[a]) / np.linalg.norm(p[b] - p[a])
+    u, v = inward(nxt), inward(topo.FACES[face - 1])  # turn u onto v about the axis
+    ang = np.arctan2(np.dot(axis, np.cross(u, v)), np.dot(u, v) - np.dot(u, axis) * np.dot(v, axis))
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    rot = np.eye(3) + np.sin(ang) * k + (1 - np.cos(ang)) * k @ k  # Rodrigues
+    return (p - p[a]) @ rot.T + p[a]
+
+
+def escape(workspace: Workspace, face: int, nodes: np.ndarray, tried: set[tuple[int, ...]], *,
+           direction: np.ndarray | None = None, goal: np.ndarray | None = None
+           ) -> list[tuple[int, ...]]:
+    """Actions (single pairs and two-pair combinations) not in `tried`, the way off 1-based
+    `face` when the planned candidates all failed: those predicted to roll the robot first, over
+    the edge best aligned with `direction` (world vector) or the direction to `goal` (world
+    point, m), then the others, the
+    furthest outside at the highest level first."""
+    acts = [a for a in _actions(workspace, face, True) if a not in tried]
+    if not acts:
+        return []
+    u = _direction(nodes, direction, goal)
+    cands = _candidates(workspace, face, nodes, acts, u)
+    cands.sort(key=lambda c: (not c.predicted, -round(c.alignment, 9) if c.predicted else 0.0,
+                              round(c.reach, 9), len(c.pairs), c.pairs))
+    return [c.pairs for c in cands]

@@ -1,0 +1,168 @@
+"""Per-design numbers of a study, many designs in one batched simulation.
+
+`workspace`: the free-mode sweep of every (design, contact, pair) as one batch of robots, each with
+its own parameters (`Params` fields as (B,) arrays), averaged per level as workspace.nominal does.
+`roll_sequence`: the paper's roll sequence (9,10,12) -#10-> (10,11,12) -#11-> (6,10,11) in the
+grounded mode for every design, driven by `locomotion.lockstep` as one batch.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from ..locomotion import control
+from ..locomotion.control import RollSettings
+from ..locomotion.lockstep import lockstep
+from ..physics import dynamics as d
+from ..physics import frames, topology as topo
+from ..physics.actuation import Schedule
+from ..physics.params import Params
+from ..physics.terrain import Terrain
+from ..workspace import sweep as sw
+
+# The paper's experiment (IV.B; docs/design.md §1): (pairs driven, face it must land on).
+PAPER_START = (9, 10, 12)
+PAPER_SEQUENCE = (((10,), (10, 11, 12)), ((11,), (6, 10, 11)))
+
+
+def batch_params(designs: Sequence[Params], repeat: int = 1) -> Params:
+    """One `Params` whose fields are (n * repeat,) arrays: design i's values for robots
+    i * repeat .. (i + 1) * repeat - 1; fields equal for every design stay scalars."""
+    kw = {}
+    for f in fields(Params):
+        v = np.array([float(getattr(p, f.name)) for p in designs])
+        kw[f.name] = float(v[0]) if np.all(v == v[0]) else np.repeat(v, repeat)
+    return Params(**kw)
+
+
+def _stand(designs: Sequence[Params], faces: Sequence[int], terrain: Terrain, per: int) -> d.State:
+    """Design i standing on faces[j], `per` robots each, in the order (design, face, robot)."""
+    parts = [d.stand_on(p, f, terrain, batch=per) for p in designs for f in faces]
+    return d.State(*(np.concatenate([getattr(s, k) for s in parts]) for k in
+                     ("x", "v", "q", "w", "anchor", "stuck")))
+
+
+@dataclass(frozen=True)
+class StudyWorkspace:
+    """Nominal CoG of every design (D), contact case (C), pair (P) and level (L), in the support
+    frame of the contact face: cog (D, C, P, L, 3) m, support (D, C, P, L, 3, 3) m (mean deformed
+    triangle), margin (D, C, P, L) m (positive inside); faces (C,) 1..20."""
+    faces: np.ndarray
+    pairs: np.ndarray
+    levels: np.ndarray
+    cog: np.ndarray
+    support: np.ndarray
+    margin: np.ndarray
+
+
+def _blocks(hold: float, dt: float, record_every: int, block_s: float = 0.1) -> list[float]:
+    """`hold` s cut into blocks of about `block_s` s, each a whole number of recording intervals."""
+    n = int(round(hold / (dt * record_every)))
+    if n < 1 or abs(n * dt * record_every - hold) > 1e-9 * max(1.0, hold):
+        raise ValueError(f"hold {hold} s is not a whole number of sampling intervals ({record_every} steps of {dt} s)")
+    per = max(1, int(round(block_s / (dt * record_every))))
+    return [k * dt * record_every for k in [per] * (n // per) + ([n % per] if n % per else [])]
+
+
+def workspace(designs: Sequence[Params], contacts: Sequence[str], pairs: Sequence[int],
+              levels: Sequence[float], hold: float, discard: float, dt: float = 1e-4,
+              record_every: int = 10, progress: Callable[[float], None] | None = None) -> StudyWorkspace:
+    """Free-mode staircase (paper III.A; workspace.sweep with mode 'free') of every pair on every
+    contact face for every design, as ONE batch of D * C * P robots; each level (MPa) is held
+    `hold` s and averaged after `discard` s as workspace.nominal.nominal does (the samples of
+    the level's first `discard` s left out). A level is simulated in blocks of 0.1 s whose
+    samples are summed, so that memory does not grow with `hold`. progress(s) is called with the
+    simulated seconds after each level."""
+    faces = np.array([topo.face_number(topo.CONTACT_FACES[c]) for c in contacts])
+    pairs = np.array([topo.check_pair(p) for p in pairs])
+    levels = np.asarray(levels, float)
+    D, C, P, L = len(designs), len(faces), len(pairs), len(levels)
+    prm, terrain = sw.setup(batch_params(designs, C * P), "free")
+    state = _stand([p.replace(gravity=0.0) for p in designs], faces, terrain, P)
+    col = np.tile(pairs - 1, D * C)
+    cog, sup = np.zeros((D, C, P, L, 3)), np.zeros((D, C, P, L, 3, 3))
+    for k, level in enumerate(levels):
+        pres = np.zeros((D * C * P, topo.N_PAIRS))
+        pres[np.arange(D * C * P), col] = level
+        start, n = state.t, 0
+        for dur in _blocks(hold, dt, record_every):
+            state, tr = d.simulate(prm, state, Schedule.constant(pres, dur), terrain, dt, record_every)
+            keep = tr.t > start + discard   # as workspace.nominal.nominal
+            if not keep.any():
+                continue
+            nodes = tr.nodes(prm.strut_length)[:, keep].reshape(D, C, P, -1, topo.N_NODES, 3)
+            for c, face in enumerate(faces):
+                cg, st = frames.in_support_frame(nodes[:, c], int(face))
+                cog[:, c, :, k] += cg.sum(axis=2)
+                sup[:, c, :, k] += st.sum(axis=2)
+            n += int(keep.sum())
+        if n == 0:
+            raise ValueError(f"discard = {discard} s leaves no samples of level {k} (hold {hold} s)")
+        cog[:, :, :, k] /= n
+        sup[:, :, :, k] /= n
+        if progress:
+            progress(hold)
+    margin = frames.margin_2d(cog[..., :2], sup[..., :2])
+    return StudyWorkspace(faces, pairs, levels, cog, sup, margin)
+
+
+@dataclass(frozen=True)
+class RollOutcome:
+    """The roll sequence of one design: success (both rolls landed where the paper's did),
+    tip_pressure (2,) MPa held when a support node lifted (NaN: no roll), face (2,) the face after
+    each roll (0: none or not tried), error ('' or the simulation failure)."""
+    success: bool
+    tip_pressure: np.ndarray
+    face: np.ndarray
+    error: str = ""
+
+
+def _sequence(prm: Params, s: RollSettings, obs, max_pressure: float, shared: dict):
+    """Controller (locomotion.control generators): settle, then each roll of PAPER_SEQUENCE while
+    the robot lands where the paper's did. A robot that is done holds zero pressure until every
+    robot of the batch is, so that the batch (and its per-robot Params) never shrinks."""
+    tips, faces, error = np.full(2, np.nan), np.zeros(2, np.int64), ""
+    try:
+        _, obs = yield from control._settle_gen(s, obs)
+        for i, (pair, target) in enumerate(PAPER_SEQUENCE):
+            if obs.face is None:
+                break
+            res, obs = yield from control._roll_gen(prm, s, obs, pair, max_pressure)
+            tips[i], faces[i] = res.tip_pressure, res.face_after or 0
+            if faces[i] != topo.face_number(target):
+                break
+    except d.SimulationError as e:
+        error = str(e)
+    ok = bool(not error and np.all(faces == [topo.face_number(t) for _, t in PAPER_SEQUENCE]))
+    out = RollOutcome(ok, tips, faces, error)
+    if error:
+        return out
+    shared["done"] += 1
+    if shared["done"] == shared["n"]:
+        shared["t_end"] = obs.t
+    obs = yield np.zeros(topo.N_PAIRS)
+    while shared["t_end"] is None or obs.t <= shared["t_end"]:
+        obs = yield np.zeros(topo.N_PAIRS)
+    return out
+
+
+def roll_sequence(designs: Sequence[Params], settings: RollSettings, max_pressure: float) -> list[RollOutcome]:
+    """The paper's roll sequence on flat ground for every design (one robot each, one lockstep
+    batch with per-robot Params; rolls ramp to at most `max_pressure` MPa). If a simulation fails,
+    the batch cannot go on with per-robot Params: the designs are then run one by one."""
+    terrain = Terrain.flat()
+    try:
+        return _rolls(designs, settings, max_pressure, terrain)
+    except (d.SimulationError, ValueError):
+        return [_rolls([p], settings, max_pressure, terrain)[0] for p in designs]
+
+
+def _rolls(designs, settings, max_pressure, terrain) -> list[RollOutcome]:
+    prm = batch_params(designs)
+    state = _stand(designs, [topo.face_number(PAPER_START)], terrain, 1)
+    shared = {"done": 0, "n": len(designs), "t_end": None}
+    out = lockstep(prm, terrain, state, lambda b, o: _sequence(designs[b], settings, o, max_pressure, shared),
+                   settings)
+    return [r[0] for r in out]

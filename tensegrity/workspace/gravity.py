@@ -1,0 +1,237 @@
+"""Gravity-aware workspace (issue 10, item 2): the single-pair workspace measured with gravity,
+the ground and friction, on flat ground and on slopes, with the pressure raised slowly (a ramp
+at a few MPa/s, quasi-static, not the staircase) until the robot rolls.
+
+The slope's heading is the uphill direction in the contact face's support frame (deg from the
+frame's x axis toward y; docs/design.md §2). Every robot of a contact case (pairs x slopes x
+headings) runs in one batch: the ground is a height field of planar strips, one strip per slope,
+each rising toward +x, and the robot is turned about the strip's normal to set the heading. The
+CoG is projected along gravity onto the plane of the deformed contact face (paper Fig. 10); the
+robot tips where that projection leaves the triangle (`frames.first_crossing` of the margin).
+"""
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..physics import contact as ct
+from ..physics import dynamics as d
+from ..physics import frames, topology as topo
+from ..physics.actuation import Schedule, check_pressures
+from ..physics.params import Params
+from ..physics.terrain import Terrain
+
+STRIP = 2.5        # m, width of one slope strip of the test ground
+HALF_LENGTH = 2.0  # m, the strips run from x = -HALF_LENGTH to +HALF_LENGTH
+SPACING = 0.25     # m, height-field cell
+FALLING = 0.01     # m: a CoG projection this far past an edge means the robot is rolling over it
+HOLD = 1.0         # s the top of the ramp is held
+
+
+@dataclass(frozen=True)
+class GravitySweep:
+    """One contact case. face 1..20; pairs (N,); slopes (S,) deg; headings (H,) deg; pressure
+    (P,) MPa, the grid along the ramp. stood (S, H): the unactuated robot stays on the face;
+    rolled (S, H, N); tip_pressure (S, H, N) MPa (NaN: no roll); tip_edge (S, H, N, 2) the
+    crossed edge's nodes (0: none); cog (S, H, N, P, 3) m and support (S, H, N, P, 3, 3) m in
+    the deformed face's support frame, projection (S, H, N, P, 2) m the CoG moved along gravity
+    onto the face plane, margin (S, H, N, P) m (positive inside); NaN once the robot rolled."""
+    face: int
+    pairs: np.ndarray
+    slopes: np.ndarray
+    headings: np.ndarray
+    pressure: np.ndarray
+    stood: np.ndarray
+    rolled: np.ndarray
+    tip_pressure: np.ndarray
+    tip_edge: np.ndarray
+    cog: np.ndarray
+    support: np.ndarray
+    projection: np.ndarray
+    margin: np.ndarray
+
+
+def slope_field(slopes: ArrayLike) -> tuple[Terrain, np.ndarray]:
+    """Ground with one planar strip per slope (deg, rising toward +x), STRIP m wide; returns the
+    terrain and the strip centres (S, 2) m."""
+    slopes = np.atleast_1d(np.asarray(slopes, float))
+    if np.any(~np.isfinite(slopes)) or np.any(np.abs(slopes) >= 60):
+        raise ValueError(f"slopes {slopes.tolist()} deg must be finite and within (-60, 60)")
+    x = np.arange(-HALF_LENGTH, HALF_LENGTH + 1e-9, SPACING)
+    y = np.arange(-STRIP / 2, STRIP * (slopes.size - 0.5) + 1e-9, SPACING)
+    strip = np.clip(np.floor(y / STRIP + 0.5).astype(int), 0, slopes.size - 1)
+    heights = np.tan(np.radians(slopes[strip]))[None, :] * x[:, None]
+    centres = np.stack([np.zeros(slopes.size), STRIP * np.arange(slopes.size)], axis=1)
+    return Terrain(kind="heightfield", origin=(x[0], y[0]), spacing=SPACING, heights=heights), centres
+
+
+def gravity_frame(nodes: np.ndarray, face: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """For node positions (..., 12, 3) m on `face`: cog (..., 3) m and support (..., 3, 3) m in
+    the deformed face's support frame, the CoG projected along gravity onto the face plane
+    (..., 2) m and its signed margin (...,) m (paper Fig. 10, `frames.margin_2d`)."""
+    origin, rot = frames.face_frame(nodes, face)
+    cog, support = frames.in_support_frame(nodes, face)
+    g = np.einsum("...ij,j->...i", rot, ct.GRAVITY_DIR)  # gravity in the support frame
+    proj = cog[..., :2] - (cog[..., 2] / g[..., 2])[..., None] * g[..., :2]
+    return cog, support, proj, frames.margin_2d(proj, support[..., :2])
+
+
+def heading_of(nodes: np.ndarray, face: int, uphill: ArrayLike = (1.0, 0.0, 0.0)) -> np.ndarray:
+    """Heading (...,) deg of the world direction `uphill` in the support frame of `face` on
+    node positions (..., 12, 3) m."""
+    _, rot = frames.face_frame(nodes, face)
+    u = np.einsum("...ij,j->...i", rot, np.asarray(uphill, float))
+    return np.degrees(np.arctan2(u[..., 1], u[..., 0]))
+
+
+def place(params: Params, face: int, terrain: Terrain, position: ArrayLike, heading: float,
+          batch: int = 1) -> d.State:
+    """`batch` symmetric robots at rest on `face` at `position` (m) of a terrain rising toward
+    +x, turned so that the uphill direction has `heading` deg in the face's support frame."""
+    s0 = d.stand_on(params, face, terrain, position=position)
+    h0 = float(heading_of(d.nodes(s0.x, s0.q, params.strut_length)[0], face))
+    return d.stand_on(params, face, terrain, batch, position=position, yaw_deg=h0 - heading)
+
+
+def stack_states(states: Sequence[d.State]) -> d.State:
+    """One batch of the robots of `states`, in order."""
+    return d.State(*(np.concatenate([getattr(s, k) for s in states]) for k in
+                     ("x", "v", "q", "w", "anchor", "stuck")))
+
+
+def _check(ramp_rate: float, max_pressure: float, grid_step: float, interval: float, dt: float) -> None:
+    check_pressures(max_pressure, "gravity.max_pressure")
+    for name, v in (("ramp_rate", ramp_rate), ("max_pressure", max_pressure), ("grid_step", grid_step),
+                    ("interval", interval)):
+        if not (np.isfinite(v) and v > 0):
+            raise ValueError(f"gravity.{name} must be a positive number, got {v!r}")
+    step = ramp_rate * interval
+    if abs(grid_step / step - round(grid_step / step)) > 1e-6:
+        raise ValueError(f"gravity.grid_step {grid_step} MPa is not a whole number of ramp "
+                         f"increments ({step:g} MPa = ramp_rate x interval)")
+    if abs(interval / dt - round(interval / dt)) > 1e-6:
+        raise ValueError(f"gravity.interval {interval} s is not a whole number of time steps of {dt} s")
+
+
+def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, slopes: ArrayLike,
+        headings: ArrayLike, ramp_rate: float = 1.0, max_pressure: float = 5.0, settle: float = 0.5,
+        grid_step: float = 0.2, interval: float = 0.02, check: int = 5, dt: float = 1e-4,
+        flat_once: bool = True) -> GravitySweep:
+    """The gravity-aware workspace of `face`: each pair of `pairs` on each slope (deg) and
+    heading (deg), `settle` s at rest, then the pressure ramped from 0 at ramp_rate MPa/s in
+    steps held `interval` s, up to max_pressure MPa (held HOLD s) or until the robot rolls (its
+    CoG projection FALLING m past an edge, or another face resting on the ground), checked
+    every `check` intervals. All robots in one batch; with `flat_once` a zero slope runs one heading and
+    copies it to the others (on flat ground the heading is a turn of the whole scene)."""
+    face = topo.face_number(face)
+    pairs = np.array([topo.check_pair(p) for p in np.atleast_1d(pairs)])
+    slopes, headings = np.atleast_1d(np.asarray(slopes, float)), np.atleast_1d(np.asarray(headings, float))
+    _check(ramp_rate, max_pressure, grid_step, interval, dt)
+    terrain, centres = slope_field(slopes)
+    cases = [(i, j) for i in range(slopes.size) for j in range(headings.size)
+             if not (flat_once and slopes[i] == 0 and j > 0)]
+    N = pairs.size
+    state = stack_states([place(params, face, terrain, centres[i], headings[j], N) for i, j in cases])
+    level, n_settle = ramp_levels(ramp_rate, max_pressure, settle, interval)
+    rec, gone = ramp(params, terrain, face, state, np.tile(pairs, len(cases)), level, n_settle,
+                     interval, check, dt)
+    return _collect(face, pairs, slopes, headings, cases, level, n_settle, grid_step, rec, gone)
+
+
+def ramp_levels(ramp_rate: float, max_pressure: float, settle: float, interval: float,
+                hold: float = HOLD) -> tuple[np.ndarray, int]:
+    """Pressure (T,) MPa held over each interval: `settle` s at zero, then the ramp at
+    ramp_rate MPa/s up to max_pressure, held `hold` s (a robot just past an edge there
+    falls slowly); and the number of settling intervals."""
+    n_settle = int(np.ceil(settle / interval - 1e-9))
+    n_ramp = int(np.ceil(max_pressure / (ramp_rate * interval) - 1e-9))
+    ramp_ = np.minimum(ramp_rate * interval * np.arange(1, n_ramp + 1), max_pressure)
+    top = np.full(int(np.ceil(hold / interval - 1e-9)), max_pressure)
+    return np.concatenate([np.zeros(n_settle), ramp_, top]), n_settle
+
+
+def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: np.ndarray,
+         level: np.ndarray, n_settle: int, interval: float, check: int = 5,
+         dt: float = 1e-4) -> tuple[dict, np.ndarray]:
+    """Drive robot b of `state` (resting on `face`) with pair pair_of[b] at the pressures `level`
+    (T,) MPa, one per `interval` s (the first n_settle at zero), checking every `check`
+    intervals; a robot is dropped once it rolls (see `run`) or, at the end of the settling,
+    does not stand. Returns records (cog (R, T, 3), support (R, T, 3, 3), proj (R, T, 2),
+    margin (R, T); `gravity_frame`, NaN once dropped) and the sample each robot was dropped
+    at (R,) (T: never)."""
+    R, T = state.batch, level.size
+    every = int(round(interval / dt))
+    rec = {"cog": np.full((R, T, 3), np.nan), "support": np.full((R, T, 3, 3), np.nan),
+           "proj": np.full((R, T, 2), np.nan), "margin": np.full((R, T), np.nan)}
+    gone = np.full(R, T)
+    active = np.arange(R)
+    r = float(np.max(params.strut_radius))
+    for k0 in range(0, T, check):
+        seg = level[k0:k0 + check]
+        pres = np.zeros((active.size, seg.size, topo.N_PAIRS))
+        pres[np.arange(active.size), :, pair_of[active] - 1] = seg
+        state, tr = d.simulate(params, state, Schedule(np.full(seg.size, interval), pres), terrain, dt, every)
+        nodes = tr.nodes(params.strut_length)
+        cog, sup, proj, margin = gravity_frame(nodes, face)
+        for name, v in (("cog", cog), ("support", sup), ("proj", proj), ("margin", margin)):
+            rec[name][active, k0:k0 + seg.size] = v
+        resting = ct.resting_face(ct.clearance(nodes[:, -1], terrain, r), r)
+        off = (margin[:, -1] < -FALLING) | ((resting != face) & (resting != 0))
+        if k0 + seg.size >= n_settle > k0:  # end of the settling: who stands?
+            off |= (resting != face) | (margin[:, -1] <= 0)
+        if off.any():
+            gone[active[off]] = k0 + seg.size
+            active, state = active[~off], state.take(~off)
+        if not active.size:
+            break
+    return rec, gone
+
+
+def tip(level: np.ndarray, n_settle: int, margin: np.ndarray, gone: int) -> tuple[float, int]:
+    """Tipping pressure (MPa, NaN: none) of one robot's ramp record (margin (T,) m, dropped at
+    sample `gone`) and the index of its first sample outside (-1: none)."""
+    if gone <= n_settle or gone >= level.size:
+        return float("nan"), -1
+    p, k = frames.first_crossing(level[n_settle:gone], margin[n_settle:gone])
+    return (p, n_settle + k) if k >= 0 else (float("nan"), -1)
+
+
+def _collect(face, pairs, slopes, headings, cases, level, n_settle, grid_step, rec, gone) -> GravitySweep:
+    """Per-robot records (R, T, ...) -> the arrays of a GravitySweep."""
+    S, H, N = slopes.size, headings.size, pairs.size
+    grid = grid_step * np.arange(1, int(round(level.max() / grid_step)) + 1)
+    # a grid value is the mean over the samples within half a step of it (the nominal averaging
+    # of paper III.A along the ramp: the robot rocks on the ground by a few mm)
+    window = (np.abs(level[None, :] - grid[:, None]) <= grid_step / 2 + 1e-9) & (np.arange(level.size) >= n_settle)
+    P = grid.size
+    out = {"stood": np.zeros((S, H), bool), "rolled": np.zeros((S, H, N), bool),
+           "tip_pressure": np.full((S, H, N), np.nan), "tip_edge": np.zeros((S, H, N, 2), np.int64),
+           "cog": np.full((S, H, N, P, 3), np.nan), "support": np.full((S, H, N, P, 3, 3), np.nan),
+           "projection": np.full((S, H, N, P, 2), np.nan), "margin": np.full((S, H, N, P), np.nan)}
+    for c, (i, j) in enumerate(cases):
+        js = range(H) if (slopes[i] == 0 and len([1 for a, _ in cases if a == i]) == 1) else [j]
+        rows = np.arange(c * N, (c + 1) * N)
+        stood = bool(np.all(gone[rows] > n_settle))
+        for jj in js:
+            out["stood"][i, jj] = stood
+        if not stood:
+            continue
+        for n, row in enumerate(rows):
+            p_tip, kk = tip(level, n_settle, rec["margin"][row], gone[row])
+            rolled = kk >= 0
+            valid = ~window[:, gone[row]:].any(axis=1)  # the whole window before the roll
+            w = window[:, :gone[row]] / np.maximum(window[:, :gone[row]].sum(1, keepdims=True), 1)
+            means = {k: np.einsum("pt,t...->p...", w, v[row, :gone[row]]) for k, v in rec.items()}
+            for jj in js:
+                out["rolled"][i, jj, n] = rolled
+                if rolled:
+                    out["tip_pressure"][i, jj, n] = p_tip
+                    e = frames.crossed_edge(rec["proj"][row, kk], rec["support"][row, kk][:, :2])
+                    out["tip_edge"][i, jj, n] = topo.edge_nodes(face, e) if e is not None else (0, 0)
+                for name, key in (("cog", "cog"), ("support", "support"), ("projection", "proj"),
+                                  ("margin", "margin")):
+                    out[name][i, jj, n, valid] = means[key][valid]
+    return GravitySweep(face, pairs, slopes, headings, grid, **out)

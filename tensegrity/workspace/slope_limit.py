@@ -1,0 +1,274 @@
+"""The slope limit (issue 10, item 4): for each contact case and heading, the steepest slope on
+which the robot can stand, roll uphill, and roll downhill under control (it tips over an edge
+with a downhill component and then stands, or is held by a pair, on the landing face).
+
+Each limit is predicted from the free workspace projected along gravity (`lookup.predict` on
+the rigid robot posed on a plane of that slope), read off the gravity-aware workspace's slope
+grid (`gravity.GravitySweep`), and checked by direct simulation: bisection between the last grid
+slope that works and the next one (or the friction angle, beyond which the robot slides).
+Headings are the uphill direction in the face's support frame, deg (see `gravity`). `look` is
+the free workspace lookup: an object with `predict(face, nodes, actions)` (as
+`locomotion.lookup.predict` on a Workspace) and `pairs(face)`; this layer does not import it.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.spatial.transform import Rotation
+
+from ..physics import contact as ct
+from ..physics import dynamics as d
+from ..physics import frames, topology as topo
+from ..physics.actuation import Schedule
+from ..physics.params import Params
+from ..physics.terrain import Terrain
+from . import gravity as gv
+
+KINDS = ("stand", "uphill", "downhill")
+
+
+class Lookup(Protocol):
+    """The free workspace as read here: `predict` as `locomotion.lookup.predict` on a
+    Workspace (a Prediction with pressure (n,), margin (A, n), projection_2d, support) and the
+    actions available on a face (single pairs; measured two-pair combinations if any)."""
+
+    def predict(self, face: int, nodes: np.ndarray, actions: Sequence[Sequence[int]]) -> Any: ...
+
+    def actions(self, face: int) -> list[tuple[int, ...]]: ...
+
+
+@dataclass(frozen=True)
+class SlopeLimits:
+    """Slopes in deg, shape (3, C, H) for KINDS x contacts x headings: predicted_free,
+    predicted_gravity, simulated (NaN: not even on flat ground); pair (0: none) and pressure
+    MPa of the roll at the simulated limit; limited_by: 'geometry', 'landing', 'pressure range'
+    or 'friction'."""
+    kinds: tuple
+    contacts: tuple
+    headings: np.ndarray
+    predicted_free: np.ndarray
+    predicted_gravity: np.ndarray
+    simulated: np.ndarray
+    pair: np.ndarray
+    pressure: np.ndarray
+    limited_by: np.ndarray
+
+
+def friction_angle(params: Params) -> float:
+    """Slope (deg) beyond which a robot standing on a face slides: atan(mu)."""
+    return float(np.degrees(np.arctan(float(params.friction))))
+
+
+def direction(support: np.ndarray, face: int, edge: Sequence[int]) -> np.ndarray:
+    """Outward unit normal (2,) in the support plane of `edge` (two 1-based nodes) of `face`,
+    for the triangle `support` (3, >=2) m in its support frame (corner order of FACES)."""
+    corners = [int(np.flatnonzero(topo.FACES[face - 1] == n - 1)[0]) for n in edge]
+    a, b = support[corners[0], :2], support[corners[1], :2]
+    e = b - a
+    n = np.array([e[1], -e[0]]) / np.linalg.norm(e)
+    return n if np.dot(n, a - support[:, :2].mean(0)) > 0 else -n
+
+
+def pose(params: Params, face: int, slope: float, heading: float) -> np.ndarray:
+    """Nodes (12, 3) m of the unactuated symmetric robot on `face` on a plane of `slope` deg
+    rising toward +x, uphill at `heading` deg in the face's support frame."""
+    s = gv.place(params, face, Terrain.slope(slope), (0.0, 0.0), heading)
+    return d.nodes(s.x, s.q, params.strut_length)[0]
+
+
+def landing(nodes: np.ndarray, face: int, edge: Sequence[int], normal: np.ndarray) -> tuple[int, np.ndarray]:
+    """The face across `edge` of `face` and the nodes (12, 3) m after the rigid roll over that
+    edge onto the plane of unit upward `normal`."""
+    to = topo.neighbour(face, edge)
+    tri = nodes[topo.FACES[to - 1]]
+    n_out = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+    n_out *= np.sign(np.dot(n_out, tri.mean(0) - nodes.mean(0)))
+    rot, _ = Rotation.align_vectors([-np.asarray(normal)], [n_out / np.linalg.norm(n_out)])
+    a = nodes[edge[0] - 1]
+    return to, rot.apply(nodes - a) + a
+
+
+def _free_ok(look: Lookup, params: Params, face: int, slope: float, heading: float,
+             max_pressure: float) -> tuple[bool, bool, bool]:
+    """(stand, uphill, downhill) possible at this slope and heading by the free workspace."""
+    nodes = pose(params, face, slope, heading)
+    acts = look.actions(face)
+    pr = look.predict(face, nodes, acts)
+    ok_p = pr.pressure <= max_pressure + 1e-9
+    stand = bool(pr.margin[0, 0] > 0)
+    if not stand:
+        return False, False, False
+    u = np.array([np.cos(np.radians(heading)), np.sin(np.radians(heading))])
+    up = down = False
+    normal = Terrain.slope(slope).normal
+    for a in range(len(acts)):
+        out = np.flatnonzero((pr.margin[a] < 0) & ok_p)
+        if not out.size:
+            continue
+        k = out[0]
+        e = topo.edge_nodes(face, frames.crossed_edge(pr.projection_2d[a, k], pr.support[a, k]))
+        along = float(np.dot(direction(pr.support[a, k], face, e), u))
+        up |= along > 0
+        if along < 0 and not down:
+            down = _lands(look, face, nodes, e, normal, max_pressure)
+    return stand, up, down
+
+
+def _lands(look: Lookup, face: int, nodes: np.ndarray, edge: Sequence[int], normal: np.ndarray,
+           max_pressure: float) -> bool:
+    """Whether the robot rolled over `edge` stands on the landing face, or some pair holds it
+    there (a positive margin at some pressure up to max_pressure), by the free workspace."""
+    to, after = landing(nodes, face, edge, normal)
+    pr = look.predict(to, after, look.actions(to))
+    return bool(np.any(pr.margin[:, pr.pressure <= max_pressure + 1e-9] > 0))
+
+
+def _last(ok: np.ndarray, slopes: np.ndarray) -> float:
+    """Largest slope of the run of True from the first slope on (NaN: the first is False)."""
+    bad = np.flatnonzero(~np.asarray(ok, bool))
+    n = bad[0] if bad.size else len(ok)
+    return float(slopes[n - 1]) if n else float("nan")
+
+
+def predict_free(look: Lookup, params: Params, face: int, headings: np.ndarray,
+                 max_pressure: float, step: float = 1.0) -> np.ndarray:
+    """Limits (3, H) deg by the free workspace: slopes scanned every `step` deg up to the
+    friction angle."""
+    slopes = np.arange(0.0, friction_angle(params), step)
+    out = np.empty((3, len(headings)))
+    for j, h in enumerate(headings):
+        ok = np.array([_free_ok(look, params, face, a, h, max_pressure) for a in slopes])
+        out[:, j] = [_last(ok[:, k], slopes) for k in range(3)]
+    return out
+
+
+def grid_ok(sw: gv.GravitySweep, look: Lookup, params: Params, max_pressure: float) -> tuple[np.ndarray, np.ndarray]:
+    """(3, S, H) whether stand / uphill / downhill worked on the gravity-aware grid, and the
+    pair (3, S, H) that rolled at the least pressure (0: none)."""
+    S, H = sw.stood.shape
+    ok, pair = np.zeros((3, S, H), bool), np.zeros((3, S, H), np.int64)
+    ok[0] = sw.stood
+    rest = frames.rest_frame(sw.face, float(params.strut_length))[1]
+    for i in range(S):
+        for j in range(H):
+            if not sw.stood[i, j]:
+                continue
+            u = np.array([np.cos(np.radians(sw.headings[j])), np.sin(np.radians(sw.headings[j]))])
+            nodes, normal = None, Terrain.slope(sw.slopes[i]).normal
+            best = [np.inf, np.inf]
+            for n in np.argsort(sw.tip_pressure[i, j]):
+                p = sw.tip_pressure[i, j, n]
+                if not (sw.rolled[i, j, n] and p <= max_pressure):
+                    continue
+                e = tuple(int(v) for v in sw.tip_edge[i, j, n])
+                along = float(np.dot(direction(rest, sw.face, e), u))
+                k = 1 if along > 0 else 2
+                if along < 0:
+                    nodes = pose(params, sw.face, sw.slopes[i], sw.headings[j]) if nodes is None else nodes
+                    if not _lands(look, sw.face, nodes, e, normal, max_pressure):
+                        continue
+                if p < best[k - 1]:
+                    best[k - 1], ok[k, i, j], pair[k, i, j] = p, True, sw.pairs[n]
+    return ok, pair
+
+
+def stands(params: Params, faces: Sequence[int], slopes: ArrayLike, headings: ArrayLike,
+           settle: float = 1.0, dt: float = 1e-4) -> np.ndarray:
+    """Direct simulation: does the unactuated robot b, placed on faces[b] on a slope of
+    slopes[b] deg at headings[b] deg, still stand on it after `settle` s? (B,) bool."""
+    terrain, centres = gv.slope_field(slopes)
+    state = gv.stack_states([gv.place(params, int(f), terrain, centres[b], h)
+                             for b, (f, h) in enumerate(zip(faces, headings))])
+    n = int(round(settle / dt))
+    _, tr = d.simulate(params, state, Schedule.constant(np.zeros(topo.N_PAIRS), settle), terrain, dt, n)
+    nodes = tr.nodes(params.strut_length)[:, -1]
+    r = float(params.strut_radius)
+    resting = ct.resting_face(ct.clearance(nodes, terrain, r), r)
+    return np.array([resting[b] == f and gv.gravity_frame(nodes[b], int(f))[3] > 0
+                     for b, f in enumerate(faces)])
+
+
+def _sim_ok(look: Lookup, params: Params, kind: int, face: int, slopes: np.ndarray, headings: np.ndarray,
+            pairs: np.ndarray, cfg: dict) -> tuple[np.ndarray, np.ndarray, list]:
+    """Direct simulation of limit `kind` (1 uphill, 2 downhill; 0 stand) at slopes[j] and
+    headings[j] with pairs[j]: (ok (J,), tip pressure (J,) MPa, failure reason per robot)."""
+    J = len(slopes)
+    if kind == 0:
+        ok = stands(params, [face] * J, slopes, headings, cfg["settle"] + 0.5, cfg["dt"])
+        return ok, np.full(J, np.nan), ["geometry"] * J
+    terrain, centres = gv.slope_field(slopes)
+    state = gv.stack_states([gv.place(params, face, terrain, centres[j], headings[j]) for j in range(J)])
+    level, n_settle = gv.ramp_levels(cfg["ramp_rate"], cfg["max_pressure"], cfg["settle"], cfg["interval"])
+    rec, gone = gv.ramp(params, terrain, face, state, np.asarray(pairs), level, n_settle, cfg["interval"],
+                        dt=cfg["dt"])
+    ok, tips, why, land = np.zeros(J, bool), np.full(J, np.nan), ["pressure range"] * J, []
+    for j in range(J):
+        if gone[j] <= n_settle:
+            why[j] = "geometry"
+            continue
+        p, k = gv.tip(level, n_settle, rec["margin"][j], gone[j])
+        if k < 0:
+            continue
+        e = topo.edge_nodes(face, frames.crossed_edge(rec["proj"][j, k], rec["support"][j, k][:, :2]))
+        u = np.array([np.cos(np.radians(headings[j])), np.sin(np.radians(headings[j]))])
+        along = float(np.dot(direction(rec["support"][j, k], face, e), u))
+        if (along > 0) == (kind == 1) and along != 0:
+            ok[j], tips[j] = True, p
+            if kind == 2:
+                to, after = landing(pose(params, face, slopes[j], headings[j]), face, e,
+                                    Terrain.slope(slopes[j]).normal)
+                land.append((j, to, float(gv.heading_of(after, to)), e))
+    if land:
+        held = stands(params, [t for _, t, _, _ in land], [slopes[j] for j, *_ in land],
+                      [h for _, _, h, _ in land], cfg["settle"] + 0.5, cfg["dt"])
+        for (j, _, _, e), h in zip(land, held):
+            if not h and not _lands(look, face, pose(params, face, slopes[j], headings[j]), e,
+                                    Terrain.slope(slopes[j]).normal, cfg["max_pressure"]):
+                ok[j], why[j] = False, "landing"
+    return ok, tips, why
+
+
+def limits(look: Lookup, params: Params, sweeps: Mapping[str, gv.GravitySweep], cfg: dict) -> SlopeLimits:
+    """The slope limits of every contact case of `sweeps` (see the module docstring). cfg:
+    ramp_rate MPa/s, interval s, settle s, max_pressure MPa, dt s, iterations (bisection
+    steps) and free_step (deg, the free workspace's slope scan)."""
+    contacts = tuple(sweeps)
+    first = next(iter(sweeps.values()))
+    H, C = first.headings.size, len(contacts)
+    shape = (3, C, H)
+    free, grid, sim = (np.full(shape, np.nan) for _ in range(3))
+    pair, pres = np.zeros(shape, np.int64), np.full(shape, np.nan)
+    why = np.full(shape, "", dtype=object)
+    cap = friction_angle(params)
+    for c, contact in enumerate(contacts):
+        sw = sweeps[contact]
+        free[:, c] = predict_free(look, params, sw.face, sw.headings, cfg["max_pressure"], cfg["free_step"])
+        ok, best = grid_ok(sw, look, params, cfg["max_pressure"])
+        for kind in range(3):
+            n_ok = [int(np.flatnonzero(~ok[kind, :, j])[0]) if (~ok[kind, :, j]).any() else sw.slopes.size
+                    for j in range(H)]
+            js = [j for j in range(H) if n_ok[j] > 0]
+            grid[kind, c, js] = [sw.slopes[n_ok[j] - 1] for j in js]
+            lo = np.array([sw.slopes[n_ok[j] - 1] for j in js])
+            hi = np.array([sw.slopes[n_ok[j]] if n_ok[j] < sw.slopes.size else cap for j in js])
+            p = np.array([best[kind, n_ok[j] - 1, j] for j in js])
+            tip = np.full(len(js), np.nan)
+            reason = ["friction" if h >= cap else ("geometry" if kind == 0 else "pressure range") for h in hi]
+            for _ in range(int(cfg["iterations"]) if js else 0):
+                mid = 0.5 * (lo + hi)
+                good, t, r = _sim_ok(look, params, kind, sw.face, mid, sw.headings[js], p, cfg)
+                lo, hi = np.where(good, mid, lo), np.where(good, hi, mid)
+                tip = np.where(good, t, tip)
+                reason = [reason[i] if good[i] else r[i] for i in range(len(js))]
+            sim[kind, c, js], pair[kind, c, js], pres[kind, c, js] = lo, p, tip
+            why[kind, c, js] = reason
+    stand_lim = sim[0]
+    for kind in (1, 2):  # a roll needs the robot to stand first
+        at_stand = sim[kind] >= stand_lim - 0.5 * (first.slopes.max() / 2 ** cfg["iterations"] + 1e-9)
+        why[kind] = np.where(at_stand & (why[kind] != "friction"), "geometry", why[kind])
+    why[np.isnan(sim)] = "pressure range"
+    return SlopeLimits(KINDS, contacts, first.headings, free, grid, sim, pair, pres, why.astype(str))

@@ -1,0 +1,248 @@
+"""The two-pair workspace: two actuator pairs driven together over a 2-D pressure grid (issue 10).
+
+A combination is an unordered pair of distinct actuator pairs (a, b), a < b (66 of them,
+`COMBOS`); its grid value [i, j] has pair a at levels[i] and pair b at levels[j] MPa. The sweeps
+run in the free mode (the paper's assumption, docs/design.md §3) with the nominal averaging of
+`workspace.nominal`. Only one combination per orbit of the stabiliser of the canonical face is
+swept (`representatives`); every other combination of that face, and every face, follows by
+mapping (`map_face`, as `workspace.mapping` does for single pairs). A map can send the first
+pair of the source to the second of the target: the grid is transposed then.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from itertools import combinations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..physics import dynamics as d
+from ..physics import frames, topology as topo
+from ..physics import symmetry as sym
+from ..physics.actuation import Schedule, check_pressures
+from ..physics.params import Params
+from . import nominal as nom
+from .fit import TIE_ATOL, TIE_RTOL
+from .mapping import CANONICAL
+from .sweep import setup
+
+COMBOS = np.array(list(combinations(range(1, topo.N_PAIRS + 1), 2)))  # (66, 2), 1-based, sorted
+_INDEX = {tuple(c): k for k, c in enumerate(COMBOS.tolist())}
+
+
+def combo_index(a: int, b: int) -> int:
+    """Row of the combination of pairs a and b (1-based, any order) in COMBOS."""
+    return _INDEX[tuple(sorted((topo.check_pair(a), topo.check_pair(b))))]
+
+
+def stabiliser(face: int) -> list[sym.Symmetry]:
+    """Group elements that map `face` (1..20) onto itself: the 3-fold rotations of an
+    equilateral face, the mirror of an isosceles face (and the identity)."""
+    return [s for s in sym.group() if s.faces[face - 1] == face - 1]
+
+
+def image(s: sym.Symmetry, combo: Sequence[int]) -> tuple[tuple[int, int], bool]:
+    """The combination (a', b') sorted that `s` maps `combo` (a, b) to, and whether it swaps
+    the members (s(a) is the larger pair)."""
+    a, b = (int(s.pairs[p - 1]) + 1 for p in combo)
+    return (min(a, b), max(a, b)), a > b
+
+
+def representatives(face: int, combos: ArrayLike = COMBOS) -> np.ndarray:
+    """One combination (the smallest) of each orbit of the stabiliser of `face` that meets
+    `combos` (n, 2): the combinations to sweep, (R, 2) 1-based, sorted."""
+    reps = {min(image(s, c)[0] for s in stabiliser(face)) for c in np.asarray(combos, int).tolist()}
+    return np.array(sorted(reps), int).reshape(-1, 2)
+
+
+def grid_order(n: int) -> np.ndarray:
+    """(n*n, 2) grid indices (i, j) in the order the staircase visits them: i rising, j up and
+    down in turn (boustrophedon), so that every step changes one pair by one level."""
+    return np.array([(i, j) for i in range(n) for j in (range(n) if i % 2 == 0 else range(n - 1, -1, -1))])
+
+
+def schedule(combos: ArrayLike, levels: ArrayLike, hold: float) -> Schedule:
+    """The staircase over the grid (`grid_order`), each point held `hold` s, one robot per
+    combination (n, 2) 1-based; levels (P,) MPa."""
+    combos, levels = np.asarray(combos, int), check_pressures(levels, "two_pair.levels")
+    order = grid_order(levels.size)
+    p = np.zeros((len(combos), len(order), topo.N_PAIRS))
+    rows = np.arange(len(combos))[:, None]
+    p[rows, :, combos[:, :1] - 1] = levels[order[:, 0]][None]
+    p[rows, :, combos[:, 1:] - 1] = levels[order[:, 1]][None]
+    return Schedule(np.full(len(order), float(hold)), p)
+
+
+def sweep(params: Params, face: int, combos: ArrayLike, levels: ArrayLike, hold: float,
+          discard: float, dt: float = 1e-4, record_every: int = 50) -> dict[str, np.ndarray]:
+    """Free-mode staircase of every combination (n, 2) standing on `face`, one batched run;
+    each grid point's nominal CoG is the mean after the first `discard` s of its hold (paper
+    III.A). Returns cog and cog_std (n, 3, P, P, 3) m, support (n, 3, P, P, 3, 3) m: in the
+    support frame of the deformed face whose +y points to corner k (axis 1; corner k = the
+    reference corner is the face's own support frame, docs/design.md §2, the others are what a
+    map of the stabiliser that moves the reference corner needs, `map_face`; NaN for corners
+    no such map needs), and margin (n, P, P) m."""
+    combos, levels = np.asarray(combos, int).reshape(-1, 2), np.asarray(levels, float)
+    P, n = levels.size, len(combos)
+    prm, terrain = setup(params, "free")
+    sched = schedule(combos, levels, hold)
+    _, tr = d.simulate(prm, d.stand_on(prm, face, terrain, batch=n), sched, terrain, dt, record_every)
+    seg = np.searchsorted(np.cumsum(sched.durations), tr.t - 0.5 * dt * record_every)
+    nodes = tr.nodes(prm.strut_length)
+    tri = nodes[..., topo.FACES[face - 1], :]
+    out = {"cog": np.full((n, 3, P, P, 3), np.nan), "cog_std": np.full((n, 3, P, P, 3), np.nan),
+           "support": np.full((n, 3, P, P, 3, 3), np.nan)}
+    i, j = grid_order(P).T
+    ref_node = topo.FACES[face - 1, topo.FACE_REFERENCE[face - 1]]
+    # the frames toward the corners the stabiliser carries onto the reference corner
+    for corner in sorted({int(np.flatnonzero(s.nodes[topo.FACES[face - 1]] == ref_node)[0]) for s in stabiliser(face)}):
+        origin, rot = frames.support_frame(tri, corner, nodes.mean(axis=-2))
+        cog = frames.to_frame(nodes.mean(axis=-2), origin, rot)
+        support = frames.to_frame(tri, origin[..., None, :], rot[..., None, :, :])
+        for b in range(n):  # grid point k of the staircase is level k of workspace.nominal
+            c, sd, t, _ = nom.nominal(tr.t, seg, cog[b], support[b], P * P, hold, discard)
+            out["cog"][b, corner, i, j], out["cog_std"][b, corner, i, j], out["support"][b, corner, i, j] = c, sd, t
+    ref = topo.FACE_REFERENCE[face - 1]
+    out["margin"] = margins(out["cog"][:, ref], out["support"][:, ref])
+    return out
+
+
+def map_face(src: int, dst: int, reps: ArrayLike, cog: np.ndarray, support: np.ndarray,
+             paths: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every combination on face `dst` from combinations `reps` (R, 2) on face `src` of the
+    same kind: cog (R, 3, P, P, 3) and support (R, 3, P, P, 3, 3) m in src's frames toward each
+    corner (`sweep`; NaN: not computed) -> cog (66, P, P, 3), support (66, P, P, 3, 3) m in
+    dst's support frame (NaN where nothing maps there) and the staircase order (66, 2) of each:
+    the images of `paths` (R, 2) (default reps), the pairs in the order of the grid axes of
+    the run the numbers come from (0: none). The nominal of an undamped robot depends a little
+    on the path to a grid point, so a direct sweep reproduces a mapped one in that order. A map s carries the frame of src toward corner k = s^-1(dst's
+    reference corner) onto dst's support frame, flipped in x if s is improper (docs/design.md
+    §1): exact, as the data were averaged in that frame."""
+    index = {tuple(c): k for k, c in enumerate(np.asarray(reps, int).tolist())}
+    P = cog.shape[2]
+    out_c, out_s = np.full((len(COMBOS), P, P, 3), np.nan), np.full((len(COMBOS), P, P, 3, 3), np.nan)
+    paths = np.asarray(reps if paths is None else paths, int)
+    path_out = np.zeros((len(COMBOS), 2), int)
+    ref_dst = topo.FACES[dst - 1, topo.FACE_REFERENCE[dst - 1]]
+    maps = sorted((s for s in sym.group() if s.faces[src - 1] == dst - 1), key=lambda s: np.linalg.det(s.matrix) < 0)
+    for ci, c in enumerate(COMBOS.tolist()):
+        for s in maps:
+            inv = np.argsort(s.pairs)
+            key = tuple(sorted(int(inv[p - 1]) + 1 for p in c))
+            img = s.nodes[topo.FACES[src - 1]]
+            corner = int(np.flatnonzero(img == ref_dst)[0])  # src corner carried to dst's reference
+            if key not in index or not np.isfinite(cog[index[key], corner]).all():
+                continue
+            k = index[key]
+            path_out[ci] = s.pairs[paths[k] - 1] + 1
+            order = [int(np.flatnonzero(img == n)[0]) for n in topo.FACES[dst - 1]]
+            diag = np.array([np.linalg.det(s.matrix), 1.0, 1.0])
+            cc, ss = cog[k, corner] * diag, support[k, corner][..., order, :] * diag
+            out_c[ci], out_s[ci] = (cc.swapaxes(0, 1), ss.swapaxes(0, 1)) if image(s, key)[1] else (cc, ss)
+            break
+    return out_c, out_s, path_out
+
+
+def in_corner_frames(face: int, cog: np.ndarray, support: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """cog (n, P, P, 3) and support (n, P, P, 3, 3) m in the support frame of `face` as the
+    (n, 3, ...) per-corner arrays of `map_face`, NaN for the other corners' frames."""
+    ref = topo.FACE_REFERENCE[face - 1]
+    c = np.full((cog.shape[0], 3, *cog.shape[1:]), np.nan)
+    s = np.full((support.shape[0], 3, *support.shape[1:]), np.nan)
+    c[:, ref], s[:, ref] = cog, support
+    return c, s
+
+
+def tips(levels: ArrayLike, cog: np.ndarray, support: np.ndarray, margin: np.ndarray, face: int) -> tuple[float, tuple[int, int], np.ndarray]:
+    """Tipping boundary of one combination on `face` from its grid (P, P, ...): the least equal
+    pressure (MPa) of both pairs at which the CoG projection leaves the triangle (along the
+    diagonal, `frames.first_crossing`; NaN: never), the edge (two nodes, (0, 0): none) crossed
+    at the first diagonal point outside, and (P,) for each level of the first pair the least
+    pressure of the second at which it leaves (NaN: never)."""
+    levels = np.asarray(levels, float)
+    if not np.isfinite(margin).all():
+        return np.nan, (0, 0), np.full(levels.size, np.nan)
+    diag = np.arange(levels.size)
+    p, k = frames.first_crossing(levels, margin[diag, diag])
+    edge = (0, 0) if k < 0 else topo.edge_nodes(face, frames.crossed_edge(cog[k, k, :2], support[k, k, :, :2]))
+    return p, edge, np.array([frames.first_crossing(levels, m)[0] for m in margin])
+
+
+def margins(cog: np.ndarray, support: np.ndarray) -> np.ndarray:
+    """Margin (...) m of CoG (..., 3) against support (..., 3, 3) m, NaN where they are NaN."""
+    out = np.full(cog.shape[:-1], np.nan)
+    ok = np.isfinite(cog[..., 0]) & np.isfinite(support[..., 0, 0])
+    out[ok] = frames.margin_2d(cog[ok][:, :2], support[ok][:, :, :2])
+    return out
+
+
+def map_workspace(levels: ArrayLike, canonical: Mapping[str, tuple]) -> dict[str, np.ndarray]:
+    """All 20 faces from the canonical contact cases: `canonical` maps 'equilateral' /
+    'isosceles' to (combos (n, 2), cog (n, P, P, 3), support (n, P, P, 3, 3) m, staircase
+    order (n, 2)) in the support frame of the canonical face. Returns cog (20, 66, P, P, 3),
+    support (20, 66, P, P, 3, 3), margin (20, 66, P, P) m, staircase (20, 66, 2) (`map_face`),
+    tip_pressure (20, 66) MPa, tip_edge (20, 66, 2) and tip_boundary (20, 66, P) MPa (`tips`)."""
+    levels = np.asarray(levels, float)
+    P, F, C = levels.size, topo.N_FACES, len(COMBOS)
+    out = {"cog": np.full((F, C, P, P, 3), np.nan), "support": np.full((F, C, P, P, 3, 3), np.nan),
+           "staircase": np.zeros((F, C, 2), int)}
+    for f in range(1, F + 1):
+        kind = str(topo.FACE_TYPES[f - 1])
+        if kind in canonical:
+            src = CANONICAL[kind]
+            combos, cog, support, paths = canonical[kind]
+            out["cog"][f - 1], out["support"][f - 1], out["staircase"][f - 1] = map_face(
+                src, f, combos, *in_corner_frames(src, cog, support), paths)
+    out["margin"] = margins(out["cog"], out["support"])
+    t = [[tips(levels, out["cog"][f, c], out["support"][f, c], out["margin"][f, c], f + 1) for c in range(C)]
+         for f in range(F)]
+    out["tip_pressure"] = np.array([[x[0] for x in row] for row in t])
+    out["tip_edge"] = np.array([[x[1] for x in row] for row in t], np.int64)
+    out["tip_boundary"] = np.array([[x[2] for x in row] for row in t])
+    return out
+
+
+# ------------------------------------------------------------------ fitted surfaces
+
+def powers(degree: int) -> np.ndarray:
+    """Exponents (n, 2) of the monomials p_a^i p_b^j with i + j <= degree, by total degree."""
+    return np.array([(i, t - i) for t in range(degree + 1) for i in range(t, -1, -1)])
+
+
+def fit_surface(pa: ArrayLike, pb: ArrayLike, values: ArrayLike, max_degree: int = 3, folds: int = 5) -> dict:
+    """Least-squares polynomial value(p_a, p_b) (MPa) of total degree 1..max_degree chosen by
+    cross-validation as `workspace.fit.fit_curve` chooses a curve: points sorted by (p_a, p_b)
+    go to fold rank mod folds, a candidate needs no more parameters than the smallest training
+    fold has points, the simplest within TIE_RTOL of the best CV RMSE wins, refit on all
+    points. Returns plain numbers: powers (n, 2), coefs (n,) in value/MPa^(i+j), degree,
+    cv_rmse (value units, NaN if nothing could be validated), pmin, pmax (MPa)."""
+    pa, pb, v = (np.asarray(x, float).ravel() for x in (pa, pb, values))
+    if not (pa.size == pb.size == v.size) or pa.size < 3 or not np.all(np.isfinite(np.r_[pa, pb, v])):
+        raise ValueError(f"fit_surface needs >= 3 finite points of equal count, got {pa.size}, {pb.size}, {v.size}")
+    o = np.lexsort((pb, pa))
+    pa, pb, v = pa[o], pb[o], v[o]
+    nf = min(int(folds), v.size)
+    fold = np.arange(v.size) % nf
+    n_train = v.size - int(np.ceil(v.size / nf))
+    design = lambda a, b, pw: a[:, None] ** pw[:, 0] * b[:, None] ** pw[:, 1]
+    scores = []
+    for deg in range(1, int(max_degree) + 1):
+        pw = powers(deg)
+        if len(pw) > n_train:
+            break
+        pred = np.empty_like(v)
+        for k in range(nf):
+            tr = fold != k
+            coef = np.linalg.lstsq(design(pa[tr], pb[tr], pw), v[tr], rcond=None)[0]
+            pred[~tr] = design(pa[~tr], pb[~tr], pw) @ coef
+        scores.append((deg, float(np.sqrt(np.mean((pred - v) ** 2)))))
+    if scores:
+        best = min(s for _, s in scores)
+        deg, rmse = next(x for x in scores if x[1] <= best + TIE_RTOL * best + TIE_ATOL * np.max(np.abs(v)))
+    else:
+        deg, rmse = 1, np.nan
+    pw = powers(deg)
+    coef = np.linalg.lstsq(design(pa, pb, pw), v, rcond=None)[0]
+    lo, hi = float(min(pa.min(), pb.min())), float(max(pa.max(), pb.max()))
+    return {"powers": pw.tolist(), "coefs": coef.tolist(), "degree": deg,
+            "cv_rmse": None if np.isnan(rmse) else rmse, "pmin": lo, "pmax": hi}

@@ -1,0 +1,56 @@
+"""Validation of the gravity-aware workspace: a grounded roll of the controller tips the robot at
+the workspace's pressure, and the verdicts follow the numbers."""
+import numpy as np
+import pytest
+
+from tensegrity.locomotion.control import RollSettings
+from tensegrity.physics import topology as topo
+from tensegrity.physics.params import Params
+from tensegrity.validation import gravity as vg, pages
+from tensegrity.validation.common import FAIL, INFO
+from tensegrity.workspace import gravity as gv
+
+pytestmark = pytest.mark.unit
+ISO = topo.face_number(topo.CONTACT_FACES["isosceles"])  # (10,11,12)
+
+
+@pytest.fixture(scope="module")
+def sweep():
+    """#11 ramped on (10,11,12) on flat ground: it rolls over 10-11 (the paper's second roll)."""
+    return gv.run(Params(), ISO, [11], [0.0], [0.0], max_pressure=2.6)
+
+
+def test_a_grounded_roll_tips_where_the_gravity_workspace_says(sweep):
+    assert sweep.rolled[0, 0, 0] and tuple(sweep.tip_edge[0, 0, 0]) == (10, 11)
+    rc = vg.check_rolls(Params(strut_damping=1.0), {"isosceles": sweep}, [0.0], RollSettings(), 2.6)
+    assert rc.pair.tolist() == [11]
+    assert rc.rolled_to[0] == topo.face_number((6, 10, 11))
+    assert rc.difference[0] < 0.1, (rc.workspace_tip, rc.roll_tip)
+    # the controller's own tip (a support node lifted 1 mm) comes later: the robot falls slowly
+    assert rc.lift_tip[0] > rc.roll_tip[0]
+
+
+def _free_from(sw: gv.GravitySweep, shift: float = 0.0) -> dict:
+    """The flat-ground data of `sw` as if it were a free nominal file, CoG moved by `shift` m."""
+    k = np.arange(1, sw.pressure.size, 2)
+    cog = sw.cog[0, 0][:, k].copy()
+    cog[..., 0] += shift
+    margin = np.nan_to_num(sw.margin[0, 0][:, k], nan=-1.0)
+    support = np.where(np.isnan(sw.support[0, 0][:, k]), sw.support[0, 0][:, :1], sw.support[0, 0][:, k])
+    return {"pairs": list(sw.pairs), "levels": sw.pressure[k], "cog": np.nan_to_num(cog, nan=0.0),
+            "support": support, "margin": margin}
+
+
+def test_check_4_on_the_ramp_compares_what_it_is_given(sweep):
+    same = vg.flat_comparison(sweep, _free_from(sweep), 5e-3)
+    assert same.in_plane_max == 0.0 and same.shift_ok and same.roll_ok
+    moved = vg.flat_comparison(sweep, _free_from(sweep, 0.01), 5e-3)
+    assert moved.in_plane_max == pytest.approx(0.01) and not moved.shift_ok
+    rc = vg.RollCheck(*(np.array(v) for v in (["isosceles"] * 2, [0.0, 15.0], [0.0, 90.0], [11, 12],
+                                                [1.8, 1.0], [1.85, 1.3], [1.9, 1.4], [0.05, 0.3],
+                                                [[10, 11], [10, 12]], [1, 2])))
+    rows, st = vg.verdicts(rc, {"isosceles": same}, 0.1)
+    assert st == {"G.1": FAIL, "G.2": INFO, "G.3": INFO}  # G.2, G.3: the paper's assumption, reported
+    assert "0.300 MPa" in rows[0].measured and "#12" in rows[0].measured
+    text = pages.markdown("t", [pages.counts(list(st.values()))], [pages.verdict_table(rows), vg.roll_table(rc)])
+    assert "| G.1 |" in text and "10-12" in text and "0 of 1 checks passed, 1 failed" in text

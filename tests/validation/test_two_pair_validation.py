@@ -1,0 +1,48 @@
+"""Validation of the two-pair workspace (validation.two_pair): the statics check passes on the
+simulated nominal and fails on a displaced one; the verdict tables carry every row."""
+import numpy as np
+import pytest
+
+from tensegrity.io import two_pair_formats as tpf
+from tensegrity.io.config import defaults, params_from_config
+from tensegrity.validation import pages, two_pair as v
+from tensegrity.validation.common import FAIL, PASS
+from tensegrity.workspace import two_pair as tp
+
+ISO, LEVELS = 20, [2.4, 4.8]
+
+
+@pytest.fixture(scope="module")
+def contact():
+    params = params_from_config(defaults())
+    reps = np.array([[10, 11]])
+    r = tp.sweep(params, ISO, reps, LEVELS, 1.0, 0.2)
+    cog, support, path = tp.map_face(ISO, ISO, reps, r["cog"], r["support"])
+    m = tp.margins(cog, support)
+    t = [tp.tips(LEVELS, cog[c], support[c], m[c], ISO) for c in range(66)]
+    ws = {"cog": cog, "support": support, "staircase": path, "margin": m,
+          "tip_pressure": np.array([x[0] for x in t]), "tip_edge": np.array([x[1] for x in t]),
+          "tip_boundary": np.array([x[2] for x in t])}
+    ds = tpf.contact_dataset(LEVELS, tp.COMBOS, ws, np.zeros(66), np.full(cog.shape, np.nan),
+                             {"contact": "isosceles", "face": ISO})
+    return params, ds
+
+
+def test_statics_check_passes_and_can_fail(contact):
+    params, ds = contact
+    combos = np.array([[10, 11]])
+    diff, st = v.check_statics(params, {"isosceles": ds}, combos, 1e-4)
+    assert st == PASS and np.isfinite(diff[1]).all() and np.isnan(diff[0]).all()
+    bad = ds.copy(deep=True)
+    bad["cog"].values[tp.combo_index(10, 11), -1, -1, 0] += 2e-3  # 2 mm off at the top corner
+    diff2, st2 = v.check_statics(params, {"isosceles": bad}, combos, 1e-4)
+    assert st2 == FAIL and diff2[1, 0, 0] > 1.5e-3
+
+
+def test_verdict_tables_hold_every_row():
+    rows = [v.Verdict("a", "s|x", "1 mm", "under 0.1 mm", PASS), v.Verdict("b2", "p", "2 mm", "reported", v.INFO)]
+    lead, tables = [pages.counts([r.status for r in rows])], [pages.verdict_table(rows)]
+    md, page = pages.markdown("t", lead, tables), pages.html_page("t", lead, tables)
+    assert md.count("\n| ") == 3 and "s\\|x" in md and "REPORTED" in md
+    assert "1 of 1 checks passed, 0 failed" in md  # a reported row is not counted as a check
+    assert page.count("<tr>") == 3 and "PASS" in page

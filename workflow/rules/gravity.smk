@@ -1,0 +1,82 @@
+# The gravity-aware workspace and the slope limit (issue 10): single pairs ramped slowly on flat
+# ground and slopes until the robot rolls; the steepest slopes to stand, roll up and roll down;
+# their validation against grounded rolls. Rules call tensegrity.gravity_stages.
+
+# the free prediction of the slope limit also tries the measured two-pair combinations, where the
+# two-pair workspace is part of the workflow
+GRAVITY_TWO_PAIR = ["results/workspace_two_pair.nc"] if hasattr(rules, "two_pair_map") else []
+
+rule gravity:
+    """Gravity-aware workspace of both contact cases (one batch per contact)."""
+    output:
+        nc="results/workspace_gravity.nc",
+        png=report("results/figures/workspace_gravity.png", caption="../report/gravity_workspace.rst",
+                   category="Gravity and slopes"),
+    params:
+        cfg=stage_config(config, "gravity"),
+    log:
+        "results/logs/gravity.log",
+    benchmark:
+        "results/benchmarks/gravity.tsv"
+    threads: 2
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    script:
+        "../scripts/gravity_workspace.py"
+
+
+rule slope_limit:
+    """Steepest slopes to stand, roll uphill and roll downhill under control, per face type
+    and heading: predicted from the workspaces, checked by simulation."""
+    input:
+        gravity="results/workspace_gravity.nc",
+        workspace="results/workspace.nc",
+        two_pair=GRAVITY_TWO_PAIR,
+    output:
+        nc="results/slope_limit.nc",
+        png=report("results/figures/slope_limit.png", caption="../report/gravity_slope_limit.rst",
+                   category="Gravity and slopes"),
+    params:
+        cfg=stage_config(config, "slope_limit"),
+    log:
+        "results/logs/slope_limit.log",
+    benchmark:
+        "results/benchmarks/slope_limit.tsv"
+    threads: 2
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    script:
+        "../scripts/gravity_slope_limit.py"
+
+
+rule validate_gravity:
+    """The gravity-aware tipping pressures against grounded rolls; free vs grounded (check 4)."""
+    input:
+        gravity="results/workspace_gravity.nc",
+        nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
+    output:
+        nc="results/validation/gravity.nc",
+        md="results/validation/gravity.md",
+        html=report("results/validation/gravity.html", caption="../report/gravity_validation.rst",
+                    category="Validation"),
+    params:
+        cfg=stage_config(config, "validate_gravity"),
+    log:
+        "results/logs/validate_gravity.log",
+    benchmark:
+        "results/benchmarks/validate_gravity.tsv"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    script:
+        "../scripts/gravity_validate.py"
+
+
+rule gravity_all:
+    input:
+        rules.gravity.output,
+        rules.slope_limit.output,
+        rules.validate_gravity.output,
