@@ -149,7 +149,9 @@ class Workspace:
             idx = np.asarray(act, int) - 1
             out_cog.append(rest_cog + np.sum(cog[idx] - rest_cog, axis=0))
             out_support.append(rest_support + np.sum(support[idx] - rest_support, axis=0))
-        return np.stack(out_cog), np.stack(out_support)
+        n = self.levels.size + 1
+        return (np.reshape(out_cog, (len(out_cog), n, 3)),
+                np.reshape(out_support, (len(out_support), n, 3, 3)))  # A = 0: empty arrays
 
 
 @dataclass(frozen=True)

@@ -137,9 +137,11 @@ def _last(ok: np.ndarray, slopes: np.ndarray) -> float:
 def predict_free(look: Lookup, params: Params, face: int, headings: np.ndarray,
                  max_pressure: float, step: float = 1.0) -> np.ndarray:
     """Limits (3, H) deg by the free workspace: slopes scanned every `step` deg up to the
-    friction angle."""
+    friction angle; NaN if the free workspace has no pair on `face` (a subset of the contacts)."""
     slopes = np.arange(0.0, friction_angle(params), step)
-    out = np.empty((3, len(headings)))
+    out = np.full((3, len(headings)), np.nan)
+    if not len(look.actions(face)):
+        return out
     for j, h in enumerate(headings):
         ok = np.array([_free_ok(look, params, face, a, h, max_pressure) for a in slopes])
         out[:, j] = [_last(ok[:, k], slopes) for k in range(3)]

@@ -4,7 +4,9 @@ test_examples habit), so that the documentation cannot drift from the code.
 Where the real thing is too slow for the suite it runs on the tiny configuration: `tensegrity`
 commands and Python blocks run for real inside a workflow copy that ran on
 tests/workflow/tiny.yaml. A block with a `snakemake` command that starts a run RUNS it, in a
-fresh scratch copy of the workflow of its own (nothing is reused between examples), with the
+fresh scratch copy of the workflow of its own that starts from the tiny run's results and
+Snakemake's records of them (so Snakemake re-runs every job whose configuration, code or inputs the
+example changes, and what depends on them, and nothing else), with the
 example's `--config`/`--configfile` merged over the tiny configuration and every output as the
 target except the run's GIF (`--omit-from locomotion_animation`: 15 s each, and it does not depend
 on what the examples change; the smoke test makes it); it must exit 0, and a run that did not
@@ -17,6 +19,7 @@ README's two set-up commands are what CI itself runs, so they are not repeated.
 import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -88,6 +91,8 @@ def _snakemake_argv(argv: list[str]) -> list[str]:
             # roll (with the default levels from 0.4 MPa they have them)
             omit += ["fit", "render_cloud"]
         out += ["--omit-from", *omit]
+        # the tiny run's records name its own copy's scripts: the code is the same checkout
+        out += ["--rerun-triggers", "mtime", "params", "input", "software-env"]
     return out
 
 
@@ -103,6 +108,16 @@ def _run_shell(cmd: str, cwd: Path) -> tuple[int, str]:
         return r.returncode, r.stdout + r.stderr
     r = subprocess.run(argv, cwd=cwd, capture_output=True, text=True, env=_env(), timeout=900)
     return r.returncode, r.stdout + r.stderr
+
+
+def _with_tiny_results(wd: Path, tiny: Path) -> Path:
+    """`wd`, a fresh copy of the workflow, given the results of the tiny run and Snakemake's
+    records of them (`.snakemake/metadata`: each output's params, code and inputs; mtimes kept),
+    so that an example's run re-runs exactly the jobs its configuration changes (Snakemake's
+    default rerun triggers) and what depends on them."""
+    shutil.copytree(tiny / "results", wd / "results", symlinks=True)
+    shutil.copytree(tiny / ".snakemake" / "metadata", wd / ".snakemake" / "metadata")
+    return wd
 
 
 def _run_key(text: str) -> tuple | None:
@@ -143,7 +158,7 @@ def test_example_runs(request, workflow_copy, doc, lang, text, line):
     if key is not None and not text.lstrip().startswith("bash workflow/setup.sh"):
         if _FIRST_RUN[key] != f"{doc}:{line}":
             pytest.skip(f"the same run as {_FIRST_RUN[key]}")
-        cwd = workflow_copy  # a run of its own: nothing shared with the other examples
+        cwd = _with_tiny_results(workflow_copy, request.getfixturevalue("tiny"))
     else:
         cwd = request.getfixturevalue("tiny")  # the workflow copy that ran on tiny.yaml
     for cmd in _commands(text):

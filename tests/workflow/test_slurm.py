@@ -25,11 +25,11 @@ import xarray as xr
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "tests" / "workflow" / "slurm"
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
-# Up to the workspace, the curves and the validation (the figures are local rules, left out).
-TARGETS = ["results/workspace.nc", "results/curves/curves.json", "results/validation/validation.nc"]
-# Rules that are not `localrule: True` and so must go through sbatch, with their job counts
-# (validate waits for the demonstration runs of tiny.yaml: paper, slope_down).
-SUBMITTED = {"sweep": 2, "locomotion_run": 2, "validate": 1}
+# Up to the workspace and the curves, and the gravity-aware workspace (the figures are local
+# rules, left out; the whole tiny workflow runs locally in the `tiny` fixture).
+TARGETS = ["results/workspace.nc", "results/curves/curves.json", "results/workspace_gravity.nc"]
+# Rules that are not `localrule: True` and so must go through sbatch, with their job counts.
+SUBMITTED = {"sweep": 2, "gravity": 1}
 PIDFILES = ["/run/munge/munged.pid", "/run/slurmctld.pid", "/run/slurmd.pid"]
 # One file per test session using the cluster (named by its PID): the last one out stops it, so
 # that a session does not stop the cluster under another's jobs, nor leave it running.
@@ -154,15 +154,14 @@ def _snakemake(wd: Path, *args: str, timeout: float, env: dict | None = None) ->
 
 
 @pytest.fixture(scope="module")
-def runs(cluster, plugin_env, tmp_path_factory):
-    """(SLURM scratch copy, its Snakemake output, local scratch copy)."""
+def runs(cluster, plugin_env, tmp_path_factory, tiny):
+    """(SLURM scratch copy, its Snakemake output, the local run: the session's tiny run, which
+    made every target of the SLURM run with the same configuration)."""
     slurm = _copy(tmp_path_factory.mktemp("slurm"))
     # the relative profile path, from the scratch copy, as a user types it from the repo root
     log = _snakemake(slurm, "--workflow-profile", "workflow/profiles/slurm", timeout=600,
                      env=plugin_env)
-    local = _copy(tmp_path_factory.mktemp("local"))
-    _snakemake(local, "--cores", "2", timeout=600)
-    return slurm, log, local
+    return slurm, log, tiny
 
 
 def test_jobs_went_through_slurm(runs):
@@ -177,16 +176,16 @@ def test_jobs_went_through_slurm(runs):
     assert set(seen) == set(submitted), q
     for job, rule in submitted.items():
         assert seen[job][0] == "COMPLETED", (job, rule, seen[job])
-    # a rule's threads reach sbatch as --cpus-per-task (validate: threads 2)
-    assert {seen[j][1] for j, rule in submitted.items() if rule == "validate"} == {2}
+    # a rule's threads reach sbatch as --cpus-per-task (gravity: threads 2, sweep: 1)
+    assert {seen[j][1] for j, rule in submitted.items() if rule == "gravity"} == {2}
+    assert {seen[j][1] for j, rule in submitted.items() if rule == "sweep"} == {1}
 
 
 def test_slurm_gives_the_same_datasets_as_local(runs):
     slurm, _, local = runs
-    files = sorted(p.relative_to(local) for p in (local / "results").rglob("*.nc"))
-    assert sorted(p.relative_to(slurm) for p in (slurm / "results").rglob("*.nc")) == files
-    # sweeps, nominal, curves, workspace, validation, demonstration runs
-    assert len(files) == 2 * 5 + 2 + 2 + 1 + 1 + SUBMITTED["locomotion_run"]
+    files = sorted(p.relative_to(slurm) for p in (slurm / "results").rglob("*.nc"))
+    # sweeps, nominal, curves, workspace, gravity-aware workspace
+    assert len(files) == 2 * 5 + 2 + 2 + 1 + 1
     for f in files:
         with xr.open_dataset(slurm / f) as a, xr.open_dataset(local / f) as b:
             # data, coordinates and attributes (the provenance config) alike
