@@ -43,7 +43,8 @@ class RollSettings:
     back); it has settled when its CoG moves slower than settle_speed on a face (contact_
     tolerance) for three checks, or after settle_time. With brake, a run holds the robot on
     each face where the workspace puts its CoG projection less than brake_margin inside, with
-    the pair `brake.hold` chooses, raised at most at brake_rate. When all max_attempts
+    the pair `brake.hold` chooses, changed at most at brake_rate (up or down) and handed over
+    to a roll as its pressure nears the plan's (`_roll_gen`). When all max_attempts
     candidates fail, escape_attempts more actions are tried in the order of `brake.escape`
     before the run ends "stuck"."""
     ramp_rate: float = 1.0
@@ -120,9 +121,16 @@ class RollResult:
 _CALM = 3  # checks in a row that count as settled
 
 
+def _slew(target: np.ndarray, last: np.ndarray, s: RollSettings) -> np.ndarray:
+    """Pressures (12,) MPa moved from `last` toward `target` by at most brake_rate (MPa/s) over
+    one interval, up or down: a brake that comes or goes at once kicks the robot."""
+    step = s.brake_rate * s.interval
+    return np.clip(target, last - step, last + step)
+
+
 def _settle_gen(s: RollSettings, obs: Obs, brake: Brake | None = None,
                 last: np.ndarray | None = None) -> Controller:
-    """Zero pressure (or the `brake` of the face it rests on, rising at most at brake_rate from
+    """Zero pressure (or the `brake` of the face it rests on, changing at most at brake_rate from
     the pressures `last`) until settled (see RollSettings). Returns (face or None, last
     observation)."""
     calm, waited = 0, 0.0
@@ -130,7 +138,7 @@ def _settle_gen(s: RollSettings, obs: Obs, brake: Brake | None = None,
     while waited < s.settle_time - 1e-9:
         if brake:
             calm_face = None if obs.speed >= s.settle_speed else obs.face  # never mid-tumble
-            pres = np.minimum(brake.for_face(calm_face, obs.nodes), pres + s.brake_rate * s.interval)
+            pres = _slew(brake.for_face(calm_face, obs.nodes), pres, s)
         else:
             pres = np.zeros(topo.N_PAIRS)
         obs = yield pres
@@ -142,10 +150,13 @@ def _settle_gen(s: RollSettings, obs: Obs, brake: Brake | None = None,
 
 
 def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
-              max_pressure: float, brake: Brake | None = None) -> Controller:
+              max_pressure: float, brake: Brake | None = None, expect: float = float("nan")
+              ) -> Controller:
     """See `roll`. With a `brake` (`brake.Brake`), the braking pressures of the start face stay on
-    while the pressure rises (fading out over hold_time once it is at the top without a roll);
-    once the robot tips over, those of the face it rolls onto (`Brake.landing`). Returns
+    while the pressure rises (fading out over hold_time once it is at the top without a roll;
+    given the `expect`ed rolling pressure, MPa, the plan's, as the pressure rises to it: kept
+    on, the brake fights the roll, which then tips late and fast or not at all); once the
+    robot tips over, those of the face it rolls onto (`Brake.landing`). Returns
     (RollResult, last observation)."""
     if obs.face is None:
         raise ct.ContactError("a roll must start from a robot resting on a face")
@@ -172,11 +183,13 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
                 level = max(0.0, level - peak * s.interval / (s.release_time if up.any() else s.catch_time))
         if phase == "top":
             fade = max(0.0, fade - s.interval / s.hold_time)
+        elif phase == "ramp" and expect > 0:  # handed over to the roll as it nears its pressure
+            fade = min(fade, max(0.0, 1.0 - level / expect))
         pres = held * fade
         if brake and phase in ("release", "land"):  # braced for the face it is rolling onto,
             pres = brake.for_face(landed, obs.nodes) if rolling else held  # or back on its own
-        if brake:  # braking pressures rise at most at brake_rate
-            pres = np.minimum(pres, last + s.brake_rate * s.interval)
+        if brake:  # braking pressures change at most at brake_rate
+            pres = _slew(pres, last, s)
         pres[idx] = np.maximum(pres[idx], level)
         last = pres
         peak = max(peak, level)

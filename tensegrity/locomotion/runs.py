@@ -137,8 +137,11 @@ def _drive(workspace: Workspace, params: Params, s: RollSettings, obs: Obs,
                       min_alignment=s.min_alignment, **target)
             tries = []
             todo = [c.pairs for c in pl.candidates[:s.max_attempts]]
+            expect = {c.pairs: c.pressure for c in pl.candidates}
             while todo:
-                res, obs = yield from _roll_gen(params, s, obs, todo.pop(0), workspace.max_pressure, brk)
+                act = todo.pop(0)
+                res, obs = yield from _roll_gen(params, s, obs, act, workspace.max_pressure, brk,
+                                                expect.get(act, float("nan")))
                 tries.append(res)
                 if res.face_after is None or res.rolled:
                     break

@@ -1,0 +1,67 @@
+"""Issue 10 item 3 on slopes: a brake that hands over to the roll (and comes and goes no faster
+than brake_rate), a braked downhill roll that lands and holds. The workspace `ws` (conftest)
+comes from the independent static solver."""
+import numpy as np
+
+from tensegrity import locomotion as lo
+from tensegrity.locomotion.brake import Brake
+from tensegrity.locomotion.control import _roll_gen, _settle_gen
+from tensegrity.locomotion.lockstep import lockstep
+from tensegrity.physics import dynamics as d
+from tensegrity.physics import topology as topo
+from tensegrity.physics.params import Params
+from tensegrity.physics.terrain import Terrain
+
+EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
+DAMPED = Params(strut_damping=1.0)  # the rolling runs' default
+SLOPE = Terrain.slope(15.0)
+
+
+def _braked_roll(ws, pairs, expect):
+    """Settle braked on (9,10,12) on the 15 deg slope (the brake comes on), then one braked
+    roll of `pairs`, with or without the expected rolling pressure (MPa). Returns the
+    RollResult and the pressures (T, 12) MPa of the roll."""
+    s = lo.RollSettings(brake=True, settle_time=3.0)
+    state = d.stand_on(DAMPED, EQUI, SLOPE)
+    brake = Brake(ws, s.brake_margin)
+
+    def ctl(b, obs):
+        _, obs = yield from _settle_gen(lo.RollSettings(brake=True, settle_time=1.5), obs, brake)
+        res, obs = yield from _roll_gen(DAMPED, s, obs, pairs, ws.max_pressure, brake, expect)
+        return res
+    (res, _, rec), = lockstep(DAMPED, SLOPE, state, ctl, s)
+    return res, rec.pressure[rec.t > res.t_start]
+
+
+def test_a_braked_roll_hands_over_and_tips_as_planned(ws):
+    """On a 15 deg slope the unactuated robot on (9,10,12) needs a brake (the workspace puts its
+    CoG projection < 35 mm inside). Kept on while the roll's pressure rises, the brake fights
+    the roll: uphill, #6+#10 (planned at 2.5 MPa) does not roll at all. Handed over (fading
+    out as the pressure nears the plan's), the robot tips within 0.25 MPa of the plan's
+    pressure onto the planned face; the brake falls no faster than brake_rate."""
+    target = (1.0, 0.0)  # uphill
+    s = lo.RollSettings(brake=True)
+    start = d.stand_on(DAMPED, EQUI, SLOPE)
+    nodes = d.nodes(start.x, start.q, 0.5)[0]
+    held = Brake(ws, s.brake_margin).for_face(EQUI, nodes)
+    assert held.any()  # braked on this slope
+    pl = lo.plan(ws, EQUI, nodes, direction=target)
+    res, pres = _braked_roll(ws, pl.pairs, pl.pressure)
+    assert res.rolled and res.face_after == pl.next_face
+    assert abs(res.tip_pressure - pl.pressure) < 0.25
+    brake_pairs = [q for q in np.flatnonzero(held) if q + 1 not in pl.pairs]
+    assert np.all(np.diff(pres[:, brake_pairs], axis=0) >= -s.brake_rate * s.interval - 1e-9)
+    fought, _ = _braked_roll(ws, pl.pairs, float("nan"))
+    assert not fought.rolled or (fought.tip_pressure > pl.pressure + 0.5)
+
+
+def test_a_braked_downhill_roll_lands_and_holds(ws):
+    """Downhill over edge 9-10 on a 15 deg slope: unbraked, the robot tumbles on past the face
+    across that edge (the CoG projection lands 27 mm inside by the workspace, less its sag);
+    braked (the landing face's brake braced as it tips over), it stops on that face."""
+    edge = (9, 10)
+    nxt = topo.neighbour(EQUI, edge)
+    free = lo.roll_over(ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings())
+    held = lo.roll_over(ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings(brake=True))
+    assert free.faces[0] == EQUI and free.faces[-1] != nxt
+    assert held.faces == [EQUI, nxt] and held.outcome == "arrived"
