@@ -4,7 +4,7 @@ On a slope (or a tilted patch of rough ground) the unactuated robot may not stay
 lands on: its CoG projection along gravity lies near or beyond the downhill edge. `Brake` holds it
 there with the single pair and level the workspace predicts to move the projection furthest
 inside the support triangle, chosen as the robot lands (from its pose rotated onto the next face,
-`landing_pose`) so that it is on before the robot can tumble on. It keeps a robot standing on a
+`contact.roll_over`) so that it is on before the robot can tumble on. It keeps a robot standing on a
 20 deg slope where it tumbles off without; it does not yet keep rolls on 15 deg and steeper
 slopes under control (benchmarks/bench_locomotion.py --set brake=true), hence off by default.
 `escape` orders the actions not yet tried on a face where the planned candidates all failed
@@ -16,11 +16,11 @@ import itertools
 
 import numpy as np
 
-from ..physics import topology as topo
+from ..physics import contact as ct, topology as topo
 from .lookup import Workspace, predict
 from .plan import _candidates, _direction
 
-__all__ = ["Brake", "hold", "escape", "landing_pose"]
+__all__ = ["Brake", "hold", "escape"]
 
 
 def _actions(workspace: Workspace, face: int, combos: bool) -> list[tuple[int, ...]]:
@@ -74,30 +74,11 @@ class Brake:
     def landing(self, face: int, pivot: tuple[int, int], nodes: np.ndarray) -> np.ndarray:
         """Pressures (12,) MPa of `hold` on the face across edge `pivot` (1-based nodes) of
         `face`, for the robot `nodes` (12, 3) m tipping over it, posed as it will land
-        (`landing_pose`); that face's choice for its visit."""
+        (`contact.roll_over`); that face's choice for its visit."""
         nxt = topo.neighbour(face, pivot)
         self._seen = (None, 0)
-        self._face, self._p = nxt, hold(self.workspace, nxt, landing_pose(nodes, face, pivot), self.margin)
+        self._face, self._p = nxt, hold(self.workspace, nxt, ct.roll_over(nodes, face, pivot)[1], self.margin)
         return self._p.copy()
-
-
-def landing_pose(nodes: np.ndarray, face: int, pivot: tuple[int, int]) -> np.ndarray:
-    """Nodes (12, 3) m rotated rigidly about the edge `pivot` (1-based nodes) of 1-based `face`
-    until the face across it lies in the plane `face` lies in now (where it will land)."""
-    p = np.asarray(nodes, float)
-    a, b = (int(n) - 1 for n in pivot)
-    nxt = topo.FACES[topo.neighbour(face, pivot) - 1]
-    centre = p.mean(axis=0)
-
-    def inward(tri):  # unit normal of a triangle of nodes, pointing into the robot
-        n = np.cross(p[tri[1]] - p[tri[0]], p[tri[2]] - p[tri[0]])
-        return n / np.linalg.norm(n) * np.sign(np.dot(n, centre - p[tri[0]]))
-    axis = (p[b] - p[a]) / np.linalg.norm(p[b] - p[a])
-    u, v = inward(nxt), inward(topo.FACES[face - 1])  # turn u onto v about the axis
-    ang = np.arctan2(np.dot(axis, np.cross(u, v)), np.dot(u, v) - np.dot(u, axis) * np.dot(v, axis))
-    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    rot = np.eye(3) + np.sin(ang) * k + (1 - np.cos(ang)) * k @ k  # Rodrigues
-    return (p - p[a]) @ rot.T + p[a]
 
 
 def escape(workspace: Workspace, face: int, nodes: np.ndarray, tried: set[tuple[int, ...]], *,

@@ -221,3 +221,24 @@ def past_edge(nodes: ArrayLike, face: int | Sequence[int], pivot: Sequence[int],
     out = out - np.dot(out, e) * e
     out /= np.linalg.norm(out)
     return float(np.dot((cog - mid)[:2], out))
+
+
+def roll_over(nodes: ArrayLike, face: int | Sequence[int], edge: Sequence[int]) -> tuple[int, np.ndarray]:
+    """The face across `edge` (two 1-based nodes) of `face` and the nodes (12, 3) m rotated
+    rigidly about that edge until that face lies in the plane `face` lies in now: where the
+    robot lands when it rolls over the edge without deforming."""
+    p = check_nodes(nodes)
+    f = topo.face_number(face)
+    to = topo.neighbour(f, tuple(int(n) for n in edge))
+    a, b = (int(n) - 1 for n in edge)
+    centre = p.mean(axis=0)
+
+    def inward(tri):  # unit normal of a triangle of nodes, pointing into the robot
+        n = np.cross(p[tri[1]] - p[tri[0]], p[tri[2]] - p[tri[0]])
+        return n / np.linalg.norm(n) * np.sign(np.dot(n, centre - p[tri[0]]))
+    axis = (p[b] - p[a]) / np.linalg.norm(p[b] - p[a])
+    u, v = inward(topo.FACES[to - 1]), inward(topo.FACES[f - 1])  # turn u onto v about the edge
+    ang = np.arctan2(np.dot(axis, np.cross(u, v)), np.dot(u, v) - np.dot(u, axis) * np.dot(v, axis))
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    rot = np.eye(3) + np.sin(ang) * k + (1 - np.cos(ang)) * k @ k  # Rodrigues
+    return to, (p - p[a]) @ rot.T + p[a]

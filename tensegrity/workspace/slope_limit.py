@@ -18,7 +18,6 @@ from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.spatial.transform import Rotation
 
 from ..physics import contact as ct
 from ..physics import dynamics as d
@@ -80,18 +79,6 @@ def pose(params: Params, face: int, slope: float, heading: float) -> np.ndarray:
     return d.nodes(s.x, s.q, params.strut_length)[0]
 
 
-def landing(nodes: np.ndarray, face: int, edge: Sequence[int], normal: np.ndarray) -> tuple[int, np.ndarray]:
-    """The face across `edge` of `face` and the nodes (12, 3) m after the rigid roll over that
-    edge onto the plane of unit upward `normal`."""
-    to = topo.neighbour(face, edge)
-    tri = nodes[topo.FACES[to - 1]]
-    n_out = np.cross(tri[1] - tri[0], tri[2] - tri[0])
-    n_out *= np.sign(np.dot(n_out, tri.mean(0) - nodes.mean(0)))
-    rot, _ = Rotation.align_vectors([-np.asarray(normal)], [n_out / np.linalg.norm(n_out)])
-    a = nodes[edge[0] - 1]
-    return to, rot.apply(nodes - a) + a
-
-
 def _free_ok(look: Lookup, params: Params, face: int, slope: float, heading: float,
              max_pressure: float) -> tuple[bool, bool, bool]:
     """(stand, uphill, downhill) possible at this slope and heading by the free workspace."""
@@ -104,7 +91,6 @@ def _free_ok(look: Lookup, params: Params, face: int, slope: float, heading: flo
         return False, False, False
     u = np.array([np.cos(np.radians(heading)), np.sin(np.radians(heading))])
     up = down = False
-    normal = Terrain.slope(slope).normal
     for a in range(len(acts)):
         out = np.flatnonzero((pr.margin[a] < 0) & ok_p)
         if not out.size:
@@ -114,15 +100,16 @@ def _free_ok(look: Lookup, params: Params, face: int, slope: float, heading: flo
         along = float(np.dot(direction(pr.support[a, k], face, e), u))
         up |= along > 0
         if along < 0 and not down:
-            down = _lands(look, face, nodes, e, normal, max_pressure)
+            down = _lands(look, face, nodes, e, max_pressure)
     return stand, up, down
 
 
-def _lands(look: Lookup, face: int, nodes: np.ndarray, edge: Sequence[int], normal: np.ndarray,
+def _lands(look: Lookup, face: int, nodes: np.ndarray, edge: Sequence[int],
            max_pressure: float) -> bool:
-    """Whether the robot rolled over `edge` stands on the landing face, or some pair holds it
-    there (a positive margin at some pressure up to max_pressure), by the free workspace."""
-    to, after = landing(nodes, face, edge, normal)
+    """Whether the robot posed `nodes` on `face`, rolled rigidly over `edge`
+    (`contact.roll_over`), stands on the landing face, or some pair holds it there (a positive
+    margin at some pressure up to max_pressure), by the free workspace."""
+    to, after = ct.roll_over(nodes, face, edge)
     pr = look.predict(to, after, look.actions(to))
     return bool(np.any(pr.margin[:, pr.pressure <= max_pressure + 1e-9] > 0))
 
@@ -160,7 +147,7 @@ def grid_ok(sw: gv.GravitySweep, look: Lookup, params: Params, max_pressure: flo
             if not sw.stood[i, j]:
                 continue
             u = np.array([np.cos(np.radians(sw.headings[j])), np.sin(np.radians(sw.headings[j]))])
-            nodes, normal = None, Terrain.slope(sw.slopes[i]).normal
+            nodes = None
             best = [np.inf, np.inf]
             for n in np.argsort(sw.tip_pressure[i, j]):
                 p = sw.tip_pressure[i, j, n]
@@ -171,7 +158,7 @@ def grid_ok(sw: gv.GravitySweep, look: Lookup, params: Params, max_pressure: flo
                 k = 1 if along > 0 else 2
                 if along < 0:
                     nodes = pose(params, sw.face, sw.slopes[i], sw.headings[j]) if nodes is None else nodes
-                    if not _lands(look, sw.face, nodes, e, normal, max_pressure):
+                    if not _lands(look, sw.face, nodes, e, max_pressure):
                         continue
                 if p < best[k - 1]:
                     best[k - 1], ok[k, i, j], pair[k, i, j] = p, True, sw.pairs[n]
@@ -221,15 +208,14 @@ def _sim_ok(look: Lookup, params: Params, kind: int, face: int, slopes: np.ndarr
         if (along > 0) == (kind == 1) and along != 0:
             ok[j], tips[j] = True, p
             if kind == 2:
-                to, after = landing(pose(params, face, slopes[j], headings[j]), face, e,
-                                    Terrain.slope(slopes[j]).normal)
+                to, after = ct.roll_over(pose(params, face, slopes[j], headings[j]), face, e)
                 land.append((j, to, float(gv.heading_of(after, to)), e))
     if land:
         held = stands(params, [t for _, t, _, _ in land], [slopes[j] for j, *_ in land],
                       [h for _, _, h, _ in land], cfg["settle"] + 0.5, cfg["dt"])
         for (j, _, _, e), h in zip(land, held):
             if not h and not _lands(look, face, pose(params, face, slopes[j], headings[j]), e,
-                                    Terrain.slope(slopes[j]).normal, cfg["max_pressure"]):
+                                    cfg["max_pressure"]):
                 ok[j], why[j] = False, "landing"
     return ok, tips, why
 

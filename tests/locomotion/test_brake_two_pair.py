@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from tensegrity import locomotion as lo
-from tensegrity.locomotion.brake import Brake, escape, hold, landing_pose
+from tensegrity.locomotion.brake import Brake, escape, hold
 from tensegrity.locomotion.control import _settle_gen
 from tensegrity.locomotion.lockstep import lockstep
 from tensegrity.physics import contact as ct
@@ -127,7 +127,7 @@ def test_landing_pose_puts_the_next_face_on_the_ground():
     p = standing(EQUI, slope, 20.0)
     for k in range(3):
         edge = topo.edge_nodes(EQUI, k)
-        q = landing_pose(p, EQUI, edge)
+        q = ct.roll_over(p, EQUI, edge)[1]
         gap = ct.clearance(q, slope, 0.0)
         nxt = topo.FACES[topo.neighbour(EQUI, edge) - 1]
         on = ct.clearance(p, slope, 0.0)[topo.FACES[EQUI - 1]]  # the strut radius
