@@ -64,12 +64,12 @@ def friction_angle(params: Params) -> float:
 
 def direction(support: np.ndarray, face: int, edge: Sequence[int]) -> np.ndarray:
     """Outward unit normal (2,) in the support plane of `edge` (two 1-based nodes) of `face`,
-    for the triangle `support` (3, >=2) m in its support frame (corner order of FACES)."""
-    corners = [int(np.flatnonzero(topo.FACES[face - 1] == n - 1)[0]) for n in edge]
-    a, b = support[corners[0], :2], support[corners[1], :2]
-    e = b - a
-    n = np.array([e[1], -e[0]]) / np.linalg.norm(e)
-    return n if np.dot(n, a - support[:, :2].mean(0)) > 0 else -n
+    for the triangle `support` (3, >=2) m in its support frame (corner order of FACES):
+    `contact.edge_outward`."""
+    k = [topo.edge_nodes(face, i) for i in range(3)].index(tuple(sorted(int(n) for n in edge)))
+    tri = np.zeros((3, 3))
+    tri[:, :2] = support[:, :2]
+    return ct.edge_outward(tri)[k, :2]
 
 
 def pose(params: Params, face: int, slope: float, heading: float) -> np.ndarray:
