@@ -129,8 +129,7 @@ def lockstep(params: Params, terrain: Terrain, state: d.State,
                     except d.SimulationError as e:
                         failed[b] = e
                         parts.append(batch.take([i]))
-                batch = d.State(*(np.concatenate([getattr(p, k) for p in parts]) for k in
-                                  ("x", "v", "q", "w", "anchor", "stuck")), t=batch.t + s.interval)
+                batch = d.State.concat(parts, t=batch.t + s.interval)
             ob = observe(params, terrain, batch, s, [last[b] for b in live])
             keep = []
             for i, b in enumerate(live):

@@ -53,6 +53,12 @@ class State:
         """The sub-batch of robots idx."""
         return State(*(a[idx] for a in (self.x, self.v, self.q, self.w, self.anchor, self.stuck)), t=self.t)
 
+    @staticmethod
+    def concat(states: Sequence["State"], t: float | None = None) -> "State":
+        """One batch of the robots of `states`, in order, at time `t` s (default: the first's)."""
+        return State(*(np.concatenate([getattr(s, k) for s in states]) for k in
+                       ("x", "v", "q", "w", "anchor", "stuck")), t=states[0].t if t is None else t)
+
 
 def axes(q: np.ndarray) -> np.ndarray:
     """Rotation matrices (..., 3, 3) of unit quaternions (..., 4) (w, x, y, z); columns are the

@@ -40,8 +40,7 @@ def batch_params(designs: Sequence[Params], repeat: int = 1) -> Params:
 def _stand(designs: Sequence[Params], faces: Sequence[int], terrain: Terrain, per: int) -> d.State:
     """Design i standing on faces[j], `per` robots each, in the order (design, face, robot)."""
     parts = [d.stand_on(p, f, terrain, batch=per) for p in designs for f in faces]
-    return d.State(*(np.concatenate([getattr(s, k) for s in parts]) for k in
-                     ("x", "v", "q", "w", "anchor", "stuck")))
+    return d.State.concat(parts)
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,7 @@ robot tips where that projection leaves the triangle (`frames.first_crossing` of
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -96,12 +96,6 @@ def place(params: Params, face: int, terrain: Terrain, position: ArrayLike, head
     return d.stand_on(params, face, terrain, batch, position=position, yaw_deg=h0 - heading)
 
 
-def stack_states(states: Sequence[d.State]) -> d.State:
-    """One batch of the robots of `states`, in order."""
-    return d.State(*(np.concatenate([getattr(s, k) for s in states]) for k in
-                     ("x", "v", "q", "w", "anchor", "stuck")))
-
-
 def _check(ramp_rate: float, max_pressure: float, grid_step: float, interval: float, dt: float) -> None:
     check_pressures(max_pressure, "gravity.max_pressure")
     for name, v in (("ramp_rate", ramp_rate), ("max_pressure", max_pressure), ("grid_step", grid_step),
@@ -134,7 +128,7 @@ def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, slopes: Arr
     cases = [(i, j) for i in range(slopes.size) for j in range(headings.size)
              if not (flat_once and slopes[i] == 0 and j > 0)]
     N = pairs.size
-    state = stack_states([place(params, face, terrain, centres[i], headings[j], N) for i, j in cases])
+    state = d.State.concat([place(params, face, terrain, centres[i], headings[j], N) for i, j in cases])
     level, n_settle = ramp_levels(ramp_rate, max_pressure, settle, interval)
     rec, gone = ramp(params, terrain, face, state, np.tile(pairs, len(cases)), level, n_settle,
                      interval, check, dt)

@@ -170,7 +170,7 @@ def stands(params: Params, faces: Sequence[int], slopes: ArrayLike, headings: Ar
     """Direct simulation: does the unactuated robot b, placed on faces[b] on a slope of
     slopes[b] deg at headings[b] deg, still stand on it after `settle` s? (B,) bool."""
     terrain, centres = gv.slope_field(slopes)
-    state = gv.stack_states([gv.place(params, int(f), terrain, centres[b], h)
+    state = d.State.concat([gv.place(params, int(f), terrain, centres[b], h)
                              for b, (f, h) in enumerate(zip(faces, headings))])
     n = int(round(settle / dt))
     _, tr = d.simulate(params, state, Schedule.constant(np.zeros(topo.N_PAIRS), settle), terrain, dt, n)
@@ -190,7 +190,7 @@ def _sim_ok(look: Lookup, params: Params, kind: int, face: int, slopes: np.ndarr
         ok = stands(params, [face] * J, slopes, headings, cfg["settle"] + 0.5, cfg["dt"])
         return ok, np.full(J, np.nan), ["geometry"] * J
     terrain, centres = gv.slope_field(slopes)
-    state = gv.stack_states([gv.place(params, face, terrain, centres[j], headings[j]) for j in range(J)])
+    state = d.State.concat([gv.place(params, face, terrain, centres[j], headings[j]) for j in range(J)])
     level, n_settle = gv.ramp_levels(cfg["ramp_rate"], cfg["max_pressure"], cfg["settle"], cfg["interval"])
     rec, gone = gv.ramp(params, terrain, face, state, np.asarray(pairs), level, n_settle, cfg["interval"],
                         dt=cfg["dt"])
