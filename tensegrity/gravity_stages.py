@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from .io import datasets, formats, gravity_formats as gf
-from .io.config import params_from_config
+from .locomotion.demos import locomotion_params
 from .physics import topology as topo
 
 CONTACTS = list(topo.CONTACT_FACES)
@@ -26,6 +26,7 @@ def settings(cfg: Mapping) -> dict:
     from .workspace import gravity as gv
     g, loc = cfg["gravity"], cfg["locomotion"]
     out = {"ramp_rate": float(loc["ramp_rate"]), "interval": float(loc["interval"]),
+           "lift_tolerance": float(loc["lift_tolerance"]), "hold_time": float(loc["hold_time"]),
            "settle": float(g["settle"]), "max_pressure": float(g["max_pressure"]),
            "grid_step": float(g["grid_step"]), "dt": float(cfg["sim"]["dt"]),
            "iterations": int(g["iterations"]), "free_step": float(g["free_step"])}
@@ -44,16 +45,18 @@ def run_gravity(cfg: Mapping, out_path: str | os.PathLike, figure_path: str | os
     (results/workspace_gravity.nc) and, if `figure_path`, its figure of tipping pressures."""
     from .workspace import gravity as gv
     s, g = settings(cfg), cfg["gravity"]
-    params = params_from_config(cfg)
+    params = locomotion_params(cfg)  # the rolling simulations' parameters
     sweeps = {}
     for contact in CONTACTS:
         sweeps[contact] = gv.run(params, topo.CONTACT_FACES[contact], g["pairs"], g["slopes"], g["headings"],
                                  s["ramp_rate"], s["max_pressure"], s["settle"], s["grid_step"],
-                                 s["interval"], dt=s["dt"])
+                                 s["interval"], s["dt"], lift_tolerance=s["lift_tolerance"],
+                                 hold_time=s["hold_time"])
         sw = sweeps[contact]
         print(f"{contact}: stands at {int(sw.stood.sum())} of {sw.stood.size} slope/heading cases; "
               f"{int(sw.rolled.sum())} of {sw.rolled.size} ramps rolled", flush=True)
-    attrs = {k: v for k, v in s.items() if k in ("ramp_rate", "interval", "settle", "max_pressure")}
+    attrs = {k: v for k, v in s.items() if k in ("ramp_rate", "interval", "settle", "max_pressure",
+                                                           "lift_tolerance", "hold_time")}
     ds = gf.gravity_dataset(sweeps, {f"{k}_setting": v for k, v in attrs.items()})
     path = datasets.write(ds, out_path, dict(cfg), "Gravity-aware workspace: single pairs ramped on flat ground "
                           "and slopes until the robot rolls", stage="gravity", allow_nan=gf.GRAVITY_ALLOW_NAN)
@@ -95,7 +98,7 @@ def run_slope_limit(cfg: Mapping, gravity_path: str | os.PathLike, workspace_pat
     if two_pair_path:
         from .io.two_pair_formats import read_two_pair
         ws = ws.with_two_pair(*read_two_pair(two_pair_path))
-    params = params_from_config(cfg)
+    params = locomotion_params(cfg)  # the rolling simulations' parameters
     lim = sl.limits(FreeLookup(ws), params, gf.sweeps_from_dataset(src), s)
     for k, kind in enumerate(lim.kinds):
         for c, contact in enumerate(lim.contacts):
@@ -121,7 +124,6 @@ def validate_gravity(cfg: Mapping, gravity_path: str | os.PathLike, nominal_path
     """Stage `validate_gravity`: checks G.1-G.3 (`validation.gravity`) to
     results/validation/gravity.nc, .md and .html. Failed checks do not raise."""
     from .locomotion.control import RollSettings
-    from .locomotion.demos import locomotion_params
     from .validation import gravity as vg, pages
     from .validation.common import CheckSettings
     s, g = settings(cfg), cfg["gravity"]

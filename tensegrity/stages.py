@@ -70,13 +70,14 @@ STAGE_CONFIG: dict[str, tuple[str, ...]] = {
 def stage_config(cfg: dict, stage: str) -> dict:
     """The sections of the resolved configuration `cfg` that `stage` depends on (STAGE_CONFIG);
     a locomotion run (and a study) leaves out the list of runs and the animation settings; the
-    gravity-aware workspace and the slope limit keep only the ramp (locomotion.ramp_rate,
-    interval)."""
+    gravity-aware workspace and the slope limit keep only the ramp, its hold and the strut damping
+    of the rolls (locomotion.ramp_rate, interval, lift_tolerance, hold_time, strut_damping)."""
     if stage not in STAGE_CONFIG:
         raise ValueError(f"unknown stage {stage!r}: use one of {sorted(STAGE_CONFIG)}")
     out = {k: cfg[k] for k in STAGE_CONFIG[stage]}
     if stage in ("gravity", "slope_limit"):  # the ramp of the rolls, nothing else of locomotion
-        out["locomotion"] = {k: out["locomotion"][k] for k in ("ramp_rate", "interval")}
+        out["locomotion"] = {k: out["locomotion"][k] for k in ("ramp_rate", "interval", "lift_tolerance",
+                                                                "hold_time", "strut_damping")}
     if stage in ("locomotion_run", "study"):
         out["locomotion"] = {k: v for k, v in out["locomotion"].items()
                              if k != "runs" and not k.startswith("animation_")}

@@ -29,6 +29,7 @@ HALF_LENGTH = 2.0  # m, the strips run from x = -HALF_LENGTH to +HALF_LENGTH
 SPACING = 0.25     # m, height-field cell
 FALLING = 0.01     # m: a CoG projection this far past an edge means the robot is rolling over it
 HOLD = 1.0         # s the top of the ramp is held
+MAX_HOLD = 5.0     # s, longest total time a ramp is held where a support node lifts
 
 
 @dataclass(frozen=True)
@@ -112,14 +113,15 @@ def _check(ramp_rate: float, max_pressure: float, grid_step: float, interval: fl
 
 def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, slopes: ArrayLike,
         headings: ArrayLike, ramp_rate: float = 1.0, max_pressure: float = 5.0, settle: float = 0.5,
-        grid_step: float = 0.2, interval: float = 0.02, check: int = 5, dt: float = 1e-4,
-        flat_once: bool = True) -> GravitySweep:
+        grid_step: float = 0.2, interval: float = 0.02, dt: float = 1e-4, flat_once: bool = True,
+        lift_tolerance: float = 0.001, hold_time: float = HOLD) -> GravitySweep:
     """The gravity-aware workspace of `face`: each pair of `pairs` on each slope (deg) and
     heading (deg), `settle` s at rest, then the pressure ramped from 0 at ramp_rate MPa/s in
     steps held `interval` s, up to max_pressure MPa (held HOLD s) or until the robot rolls (its
-    CoG projection FALLING m past an edge, or another face resting on the ground), checked
-    every `check` intervals. All robots in one batch; with `flat_once` a zero slope runs one heading and
-    copies it to the others (on flat ground the heading is a turn of the whole scene)."""
+    CoG projection FALLING m past an edge, or another face resting on the ground), holding it
+    as the controller does once a support node lifts (`ramp`). All robots in one batch; with
+    `flat_once` a zero slope runs one heading and copies it to the others (on flat ground the
+    heading is a turn of the whole scene)."""
     face = topo.face_number(face)
     pairs = np.array([topo.check_pair(p) for p in np.atleast_1d(pairs)])
     slopes, headings = np.atleast_1d(np.asarray(slopes, float)), np.atleast_1d(np.asarray(headings, float))
@@ -131,8 +133,8 @@ def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, slopes: Arr
     state = d.State.concat([place(params, face, terrain, centres[i], headings[j], N) for i, j in cases])
     level, n_settle = ramp_levels(ramp_rate, max_pressure, settle, interval)
     rec, gone = ramp(params, terrain, face, state, np.tile(pairs, len(cases)), level, n_settle,
-                     interval, check, dt)
-    return _collect(face, pairs, slopes, headings, cases, level, n_settle, grid_step, rec, gone)
+                     interval, dt, lift_tolerance, hold_time)
+    return _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_step, rec, gone)
 
 
 def ramp_levels(ramp_rate: float, max_pressure: float, settle: float, interval: float,
@@ -148,59 +150,79 @@ def ramp_levels(ramp_rate: float, max_pressure: float, settle: float, interval: 
 
 
 def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: np.ndarray,
-         level: np.ndarray, n_settle: int, interval: float, check: int = 5,
-         dt: float = 1e-4) -> tuple[dict, np.ndarray]:
-    """Drive robot b of `state` (resting on `face`) with pair pair_of[b] at the pressures `level`
-    (T,) MPa, one per `interval` s (the first n_settle at zero), checking every `check`
-    intervals; a robot is dropped once it rolls (see `run`) or, at the end of the settling,
-    does not stand. Returns records (cog (R, T, 3), support (R, T, 3, 3), proj (R, T, 2),
-    margin (R, T); `gravity_frame`, NaN once dropped) and the sample each robot was dropped
-    at (R,) (T: never)."""
-    R, T = state.batch, level.size
+         level: np.ndarray, n_settle: int, interval: float, dt: float = 1e-4,
+         lift_tolerance: float = 0.001, hold_time: float = HOLD) -> tuple[dict, np.ndarray]:
+    """Drive robot b of `state` (resting on `face`) with pair pair_of[b] through the pressures
+    `level` (L,) MPa, one per `interval` s (the first n_settle at zero). As the controller does
+    (`locomotion.control.roll`), when a support node has lifted by lift_tolerance m (from its
+    clearance at the end of the settling) the pressure is held for hold_time s before the ramp
+    goes on: near the tipping point the robot creeps over the edge at a constant pressure,
+    which a steady ramp would overshoot. At most MAX_HOLD s of holds per robot. A robot is
+    dropped once it rolls (see `run`) or, at the end of the settling, does not stand. Returns
+    records (pressure (R, T) MPa, cog (R, T, 3), support (R, T, 3, 3), proj (R, T, 2), margin
+    (R, T); `gravity_frame`, NaN once dropped) and the sample each robot was dropped at (R,)
+    (T: never, also when it reached the end of `level` or of its holds)."""
+    R, L = state.batch, level.size
+    T = L + int(np.ceil(MAX_HOLD / interval - 1e-9))
     every = int(round(interval / dt))
-    rec = {"cog": np.full((R, T, 3), np.nan), "support": np.full((R, T, 3, 3), np.nan),
-           "proj": np.full((R, T, 2), np.nan), "margin": np.full((R, T), np.nan)}
+    rec = {"pressure": np.full((R, T), np.nan), "cog": np.full((R, T, 3), np.nan),
+           "support": np.full((R, T, 3, 3), np.nan), "proj": np.full((R, T, 2), np.nan),
+           "margin": np.full((R, T), np.nan)}
     gone = np.full(R, T)
     active = np.arange(R)
+    k = np.zeros(R, np.int64)                    # level index of each robot
+    holding, held, total = np.zeros(R, bool), np.zeros(R), np.zeros(R)  # in a hold; its time, all holds', s
+    base = np.zeros((R, 3))  # clearance of the support nodes at the end of the settling, m
+    support = topo.FACES[face - 1]
     r = float(np.max(params.strut_radius))
-    for k0 in range(0, T, check):
-        seg = level[k0:k0 + check]
-        pres = np.zeros((active.size, seg.size, topo.N_PAIRS))
-        pres[np.arange(active.size), :, pair_of[active] - 1] = seg
-        state, tr = d.simulate(params, state, Schedule(np.full(seg.size, interval), pres), terrain, dt, every)
-        nodes = tr.nodes(params.strut_length)
+    for t in range(T):
+        ka = k[active]
+        pres = np.zeros((active.size, topo.N_PAIRS))
+        pres[np.arange(active.size), pair_of[active] - 1] = level[ka]
+        state, tr = d.simulate(params, state, Schedule(np.array([interval]), pres[:, None]), terrain, dt, every)
+        nodes = tr.nodes(params.strut_length)[:, -1]
         cog, sup, proj, margin = gravity_frame(nodes, face)
-        for name, v in (("cog", cog), ("support", sup), ("proj", proj), ("margin", margin)):
-            rec[name][active, k0:k0 + seg.size] = v
-        resting = ct.resting_face(ct.clearance(nodes[:, -1], terrain, r), r)
-        off = (margin[:, -1] < -FALLING) | ((resting != face) & (resting != 0))
-        if k0 + seg.size >= n_settle > k0:  # end of the settling: who stands?
-            off |= (resting != face) | (margin[:, -1] <= 0)
+        for name, v in (("pressure", level[ka]), ("cog", cog), ("support", sup), ("proj", proj),
+                        ("margin", margin)):
+            rec[name][active, t] = v
+        gap = ct.clearance(nodes, terrain, r)
+        resting = ct.resting_face(gap, r)
+        off = (margin < -FALLING) | ((resting != face) & (resting != 0))
+        if t + 1 == n_settle:  # end of the settling: who stands?
+            off |= (resting != face) | (margin <= 0)
+            base[active] = gap[:, support]
+        # the controller's hold: begins when a node lifts while ramping, ends after hold_time
+        lifted = (ka >= n_settle) & np.any(gap[:, support] - base[active] > lift_tolerance, axis=1)
+        hd = holding[active]
+        held[active[hd]] += interval
+        total[active[hd]] += interval
+        ends = hd & (held[active] >= hold_time - 1e-9)
+        begins = ~hd & lifted & (total[active] < MAX_HOLD - 1e-9)
+        holding[active[ends]], holding[active[begins]], held[active[begins]] = False, True, 0.0
+        k[active[~(hd & ~ends) & ~begins]] += 1
+        off |= k[active] >= L  # through the whole ramp without rolling
         if off.any():
-            gone[active[off]] = k0 + seg.size
+            gone[active[off]] = np.where(k[active[off]] >= L, T, t + 1)
             active, state = active[~off], state.take(~off)
         if not active.size:
             break
     return rec, gone
 
 
-def tip(level: np.ndarray, n_settle: int, margin: np.ndarray, gone: int) -> tuple[float, int]:
-    """Tipping pressure (MPa, NaN: none) of one robot's ramp record (margin (T,) m, dropped at
-    sample `gone`) and the index of its first sample outside (-1: none)."""
-    if gone <= n_settle or gone >= level.size:
+def tip(pressure: np.ndarray, n_settle: int, margin: np.ndarray, gone: int) -> tuple[float, int]:
+    """Tipping pressure (MPa, NaN: none) of one robot's ramp record (pressure, margin (T,) MPa,
+    m; dropped at sample `gone`, T: never) and the index of its first sample outside (-1: none)."""
+    if gone <= n_settle or gone >= pressure.size:
         return float("nan"), -1
-    p, k = frames.first_crossing(level[n_settle:gone], margin[n_settle:gone])
+    p, k = frames.first_crossing(pressure[n_settle:gone], margin[n_settle:gone])
     return (p, n_settle + k) if k >= 0 else (float("nan"), -1)
 
 
-def _collect(face, pairs, slopes, headings, cases, level, n_settle, grid_step, rec, gone) -> GravitySweep:
+def _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_step, rec, gone) -> GravitySweep:
     """Per-robot records (R, T, ...) -> the arrays of a GravitySweep."""
     S, H, N = slopes.size, headings.size, pairs.size
-    grid = grid_step * np.arange(1, int(round(level.max() / grid_step)) + 1)
-    # a grid value is the mean over the samples within half a step of it (the nominal averaging
-    # of paper III.A along the ramp: the robot rocks on the ground by a few mm)
-    window = (np.abs(level[None, :] - grid[:, None]) <= grid_step / 2 + 1e-9) & (np.arange(level.size) >= n_settle)
-    P = grid.size
+    grid = grid_step * np.arange(1, int(round(max_pressure / grid_step)) + 1)
+    P, T = grid.size, rec["pressure"].shape[1]
     out = {"stood": np.zeros((S, H), bool), "rolled": np.zeros((S, H, N), bool),
            "tip_pressure": np.full((S, H, N), np.nan), "tip_edge": np.zeros((S, H, N, 2), np.int64),
            "cog": np.full((S, H, N, P, 3), np.nan), "support": np.full((S, H, N, P, 3, 3), np.nan),
@@ -214,11 +236,16 @@ def _collect(face, pairs, slopes, headings, cases, level, n_settle, grid_step, r
         if not stood:
             continue
         for n, row in enumerate(rows):
-            p_tip, kk = tip(level, n_settle, rec["margin"][row], gone[row])
+            pr, end = rec["pressure"][row], min(gone[row], T)
+            p_tip, kk = tip(pr, n_settle, rec["margin"][row], gone[row])
             rolled = kk >= 0
-            valid = ~window[:, gone[row]:].any(axis=1)  # the whole window before the roll
-            w = window[:, :gone[row]] / np.maximum(window[:, :gone[row]].sum(1, keepdims=True), 1)
-            means = {k: np.einsum("pt,t...->p...", w, v[row, :gone[row]]) for k, v in rec.items()}
+            # a grid value is the mean over the samples within half a step of it (the nominal
+            # averaging of paper III.A along the ramp: the robot rocks on the ground by a few mm),
+            # valid if the robot was not dropped before the end of the window
+            window = (np.abs(pr[None, :] - grid[:, None]) <= grid_step / 2 + 1e-9) & (np.arange(T) >= n_settle)
+            valid = (gone[row] >= T) | (pr[:end].max() > grid + grid_step / 2 + 1e-9)
+            w = window[:, :end] / np.maximum(window[:, :end].sum(1, keepdims=True), 1)
+            means = {k: np.einsum("pt,t...->p...", w, v[row, :end]) for k, v in rec.items() if k != "pressure"}
             for jj in js:
                 out["rolled"][i, jj, n] = rolled
                 if rolled:

@@ -193,13 +193,13 @@ def _sim_ok(look: Lookup, params: Params, kind: int, face: int, slopes: np.ndarr
     state = d.State.concat([gv.place(params, face, terrain, centres[j], headings[j]) for j in range(J)])
     level, n_settle = gv.ramp_levels(cfg["ramp_rate"], cfg["max_pressure"], cfg["settle"], cfg["interval"])
     rec, gone = gv.ramp(params, terrain, face, state, np.asarray(pairs), level, n_settle, cfg["interval"],
-                        dt=cfg["dt"])
+                        cfg["dt"], cfg["lift_tolerance"], cfg["hold_time"])
     ok, tips, why, land = np.zeros(J, bool), np.full(J, np.nan), ["pressure range"] * J, []
     for j in range(J):
         if gone[j] <= n_settle:
             why[j] = "geometry"
             continue
-        p, k = gv.tip(level, n_settle, rec["margin"][j], gone[j])
+        p, k = gv.tip(rec["pressure"][j], n_settle, rec["margin"][j], gone[j])
         if k < 0:
             continue
         e = topo.edge_nodes(face, frames.crossed_edge(rec["proj"][j, k], rec["support"][j, k][:, :2]))

@@ -31,14 +31,20 @@ def test_a_grounded_roll_tips_where_the_gravity_workspace_says(sweep):
 
 
 def _free_from(sw: gv.GravitySweep, shift: float = 0.0) -> dict:
-    """The flat-ground data of `sw` as if it were a free nominal file, CoG moved by `shift` m."""
+    """The flat-ground data of `sw` as if it were a free nominal file, CoG moved by `shift` m;
+    after the roll (NaN) the CoG is put far out on the ray from the triangle's centre through
+    its last position, so that it lies across the edge the robot rolled over."""
     k = np.arange(1, sw.pressure.size, 2)
     cog = sw.cog[0, 0][:, k].copy()
     cog[..., 0] += shift
     margin = np.nan_to_num(sw.margin[0, 0][:, k], nan=-1.0)
     support = np.where(np.isnan(sw.support[0, 0][:, k]), sw.support[0, 0][:, :1], sw.support[0, 0][:, k])
-    return {"pairs": list(sw.pairs), "levels": sw.pressure[k], "cog": np.nan_to_num(cog, nan=0.0),
-            "support": support, "margin": margin}
+    for b in range(cog.shape[0]):
+        ok = np.flatnonzero(np.isfinite(cog[b, :, 0]))
+        centre = support[b, ok[-1]].mean(axis=0)
+        cog[b, ok[-1] + 1:] = centre + 10 * (cog[b, ok[-1]] - centre)
+    return {"pairs": list(sw.pairs), "levels": sw.pressure[k], "cog": cog, "support": support,
+            "margin": margin}
 
 
 def test_check_4_on_the_ramp_compares_what_it_is_given(sweep):
@@ -54,3 +60,16 @@ def test_check_4_on_the_ramp_compares_what_it_is_given(sweep):
     assert "0.300 MPa" in rows[0].measured and "#12" in rows[0].measured
     text = pages.markdown("t", [pages.counts(list(st.values()))], [pages.verdict_table(rows), vg.roll_table(rc)])
     assert "| G.1 |" in text and "10-12" in text and "0 of 1 checks passed, 1 failed" in text
+
+
+def test_near_the_tipping_point_the_ramp_holds_as_the_roll_does():
+    """#10 on a 15 deg slope across its face (heading 90): the robot creeps over the edge at a
+    constant pressure. A steady ramp (no hold) overshoots the roll's tipping pressure; with the
+    controller's hold on lift the workspace matches the grounded roll (check G.1)."""
+    params, equi = Params(strut_damping=1.0), topo.face_number(topo.CONTACT_FACES["equilateral"])
+    steady = gv.run(params, equi, [10], [15.0], [90.0], max_pressure=1.0, hold_time=0.0)
+    held = gv.run(params, equi, [10], [15.0], [90.0], max_pressure=1.0)
+    rc = vg.check_rolls(params, {"equilateral": held}, [15.0], RollSettings(), 1.0)
+    assert held.tip_pressure[0, 0, 0] < steady.tip_pressure[0, 0, 0] - 0.05
+    assert rc.difference[0] < 0.1 < abs(rc.roll_tip[0] - steady.tip_pressure[0, 0, 0]), (
+        rc.roll_tip, held.tip_pressure, steady.tip_pressure)
