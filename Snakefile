@@ -3,8 +3,7 @@
 import sys
 
 from tensegrity.io.config import check_files as check_config_files, validate as validate_config
-from tensegrity.stages import stage_config  # the config sections each rule passes
-from tensegrity.validation.runs import warning as runs_warning
+from tensegrity.sections import stage_config  # the config sections each rule passes
 
 configfile: "config/config.yaml"
 
@@ -53,6 +52,8 @@ rule all:
 # A demonstration run that did not arrive does not stop the workflow (its file and path figures
 # show what happened; validation check 6 fails), but the run must not look like a success.
 onsuccess:
+    from tensegrity.validation.runs import warning as runs_warning  # numerical imports: only here
+
     text = runs_warning(expand("results/locomotion/{run}.nc", run=LOCO_RUNS))
     if text:
         print(text, file=sys.stderr)

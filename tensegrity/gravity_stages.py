@@ -14,6 +14,7 @@ import numpy as np
 import xarray as xr
 
 from .io import datasets, formats, gravity_formats as gf
+from .io.cross_checks import section_errors
 from .locomotion.demos import locomotion_params
 from .physics import topology as topo
 
@@ -22,21 +23,17 @@ CONTACTS = list(topo.CONTACT_FACES)
 
 def settings(cfg: Mapping) -> dict:
     """The ramp and limit settings from the config sections gravity, locomotion and sim; raises
-    ValueError naming a bad key before any simulation."""
-    from .workspace import gravity as gv
+    ValueError naming a bad key before any simulation (`io.cross_checks.section_errors`; the
+    configuration's validation makes the same checks before any job)."""
     g, loc = cfg["gravity"], cfg["locomotion"]
     out = {"ramp_rate": float(loc["ramp_rate"]), "interval": float(loc["interval"]),
            "lift_tolerance": float(loc["lift_tolerance"]), "hold_time": float(loc["hold_time"]),
            "settle": float(g["settle"]), "max_pressure": float(g["max_pressure"]),
            "grid_step": float(g["grid_step"]), "dt": float(cfg["sim"]["dt"]),
            "iterations": int(g["iterations"]), "free_step": float(g["free_step"])}
-    gv._check(out["ramp_rate"], out["max_pressure"], out["grid_step"], out["interval"], out["dt"])
-    slopes = list(g["slopes"])
-    if slopes != sorted(slopes):
-        raise ValueError(f"config key gravity.slopes: {slopes} must be increasing (deg)")
-    bad = [a for a in g["validate_slopes"] if a not in slopes]
-    if bad:
-        raise ValueError(f"config key gravity.validate_slopes: {bad} deg are not among gravity.slopes {slopes}")
+    errors = section_errors(cfg, "gravity")
+    if errors:
+        raise ValueError("; ".join(errors))
     return out
 
 

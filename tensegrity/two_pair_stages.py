@@ -14,26 +14,18 @@ import numpy as np
 
 from .io import datasets, two_pair_formats as tpf
 from .io.config import params_from_config
+from .io.cross_checks import section_errors
 from .physics import topology as topo
 from .workspace import two_pair as tp
 
 
 def check_config(cfg: Mapping) -> dict:
-    """The `two_pair` section of `cfg`, after the checks the schema cannot make; ValueError
-    naming the key: levels strictly increasing, discard < hold, hold a whole number of
-    recording intervals (record_every * sim.dt)."""
-    s, dt = cfg["two_pair"], float(cfg["sim"]["dt"])
-    lv = s["levels"]
-    for i in range(1, len(lv)):
-        if lv[i] <= lv[i - 1]:
-            raise ValueError(f"config key two_pair.levels[{i}]: {lv[i]} is not greater than {lv[i - 1]} (MPa, strictly increasing)")
-    if s["discard"] >= s["hold"]:
-        raise ValueError(f"config key two_pair.discard: {s['discard']} s is not less than two_pair.hold = {s['hold']} s")
-    n = s["hold"] / (s["record_every"] * dt)
-    if abs(n - round(n)) > 1e-6:
-        raise ValueError(f"config key two_pair.hold: {s['hold']} s is not a whole number of recording intervals "
-                         f"(two_pair.record_every x sim.dt = {s['record_every'] * dt:g} s)")
-    return s
+    """The `two_pair` section of `cfg`; ValueError naming the key if it fails the checks the
+    schema cannot make (`io.cross_checks.section_errors`)."""
+    errors = section_errors(cfg, "two_pair")
+    if errors:
+        raise ValueError("; ".join(errors))
+    return cfg["two_pair"]
 
 
 def combos_of(pairs: Sequence[int]) -> np.ndarray:

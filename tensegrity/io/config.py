@@ -30,6 +30,7 @@ import numpy as np
 import yaml
 
 from ..physics.params import Params
+from .cross_checks import semantic_errors
 
 __all__ = ["ConfigError", "load", "validate", "params_from_config", "to_json", "merge", "schema",
            "defaults", "read_yaml", "check_files", "SCHEMA_PATH", "DEFAULT_PATH"]
@@ -223,49 +224,6 @@ def _sort_key(err: jsonschema.ValidationError):
     return [(0, p, "") if isinstance(p, int) else (1, 0, str(p)) for p in err.absolute_path]
 
 
-def _semantic(cfg: dict) -> list[str]:
-    """Checks the schema cannot express; `cfg` has passed the schema."""
-    out = []
-    levels = cfg["sweep"]["levels"]
-    for i in range(1, len(levels)):
-        if levels[i] <= levels[i - 1]:
-            out.append(f"config key sweep.levels[{i}]: {levels[i]} is not greater than the "
-                       f"previous level {levels[i - 1]} (levels must be strictly increasing, MPa)")
-            break
-    discard, hold = cfg["nominal"]["discard"], cfg["sweep"]["hold"]
-    if discard >= hold:
-        out.append(f"config key nominal.discard: {discard} s is not less than sweep.hold = {hold} s")
-    p = cfg["params"]
-    # Rest length of the symmetric state (docs/design.md §4): L = l0 - T0/K, l0 = S sqrt(6)/4.
-    rest = p["strut_length"] * math.sqrt(6) / 4 - p["cable_pretension"] / p["cable_stiffness"]
-    if rest <= 0:
-        out.append(f"config key params.cable_pretension: {p['cable_pretension']} N gives a cable "
-                   f"rest length L = l0 - T0/K = {rest:.4g} m, which must be positive")
-    elif p["muscle_min_length"] >= rest:
-        out.append(f"config key params.muscle_min_length: {p['muscle_min_length']} m is not below "
-                   f"the cable rest length L = l0 - T0/K = {rest:.4g} m")
-    dt, interval = cfg["sim"]["dt"], cfg["locomotion"]["interval"]
-    steps = interval / dt
-    if abs(steps - round(steps)) > 1e-6:  # the tolerance of locomotion.control.RollSettings
-        out.append(f"config key locomotion.interval: {interval:g} s is not a whole number of time steps "
-                   f"sim.dt = {dt:g} s ({steps:.4g} steps; e.g. {max(1, round(steps)) * dt:g} s)")
-    runs, contacts = cfg["locomotion"]["runs"], cfg["sweep"]["contacts"]
-    missing = [c for c in ("equilateral", "isosceles") if c not in contacts]
-    if runs and missing:
-        # every demonstration run rolls onto faces of both kinds: its plans need both workspaces
-        out.append(f"config key locomotion.runs: the demonstration runs {', '.join(runs)} roll over faces "
-                   f"of both kinds, but sweep.contacts = [{', '.join(contacts)}] leaves out "
-                   f"{' and '.join(missing)}, so the workspace has no curves to plan them with; add "
-                   f"{' and '.join(missing)} to sweep.contacts, or leave out the runs with "
-                   f"locomotion='{{runs: []}}'")
-    if not out:
-        try:
-            Params(**p)
-        except ValueError as e:
-            out.append(f"config key params: {e}")
-    return out
-
-
 # ------------------------------------------------------------------------------------- public
 
 def validate(cfg: Mapping | None) -> dict:
@@ -286,7 +244,7 @@ def validate(cfg: Mapping | None) -> dict:
     errors += _nonfinite(inst)
     if errors:
         raise ConfigError(errors)
-    errors = _semantic(inst)
+    errors = semantic_errors(inst)
     if errors:
         raise ConfigError(errors)
     return inst

@@ -94,11 +94,14 @@ def test_the_dataset_round_trips_and_the_config_names_bad_keys(flat):
     np.testing.assert_array_equal(back.tip_pressure, flat.tip_pressure)
     np.testing.assert_array_equal(back.tip_edge, flat.tip_edge)
     assert all(ds[v].attrs["units"] and ds[v].attrs["long_name"] for v in ds.data_vars)
-    cfg = config.validate({"gravity": {"grid_step": 0.25}})
-    with pytest.raises(ValueError, match="gravity.grid_step"):
-        gravity_stages.settings(cfg)
-    with pytest.raises(ValueError, match="gravity.validate_slopes"):
-        gravity_stages.settings(config.validate({"gravity": {"validate_slopes": [7]}}))
+    # the cross-key checks stop the configuration (before any job) and the stage alike
+    for bad, key in (({"grid_step": 0.25}, "gravity.grid_step"), ({"validate_slopes": [7]}, "gravity.validate_slopes"),
+                     ({"slopes": [15, 0], "validate_slopes": [0]}, "gravity.slopes")):
+        with pytest.raises(config.ConfigError, match=key):
+            config.validate({"gravity": bad})
+        cfg = config.merge(config.defaults(), {"gravity": bad})
+        with pytest.raises(ValueError, match=key):
+            gravity_stages.settings(cfg)
     for bad in ({"slopes": [0, 80]}, {"headings": [360]}, {"max_pressure": 12}, {"colour": 1}):
         with pytest.raises(config.ConfigError, match="gravity"):
             config.validate({"gravity": bad})

@@ -5,7 +5,7 @@ import pytest
 
 from tensegrity import two_pair_stages
 from tensegrity.io import two_pair_formats as tpf
-from tensegrity.io.config import ConfigError, defaults, params_from_config, validate
+from tensegrity.io.config import ConfigError, defaults, merge, params_from_config, validate
 from tensegrity.physics import statics
 from tensegrity.workspace import two_pair as tp
 
@@ -116,7 +116,9 @@ def test_schema_names_the_bad_key(section, key):
                                           ({"hold": 0.3, "discard": 0.3}, "two_pair.discard"),
                                           ({"hold": 0.0333}, "two_pair.hold")])
 def test_stage_check_names_the_bad_key(tmp_path, section, key):
-    cfg = validate({"two_pair": section})
+    with pytest.raises(ConfigError, match=key.replace(".", r"\.")):  # before any job
+        validate({"two_pair": section})
+    cfg = merge(defaults(), {"two_pair": section})
     with pytest.raises(ValueError, match=key.replace(".", r"\.")):
         two_pair_stages.run_two_pair(cfg, "isosceles", tmp_path / "x.nc")
     assert not (tmp_path / "x.nc").exists()

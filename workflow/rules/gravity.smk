@@ -18,6 +18,7 @@ rule gravity:
         "results/logs/gravity.log",
     benchmark:
         "results/benchmarks/gravity.tsv"
+    priority: 50  # needs no input and heads the longest chain (-> slope_limit): start it first
     threads: 2
     resources:
         mem_mb=2000,
@@ -43,6 +44,7 @@ rule slope_limit:
         "results/logs/slope_limit.log",
     benchmark:
         "results/benchmarks/slope_limit.tsv"
+    priority: 40
     threads: 2
     resources:
         mem_mb=2000,

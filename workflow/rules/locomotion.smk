@@ -1,7 +1,6 @@
 # Rolling locomotion (paper III.C-D, IV): demonstration runs planned from the
 # workspace and rolled in the grounded simulation, then Fig. 8-10, paths and an animation.
 # Rules call tensegrity.stages (locomotion_run and the figure stages).
-from tensegrity.locomotion.demos import DEMOS
 
 LOCO = config["locomotion"]
 LOCO_RUNS = LOCO["runs"]
@@ -28,7 +27,7 @@ rule locomotion_run:
     benchmark:
         "results/benchmarks/locomotion/{run}.tsv"
     wildcard_constraints:
-        run="|".join(DEMOS),
+        run="|".join(LOCO_RUNS) or "^$",  # the configured runs only
     threads: 1
     resources:
         mem_mb=1000,
@@ -65,7 +64,7 @@ rule locomotion_path:
     log:
         "results/logs/locomotion/path_{run}.log",
     wildcard_constraints:
-        run="|".join(DEMOS),
+        run="|".join(LOCO_RUNS) or "^$",  # the configured runs only
     localrule: True
     script:
         "../scripts/locomotion_path.py"
@@ -86,7 +85,7 @@ rule locomotion_animation:
     benchmark:
         "results/benchmarks/locomotion/animation_{run}.tsv"
     wildcard_constraints:
-        run="|".join(DEMOS),
+        run="|".join(LOCO_RUNS) or "^$",  # the configured runs only
     resources:
         mem_mb=1500,
         runtime=10,

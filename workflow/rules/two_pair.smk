@@ -1,10 +1,7 @@
 # The two-pair workspace (issue 10): pairs of actuator pairs over a 2-D pressure grid, swept once
 # per stabiliser orbit on each canonical face, mapped to all 20 faces, fitted, validated, drawn.
-from tensegrity.two_pair_stages import check_config as check_two_pair_config
-
 # What the schema cannot check (levels increasing, discard < hold, hold a whole number of
-# samples) stops the run here, before any job, naming the key.
-check_two_pair_config(config)
+# samples) stops the run before any job, naming the key (io.config.validate, in the Snakefile).
 
 rule two_pair:
     """Free-mode staircase over the two-pair grid on one contact face (one robot per orbit)."""
