@@ -8,3 +8,5 @@ if [ ! -x .venv/bin/python ]; then "$PY" -m venv .venv; fi
 .venv/bin/python -m pip install -q --upgrade pip
 .venv/bin/python -m pip install -q -r environment.txt
 .venv/bin/python -m pip install -q --no-deps -e .
+# compile the simulator once (numba's cache), rather than in several of the first jobs at once
+.venv/bin/python -c "from tensegrity.physics.dynamics import warm; warm()"

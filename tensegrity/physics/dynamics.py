@@ -253,3 +253,12 @@ def energy(params: Params, state: State, pressure: ArrayLike) -> np.ndarray:
     cable = 0.5 * ((K + act) * np.maximum(0.0, ln - lstar) ** 2).sum(-1)
     grav = (m * prm["gravity"] * state.x[..., 2]).sum(-1)
     return kin + cable + grav
+
+
+def warm() -> None:
+    """Compile the kernels, or load them from numba's cache (`__pycache__` beside the source):
+    the set-up (workflow/setup.sh) calls this once, so that the pipeline's first jobs do not
+    each compile the same code at the same time."""
+    params, state = Params(), stand_on(Params(), 8)
+    simulate(params, state, Schedule.constant(np.zeros(12), 1e-3), Terrain.flat())
+    tensions(params, state, np.zeros(12))
