@@ -15,7 +15,7 @@ machine). A summary table closes the output. All runs of a scenario are one batc
 (`locomotion.roll_many`); each equals its single run.
 
 Usage: python benchmarks/bench_locomotion.py [--workspace results/workspace.nc]
-       [--two-pair results/workspace_two_pair.nc] [--directions 8] [--distance 2.0]
+       [--two-pair results/workspace_two_pair.nc | none] [--directions 8] [--distance 2.0]
        [--only flat terrain slope] [--amplitudes 0.03 0.05] [--seeds 1 2 3]
        [--slopes 10 15 20 24] [--strut-damping 1.0] [--set brake=true escape_attempts=0 ...]
 Without the workspace file, one is computed first with the default configuration (~30 s).
@@ -140,8 +140,9 @@ def scenarios(a: argparse.Namespace) -> list[tuple[str, Terrain, bool]]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--workspace", default="results/workspace.nc")
-    ap.add_argument("--two-pair", default=None, help="two-pair workspace (results/workspace_two_pair.nc)"
-                    "; without it combinations are superposed")
+    ap.add_argument("--two-pair", default="results/workspace_two_pair.nc",
+                    help="two-pair workspace, as the pipeline's demonstration runs plan with (default, if "
+                    "the file exists); 'none' or a missing file: combinations are superposed")
     ap.add_argument("--directions", "--runs", type=int, default=8, help="number of goal directions")
     ap.add_argument("--distance", type=float, default=2.0, help="goal distance, m")
     ap.add_argument("--only", nargs="+", choices=["flat", "terrain", "slope"],
@@ -170,6 +171,8 @@ def main() -> None:
     unknown = set(over) - set(lo.RollSettings.__dataclass_fields__)
     if unknown:
         ap.error(f"--set: unknown locomotion setting(s) {sorted(unknown)}")
+    if a.two_pair and (a.two_pair.lower() == "none" or not Path(a.two_pair).is_file()):
+        a.two_pair = None
     ws = workspace(a.workspace, a.two_pair)
     if a.strut_damping is not None:
         params = params.replace(strut_damping=a.strut_damping)

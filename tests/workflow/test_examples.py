@@ -190,7 +190,8 @@ def test_example_runs(request, workflow_copy, doc, lang, text, line):
 
 BENCHMARKS = {
     "bench_step.py": ["--seconds", "0.01"],
-    "bench_locomotion.py": ["--workspace", "{tiny}/results/workspace.nc", "--directions", "2",
+    "bench_locomotion.py": ["--workspace", "{tiny}/results/workspace.nc", "--two-pair",
+                            "{tiny}/results/workspace_two_pair.nc", "--directions", "2",
                             "--distance", "0.6", "--only", "flat", "slope", "--slopes", "15"],
     "calibration.py": ["--quick"],
     "bench_study.py": ["--designs", "2", "--hold", "0.05"],
