@@ -14,12 +14,13 @@ group stops when all of its robots have failed.
 """
 from __future__ import annotations
 
+import hashlib
 import math
 
 import llvmlite.ir as llir
 import numba as nb
 import numpy as np
-from numba.core import cgutils, types
+from numba.core import caching, cgutils, types
 from numba.extending import intrinsic
 
 from . import kernel_stages as ks
@@ -31,7 +32,6 @@ NO_TERRAIN = ks.NO_TERRAIN
 LANES = 8  # robots per group: one AVX-512 register of float64
 WIDE_FROM = 8  # smaller batches run one robot per group (and per thread)
 CABLE_PAIR = np.ascontiguousarray(topo.CABLE_PAIR.astype(np.int64))
-_JIT, _INLINE = ks.JIT, ks.INLINE
 
 # Columns of the packed parameter array prm (B, NP) (params.NAMES).
 (_STRUT_LENGTH, _STRUT_RADIUS, _STRUT_MASS, _CABLE_EXPONENT, _CABLE_STIFFNESS, _CABLE_REST_LENGTH,
@@ -42,6 +42,35 @@ _JIT, _INLINE = ks.JIT, ks.INLINE
  _STRUT_DAMPING, _MAX_SPEED) = (IDX[k] for k in (
     "ground_stiffness", "ground_damping", "friction", "friction_stiffness", "friction_damping",
     "strut_damping", "max_speed"))
+
+
+def _watching_stages(locator):
+    """numba's cache locator class `locator`, with a source stamp that also covers
+    kernel_stages.py: numba compiles the stages into this module's functions, but would only
+    watch this file for changes and load stale code."""
+    class Locator(locator):
+        def get_source_stamp(self):
+            with open(ks.__file__, "rb") as f:
+                return super().get_source_stamp(), hashlib.sha256(f.read()).digest()
+    Locator.__name__ = Locator.__qualname__ = locator.__name__
+    return Locator
+
+
+class _CacheImpl(caching.CompileResultCacheImpl):
+    _locator_classes = [_watching_stages(c) for c in caching.CompileResultCacheImpl._locator_classes]
+
+
+class _Cache(caching.FunctionCache):
+    _impl_class = _CacheImpl
+
+
+def _jit(**options):
+    """nb.njit(**options) (kernel_stages.JIT or INLINE), cached by `_Cache`."""
+    def wrap(f):
+        d = nb.njit(**{**options, "cache": False})(f)
+        d._cache = _Cache(d.py_func)
+        return d
+    return wrap
 
 
 def _stack_array(*shape):
@@ -78,7 +107,7 @@ _WIDE, _ONE = (0,) * LANES, (0,)  # lane markers (kernel_stages)
 (_1X, _1V, _1W, _1Q, _1AN, _1ST, _1P, _1U, _1G, _1Rm, _1T, _1C, _1act, _1lane) = _1
 
 
-@nb.njit(**_INLINE)
+@_jit(**ks.INLINE)
 def _constants(prm, b, dt, C, act, pres, l):
     """Lane l of C (NC, L) and act (24, L) N/m (eq. 1) for robot b (kernel_stages names the
     rows). Returns True if its cable law is linear (a_exp = 1)."""
@@ -99,7 +128,7 @@ def _constants(prm, b, dt, C, act, pres, l):
     return a_exp == 1.0
 
 
-@nb.njit(**_INLINE)
+@_jit(**ks.INLINE)
 def _retire(g, l, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST,
             lane):
     """Writes the state of lane l of group g (robot g*L + l) back, with its status `code` and
@@ -118,7 +147,7 @@ def _retire(g, l, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V
     lane[2, l] = 0.0
 
 
-@nb.njit(**_INLINE)
+@_jit(**ks.INLINE)
 def _record(g, rec, X, Q, lane, out_x, out_q, lanes):
     """Renormalises the quaternions Q (6, 4, L) and writes X (6, 3, L) m, Q of the live lanes to
     out_x, out_q[b, rec]."""
@@ -137,7 +166,7 @@ def _record(g, rec, X, Q, lane, out_x, out_q, lanes):
                     out_x[g * L + l, rec, i, k] = X[i, k, l]
 
 
-@nb.njit(**_INLINE)
+@_jit(**ks.INLINE)
 def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
          status, fail_step, work, lanes):
     """Group g of `advance` (same arguments, then the tuple of working arrays of _SHAPES): loads
@@ -201,7 +230,7 @@ def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, 
                     ST, lane)
 
 
-@nb.njit(**_JIT)
+@_jit(**ks.JIT)
 def _group_wide(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x,
                 out_q, status, fail_step):
     """`_run` for robots g*LANES ... g*LANES + LANES - 1."""
@@ -210,7 +239,7 @@ def _group_wide(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, 
                              _wRm(), _wT(), _wC(), _wact(), _wlane()), _WIDE)
 
 
-@nb.njit(**_JIT)
+@_jit(**ks.JIT)
 def _group_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x,
                out_q, status, fail_step):
     """`_run` for robot b alone."""
@@ -219,7 +248,7 @@ def _group_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, e
                              _1Rm(), _1T(), _1C(), _1act(), _1lane()), _ONE)
 
 
-@nb.njit(parallel=True, **_JIT)
+@_jit(parallel=True, **ks.JIT)
 def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
             out_x, out_q, status, fail_step):
     """Advance all robots in place (module docstring). State x, v (B, 6, 3) m, m/s; q (B, 6, 4);
@@ -237,7 +266,7 @@ def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, 
                         out_x, out_q, status, fail_step)
 
 
-@nb.njit(**_JIT)
+@_jit(**ks.JIT)
 def tensions(P, U, prm, pres):
     """Cable tensions (B, 24) N and node forces (B, 12, 3) N from node positions P and
     velocities U (B, 12, 3), packed parameters prm (B, NP) and pair pressures pres (B, 12) MPa."""

@@ -23,7 +23,7 @@ NO_TERRAIN, PLANE, HEIGHTFIELD = KINDS["none"], KINDS["plane"], KINDS["heightfie
 
 # No division-by-zero checks (error_model="numpy"); fused multiply-add and reassociation are
 # allowed, but not the flags that assume finite values: the blow-up checks must see NaN.
-JIT = dict(cache=True, error_model="numpy", fastmath={"contract", "reassoc", "nsz", "arcp"})
+JIT = dict(cache=True, error_model="numpy", fastmath={"contract", "nsz", "arcp"})
 INLINE = dict(forceinline=True, **JIT)
 
 # Topology as kernel constants: node -> (strut, sign), cable -> nodes, strut -> its two nodes
