@@ -57,7 +57,8 @@ def _watching_stages(locator):
 
 
 class _CacheImpl(caching.CompileResultCacheImpl):
-    _locator_classes = [_watching_stages(c) for c in caching.CompileResultCacheImpl._locator_classes]
+    _locator_classes = [_watching_stages(c)
+                        for c in caching.CompileResultCacheImpl._locator_classes]
 
 
 class _Cache(caching.FunctionCache):
@@ -83,13 +84,14 @@ def _stack_array(*shape):
     def make(typingctx):
         def codegen(context, builder, sig, args):
             f8 = context.get_data_type(types.float64)
-            data = builder.bitcast(cgutils.alloca_once(builder, llir.ArrayType(f8, int(np.prod(shape)))),
-                                   f8.as_pointer())
+            block = cgutils.alloca_once(builder, llir.ArrayType(f8, int(np.prod(shape))))
+            block.align = 64  # a cache line: whole-register loads never straddle two
+            data = builder.bitcast(block, f8.as_pointer())
             strides = [8 * int(np.prod(shape[k + 1:])) for k in range(len(shape))]
             ary = context.make_array(arrty)(context, builder)
             intp = lambda n: context.get_constant(types.intp, n)  # noqa: E731
-            context.populate_array(ary, data=data, shape=[intp(n) for n in shape],
-                                   strides=[intp(s) for s in strides], itemsize=intp(8), meminfo=None)
+            context.populate_array(ary, data=data, shape=[intp(n) for n in shape], itemsize=intp(8),
+                                   strides=[intp(s) for s in strides], meminfo=None)
             return ary._getvalue()
         return arrty(), codegen
     return make
@@ -114,7 +116,8 @@ def _constants(prm, b, dt, C, act, pres, l):
     S, r, m = prm[b, _STRUT_LENGTH], prm[b, _STRUT_RADIUS], prm[b, _STRUT_MASS]
     It, Ia = m * (S * S / 12.0 + r * r / 4.0), m * r * r / 2.0  # thin tube inertia, kg m^2
     a_exp = prm[b, _CABLE_EXPONENT]
-    C[ks.HL, l], C[ks.K, l], C[ks.LR, l] = 0.5 * S, prm[b, _CABLE_STIFFNESS], prm[b, _CABLE_REST_LENGTH]
+    C[ks.HL, l], C[ks.K, l] = 0.5 * S, prm[b, _CABLE_STIFFNESS]
+    C[ks.LR, l] = prm[b, _CABLE_REST_LENGTH]
     C[ks.A_EXP, l], C[ks.LA, l] = a_exp, prm[b, _CABLE_REST_LENGTH] ** a_exp
     C[ks.BC, l], C[ks.LMIN, l] = prm[b, _CABLE_DAMPING], prm[b, _MUSCLE_MIN_LENGTH]
     C[ks.R, l], C[ks.KN, l], C[ks.CN, l] = r, prm[b, _GROUND_STIFFNESS], prm[b, _GROUND_DAMPING]
@@ -128,7 +131,7 @@ def _constants(prm, b, dt, C, act, pres, l):
     return a_exp == 1.0
 
 
-@_jit(**ks.INLINE)
+@_jit(**ks.JIT)  # not inlined: rare, and it would crowd the step loop
 def _retire(g, l, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST,
             lane):
     """Writes the state of lane l of group g (robot g*L + l) back, with its status `code` and
@@ -154,7 +157,8 @@ def _record(g, rec, X, Q, lane, out_x, out_q, lanes):
     L = len(lanes)
     for i in range(6):
         for l in range(L):
-            iq = 1.0 / math.sqrt(Q[i, 0, l] ** 2 + Q[i, 1, l] ** 2 + Q[i, 2, l] ** 2 + Q[i, 3, l] ** 2)
+            iq = 1.0 / math.sqrt(Q[i, 0, l] ** 2 + Q[i, 1, l] ** 2 + Q[i, 2, l] ** 2
+                                 + Q[i, 3, l] ** 2)
             for k in range(4):
                 Q[i, k, l] *= iq
     for l in range(L):
@@ -248,7 +252,7 @@ def _group_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, e
                              _1Rm(), _1T(), _1C(), _1act(), _1lane()), _ONE)
 
 
-@_jit(parallel=True, **ks.JIT)
+@_jit(parallel=True, nogil=True, **ks.JIT)
 def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
             out_x, out_q, status, fail_step):
     """Advance all robots in place (module docstring). State x, v (B, 6, 3) m, m/s; q (B, 6, 4);

@@ -21,8 +21,9 @@ from .terrain import KINDS
 
 NO_TERRAIN, PLANE, HEIGHTFIELD = KINDS["none"], KINDS["plane"], KINDS["heightfield"]
 
-# No division-by-zero checks (error_model="numpy"); fused multiply-add and reassociation are
-# allowed, but not the flags that assume finite values: the blow-up checks must see NaN.
+# No division-by-zero checks (error_model="numpy"); fused multiply-add and reciprocals are
+# allowed, but not reassociation (with it, a robot's bits would depend on the lane count) nor
+# the flags that assume finite values: the blow-up checks must see NaN.
 JIT = dict(cache=True, error_model="numpy", fastmath={"contract", "nsz", "arcp"})
 INLINE = dict(forceinline=True, **JIT)
 
@@ -192,19 +193,34 @@ def _ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz):
 
 
 @nb.njit(**INLINE)
+def _ground_at(n, P, U, G, AN, ST, C, on, kind, meta, hz, lanes):
+    """`ground_forces` at node n, for the terrain kind (a constant: PLANE or HEIGHTFIELD). When
+    the node is above the terrain in every lane (the usual case), only G and ST change."""
+    clear = True
+    for l in range(len(lanes)):
+        dist, ok = _terrain_contact(P[n, 0, l], P[n, 1, l], P[n, 2, l], kind, meta, hz)[3:]
+        clear &= ok & (C[R, l] - dist <= 0.0)
+    if clear:
+        for l in range(len(lanes)):
+            G[n, 0, l], G[n, 1, l], G[n, 2, l] = 0.0, 0.0, 0.0
+            ST[n, l] = 0.0 if on[l] != 0.0 else ST[n, l]
+    else:
+        for l in range(len(lanes)):
+            _ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz)
+
+
+@nb.njit(**INLINE)
 def ground_forces(P, U, G, AN, ST, C, on, kind, meta, hz, lanes):
     """The contact force G (12, 3, L) N, f_n n + f_t at a node touching the terrain, else 0:
     (C1) penetration of the end sphere, (C2) penalty normal force, (C3) stick displacement from
-    the anchor AN (12, 3, L) m, set when a contact begins (ST (12, L) 0/1) and dragged along when sliding,
-    (C4) by `_stick_force`. on (L,) is set to 0 in a lane with no terrain under a node; that
-    lane's later nodes are then left unchanged."""
+    the anchor AN (12, 3, L) m, set when a contact begins (ST (12, L) 0/1) and dragged along when
+    sliding, (C4) by `_stick_force`. on (L,) is set to 0 in a lane with no terrain under a node;
+    that lane's later nodes are then left unchanged."""
     for n in range(12):
         if kind == PLANE:  # the terrain kind is a constant inside each lane loop
-            for l in range(len(lanes)):
-                _ground_node(n, l, P, U, G, AN, ST, C, on, PLANE, meta, hz)
+            _ground_at(n, P, U, G, AN, ST, C, on, PLANE, meta, hz, lanes)
         else:
-            for l in range(len(lanes)):
-                _ground_node(n, l, P, U, G, AN, ST, C, on, HEIGHTFIELD, meta, hz)
+            _ground_at(n, P, U, G, AN, ST, C, on, HEIGHTFIELD, meta, hz, lanes)
 
 
 @nb.njit(**INLINE)
@@ -239,8 +255,10 @@ def integrate(X, V, Q, W, T, G, Rm, C, dt, fastest, lanes):
     for i in range(6):
         na, nb_ = STRUT_A[i], STRUT_B[i]
         for l in range(len(lanes)):
-            fax, fay, faz = _node_force(T, G, na, 0, l), _node_force(T, G, na, 1, l), _node_force(T, G, na, 2, l)
-            fbx, fby, fbz = _node_force(T, G, nb_, 0, l), _node_force(T, G, nb_, 1, l), _node_force(T, G, nb_, 2, l)
+            fax, fay, faz = (_node_force(T, G, na, 0, l), _node_force(T, G, na, 1, l),
+                             _node_force(T, G, na, 2, l))
+            fbx, fby, fbz = (_node_force(T, G, nb_, 0, l), _node_force(T, G, nb_, 1, l),
+                             _node_force(T, G, nb_, 2, l))
             dt_m, ds, hl = C[DT_M, l], C[DS, l], C[HL, l]
             V[i, 0, l] += dt_m * (fax + fbx) - dt * ds * V[i, 0, l]
             V[i, 1, l] += dt_m * (fay + fby) - dt * ds * V[i, 1, l]
