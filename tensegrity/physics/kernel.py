@@ -10,7 +10,8 @@ the stack (`_stack_array`). A batch that is not a multiple of LANES fills the la
 copies of its last robot, whose results are dropped. Status per robot (`dynamics.simulate`
 reads the codes 0-3): OK, NON_FINITE, TOO_FAST (node speed above max_speed), OFF_TERRAIN (no
 triangle under a node). A robot that fails keeps the state and step count of its failure; its
-group stops when all of its robots have failed.
+group stops when all of its robots have failed. A robot's results do not depend on its group:
+the same bits alone, in any lane, with any number of threads (tests/physics/test_kernel_lanes).
 """
 from __future__ import annotations
 
@@ -30,7 +31,7 @@ from .params import IDX
 OK, NON_FINITE, TOO_FAST, OFF_TERRAIN = 0, 1, 2, 3  # status codes (values fixed: see dynamics)
 NO_TERRAIN = ks.NO_TERRAIN
 LANES = 8  # robots per group: one AVX-512 register of float64
-WIDE_FROM = 8  # smaller batches run one robot per group (and per thread)
+WIDE_FROM = 3  # smaller batches run one robot per group (and per thread): faster for 1 or 2
 CABLE_PAIR = np.ascontiguousarray(topo.CABLE_PAIR.astype(np.int64))
 
 # Columns of the packed parameter array prm (B, NP) (params.NAMES).
