@@ -196,7 +196,8 @@ def simulate(params: Params, state: State, schedule: Schedule, terrain: Terrain 
             raise ValueError(f"segment {k} of {dur} s is not a whole number of recording "
                              f"intervals ({every} steps of {dt} s)")
         n_rec = n // every
-        pres = np.ascontiguousarray(np.broadcast_to(schedule.pressure[:, k], (B, topo.N_PAIRS)))
+        # a writeable copy: one compiled signature of the kernel whatever the schedule
+        pres = np.array(np.broadcast_to(schedule.pressure[:, k], (B, topo.N_PAIRS)), dtype=float)
         out_x = np.empty((B, n_rec, topo.N_STRUTS, 3))
         out_q = np.empty((B, n_rec, topo.N_STRUTS, 4))
         kernel.advance(s.x, s.v, s.q, s.w, s.anchor, s.stuck, prm, pres, kind, meta, hz,

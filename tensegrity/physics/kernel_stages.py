@@ -1,0 +1,282 @@
+"""The stages of one time step of the compiled kernel (`kernel.py`), each on a group of L robots
+side by side: every array has the lane (robot) index as its last, contiguous axis, e.g. strut
+centres X (6, 3, L). Each stage loops over struts, nodes or cables outside and over lanes inside;
+the lane loops have no branches (selects instead of `if`), so that LLVM turns them into SIMD
+instructions, one robot per lane. The per-robot rules (`_cable_tension`, `_terrain_contact`,
+`_stick_force`, `_rotate`) are scalar functions called inside the lane loops.
+
+Per-lane constants are the rows of C (NC, L) named below. Booleans are stored as 0.0 / 1.0.
+The last argument of a stage, `lanes`, is a tuple of L zeros: its length is a compile-time
+constant, so that LLVM vectorises each lane loop exactly once and for its true length.
+"""
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from . import topology as topo
+from .terrain import KINDS
+
+NO_TERRAIN, PLANE, HEIGHTFIELD = KINDS["none"], KINDS["plane"], KINDS["heightfield"]
+
+# No division-by-zero checks (error_model="numpy"); fused multiply-add and reciprocals are
+# allowed, but not reassociation (with it, a robot's bits would depend on the lane count) nor
+# the flags that assume finite values: the blow-up checks must see NaN.
+JIT = dict(cache=True, error_model="numpy", fastmath={"contract", "nsz", "arcp"})
+INLINE = dict(forceinline=True, **JIT)
+
+# Topology as kernel constants: node -> (strut, sign), cable -> nodes, strut -> its two nodes
+# (STRUT_A = centre + S/2 axis, STRUT_B = centre - S/2 axis), node -> its four cables in
+# increasing order and the sign (+1 first node, -1 second) of their force on it.
+NODE_STRUT = np.ascontiguousarray(topo.NODE_STRUT)
+NODE_SIGN = np.ascontiguousarray(topo.NODE_SIGN)
+CABLE_NODES = np.ascontiguousarray(topo.CABLES.astype(np.int64))
+STRUT_A = np.ascontiguousarray(topo.STRUTS[:, 0].astype(np.int64))
+STRUT_B = np.ascontiguousarray(topo.STRUTS[:, 1].astype(np.int64))
+NODE_CABLES = np.array([np.flatnonzero((topo.CABLES == n).any(1)) for n in range(12)], np.int64)
+NODE_CABLE_SIGN = np.where(topo.CABLES[NODE_CABLES, 0] == np.arange(12)[:, None], 1.0, -1.0)
+
+# Rows of the per-lane constants C (NC, L): half strut length m; cable K N/m, L m, exponent a,
+# L**a, B N s/m, Lmin m (eq. 1-2); contact r m, k_n N/m, c_n N s/m, mu, k_t N/m, c_t N s/m
+# (C1-C4); dt/m, dt/I_t, (I_a - I_t)/I_t, strut damping 1/s, g m/s^2 (eq. 3-4); max speed^2.
+(HL, K, LR, A_EXP, LA, BC, LMIN, R, KN, CN, MU, KT, CT, DT_M, DT_I, GYRO, DS, GRAV,
+ VMAX2) = range(19)
+NC = 19
+
+
+@nb.njit(**INLINE)
+def node_states(X, V, Q, W, C, Rm, P, U, lanes):
+    """Rotation matrices Rm (6, 3, 3, L) (columns = body axes in world) of the quaternions
+    Q (6, 4, L); node positions P (12, 3, L) m and velocities U (12, 3, L) m/s from the strut
+    centres X, V (6, 3, L) and body angular velocities W (6, 3, L) rad/s."""
+    for i in range(6):
+        for l in range(len(lanes)):
+            qw, qx, qy, qz = Q[i, 0, l], Q[i, 1, l], Q[i, 2, l], Q[i, 3, l]
+            Rm[i, 0, 0, l] = 1 - 2 * (qy * qy + qz * qz)
+            Rm[i, 0, 1, l] = 2 * (qx * qy - qw * qz)
+            Rm[i, 0, 2, l] = 2 * (qx * qz + qw * qy)
+            Rm[i, 1, 0, l] = 2 * (qx * qy + qw * qz)
+            Rm[i, 1, 1, l] = 1 - 2 * (qx * qx + qz * qz)
+            Rm[i, 1, 2, l] = 2 * (qy * qz - qw * qx)
+            Rm[i, 2, 0, l] = 2 * (qx * qz - qw * qy)
+            Rm[i, 2, 1, l] = 2 * (qy * qz + qw * qx)
+            Rm[i, 2, 2, l] = 1 - 2 * (qx * qx + qy * qy)
+    for n in range(12):
+        i = NODE_STRUT[n]
+        for l in range(len(lanes)):
+            sg = NODE_SIGN[n] * C[HL, l]
+            w0, w1 = W[i, 0, l], W[i, 1, l]
+            for k in range(3):
+                P[n, k, l] = X[i, k, l] + sg * Rm[i, k, 2, l]
+                # d c / dt = R (w x e3) = R (w1, -w0, 0)
+                U[n, k, l] = V[i, k, l] + sg * (Rm[i, k, 0, l] * w1 - Rm[i, k, 1, l] * w0)
+
+
+@nb.njit(**INLINE)
+def _cable_tension(ln, ldot, K, Lr, a_exp, La, Bc, Lmin, act, linear):
+    """Cable tension (N) by eq. 2 at length ln m and rate ldot m/s, with the muscle of eq. 1
+    (act = Kg*P N/m; La = Lr**a_exp; `linear` if a_exp == 1), never negative (NaN passes)."""
+    f = K * (ln - Lr) if linear else K * (ln ** a_exp - La)
+    f += Bc * ldot
+    f += (act if (act > 0.0) & (ln > Lmin) else 0.0) * (ln - Lmin)
+    return 0.0 if f <= 0.0 else f
+
+
+@nb.njit(**INLINE)
+def _cable(j, l, P, U, C, act, T, linear):
+    """`cable_forces` for cable j of lane l."""
+    n1, n2 = CABLE_NODES[j, 0], CABLE_NODES[j, 1]
+    dx, dy, dz = P[n2, 0, l] - P[n1, 0, l], P[n2, 1, l] - P[n1, 1, l], P[n2, 2, l] - P[n1, 2, l]
+    ln = math.sqrt(dx * dx + dy * dy + dz * dz)
+    ex, ey, ez = dx / ln, dy / ln, dz / ln
+    ldot = (ex * (U[n2, 0, l] - U[n1, 0, l]) + ey * (U[n2, 1, l] - U[n1, 1, l])
+            + ez * (U[n2, 2, l] - U[n1, 2, l]))
+    f = _cable_tension(ln, ldot, C[K, l], C[LR, l], C[A_EXP, l], C[LA, l], C[BC, l], C[LMIN, l],
+                       act[j, l], linear)
+    T[j, 0, l] = f
+    T[j, 1, l], T[j, 2, l], T[j, 3, l] = f * ex, f * ey, f * ez
+
+
+@nb.njit(**INLINE)
+def cable_forces(P, U, C, act, linear, T, lanes):
+    """Cable tensions and forces T (24, 4, L) by `_cable_tension` (act (24, L) N/m; `linear` if
+    every lane has a_exp = 1): T[:, 0] tension N, T[:, 1:] its force on the cable's first node."""
+    for j in range(24):
+        if linear:  # a constant inside each lane loop
+            for l in range(len(lanes)):
+                _cable(j, l, P, U, C, act, T, True)
+        else:
+            for l in range(len(lanes)):
+                _cable(j, l, P, U, C, act, T, False)
+
+
+@nb.njit(**INLINE)
+def cable_sum(T, n, k, l):
+    """Component k (N) of the force of node n's four cables (T of `cable_forces`) in lane l,
+    summed in cable order."""
+    s = NODE_CABLE_SIGN[n, 0] * T[NODE_CABLES[n, 0], k + 1, l]
+    for c in range(1, 4):
+        s += NODE_CABLE_SIGN[n, c] * T[NODE_CABLES[n, c], k + 1, l]
+    return s
+
+
+@nb.njit(**INLINE)
+def _terrain_contact(px, py, pz, kind, meta, hz):
+    """Unit normal (nx, ny, nz), signed distance (m) of p to the triangle plane under it, ok flag
+    (False off the edge of a HEIGHTFIELD, or if p is NaN; the other values are then meaningless).
+    meta (7,) = normal, offset, x0, y0, spacing; hz (nx, ny) m. Branch-free for HEIGHTFIELD."""
+    if kind == PLANE:
+        return meta[0], meta[1], meta[2], meta[0] * px + meta[1] * py + meta[2] * pz - meta[3], True
+    h = meta[6]
+    u = (px - meta[4]) / h
+    v = (py - meta[5]) / h
+    ok = (u >= 0.0) & (u < hz.shape[0] - 1) & (v >= 0.0) & (v < hz.shape[1] - 1)
+    i = int(math.floor(u if ok else 0.0))
+    j = int(math.floor(v if ok else 0.0))
+    up = (u - i) + (v - j) > 1.0  # the upper triangle of cell (i, j)
+    c = 1 if up else 0
+    z0, za, zb = hz[i + c, j + c], hz[i + 1, j], hz[i, j + 1]
+    ax = h * (zb - z0) if up else -h * (za - z0)
+    ay = h * (za - z0) if up else -h * (zb - z0)
+    az = h * h
+    x0, y0 = meta[4] + (i + c) * h, meta[5] + (j + c) * h
+    nn = math.sqrt(ax * ax + ay * ay + az * az)
+    ax, ay, az = ax / nn, ay / nn, az / nn
+    return ax, ay, az, ax * (px - x0) + ay * (py - y0) + az * (pz - z0), ok
+
+
+@nb.njit(**INLINE)
+def _stick_force(ddx, ddy, ddz, utx, uty, utz, kt, ct, cap):
+    """(C4) friction force (N) of the stick spring k_t (N/m) and damper c_t (N s/m) from the
+    tangential displacement dd (m) and velocity ut (m/s), scaled down to |f_t| = cap (N)."""
+    ftx, fty, ftz = -kt * ddx - ct * utx, -kt * ddy - ct * uty, -kt * ddz - ct * utz
+    fmag2 = ftx * ftx + fty * fty + ftz * ftz
+    sc = cap / math.sqrt(fmag2) if fmag2 > cap * cap else 1.0
+    return ftx * sc, fty * sc, ftz * sc
+
+
+@nb.njit(**INLINE)
+def _ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz):
+    """`ground_forces` for node n of lane l."""
+    px, py, pz = P[n, 0, l], P[n, 1, l], P[n, 2, l]
+    nx, ny, nz, dist, ok = _terrain_contact(px, py, pz, kind, meta, hz)
+    okl = (on[l] != 0.0) & ok
+    on[l] = 1.0 if okl else 0.0
+    pen = C[R, l] - dist
+    un = nx * U[n, 0, l] + ny * U[n, 1, l] + nz * U[n, 2, l]
+    fn = C[KN, l] * pen - C[CN, l] * un
+    touch = okl & (not pen <= 0.0) & (not fn <= 0.0)
+    new = ST[n, l] == 0.0  # a contact begins: the anchor is the node
+    ax = px if new else AN[n, 0, l]
+    ay = py if new else AN[n, 1, l]
+    az = pz if new else AN[n, 2, l]
+    ddx, ddy, ddz = px - ax, py - ay, pz - az
+    dn = nx * ddx + ny * ddy + nz * ddz
+    ddx, ddy, ddz = ddx - dn * nx, ddy - dn * ny, ddz - dn * nz
+    dmag = math.sqrt(ddx * ddx + ddy * ddy + ddz * ddz)
+    kt, cap = C[KT, l], C[MU, l] * fn
+    slide = kt * dmag > cap  # sliding: drag the anchor along
+    sc = cap / (kt * dmag) if slide else 1.0
+    ddx, ddy, ddz = ddx * sc, ddy * sc, ddz * sc
+    ftx, fty, ftz = _stick_force(ddx, ddy, ddz, U[n, 0, l] - un * nx, U[n, 1, l] - un * ny,
+                                 U[n, 2, l] - un * nz, kt, C[CT, l], cap)
+    # the updates as selects, not branches: the lane loop vectorises
+    AN[n, 0, l] = (px - ddx if slide else ax) if touch else AN[n, 0, l]
+    AN[n, 1, l] = (py - ddy if slide else ay) if touch else AN[n, 1, l]
+    AN[n, 2, l] = (pz - ddz if slide else az) if touch else AN[n, 2, l]
+    G[n, 0, l] = fn * nx + ftx if touch else 0.0
+    G[n, 1, l] = fn * ny + fty if touch else 0.0
+    G[n, 2, l] = fn * nz + ftz if touch else 0.0
+    ST[n, l] = (1.0 if touch else 0.0) if okl else ST[n, l]
+
+
+@nb.njit(**INLINE)
+def _ground_at(n, P, U, G, AN, ST, C, on, kind, meta, hz, lanes):
+    """`ground_forces` at node n, for the terrain kind (a constant: PLANE or HEIGHTFIELD). When
+    the node is above the terrain in every lane (the usual case), only G and ST change."""
+    clear = True
+    for l in range(len(lanes)):
+        dist, ok = _terrain_contact(P[n, 0, l], P[n, 1, l], P[n, 2, l], kind, meta, hz)[3:]
+        clear &= ok & (C[R, l] - dist <= 0.0)
+    if clear:
+        for l in range(len(lanes)):
+            G[n, 0, l], G[n, 1, l], G[n, 2, l] = 0.0, 0.0, 0.0
+            ST[n, l] = 0.0 if on[l] != 0.0 else ST[n, l]
+    else:
+        for l in range(len(lanes)):
+            _ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz)
+
+
+@nb.njit(**INLINE)
+def ground_forces(P, U, G, AN, ST, C, on, kind, meta, hz, lanes):
+    """The contact force G (12, 3, L) N, f_n n + f_t at a node touching the terrain, else 0:
+    (C1) penetration of the end sphere, (C2) penalty normal force, (C3) stick displacement from
+    the anchor AN (12, 3, L) m, set when a contact begins (ST (12, L) 0/1) and dragged along when
+    sliding, (C4) by `_stick_force`. on (L,) is set to 0 in a lane with no terrain under a node;
+    that lane's later nodes are then left unchanged."""
+    for n in range(12):
+        if kind == PLANE:  # the terrain kind is a constant inside each lane loop
+            _ground_at(n, P, U, G, AN, ST, C, on, PLANE, meta, hz, lanes)
+        else:
+            _ground_at(n, P, U, G, AN, ST, C, on, HEIGHTFIELD, meta, hz, lanes)
+
+
+@nb.njit(**INLINE)
+def _rotate(Q, i, l, w0, w1, w2, dt):
+    """Q[i, :, l] <- Q[i, :, l] * exp(w dt / 2), the exponential by its Taylor series
+    (|w| dt / 2 << 1). The factor is a unit quaternion, so |Q| drifts by round-off only."""
+    h2 = 0.25 * dt * dt * (w0 * w0 + w1 * w1 + w2 * w2)
+    c = 1.0 - h2 * (0.5 - h2 / 24.0)
+    sn = 0.5 * dt * (1.0 - h2 * (1.0 / 6.0 - h2 / 120.0))
+    ex, ey, ez = w0 * sn, w1 * sn, w2 * sn
+    qw, qx, qy, qz = Q[i, 0, l], Q[i, 1, l], Q[i, 2, l], Q[i, 3, l]
+    Q[i, 0, l] = qw * c - qx * ex - qy * ey - qz * ez
+    Q[i, 1, l] = qw * ex + qx * c + qy * ez - qz * ey
+    Q[i, 2, l] = qw * ey - qx * ez + qy * c + qz * ex
+    Q[i, 3, l] = qw * ez + qx * ey - qy * ex + qz * c
+
+
+@nb.njit(**INLINE)
+def _node_force(T, G, n, k, l):
+    """Component k of the force (N) on node n in lane l: its cables (`cable_sum`) + contact G."""
+    return cable_sum(T, n, k, l) + G[n, k, l]
+
+
+@nb.njit(**INLINE)
+def integrate(X, V, Q, W, T, G, Rm, C, dt, fastest, lanes):
+    """Semi-implicit Euler step of the struts: V (m/s) from the node forces (cables T, contact
+    G), gravity and damping (eq. 3), then X (m); W (rad/s) by Euler's equations with the torque
+    of eq. 4, then Q by `_rotate`. fastest (L,) <- the largest squared end speed
+    |v|^2 + hl^2 (w0^2 + w1^2), m^2/s^2, over the struts of a lane; NaN if any is NaN."""
+    for l in range(len(lanes)):
+        fastest[l] = 0.0
+    for i in range(6):
+        na, nb_ = STRUT_A[i], STRUT_B[i]
+        for l in range(len(lanes)):
+            fax, fay, faz = (_node_force(T, G, na, 0, l), _node_force(T, G, na, 1, l),
+                             _node_force(T, G, na, 2, l))
+            fbx, fby, fbz = (_node_force(T, G, nb_, 0, l), _node_force(T, G, nb_, 1, l),
+                             _node_force(T, G, nb_, 2, l))
+            dt_m, ds, hl = C[DT_M, l], C[DS, l], C[HL, l]
+            V[i, 0, l] += dt_m * (fax + fbx) - dt * ds * V[i, 0, l]
+            V[i, 1, l] += dt_m * (fay + fby) - dt * ds * V[i, 1, l]
+            V[i, 2, l] += dt_m * (faz + fbz) - dt * (C[GRAV, l] + ds * V[i, 2, l])
+            X[i, 0, l] += dt * V[i, 0, l]
+            X[i, 1, l] += dt * V[i, 1, l]
+            X[i, 2, l] += dt * V[i, 2, l]
+            # body-frame torque (eq. 4): (0,0,L) x R^T f+ + (0,0,-L) x R^T f-
+            gx, gy, gz = fax - fbx, fay - fby, faz - fbz
+            d0 = Rm[i, 0, 0, l] * gx + Rm[i, 1, 0, l] * gy + Rm[i, 2, 0, l] * gz
+            d1 = Rm[i, 0, 1, l] * gx + Rm[i, 1, 1, l] * gy + Rm[i, 2, 1, l] * gz
+            w0, w1, w2 = W[i, 0, l], W[i, 1, l], W[i, 2, l]
+            # Euler's equations, I = diag(It, It, Ia): w x I w = ((Ia-It) w1 w2, (It-Ia) w2 w0, 0)
+            dt_I, gyro = C[DT_I, l], C[GYRO, l]
+            w0 += dt_I * (-hl * d1) - dt * (gyro * w1 * w2 + ds * w0)
+            w1 += dt_I * (hl * d0) + dt * (gyro * w2 * w0 - ds * w1)
+            w2 -= dt * ds * w2
+            W[i, 0, l], W[i, 1, l], W[i, 2, l] = w0, w1, w2
+            _rotate(Q, i, l, w0, w1, w2, dt)
+            sp = V[i, 0, l] ** 2 + V[i, 1, l] ** 2 + V[i, 2, l] ** 2 + hl * hl * (w0 * w0 + w1 * w1)
+            fastest[l] = sp if (sp > fastest[l]) | (sp != sp) else fastest[l]
