@@ -39,7 +39,7 @@ class State:
         return self.x.shape[0]
 
     def copy(self) -> "State":
-        return State(*(np.array(a, copy=True) for a in
+        return State(*(np.array(a, copy=True, order="C") for a in
                        (self.x, self.v, self.q, self.w, self.anchor, self.stuck)), t=self.t)
 
     def check(self) -> None:
@@ -196,8 +196,8 @@ def simulate(params: Params, state: State, schedule: Schedule, terrain: Terrain 
             raise ValueError(f"segment {k} of {dur} s is not a whole number of recording "
                              f"intervals ({every} steps of {dt} s)")
         n_rec = n // every
-        # a writeable copy: one compiled signature of the kernel whatever the schedule
-        pres = np.array(np.broadcast_to(schedule.pressure[:, k], (B, topo.N_PAIRS)), dtype=float)
+        # a writeable C-ordered copy (as the state's): one compiled signature of the kernel
+        pres = np.array(np.broadcast_to(schedule.pressure[:, k], (B, topo.N_PAIRS)), dtype=float, order="C")
         out_x = np.empty((B, n_rec, topo.N_STRUTS, 3))
         out_q = np.empty((B, n_rec, topo.N_STRUTS, 4))
         kernel.advance(s.x, s.v, s.q, s.w, s.anchor, s.stuck, prm, pres, kind, meta, hz,
@@ -260,6 +260,8 @@ def warm() -> None:
     """Compile the kernels, or load them from numba's cache (`__pycache__` beside the source):
     the set-up (workflow/setup.sh) calls this once, so that the pipeline's first jobs do not
     each compile the same code at the same time."""
-    params, state = Params(), stand_on(Params(), 8)
-    simulate(params, state, Schedule.constant(np.zeros(12), 1e-3), Terrain.flat())
-    tensions(params, state, np.zeros(12))
+    params = Params()
+    for batch in (1, kernel.LANES):  # one robot, and the groups of lanes (kernel.advance)
+        state = stand_on(params, 8, batch=batch)
+        simulate(params, state, Schedule.constant(np.zeros((batch, 12)), 1e-3), Terrain.flat())
+    tensions(params, state, np.zeros((batch, 12)))
