@@ -45,7 +45,7 @@ rule slope_limit:
     benchmark:
         "results/benchmarks/slope_limit.tsv"
     priority: 40
-    threads: 2
+    threads: 1  # one thread from when its inputs exist beats two once everything else is done
     resources:
         mem_mb=2000,
         runtime=10,
