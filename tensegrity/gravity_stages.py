@@ -69,6 +69,7 @@ class FreeLookup:
 
     def __init__(self, ws: Any):  # locomotion.lookup.Workspace
         self.ws = ws
+        self._actions: dict[int, list[tuple[int, ...]]] = {}
 
     def predict(self, face: int, nodes: np.ndarray, actions: Sequence[Sequence[int]]) -> Any:  # lookup.Prediction
         from .locomotion.lookup import predict
@@ -76,9 +77,11 @@ class FreeLookup:
 
     def actions(self, face: int) -> list[tuple[int, ...]]:
         """The swept single pairs, then the two-pair combinations measured on `face`."""
-        singles = [(int(p),) for p in self.ws.pairs(face)]
-        combos = [] if self.ws.combos is None else [tuple(int(q) for q in c) for c in self.ws.combos]
-        return singles + [c for c in combos if self.ws.measured(face, c) is not None]
+        if face not in self._actions:
+            singles = [(int(p),) for p in self.ws.pairs(face)]
+            combos = [] if self.ws.combos is None else [tuple(int(q) for q in c) for c in self.ws.combos]
+            self._actions[face] = singles + [c for c in combos if self.ws.measured(face, c) is not None]
+        return self._actions[face]
 
 
 def run_slope_limit(cfg: Mapping, gravity_path: str | os.PathLike, workspace_path: str | os.PathLike,

@@ -7,6 +7,8 @@ the support plane (slopes, paper Fig. 10). No files here: `io.formats.read_works
 """
 from __future__ import annotations
 
+import functools
+
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 
@@ -107,10 +109,21 @@ class Workspace:
         `face`, None if there is none (no two-pair data, or NaN anywhere along it)."""
         if self.combos is None or len(action) != 2:
             return None
-        hit = np.flatnonzero(np.all(self.combos == sorted(int(q) for q in action), axis=1))
-        if hit.size == 0 or not np.all(np.isfinite(self.combo_cog[face - 1, hit[0]])):
-            return None
-        return int(hit[0])
+        k = self._combo_index.get(tuple(sorted(int(q) for q in action)))
+        return k if k is not None and self._combo_complete[face - 1, k] else None
+
+    @functools.cached_property
+    def _combo_index(self) -> dict[tuple[int, int], int]:
+        """(a, b) a < b -> row of `combos` (the first, if listed twice)."""
+        out: dict[tuple[int, int], int] = {}
+        for k, c in enumerate(self.combos):
+            out.setdefault(tuple(sorted(int(q) for q in c)), k)
+        return out
+
+    @functools.cached_property
+    def _combo_complete(self) -> np.ndarray:
+        """(20, n) whether a combination's measured curve is finite everywhere on a face."""
+        return np.isfinite(self.combo_cog).reshape(*self.combo_cog.shape[:2], -1).all(axis=2)
 
     @property
     def max_pressure(self) -> float:
