@@ -34,8 +34,9 @@ def hold(workspace: Workspace, face: int, nodes: np.ndarray, margin: float) -> n
     (12, 3) m: zero if the unactuated CoG projection along gravity is predicted at least `margin`
     m inside the support triangle; else the single pair and level with the largest predicted
     margin (if larger than the unactuated one). The largest, not the least that reaches
-    `margin`: the free-mode workspace leaves out the robot's sag under gravity, which on a
-    20 deg slope takes about 20 mm of it (a brake predicted 35 mm inside holds, 20 mm does not).
+    `margin`: the free-mode workspace leaves out how the robot moves as it is set down or lands
+    (its static sag is only 0-7 mm at 15-20 deg, by the gravity-aware workspace), and on a
+    20 deg slope a brake predicted 35 mm inside holds, 20 mm does not.
     Combinations are not used: superposed, they hold worse than predicted."""
     out = np.zeros(topo.N_PAIRS)
     acts = _actions(workspace, face, False)
