@@ -12,6 +12,12 @@ from collections.abc import Mapping
 from ..physics.params import Params
 
 
+def _whole(ratio: float) -> bool:
+    """A ratio of two durations or pressures is a whole number (the tolerance of
+    locomotion.control.RollSettings and workspace.gravity)."""
+    return abs(ratio - round(ratio)) <= 1e-6
+
+
 def semantic_errors(cfg: dict) -> list[str]:
     """Checks the schema cannot express; `cfg` has passed the schema."""
     out = []
@@ -35,7 +41,7 @@ def semantic_errors(cfg: dict) -> list[str]:
                    f"the cable rest length L = l0 - T0/K = {rest:.4g} m")
     dt, interval = cfg["sim"]["dt"], cfg["locomotion"]["interval"]
     steps = interval / dt
-    if abs(steps - round(steps)) > 1e-6:  # the tolerance of locomotion.control.RollSettings
+    if not _whole(steps):
         out.append(f"config key locomotion.interval: {interval:g} s is not a whole number of time steps "
                    f"sim.dt = {dt:g} s ({steps:.4g} steps; e.g. {max(1, round(steps)) * dt:g} s)")
     runs, contacts = cfg["locomotion"]["runs"], cfg["sweep"]["contacts"]
@@ -72,7 +78,7 @@ def section_errors(cfg: Mapping, section: str) -> list[str]:
         if s["discard"] >= s["hold"]:
             out.append(f"config key two_pair.discard: {s['discard']} s is not less than two_pair.hold = {s['hold']} s")
         n = s["hold"] / (s["record_every"] * dt)
-        if abs(n - round(n)) > 1e-6:
+        if not _whole(n):
             out.append(f"config key two_pair.hold: {s['hold']} s is not a whole number of recording intervals "
                        f"(two_pair.record_every x sim.dt = {s['record_every'] * dt:g} s)")
     elif section == "gravity":
@@ -83,7 +89,7 @@ def section_errors(cfg: Mapping, section: str) -> list[str]:
         if bad:
             out.append(f"config key gravity.validate_slopes: {bad} deg are not among gravity.slopes {list(g['slopes'])}")
         step = loc["ramp_rate"] * loc["interval"]
-        if abs(g["grid_step"] / step - round(g["grid_step"] / step)) > 1e-6:
+        if not _whole(g["grid_step"] / step):
             out.append(f"config key gravity.grid_step: {g['grid_step']} MPa is not a whole number of ramp "
                        f"increments ({step:g} MPa = locomotion.ramp_rate x locomotion.interval)")
     else:
