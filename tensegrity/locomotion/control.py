@@ -128,13 +128,12 @@ def _slew(target: np.ndarray, last: np.ndarray, s: RollSettings) -> np.ndarray:
     return np.clip(target, last - step, last + step)
 
 
-def _settle_gen(s: RollSettings, obs: Obs, brake: Brake | None = None,
-                last: np.ndarray | None = None) -> Controller:
+def _settle_gen(s: RollSettings, obs: Obs, brake: Brake | None = None) -> Controller:
     """Zero pressure (or the `brake` of the face it rests on, changing at most at brake_rate from
-    the pressures `last`) until settled (see RollSettings). Returns (face or None, last
-    observation)."""
+    the pressures applied before, `obs.pressure`) until settled (see RollSettings). Returns
+    (face or None, last observation)."""
     calm, waited = 0, 0.0
-    pres = np.zeros(topo.N_PAIRS) if last is None else last
+    pres = obs.pressure
     while waited < s.settle_time - 1e-9:
         if brake:
             calm_face = None if obs.speed >= s.settle_speed else obs.face  # never mid-tumble
@@ -169,7 +168,7 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
     landed, apex = None, -1
     held = brake.for_face(face0, obs.nodes) if brake else np.zeros(topo.N_PAIRS)
     fade, rolling = 1.0, False  # share of the start face's brake still on; it is rolling over
-    last = held
+    last = obs.pressure  # braking pressures go on from those applied before (brake_rate)
     while phase != "settle":
         if phase == "ramp":
             level = min(level + s.ramp_rate * s.interval, max_pressure)
@@ -229,7 +228,7 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
             phase, t_phase = "release", 0.0
         elif obs.t - t0 > max_pressure / s.ramp_rate + 10 * s.hold_time:
             phase, t_phase = "release", 0.0  # a safety net: no attempt runs on forever
-    after, obs = yield from _settle_gen(s, obs, brake, last)
+    after, obs = yield from _settle_gen(s, obs, brake)
     rolled = after is not None and after != face0
     return RollResult(tuple(int(q) for q in pairs), rolled, face0, after,
                       tip if rolled else float("nan"), peak, t0, obs.t, cog0,

@@ -10,7 +10,7 @@ robot are kept in a `Record`.
 from __future__ import annotations
 
 from collections.abc import Callable, Generator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -53,11 +53,14 @@ class Obs:
     gap: np.ndarray    # (12,) m clearance of each node's contact sphere
     face: int | None   # contact face
     speed: float       # CoG speed over the last interval, m/s (NaN: unknown)
+    pressure: np.ndarray = field(default_factory=lambda: np.zeros(topo.N_PAIRS))  # (12,) MPa
+    # applied over the last interval: the next controller goes on from them (brake_rate)
 
 
 def observe(params: Params, terrain: Terrain, state: d.State, s: RollSettings,
-            before: list[Obs] | None = None) -> list[Obs]:
-    """Observations of every robot of the batch (one terrain query for all of them)."""
+            before: list[Obs] | None = None, pressure: np.ndarray | None = None) -> list[Obs]:
+    """Observations of every robot of the batch (one terrain query for all of them), with the
+    pair pressures (B, 12) MPa applied over the last interval (default zero)."""
     P = d.nodes(state.x, state.q, params.strut_length)
     B = state.batch
     gaps = ct.clearance(P, terrain, float(params.strut_radius)) if B else np.zeros((0, 12))
@@ -68,7 +71,8 @@ def observe(params: Params, terrain: Terrain, state: d.State, s: RollSettings,
         if before is not None and state.t > before[b].t:
             speed = float(np.linalg.norm(P[b].mean(axis=0) - before[b].nodes.mean(axis=0))
                           / (state.t - before[b].t))
-        out.append(Obs(state.t, P[b], gaps[b], int(faces[b]) or None, speed))
+        out.append(Obs(state.t, P[b], gaps[b], int(faces[b]) or None, speed,
+                       np.zeros(topo.N_PAIRS) if pressure is None else pressure[b].copy()))
     return out
 
 
@@ -130,7 +134,7 @@ def lockstep(params: Params, terrain: Terrain, state: d.State,
                         failed[b] = e
                         parts.append(batch.take([i]))
                 batch = d.State.concat(parts, t=batch.t + s.interval)
-            ob = observe(params, terrain, batch, s, [last[b] for b in live])
+            ob = observe(params, terrain, batch, s, [last[b] for b in live], pres[live])
             keep = []
             for i, b in enumerate(live):
                 try:

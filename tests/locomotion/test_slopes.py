@@ -1,12 +1,14 @@
 """Issue 10 item 3 on slopes: a brake that hands over to the roll (and comes and goes no faster
 than brake_rate), a braked downhill roll that lands and holds. The workspace `ws` (conftest)
 comes from the independent static solver."""
+from dataclasses import replace
+
 import numpy as np
 
 from tensegrity import locomotion as lo
 from tensegrity.locomotion.brake import Brake
-from tensegrity.locomotion.control import _roll_gen, _settle_gen
-from tensegrity.locomotion.lockstep import lockstep
+from tensegrity.locomotion.control import _roll_gen, _settle_gen, settle
+from tensegrity.locomotion.lockstep import lockstep, observe
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
@@ -65,3 +67,26 @@ def test_a_braked_downhill_roll_lands_and_holds(ws):
     held = lo.roll_over(ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings(brake=True))
     assert free.faces[0] == EQUI and free.faces[-1] != nxt
     assert held.faces == [EQUI, nxt] and held.outcome == "arrived"
+
+
+
+
+def test_a_roll_goes_on_from_the_pressures_applied_before(ws):
+    """Braked, a controller starts from the pressures applied before it (`Obs.pressure`) and
+    moves them by at most brake_rate: a roll handed a robot on (9,10,12) on the 15 deg slope
+    with its brake only part way on goes on from there. Once, a roll put its face's full brake
+    on at once; on a run down the slope, #10 braking at 2.8 MPa dropped to zero in one check
+    interval where one attempt handed over to the next, and the kicked robot tumbled 2 m."""
+    s = lo.RollSettings(brake=True)
+    state, face = settle(DAMPED, d.stand_on(DAMPED, EQUI, SLOPE), SLOPE)  # it stands unbraked
+    brake = Brake(ws, s.brake_margin)
+    obs, = observe(DAMPED, SLOPE, state, s)
+    full = brake.for_face(face, obs.nodes)
+    assert face == EQUI and full.max() > 4 * s.brake_rate * s.interval
+    pl = lo.plan(ws, face, obs.nodes, direction=(1.0, 0.0))
+    for before in (np.zeros(topo.N_PAIRS), 0.5 * full):
+        gen = _roll_gen(DAMPED, s, replace(obs, pressure=before), pl.pairs, ws.max_pressure, brake,
+                        pl.pressure)
+        first = next(gen)
+        assert np.abs(first - before).max() <= s.brake_rate * s.interval + 1e-9
+        assert np.any(first != before)  # on its way to the brake and the roll
