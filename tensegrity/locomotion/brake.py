@@ -5,8 +5,9 @@ lands on: its CoG projection along gravity lies near or beyond the downhill edge
 there with the single pair and level the workspace predicts to move the projection furthest
 inside the support triangle, chosen as the robot lands (from its pose rotated onto the next face,
 `contact.roll_over`) so that it is on before the robot can tumble on. It keeps a robot standing on a
-20 deg slope where it tumbles off without; it does not yet keep rolls on 15 deg and steeper
-slopes under control (benchmarks/bench_locomotion.py --set brake=true), hence off by default.
+20 deg slope where it tumbles off without, and with a slow release of the rolling pressure
+(`brake_release_time`) it keeps most rolls on 15 deg slopes under control; not yet on 20 deg
+(benchmarks/bench_locomotion.py). It acts only on even inclines (`Brake.active`).
 `escape` orders the actions not yet tried on a face where the planned candidates all failed
 ("stuck"): those predicted to roll toward the target first, then the others.
 """
@@ -17,6 +18,7 @@ import itertools
 import numpy as np
 
 from ..physics import contact as ct, topology as topo
+from ..physics.terrain import Terrain
 from .lookup import Workspace, predict
 from .plan import _candidates, _direction
 
@@ -54,11 +56,30 @@ def hold(workspace: Workspace, face: int, nodes: np.ndarray, margin: float) -> n
 class Brake:
     """The braking policy of a run: `for_face(face, nodes)` returns the pressures (12,) MPa of
     `hold` on `face`, chosen once per visit of a face (a new face, a new choice) so that the
-    actuation does not chatter while the robot settles."""
+    actuation does not chatter while the robot settles. Given the `terrain`, it brakes only
+    where the ground under the face is an even incline of at least `min_tilt` deg (`active`):
+    on rough ground the workspace's planar prediction misleads the brake, which then throws the
+    robot more often than it holds it (benchmarks/bench_locomotion.py, config/README.md)."""
 
-    def __init__(self, workspace: Workspace, margin: float, confirm: int = 3):
+    def __init__(self, workspace: Workspace, margin: float, confirm: int = 3,
+                 terrain: Terrain | None = None, min_tilt: float = 0.0):
         self.workspace, self.margin, self.confirm = workspace, float(margin), int(confirm)
+        self.terrain, self.min_tilt = terrain, float(min_tilt)
         self._face, self._p, self._seen = None, np.zeros(topo.N_PAIRS), (None, 0)
+
+    def active(self, face: int, nodes: np.ndarray) -> bool:
+        """Braking applies to the robot `nodes` (12, 3) m on 1-based `face`: everywhere without
+        a terrain, else where the ground under the face's nodes is one plane tilted by at least
+        min_tilt deg (`Terrain.incline`)."""
+        if self.terrain is None:
+            return True
+        p = np.asarray(nodes)[topo.FACES[face - 1]]
+        return bool(self.terrain.incline(p[:, 0], p[:, 1]) >= self.min_tilt)  # NaN: uneven
+
+    def _hold(self, face: int, nodes: np.ndarray) -> np.ndarray:
+        if not self.active(face, nodes):
+            return np.zeros(topo.N_PAIRS)
+        return hold(self.workspace, face, nodes, self.margin)
 
     def for_face(self, face: int | None, nodes: np.ndarray) -> np.ndarray:
         """Pressures (12,) MPa for the robot on `face` (None: in the air, keep the last). A
@@ -69,7 +90,7 @@ class Brake:
             n = self._seen[1] + 1 if self._seen[0] == face else 1
             self._seen = (face, n)
             if n >= self.confirm or self._face is None:
-                self._face, self._p = face, hold(self.workspace, face, nodes, self.margin)
+                self._face, self._p = face, self._hold(face, nodes)
         return self._p.copy()
 
     def landing(self, face: int, pivot: tuple[int, int], nodes: np.ndarray) -> np.ndarray:
@@ -78,7 +99,7 @@ class Brake:
         (`contact.roll_over`); that face's choice for its visit."""
         nxt = topo.neighbour(face, pivot)
         self._seen = (None, 0)
-        self._face, self._p = nxt, hold(self.workspace, nxt, ct.roll_over(nodes, face, pivot)[1], self.margin)
+        self._face, self._p = nxt, self._hold(nxt, ct.roll_over(nodes, face, pivot)[1])
         return self._p.copy()
 
 

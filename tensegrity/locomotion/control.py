@@ -34,7 +34,7 @@ class RollSettings:
     lift_tolerance m; hold_time s; release_margin m; release_time s; catch_time s;
     settle_speed m/s; settle_time s; contact_tolerance m; combine; min_alignment;
     max_attempts; max_rolls; arrive_tolerance m; brake; brake_margin m; brake_rate MPa/s;
-    escape_attempts; dt s (the simulator's time step).
+    brake_tilt deg; brake_release_time s; escape_attempts; dt s (the simulator's time step).
 
     A roll (see `roll`) ramps the pressure at ramp_rate; a support node lifted by more than
     lift_tolerance holds it (at most hold_time s); once the unactuated robot would fall over the
@@ -44,7 +44,10 @@ class RollSettings:
     tolerance) for three checks, or after settle_time. With brake, a run holds the robot on
     each face where the workspace puts its CoG projection less than brake_margin inside, with
     the pair `brake.hold` chooses, changed at most at brake_rate (up or down) and handed over
-    to a roll as its pressure nears the plan's (`_roll_gen`). When all max_attempts
+    to a roll as its pressure nears the plan's (`_roll_gen`); only where the ground under the
+    face is an even incline of at least brake_tilt (`brake.Brake.active`), and there a roll's
+    pressure falls over brake_release_time instead of release_time, so that the brake takes
+    the robot over as it lands. When all max_attempts
     candidates fail, escape_attempts more actions are tried in the order of `brake.escape`
     before the run ends "stuck"."""
     ramp_rate: float = 1.0
@@ -62,9 +65,11 @@ class RollSettings:
     max_attempts: int = 3
     max_rolls: int = 80
     arrive_tolerance: float = 0.3
-    brake: bool = False
+    brake: bool = True
     brake_margin: float = 0.035
     brake_rate: float = 10.0
+    brake_tilt: float = 12.0
+    brake_release_time: float = 1.5
     escape_attempts: int = 0
     dt: float = 1e-4
 
@@ -169,17 +174,18 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
     held = brake.for_face(face0, obs.nodes) if brake else np.zeros(topo.N_PAIRS)
     fade, rolling = 1.0, False  # share of the start face's brake still on; it is rolling over
     last = obs.pressure  # braking pressures go on from those applied before (brake_rate)
+    release = s.brake_release_time if brake and brake.active(face0, obs.nodes) else s.release_time
     while phase != "settle":
         if phase == "ramp":
             level = min(level + s.ramp_rate * s.interval, max_pressure)
         elif phase == "release":
-            level = max(0.0, level - peak * s.interval / s.release_time)
+            level = max(0.0, level - peak * s.interval / release)
         elif phase == "land":
             # catch the robot on the new face: let go slowly, hold while it tips back over the
             # edge it came across, let go fast if it tips on over another edge
             up = obs.gap[topo.FACES[landed - 1]] > s.lift_tolerance
             if not (up[apex] and up.sum() == 1 and t_phase < 2 * s.catch_time):
-                level = max(0.0, level - peak * s.interval / (s.release_time if up.any() else s.catch_time))
+                level = max(0.0, level - peak * s.interval / (release if up.any() else s.catch_time))
         if phase == "top":
             fade = max(0.0, fade - s.interval / s.hold_time)
         elif phase == "ramp" and expect > 0:  # handed over to the roll as it nears its pressure

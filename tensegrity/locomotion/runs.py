@@ -96,15 +96,15 @@ class Run:
         return [st.face for st in self.steps[:1]] + [st.face_after for st in self.steps if st.rolled]
 
 
-def _drive(workspace: Workspace, params: Params, s: RollSettings, obs: Obs,
+def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
            goal: np.ndarray | None = None, edges: list[tuple[int, ...]] | None = None,
            direction: ArrayLike | None = None) -> Controller:
-    """The run controller (paper III.C, repeated): toward `goal` (3,) m, or over each edge of
-    `edges` in turn. Returns (outcome, message, steps)."""
+    """The run controller (paper III.C, repeated) on `terrain`: toward `goal` (3,) m, or over
+    each edge of `edges` in turn. Returns (outcome, message, steps)."""
     steps: list[Step] = []
     visited: list[int] = []
     outcome, message = "step_limit", f"step limit of {s.max_rolls} rolls reached"
-    brk = Brake(workspace, s.brake_margin) if s.brake else None
+    brk = Brake(workspace, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None
     try:
         face, obs = yield from _settle_gen(s, obs, brk)
         for k in range(s.max_rolls + 1):
@@ -215,7 +215,7 @@ def roll_many(workspace: Workspace, goals: ArrayLike, params: Params | None = No
     checked = [_check_goal(gl, terrain, start[b], S) for b, gl in enumerate(goals)]
     t0 = _time.perf_counter()
     out = lockstep(params, terrain, state, lambda b, o: _drive(
-        workspace, params, s, o, goal=checked[b], direction=direction), s)
+        workspace, params, terrain, s, o, goal=checked[b], direction=direction), s)
     wall = _time.perf_counter() - t0
     return [Run(res[0], res[1], checked[b], start[b], tuple(res[2]), rec, wall, st)
             for b, (res, st, rec) in enumerate(out)]
@@ -260,7 +260,7 @@ def roll_over(workspace: Workspace, edges: Sequence[Sequence[int]], params: Para
     state, start = _start(params, terrain, state, face, 1, position, yaw_deg)
     t0 = _time.perf_counter()
     (res, st, rec), = lockstep(params, terrain, state, lambda b, o: _drive(
-        workspace, params, s, o, edges=edges), s)
+        workspace, params, terrain, s, o, edges=edges), s)
     return Run(res[0], res[1], np.full(3, np.nan), start[0], tuple(res[2]), rec,
                _time.perf_counter() - t0, st)
 

@@ -96,6 +96,15 @@ class Terrain:
         n = np.stack([-hx, -hy, np.ones_like(hx)], axis=-1)
         return n / np.linalg.norm(n, axis=-1, keepdims=True)
 
+    def incline(self, x: ArrayLike, y: ArrayLike, even: float = 1.0) -> float:
+        """Tilt from the horizontal, deg, of the ground under the points (x, y) m, where it is one
+        plane there (their normals agree within `even` deg); NaN where it is uneven."""
+        n = self.normal_at(x, y).reshape(-1, 3)
+        m = n.mean(axis=0) / np.linalg.norm(n.mean(axis=0))
+        if np.degrees(np.arccos(np.clip(n @ m, -1.0, 1.0))).max() > even:
+            return float("nan")
+        return float(np.degrees(np.arccos(np.clip(m[2], -1.0, 1.0))))
+
     def triangles(self, extent: float = 2.0, centre: ArrayLike = (0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
         """Vertices (V, 3) and triangles (T, 3) of the terrain mesh, for drawing. A plane is
         drawn as a square of half-side `extent` m around `centre`."""

@@ -63,6 +63,23 @@ def test_projection_along_gravity_on_a_slope_shifts_downhill_by_h_tan(angle):
     assert abs(np.dot(shift, c.normal)) < 1e-12  # stays in the plane
 
 
+def test_incline_of_a_plane_and_of_rough_ground():
+    """Terrain.incline: a plane's tilt wherever it is asked (any azimuth), the tilt of one
+    height-field triangle for points inside it, NaN for points on triangles that differ (the
+    brake's gate, locomotion.brake.Brake.active)."""
+    x, y = np.array([0.0, 0.3, -0.2]), np.array([0.0, 0.1, 0.25])
+    for angle, azimuth in ((0.0, 0.0), (15.0, 0.0), (20.0, 130.0)):
+        assert Terrain.slope(angle, azimuth).incline(x, y) == pytest.approx(angle, abs=1e-9)
+    rough = Terrain.random(seed=1, size=2.0, amplitude=0.05)
+    assert np.isnan(rough.incline(x, y))
+    i, j, h = 3, 4, rough.spacing  # three points inside the lower triangle of cell (i, j)
+    u = rough.origin[0] + h * (i + np.array([0.1, 0.5, 0.1]))
+    v = rough.origin[1] + h * (j + np.array([0.1, 0.1, 0.5]))
+    z = rough.heights
+    n = np.cross([h, 0.0, z[i + 1, j] - z[i, j]], [0.0, h, z[i, j + 1] - z[i, j]])
+    assert rough.incline(u, v) == pytest.approx(math.degrees(math.acos(n[2] / np.linalg.norm(n))), abs=1e-6)
+
+
 def test_steep_slope_does_not_stand_and_names_the_downhill_edge():
     terrain = Terrain.slope(30.0)
     p = standing(EQUI, terrain, yaw=105.0)  # edge 10-12 faces downhill (-x)
