@@ -1,6 +1,14 @@
 # The workspace pipeline: sweeps -> nominal CoG -> fitted curves -> 20-face workspace
 # -> figures. Rules live in workflow/rules/<stage>.smk and call tensegrity.stages.
+import os
 import sys
+
+# The compiled kernel runs the robots of a batch in OpenMP threads (numba's omp layer). An idle
+# OpenMP thread spins by default, waiting for the next parallel step; the stages call the kernel
+# thousands of times with Python in between, so with two threads the spinning thread doubled a
+# job's CPU time and took a core from the other job (gravity: 15 -> 10 s CPU). Idle threads
+# sleep instead. Every job inherits it; results do not depend on it (one robot per thread).
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 from tensegrity.io.config import check_files as check_config_files, validate as validate_config
 from tensegrity.sections import stage_config  # the config sections each rule passes

@@ -79,12 +79,20 @@ class Params:
         return sizes.pop() if sizes else None
 
     def pack(self, batch: int) -> np.ndarray:
-        """(B, NP) float64 array in the column order of NAMES."""
-        n = self.batch_size()
-        if n is not None and n != batch:
-            raise ValueError(f"parameter arrays have length {n}, but the batch has {batch} robots")
-        return np.ascontiguousarray(np.stack(
-            [np.broadcast_to(np.asarray(getattr(self, k), dtype=float), (batch,)) for k in NAMES], axis=1))
+        """(B, NP) float64 array in the column order of NAMES (a fresh copy: the caller may
+        write it). A Params never changes, so the array is built once per batch size and kept
+        (`simulate` packs at every call, thousands of times in a controlled run)."""
+        packed = self.__dict__.get("_packed")
+        if packed is None:
+            packed = {}
+            object.__setattr__(self, "_packed", packed)  # not a field: eq, repr, replace ignore it
+        if batch not in packed:
+            n = self.batch_size()
+            if n is not None and n != batch:
+                raise ValueError(f"parameter arrays have length {n}, but the batch has {batch} robots")
+            packed[batch] = np.ascontiguousarray(np.stack(
+                [np.broadcast_to(np.asarray(getattr(self, k), dtype=float), (batch,)) for k in NAMES], axis=1))
+        return packed[batch].copy()
 
     @classmethod
     def from_dict(cls, d: dict) -> "Params":

@@ -143,14 +143,18 @@ def fit_curve(pressure: ArrayLike, values: ArrayLike, max_degree: int = 3,
     cands = _candidates(int(max_degree), tuple(int(k) for k in spline_knots))
     if not cands:
         raise ValueError("no candidate models: max_degree < 1 and spline_knots empty")
+    from sklearn import config_context
     from sklearn.model_selection import PredefinedSplit, cross_val_predict
     cv = PredefinedSplit(np.arange(p.size) % nf)
     n_train = p.size - int(np.ceil(p.size / nf))
     scores = []
-    for name, npar, est in cands:
-        if npar <= n_train:
-            pred = cross_val_predict(est, p[:, None], v, cv=cv)
-            scores.append((name, est, float(np.sqrt(np.mean((pred - v) ** 2)))))
+    # the data were checked above (finite, 1-D): skip scikit-learn's own checks of every
+    # parameter and array in each of the folds' fits, which cost more than the fits
+    with config_context(assume_finite=True, skip_parameter_validation=True):
+        for name, npar, est in cands:
+            if npar <= n_train:
+                pred = cross_val_predict(est, p[:, None], v, cv=cv)
+                scores.append((name, est, float(np.sqrt(np.mean((pred - v) ** 2)))))
     if scores:
         best = min(s[2] for s in scores)
         tol = tie_rtol * best + TIE_ATOL * float(np.max(np.abs(v)))

@@ -52,22 +52,23 @@ rule locomotion_states:
         "../scripts/locomotion_states.py"
 
 
-rule locomotion_path:
-    """The path of a run over its terrain, from above and in 3D."""
-    input:
-        "results/locomotion/{run}.nc",
-    output:
-        top=report("results/figures/path_{run}_top.png", caption="../report/path.rst",
-                   category="Locomotion", subcategory="{run}"),
-        three_d=report("results/figures/path_{run}_3d.png", caption="../report/path.rst",
-                       category="Locomotion", subcategory="{run}"),
-    log:
-        "results/logs/locomotion/path_{run}.log",
-    wildcard_constraints:
-        run="|".join(LOCO_RUNS) or "^$",  # the configured runs only
-    localrule: True
-    script:
-        "../scripts/locomotion_path.py"
+if PATH_RUNS:
+
+    rule locomotion_path:
+        """The path of every run but `paper` over its terrain, from above and in 3D (one job for
+        all runs: each job would pay the renderer's start-up again)."""
+        input:
+            expand("results/locomotion/{run}.nc", run=PATH_RUNS),
+        output:
+            top=[report(f"results/figures/path_{run}_top.png", caption="../report/path.rst",
+                        category="Locomotion", subcategory=run) for run in PATH_RUNS],
+            three_d=[report(f"results/figures/path_{run}_3d.png", caption="../report/path.rst",
+                            category="Locomotion", subcategory=run) for run in PATH_RUNS],
+        log:
+            "results/logs/locomotion/paths.log",
+        localrule: True
+        script:
+            "../scripts/locomotion_path.py"
 
 
 rule locomotion_animation:

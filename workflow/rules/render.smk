@@ -34,15 +34,16 @@ rule render_cloud:
 
 
 rule render_workspace:
-    """Fig. 7: the kinematic workspace of one contact case."""
+    """Fig. 7: the kinematic workspace of every contact case (one job: each job would pay the
+    renderer's start-up again)."""
     input:
-        curves="results/curves/{contact}.nc",
-        nominal="results/nominal/{contact}.nc",
+        curves=expand("results/curves/{contact}.nc", contact=CONTACTS),
+        nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
     output:
-        report("results/figures/fig7_workspace_{contact}.png", caption="../report/fig7.rst",
-               category="Figures", subcategory="{contact}"),
+        [report(f"results/figures/fig7_workspace_{contact}.png", caption="../report/fig7.rst",
+                category="Figures", subcategory=contact) for contact in CONTACTS],
     log:
-        "results/logs/render/workspace_{contact}.log",
+        "results/logs/render/workspace.log",
     localrule: True
     script:
         "../scripts/render_workspace.py"

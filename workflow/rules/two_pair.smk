@@ -77,15 +77,16 @@ rule validate_two_pair:
 
 
 rule render_two_pair:
-    """The CoG region one pair and two pairs reach, with the support triangle."""
+    """The CoG region one pair and two pairs reach, with the support triangle, of every contact
+    case (one job: each job would pay the renderer's start-up again)."""
     input:
-        nominal="results/nominal/{contact}.nc",
-        two_pair="results/two_pair/{contact}.nc",
+        nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
+        two_pair=expand("results/two_pair/{contact}.nc", contact=CONTACTS),
     output:
-        report("results/figures/two_pair_{contact}.png", caption="../report/two_pair.rst",
-               category="Figures", subcategory="{contact}"),
+        [report(f"results/figures/two_pair_{contact}.png", caption="../report/two_pair.rst",
+                category="Figures", subcategory=contact) for contact in CONTACTS],
     log:
-        "results/logs/render/two_pair_{contact}.log",
+        "results/logs/render/two_pair.log",
     localrule: True
     script:
         "../scripts/two_pair_render.py"

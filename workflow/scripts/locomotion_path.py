@@ -1,4 +1,5 @@
 from tensegrity import stages
 
 with stages.logging_to(snakemake.log[0]):
-    stages.locomotion_paths(snakemake.input[0], snakemake.output.top, snakemake.output.three_d)
+    for run, top, three_d in zip(snakemake.input, snakemake.output.top, snakemake.output.three_d):
+        stages.locomotion_paths(run, top, three_d)

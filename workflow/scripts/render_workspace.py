@@ -1,4 +1,5 @@
 from tensegrity import stages
 
 with stages.logging_to(snakemake.log[0]):
-    stages.render_workspace(snakemake.input.curves, snakemake.input.nominal, snakemake.output[0])
+    for curves, nominal, out in zip(snakemake.input.curves, snakemake.input.nominal, snakemake.output):
+        stages.render_workspace(curves, nominal, out)
