@@ -15,16 +15,6 @@ from numpy.typing import ArrayLike
 
 from .topology import FACE_REFERENCE, FACES, N_FACES, face_number, reference_nodes
 
-def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a x b of 3-vectors (..., 3), broadcast: np.cross's arithmetic (each component one product
-    minus another, so the same bits) without its per-call overhead, which dominated the many
-    single-triangle calls of the slope limit and the controllers."""
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
-
-
 def support_frame(tri: np.ndarray, ref: int, inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Supporting-triangle frame (docs/design.md §2, paper Fig. 5).
 
@@ -34,14 +24,14 @@ def support_frame(tri: np.ndarray, ref: int, inside: np.ndarray) -> tuple[np.nda
     in world components, so that local = rot @ (p - origin).
     """
     origin = tri.mean(axis=-2)
-    n = cross(tri[..., 1, :] - tri[..., 0, :], tri[..., 2, :] - tri[..., 0, :])
+    n = np.cross(tri[..., 1, :] - tri[..., 0, :], tri[..., 2, :] - tri[..., 0, :])
     n /= np.linalg.norm(n, axis=-1, keepdims=True)
     side = np.sign(np.sum(n * (inside - origin), axis=-1, keepdims=True))
     z = n * np.where(side == 0, 1.0, side)
     y = tri[..., ref, :] - origin
     y = y - np.sum(y * z, axis=-1, keepdims=True) * z
     y /= np.linalg.norm(y, axis=-1, keepdims=True)
-    x = cross(y, z)
+    x = np.cross(y, z)
     return origin, np.stack([x, y, z], axis=-2)
 
 
