@@ -160,7 +160,8 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
     while the pressure rises (fading out over hold_time once it is at the top without a roll;
     given the `expect`ed rolling pressure, MPa, the plan's, as the pressure rises to it: kept
     on, the brake fights the roll, which then tips late and fast or not at all); once the
-    robot tips over, those of the face it rolls onto (`Brake.landing`). Returns
+    robot tips over, those of the face it rolls onto (`Brake.landing`). Where the brake does
+    not act on the start face (`Brake.active`), the roll is the unbraked one. Returns
     (RollResult, last observation)."""
     if obs.face is None:
         raise ct.ContactError("a roll must start from a robot resting on a face")
@@ -171,10 +172,12 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
     idx = np.asarray(pairs) - 1
     level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
     landed, apex = None, -1
+    if brake is not None and not brake.active(face0, obs.nodes):
+        brake = None  # where the brake does not act (flat or rough ground): the unbraked roll
     held = brake.for_face(face0, obs.nodes) if brake else np.zeros(topo.N_PAIRS)
     fade, rolling = 1.0, False  # share of the start face's brake still on; it is rolling over
     last = obs.pressure  # braking pressures go on from those applied before (brake_rate)
-    release = s.brake_release_time if brake and brake.active(face0, obs.nodes) else s.release_time
+    release = s.brake_release_time if brake else s.release_time
     while phase != "settle":
         if phase == "ramp":
             level = min(level + s.ramp_rate * s.interval, max_pressure)
