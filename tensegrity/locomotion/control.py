@@ -217,7 +217,7 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
         if lifted.sum() == 1:
             pivot = tuple(int(n) + 1 for n in support[~lifted])
             over = ct.past_edge(obs.nodes, face0, pivot, S) > s.release_margin
-        if over or (obs.face is not None and obs.face != face0):
+        if over or (obs.face is not None and obs.face != face0 and lifted.any()):
             if not np.isfinite(tip):
                 tip = level
             rolling = True

@@ -266,6 +266,29 @@ def test_downhill_on_a_10_degree_slope(ws):
     assert run.outcome == "arrived", run.message
 
 
+def test_a_face_change_with_no_node_lifted_is_no_roll(ws):
+    """On rough ground the robot can rest on four nodes: its contact face flips to the
+    neighbouring face while no node of its support lifts. A roll goes on raising the pressure
+    through such a flip, and lets go once a node of the start face has lifted as well (the robot
+    tips over). Before, the flip alone released the roll: on 0.05 m terrain, seed 2, the robot
+    rocked 2 mm between (1,9,10) and (9,10,12) at 0.2-0.6 MPa, seven attempts in a row: "stuck"."""
+    from dataclasses import replace
+    from tensegrity.locomotion.control import _roll_gen
+    from tensegrity.locomotion.lockstep import observe
+    s = lo.RollSettings()
+    state = d.stand_on(DAMPED, EQUI, Terrain.flat())
+    obs, = observe(DAMPED, Terrain.flat(), state, s)
+    gen = _roll_gen(DAMPED, s, obs, (10,), ws.max_pressure)
+    first = next(gen)
+    flip = replace(obs, face=topo.neighbour(EQUI, (10, 12)), t=obs.t + s.interval)
+    second = gen.send(flip)
+    assert second[9] > first[9]  # still ramping
+    gap = obs.gap.copy()
+    gap[8] += 10 * s.lift_tolerance  # node 9, the apex across edge 10-12, lifts
+    third = gen.send(replace(flip, gap=gap, t=flip.t + s.interval))
+    assert third[9] < second[9]  # released: it rolls
+
+
 def test_stuck_when_the_workspace_cannot_roll_the_robot(ws):
     """A workspace swept only to 1.6 MPa rolls nothing off (9,10,12): the run stops "stuck"
     after trying max_attempts candidates, each escalated to 1.6 MPa, and says so."""
