@@ -128,7 +128,8 @@ def _last(ok: np.ndarray, slopes: np.ndarray) -> float:
 def predict_free(look: Lookup, params: Params, face: int, headings: np.ndarray,
                  max_pressure: float, step: float = 1.0) -> np.ndarray:
     """Limits (3, H) deg by the free workspace: slopes scanned every `step` deg up to the
-    friction angle, or until each limit has failed once; NaN if the free workspace has no pair on `face` (a subset of the contacts)."""
+    friction angle, or until each limit has failed once; NaN if the free workspace has no pair
+    on `face` (a subset of the contacts)."""
     slopes = np.arange(0.0, friction_angle(params), step)
     out = np.full((3, len(headings)), np.nan)
     if not len(look.actions(face)):
