@@ -80,8 +80,10 @@ def pose(params: Params, face: int, slope: float, heading: float) -> np.ndarray:
 
 
 def _free_ok(look: Lookup, params: Params, face: int, slope: float, heading: float,
-             max_pressure: float) -> tuple[bool, bool, bool]:
-    """(stand, uphill, downhill) possible at this slope and heading by the free workspace."""
+             max_pressure: float, wanted: tuple[bool, bool] = (True, True)) -> tuple[bool, bool, bool]:
+    """(stand, uphill, downhill) possible at this slope and heading by the free workspace.
+    wanted: whether uphill and downhill are asked for; one not asked for is reported False
+    without its search (the landing check of a downhill roll)."""
     nodes = pose(params, face, slope, heading)
     acts = look.actions(face)
     pr = look.predict(face, nodes, acts)
@@ -92,14 +94,16 @@ def _free_ok(look: Lookup, params: Params, face: int, slope: float, heading: flo
     u = np.array([np.cos(np.radians(heading)), np.sin(np.radians(heading))])
     up = down = False
     for a in range(len(acts)):
+        if (up or not wanted[0]) and (down or not wanted[1]):
+            break  # nothing left to find
         out = np.flatnonzero((pr.margin[a] < 0) & ok_p)
         if not out.size:
             continue
         k = out[0]
         e = topo.edge_nodes(face, frames.crossed_edge(pr.projection_2d[a, k], pr.support[a, k]))
         along = float(np.dot(direction(pr.support[a, k], face, e), u))
-        up |= along > 0
-        if along < 0 and not down:
+        up |= along > 0 and wanted[0]
+        if along < 0 and wanted[1] and not down:
             down = _lands(look, face, nodes, e, max_pressure)
     return stand, up, down
 
@@ -124,13 +128,18 @@ def _last(ok: np.ndarray, slopes: np.ndarray) -> float:
 def predict_free(look: Lookup, params: Params, face: int, headings: np.ndarray,
                  max_pressure: float, step: float = 1.0) -> np.ndarray:
     """Limits (3, H) deg by the free workspace: slopes scanned every `step` deg up to the
-    friction angle; NaN if the free workspace has no pair on `face` (a subset of the contacts)."""
+    friction angle, or until each limit has failed once; NaN if the free workspace has no pair
+    on `face` (a subset of the contacts)."""
     slopes = np.arange(0.0, friction_angle(params), step)
     out = np.full((3, len(headings)), np.nan)
     if not len(look.actions(face)):
         return out
     for j, h in enumerate(headings):
-        ok = np.array([_free_ok(look, params, face, a, h, max_pressure) for a in slopes])
+        ok = np.zeros((slopes.size, 3), bool)
+        for i, a in enumerate(slopes):  # up the slopes while a limit is still open (`_last`)
+            ok[i] = _free_ok(look, params, face, a, h, max_pressure, (ok[:i, 1].all(), ok[:i, 2].all()))
+            if not ok[: i + 1].all(axis=0).any():
+                break
         out[:, j] = [_last(ok[:, k], slopes) for k in range(3)]
     return out
 

@@ -16,7 +16,6 @@ from itertools import combinations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..physics import dynamics as d
 from ..physics import frames, topology as topo
 from ..physics import symmetry as sym
 from ..physics.actuation import Schedule, check_pressures
@@ -24,7 +23,6 @@ from ..physics.params import Params
 from . import nominal as nom
 from .fit import TIE_ATOL, TIE_RTOL
 from .mapping import CANONICAL
-from .sweep import setup
 
 COMBOS = np.array(list(combinations(range(1, topo.N_PAIRS + 1), 2)))  # (66, 2), 1-based, sorted
 _INDEX = {tuple(c): k for k, c in enumerate(COMBOS.tolist())}
@@ -82,6 +80,8 @@ def sweep(params: Params, face: int, combos: ArrayLike, levels: ArrayLike, hold:
     reference corner is the face's own support frame, docs/design.md §2, the others are what a
     map of the stabiliser that moves the reference corner needs, `map_face`; NaN for corners
     no such map needs), and margin (n, P, P) m."""
+    from ..physics import dynamics as d  # the simulator (numba) only here: mapping, fitting
+    from .sweep import setup              # and drawing the two-pair workspace do not load it
     combos, levels = np.asarray(combos, int).reshape(-1, 2), np.asarray(levels, float)
     P, n = levels.size, len(combos)
     prm, terrain = setup(params, "free")

@@ -176,7 +176,8 @@ def test_jobs_went_through_slurm(runs):
     assert set(seen) == set(submitted), q
     for job, rule in submitted.items():
         assert seen[job][0] == "COMPLETED", (job, rule, seen[job])
-    # a rule's threads reach sbatch as --cpus-per-task (gravity: threads 2, sweep: 1)
+    # a rule's threads reach sbatch as --cpus-per-task (gravity: 2 by the profile's set-threads,
+    # sweep: 1)
     assert {seen[j][1] for j, rule in submitted.items() if rule == "gravity"} == {2}
     assert {seen[j][1] for j, rule in submitted.items() if rule == "sweep"} == {1}
 

@@ -19,7 +19,7 @@ rule gravity:
     benchmark:
         "results/benchmarks/gravity.tsv"
     priority: 50  # needs no input and heads the longest chain (-> slope_limit): start it first
-    threads: 2
+    threads: 1  # beside the sweeps from the start: on two it ran alone (the SLURM profile sets 2)
     resources:
         mem_mb=2000,
         runtime=10,

@@ -28,6 +28,7 @@ rule locomotion_run:
         "results/benchmarks/locomotion/{run}.tsv"
     wildcard_constraints:
         run="|".join(LOCO_RUNS) or "^$",  # the configured runs only
+    priority: 30  # the runs and their figures end the workflow: before the other figures
     threads: 1
     resources:
         mem_mb=1000,
@@ -47,6 +48,7 @@ rule locomotion_states:
         fig10=report("results/figures/fig10_slope.png", caption="../report/fig10.rst", category="Locomotion"),
     log:
         "results/logs/locomotion/states.log",
+    priority: 30
     localrule: True
     script:
         "../scripts/locomotion_states.py"
@@ -66,6 +68,7 @@ if PATH_RUNS:
                             category="Locomotion", subcategory=run) for run in PATH_RUNS],
         log:
             "results/logs/locomotion/paths.log",
+        priority: 30
         localrule: True
         script:
             "../scripts/locomotion_path.py"
@@ -83,6 +86,7 @@ rule locomotion_animation:
         speed=LOCO["animation_speed"],
     log:
         "results/logs/locomotion/animation_{run}.log",
+    priority: 30
     benchmark:
         "results/benchmarks/locomotion/animation_{run}.tsv"
     wildcard_constraints:

@@ -6,6 +6,7 @@ rule map:
         "results/workspace.nc",
     log:
         "results/logs/map.log",
+    priority: 35  # feeds the locomotion runs
     localrule: True
     script:
         "../scripts/map.py"

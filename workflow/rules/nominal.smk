@@ -8,6 +8,7 @@ rule nominal:
         cfg=stage_config(config, "nominal"),
     log:
         "results/logs/nominal/{contact}.log",
+    priority: 35  # feeds the locomotion runs (-> map)
     resources:
         mem_mb=1000,
         runtime=5,

@@ -8,6 +8,7 @@ rule sweep:
         "results/logs/sweep/{contact}.log",
     benchmark:
         "results/benchmarks/sweep/{contact}.tsv"
+    priority: 35  # feeds the locomotion runs (-> map), the longest chain of short jobs
     threads: 1  # the jobs are short: two in parallel beat one with two threads
     resources:
         mem_mb=1000,

@@ -13,6 +13,7 @@ rule two_pair:
         "results/logs/two_pair/{contact}.log",
     benchmark:
         "results/benchmarks/two_pair/{contact}.tsv"
+    priority: 35  # feeds the locomotion runs (-> two_pair_map)
     threads: 1
     resources:
         mem_mb=1500,
@@ -31,6 +32,7 @@ rule two_pair_map:
         cfg=stage_config(config, "two_pair_map"),
     log:
         "results/logs/two_pair/map.log",
+    priority: 35
     localrule: True
     script:
         "../scripts/two_pair_map.py"
