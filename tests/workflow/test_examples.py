@@ -193,6 +193,8 @@ BENCHMARKS = {
     "bench_locomotion.py": ["--workspace", "{tiny}/results/workspace.nc", "--two-pair",
                             "{tiny}/results/workspace_two_pair.nc", "--directions", "2",
                             "--distance", "0.6", "--only", "flat", "slope", "--slopes", "15"],
+    "bench_slope_reach.py": ["--workspace", "{tiny}/results/workspace.nc", "--slopes", "20",
+                             "--headings", "1", "--no-combos"],
     "calibration.py": ["--quick"],
     "bench_study.py": ["--designs", "2", "--hold", "0.05"],
     "bench_mujoco.py": ["--seconds", "0.01", "--batch", "2", "--repeat", "1"],
