@@ -6,7 +6,7 @@ centres and quaternions after each block of `every` steps. The time loop never r
 Python. Robots run in groups of LANES side by side, one per SIMD lane (`kernel_stages`: a step
 is `node_states`, `cable_forces`, `ground_forces`, `integrate`), the groups in parallel threads;
 batches under WIDE_FROM robots run one robot per group instead. A group's working arrays live on
-the stack (`_stack_array`). A batch that is not a multiple of LANES fills the last group with
+the stack (`compiling.stack_array`). A batch that is not a multiple of LANES fills the last group with
 copies of its last robot, whose results are dropped. Status per robot (`dynamics.simulate`
 reads the codes 0-3): OK, NON_FINITE, TOO_FAST (node speed above max_speed), OFF_TERRAIN (no
 triangle under a node). A robot that fails keeps the state and step count of its failure; its
@@ -15,16 +15,13 @@ the same bits alone, in any lane, with any number of threads (tests/physics/test
 """
 from __future__ import annotations
 
-import hashlib
 import math
 
-import llvmlite.ir as llir
 import numba as nb
 import numpy as np
-from numba.core import caching, cgutils, types
-from numba.extending import intrinsic
 
 from . import kernel_stages as ks
+from .compiling import callees_first, jit, stack_array
 from . import topology as topo
 from .params import IDX
 
@@ -45,72 +42,19 @@ CABLE_PAIR = np.ascontiguousarray(topo.CABLE_PAIR.astype(np.int64))
     "strut_damping", "max_speed"))
 
 
-def _watching_stages(locator):
-    """numba's cache locator class `locator`, with a source stamp that also covers
-    kernel_stages.py: numba compiles the stages into this module's functions, but would only
-    watch this file for changes and load stale code."""
-    class Locator(locator):
-        def get_source_stamp(self):
-            with open(ks.__file__, "rb") as f:
-                return super().get_source_stamp(), hashlib.sha256(f.read()).digest()
-    Locator.__name__ = Locator.__qualname__ = locator.__name__
-    return Locator
-
-
-class _CacheImpl(caching.CompileResultCacheImpl):
-    _locator_classes = [_watching_stages(c)
-                        for c in caching.CompileResultCacheImpl._locator_classes]
-
-
-class _Cache(caching.FunctionCache):
-    _impl_class = _CacheImpl
-
-
-def _jit(**options):
-    """nb.njit(**options) (kernel_stages.JIT or INLINE), cached by `_Cache`."""
-    def wrap(f):
-        d = nb.njit(**{**options, "cache": False})(f)
-        d._cache = _Cache(d.py_func)
-        return d
-    return wrap
-
-
-def _stack_array(*shape):
-    """A compiled function () -> an uninitialised C-contiguous float64 array of `shape` on the
-    stack of the function that calls it. Unlike a heap array, LLVM knows that it overlaps no
-    other array, which lets it vectorise the lane loops. It must not outlive that call."""
-    arrty = types.Array(types.float64, len(shape), "C")
-
-    @intrinsic
-    def make(typingctx):
-        def codegen(context, builder, sig, args):
-            f8 = context.get_data_type(types.float64)
-            block = cgutils.alloca_once(builder, llir.ArrayType(f8, int(np.prod(shape))))
-            block.align = 64  # a cache line: whole-register loads never straddle two
-            data = builder.bitcast(block, f8.as_pointer())
-            strides = [8 * int(np.prod(shape[k + 1:])) for k in range(len(shape))]
-            ary = context.make_array(arrty)(context, builder)
-            intp = lambda n: context.get_constant(types.intp, n)  # noqa: E731
-            context.populate_array(ary, data=data, shape=[intp(n) for n in shape], itemsize=intp(8),
-                                   strides=[intp(s) for s in strides], meminfo=None)
-            return ary._getvalue()
-        return arrty(), codegen
-    return make
-
-
 # The working arrays of a group of L lanes (shapes before the lane axis): state X, V, W, Q;
 # anchors AN, stuck flags ST; nodes P, U, contact forces G; rotations Rm; cables T; constants
 # C; muscles act; per lane (fastest squared speed, on terrain, alive).
 _SHAPES = ((6, 3), (6, 3), (6, 3), (6, 4), (12, 3), (12,), (12, 3), (12, 3), (12, 3), (6, 3, 3),
            (24, 4), (ks.NC,), (24,), (3,))
-_W = [_stack_array(*s, LANES) for s in _SHAPES]
-_1 = [_stack_array(*s, 1) for s in _SHAPES]
+_W = [stack_array(*s, LANES) for s in _SHAPES]
+_1 = [stack_array(*s, 1) for s in _SHAPES]
 _WIDE, _ONE = (0,) * LANES, (0,)  # lane markers (kernel_stages)
 (_wX, _wV, _wW, _wQ, _wAN, _wST, _wP, _wU, _wG, _wRm, _wT, _wC, _wact, _wlane) = _W
 (_1X, _1V, _1W, _1Q, _1AN, _1ST, _1P, _1U, _1G, _1Rm, _1T, _1C, _1act, _1lane) = _1
 
 
-@_jit(**ks.INLINE)
+@jit(**ks.INLINE)
 def _constants(prm, b, dt, C, act, pres, l):
     """Lane l of C (NC, L) and act (24, L) N/m (eq. 1) for robot b (kernel_stages names the
     rows). Returns True if its cable law is linear (a_exp = 1)."""
@@ -132,7 +76,7 @@ def _constants(prm, b, dt, C, act, pres, l):
     return a_exp == 1.0
 
 
-@_jit(**ks.JIT)  # not inlined: rare, and it would crowd the step loop
+@jit(**ks.JIT)  # not inlined: rare, and it would crowd the step loop
 def _retire(g, l, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST,
             lane):
     """Writes the state of lane l of group g (robot g*L + l) back, with its status `code` and
@@ -151,7 +95,7 @@ def _retire(g, l, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V
     lane[2, l] = 0.0
 
 
-@_jit(**ks.INLINE)
+@jit(**ks.INLINE)
 def _record(g, rec, X, Q, lane, out_x, out_q, lanes):
     """Renormalises the quaternions Q (6, 4, L) and writes X (6, 3, L) m, Q of the live lanes to
     out_x, out_q[b, rec]."""
@@ -171,7 +115,7 @@ def _record(g, rec, X, Q, lane, out_x, out_q, lanes):
                     out_x[g * L + l, rec, i, k] = X[i, k, l]
 
 
-@_jit(**ks.INLINE)
+@jit(**ks.INLINE)
 def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
          status, fail_step, work, lanes):
     """Group g of `advance` (same arguments, then the tuple of working arrays of _SHAPES): loads
@@ -235,7 +179,7 @@ def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, 
                     ST, lane)
 
 
-@_jit(**ks.JIT)
+@jit(**ks.JIT)
 def _group_wide(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x,
                 out_q, status, fail_step):
     """`_run` for robots g*LANES ... g*LANES + LANES - 1."""
@@ -244,7 +188,7 @@ def _group_wide(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, 
                              _wRm(), _wT(), _wC(), _wact(), _wlane()), _WIDE)
 
 
-@_jit(**ks.JIT)
+@jit(**ks.JIT)
 def _group_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x,
                out_q, status, fail_step):
     """`_run` for robot b alone."""
@@ -253,13 +197,10 @@ def _group_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, e
                              _1Rm(), _1T(), _1C(), _1act(), _1lane()), _ONE)
 
 
-@_jit(parallel=True, nogil=True, **ks.JIT)
-def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
-            out_x, out_q, status, fail_step):
-    """Advance all robots in place (module docstring). State x, v (B, 6, 3) m, m/s; q (B, 6, 4);
-    w (B, 6, 3) rad/s body; anchor (B, 12, 3) m, stuck (B, 12) bool; prm (B, NP); pres (B, 12)
-    MPa; terrain kind (NO_TERRAIN, PLANE, HEIGHTFIELD), meta (7,), hz (nx, ny) m (Terrain.packed);
-    dt s; out_x (B, n_rec, 6, 3) m, out_q (B, n_rec, 6, 4); status, fail_step (B,) int64."""
+@jit(parallel=True, nogil=True, **ks.JIT)
+def _advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
+             out_x, out_q, status, fail_step):
+    """`advance`: the groups in parallel threads."""
     B = x.shape[0]
     if B < WIDE_FROM:
         for b in nb.prange(B):
@@ -271,7 +212,20 @@ def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, 
                         out_x, out_q, status, fail_step)
 
 
-@_jit(**ks.JIT)
+def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
+            out_x, out_q, status, fail_step):
+    """Advance all robots in place (module docstring). State x, v (B, 6, 3) m, m/s; q (B, 6, 4);
+    w (B, 6, 3) rad/s body; anchor (B, 12, 3) m, stuck (B, 12) bool; prm (B, NP); pres (B, 12)
+    MPa; terrain kind (NO_TERRAIN, PLANE, HEIGHTFIELD), meta (7,), hz (nx, ny) m (Terrain.packed);
+    dt s; out_x (B, n_rec, 6, 3) m, out_q (B, n_rec, 6, 4); status, fail_step (B,) int64.
+    The first call loads the group functions before `_advance` (`compiling.callees_first`)."""
+    args = (x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
+            status, fail_step)
+    run = _advance if _advance.overloads else callees_first(_advance, (_group_one, _group_wide), args)
+    run(*args)
+
+
+@jit(**ks.JIT)
 def tensions(P, U, prm, pres):
     """Cable tensions (B, 24) N and node forces (B, 12, 3) N from node positions P and
     velocities U (B, 12, 3), packed parameters prm (B, NP) and pair pressures pres (B, 12) MPa."""
