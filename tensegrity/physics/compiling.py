@@ -15,7 +15,8 @@ from numba.core.dispatcher import Dispatcher
 from numba.extending import intrinsic
 
 # The files compiled into kernel.py's functions besides kernel.py itself.
-WATCHED = [Path(__file__).with_name(n) for n in ("kernel_stages.py", "compiling.py")]
+WATCHED = [Path(__file__).with_name(n)
+           for n in ("kernel_stages.py", "kernel_robot.py", "compiling.py")]
 
 
 def _watching(locator):

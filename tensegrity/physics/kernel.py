@@ -15,14 +15,13 @@ the same bits alone, in any lane, with any number of threads (tests/physics/test
 """
 from __future__ import annotations
 
-import math
-
 import numba as nb
 import numpy as np
 
+from . import kernel_robot as kr
 from . import kernel_stages as ks
-from .compiling import callees_first, jit, stack_array
 from . import topology as topo
+from .compiling import callees_first, jit, stack_array
 from .params import IDX
 
 OK, NON_FINITE, TOO_FAST, OFF_TERRAIN = 0, 1, 2, 3  # status codes (values fixed: see dynamics)
@@ -52,6 +51,8 @@ _1 = [stack_array(*s, 1) for s in _SHAPES]
 _WIDE, _ONE = (0,) * LANES, (0,)  # lane markers (kernel_stages)
 (_wX, _wV, _wW, _wQ, _wAN, _wST, _wP, _wU, _wG, _wRm, _wT, _wC, _wact, _wlane) = _W
 (_1X, _1V, _1W, _1Q, _1AN, _1ST, _1P, _1U, _1G, _1Rm, _1T, _1C, _1act, _1lane) = _1
+(_rX, _rV, _rW, _rQ, _rRm, _rP, _rU, _rG, _rAN, _rST, _ron, _rE, _rTF, _rTN, _rFN, _rC, _ract,
+ _rfast) = [stack_array(*s) for s in kr.SHAPES]  # one robot alone (kernel_robot)
 
 
 @jit(**ks.INLINE)
@@ -96,16 +97,14 @@ def _retire(g, l, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V
 
 
 @jit(**ks.INLINE)
-def _record(g, rec, X, Q, lane, out_x, out_q, lanes):
-    """Renormalises the quaternions Q (6, 4, L) and writes X (6, 3, L) m, Q of the live lanes to
-    out_x, out_q[b, rec]."""
+def _record(g, rec, X, Q, lane, out_x, out_q, lanes, normalise=True):
+    """Renormalises the quaternions Q (6, 4, L) (`ks.normalise`; unless told not to) and writes
+    X (6, 3, L) m, Q of the live lanes to out_x, out_q[b, rec]."""
     L = len(lanes)
-    for i in range(6):
-        for l in range(L):
-            iq = 1.0 / math.sqrt(Q[i, 0, l] ** 2 + Q[i, 1, l] ** 2 + Q[i, 2, l] ** 2
-                                 + Q[i, 3, l] ** 2)
-            for k in range(4):
-                Q[i, k, l] *= iq
+    if normalise:
+        for i in range(6):
+            for l in range(L):
+                ks.normalise(Q, i, l)
     for l in range(L):
         if lane[2, l] != 0.0:
             for i in range(6):
@@ -116,11 +115,9 @@ def _record(g, rec, X, Q, lane, out_x, out_q, lanes):
 
 
 @jit(**ks.INLINE)
-def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
-         status, fail_step, work, lanes):
-    """Group g of `advance` (same arguments, then the tuple of working arrays of _SHAPES): loads
-    its robots into the lanes, steps them, records after every block, retires a lane at its
-    failure and writes the live ones back at the end."""
+def _load(g, x, v, q, w, anchor, stuck, prm, pres, dt, work, lanes):
+    """Loads the robots of group g into the lanes of `work` (`_run`). Returns whether all
+    their cable laws are linear and the number of live lanes."""
     X, V, W, Q, AN, ST, P, U, G, Rm, T, C, act, lane = work
     L, B = len(lanes), x.shape[0]
     linear, n_alive = True, 0
@@ -138,6 +135,18 @@ def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, 
             ST[n, l] = 1.0 if stuck[b, n] else 0.0
         lane[2, l] = 1.0 if g * L + l < B else 0.0
         n_alive += 1 if g * L + l < B else 0
+    return linear, n_alive
+
+
+@jit(**ks.INLINE)
+def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
+         status, fail_step, work, lanes):
+    """Group g of `advance` (same arguments, then the tuple of working arrays of _SHAPES): loads
+    its robots into the lanes, steps them, records after every block, retires a lane at its
+    failure and writes the live ones back at the end."""
+    X, V, W, Q, AN, ST, P, U, G, Rm, T, C, act, lane = work
+    L = len(lanes)
+    linear, n_alive = _load(g, x, v, q, w, anchor, stuck, prm, pres, dt, work, lanes)
     step = 0
     for rec in range(n_rec):
         for _ in range(every):
@@ -191,10 +200,35 @@ def _group_wide(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, 
 @jit(**ks.JIT)
 def _group_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x,
                out_q, status, fail_step):
-    """`_run` for robot b alone."""
-    _run(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
-         status, fail_step, (_1X(), _1V(), _1W(), _1Q(), _1AN(), _1ST(), _1P(), _1U(), _1G(),
-                             _1Rm(), _1T(), _1C(), _1act(), _1lane()), _ONE)
+    """`_run` for robot b alone, stepped in the layout of `kernel_robot` (the group layout of
+    one lane loads, records and retires it)."""
+    work = (_1X(), _1V(), _1W(), _1Q(), _1AN(), _1ST(), _1P(), _1U(), _1G(), _1Rm(), _1T(),
+            _1C(), _1act(), _1lane())
+    X, V, W, Q, AN, ST, P, U, G, Rm, T, C, act, lane = work
+    S = (_rX(), _rV(), _rW(), _rQ(), _rRm(), _rP(), _rU(), _rG(), _rAN(), _rST(), _ron(), _rE(),
+         _rTF(), _rTN(), _rFN(), _rC(), _ract(), _rfast())
+    linear = _load(b, x, v, q, w, anchor, stuck, prm, pres, dt, work, _ONE)[0]
+    kr.load(S, X, V, W, Q, AN, ST, C, act)
+    step, code = 0, OK
+    for rec in range(n_rec):
+        for _ in range(every):
+            fastest = kr.step(S, linear, kind, meta, hz, dt)
+            if fastest < 0.0:  # before the step: the robot keeps its state
+                code = OFF_TERRAIN
+                break
+            step += 1
+            if not fastest <= C[ks.VMAX2, 0]:
+                code = NON_FINITE if fastest != fastest else TOO_FAST
+                break
+        if code != OK:
+            break
+        for i in range(6):  # by struts side by side: the same bits as in a group
+            ks.normalise(S[3], 0, i)
+        kr.store(S, X, V, W, Q, AN, ST)
+        _record(b, rec, X, Q, lane, out_x, out_q, _ONE, False)
+    kr.store(S, X, V, W, Q, AN, ST)
+    _retire(b, 0, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST,
+            lane)
 
 
 @jit(parallel=True, nogil=True, **ks.JIT)
@@ -221,8 +255,9 @@ def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, 
     The first call loads the group functions before `_advance` (`compiling.callees_first`)."""
     args = (x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
             status, fail_step)
-    run = _advance if _advance.overloads else callees_first(_advance, (_group_one, _group_wide), args)
-    run(*args)
+    if not _advance.overloads:
+        callees_first(_advance, (_group_one, _group_wide), args)
+    _advance(*args)
 
 
 @jit(**ks.JIT)
