@@ -5,8 +5,9 @@ One call advances every robot of a batch by `n_rec * every` steps of dt, writing
 centres and quaternions after each block of `every` steps. The time loop never returns to
 Python. Robots run in groups of LANES side by side, one per SIMD lane (`kernel_stages`: a step
 is `node_states`, `cable_forces`, `ground_forces`, `integrate`), the groups in parallel threads;
-batches under WIDE_FROM robots run one robot per group instead. A group's working arrays live on
-the stack (`compiling.stack_array`). A batch that is not a multiple of LANES fills the last group with
+batches under WIDE_FROM robots run one robot per thread instead, in the layout of `kernel_robot`
+(its struts, nodes and cables side by side). The working arrays live on the stack
+(`compiling.stack_array`). A batch that is not a multiple of LANES fills the last group with
 copies of its last robot, whose results are dropped. Status per robot (`dynamics.simulate`
 reads the codes 0-3): OK, NON_FINITE, TOO_FAST (node speed above max_speed), OFF_TERRAIN (no
 triangle under a node). A robot that fails keeps the state and step count of its failure; its
