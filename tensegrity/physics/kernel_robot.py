@@ -40,9 +40,11 @@ SLOT[:, NODE_LANE], SLOT_SIGN[:, NODE_LANE] = ks.NODE_CABLES.T, ks.NODE_CABLE_SI
 
 def take(idx, n_src, rows):
     """A compiled function (dst, src): dst[r, j] = src[r, idx[j]] for r < rows, on C-contiguous
-    float64 arrays with rows of n_src (src) and len(idx) (dst) values. One shuffle of whole
-    vectors per row (vpermt2pd), where a loop over j would gather element by element."""
+    float64 arrays with rows of n_src (src) and len(idx) (dst, a multiple of 8) values. One
+    shuffle per register of 8 of dst (vpermt2pd), where a loop over j would gather element by
+    element; LLVM splits a shuffle to a whole row of 16 or 24 into many small ones."""
     idx, m = [int(i) for i in idx], len(idx)
+    assert m % 8 == 0, "whole registers of 8 float64"
 
     @intrinsic
     def shuffle(typingctx, dst, src):
@@ -50,13 +52,15 @@ def take(idx, n_src, rows):
             f8 = llir.DoubleType()
             d = context.make_array(sig.args[0])(context, builder, args[0]).data
             s = context.make_array(sig.args[1])(context, builder, args[1]).data
-            vs, vd = llir.VectorType(f8, n_src), llir.VectorType(f8, m)
-            mask = llir.Constant(llir.VectorType(llir.IntType(32), m), idx)
+            vs, v8 = llir.VectorType(f8, n_src), llir.VectorType(f8, 8)
+            mask = {c: llir.Constant(llir.VectorType(llir.IntType(32), 8), idx[c:c + 8])
+                    for c in range(0, m, 8)}
             at = lambda p, n: builder.gep(p, [context.get_constant(types.intp, n)])  # noqa: E731
             for r in range(rows):
                 v = builder.load(builder.bitcast(at(s, r * n_src), vs.as_pointer()), align=8)
-                w = builder.shuffle_vector(v, llir.Constant(vs, llir.Undefined), mask)
-                builder.store(w, builder.bitcast(at(d, r * m), vd.as_pointer()), align=8)
+                for c in range(0, m, 8):
+                    w = builder.shuffle_vector(v, llir.Constant(vs, llir.Undefined), mask[c])
+                    builder.store(w, builder.bitcast(at(d, r * m + c), v8.as_pointer()), align=8)
             return context.get_dummy_value()
         return types.none(dst, src), codegen
     return shuffle
