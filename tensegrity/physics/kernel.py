@@ -5,8 +5,9 @@ One call advances every robot of a batch by `n_rec * every` steps of dt, writing
 centres and quaternions after each block of `every` steps. The time loop never returns to
 Python. Robots run in groups of LANES side by side, one per SIMD lane (`kernel_stages`: a step
 is `node_states`, `cable_forces`, `ground_forces`, `integrate`), the groups in parallel threads;
-batches under WIDE_FROM robots run one robot per group instead. A group's working arrays live on
-the stack (`_stack_array`). A batch that is not a multiple of LANES fills the last group with
+batches under WIDE_FROM robots run one robot per thread instead, in the layout of `kernel_robot`
+(its struts, nodes and cables side by side). The working arrays live on the stack
+(`compiling.stack_array`). A batch that is not a multiple of LANES fills the last group with
 copies of its last robot, whose results are dropped. Status per robot (`dynamics.simulate`
 reads the codes 0-3): OK, NON_FINITE, TOO_FAST (node speed above max_speed), OFF_TERRAIN (no
 triangle under a node). A robot that fails keeps the state and step count of its failure; its
@@ -15,17 +16,13 @@ the same bits alone, in any lane, with any number of threads (tests/physics/test
 """
 from __future__ import annotations
 
-import hashlib
-import math
-
-import llvmlite.ir as llir
 import numba as nb
 import numpy as np
-from numba.core import caching, cgutils, types
-from numba.extending import intrinsic
 
+from . import kernel_robot as kr
 from . import kernel_stages as ks
 from . import topology as topo
+from .compiling import callees_first, jit, stack_array
 from .params import IDX
 
 OK, NON_FINITE, TOO_FAST, OFF_TERRAIN = 0, 1, 2, 3  # status codes (values fixed: see dynamics)
@@ -45,72 +42,21 @@ CABLE_PAIR = np.ascontiguousarray(topo.CABLE_PAIR.astype(np.int64))
     "strut_damping", "max_speed"))
 
 
-def _watching_stages(locator):
-    """numba's cache locator class `locator`, with a source stamp that also covers
-    kernel_stages.py: numba compiles the stages into this module's functions, but would only
-    watch this file for changes and load stale code."""
-    class Locator(locator):
-        def get_source_stamp(self):
-            with open(ks.__file__, "rb") as f:
-                return super().get_source_stamp(), hashlib.sha256(f.read()).digest()
-    Locator.__name__ = Locator.__qualname__ = locator.__name__
-    return Locator
-
-
-class _CacheImpl(caching.CompileResultCacheImpl):
-    _locator_classes = [_watching_stages(c)
-                        for c in caching.CompileResultCacheImpl._locator_classes]
-
-
-class _Cache(caching.FunctionCache):
-    _impl_class = _CacheImpl
-
-
-def _jit(**options):
-    """nb.njit(**options) (kernel_stages.JIT or INLINE), cached by `_Cache`."""
-    def wrap(f):
-        d = nb.njit(**{**options, "cache": False})(f)
-        d._cache = _Cache(d.py_func)
-        return d
-    return wrap
-
-
-def _stack_array(*shape):
-    """A compiled function () -> an uninitialised C-contiguous float64 array of `shape` on the
-    stack of the function that calls it. Unlike a heap array, LLVM knows that it overlaps no
-    other array, which lets it vectorise the lane loops. It must not outlive that call."""
-    arrty = types.Array(types.float64, len(shape), "C")
-
-    @intrinsic
-    def make(typingctx):
-        def codegen(context, builder, sig, args):
-            f8 = context.get_data_type(types.float64)
-            block = cgutils.alloca_once(builder, llir.ArrayType(f8, int(np.prod(shape))))
-            block.align = 64  # a cache line: whole-register loads never straddle two
-            data = builder.bitcast(block, f8.as_pointer())
-            strides = [8 * int(np.prod(shape[k + 1:])) for k in range(len(shape))]
-            ary = context.make_array(arrty)(context, builder)
-            intp = lambda n: context.get_constant(types.intp, n)  # noqa: E731
-            context.populate_array(ary, data=data, shape=[intp(n) for n in shape], itemsize=intp(8),
-                                   strides=[intp(s) for s in strides], meminfo=None)
-            return ary._getvalue()
-        return arrty(), codegen
-    return make
-
-
 # The working arrays of a group of L lanes (shapes before the lane axis): state X, V, W, Q;
 # anchors AN, stuck flags ST; nodes P, U, contact forces G; rotations Rm; cables T; constants
 # C; muscles act; per lane (fastest squared speed, on terrain, alive).
 _SHAPES = ((6, 3), (6, 3), (6, 3), (6, 4), (12, 3), (12,), (12, 3), (12, 3), (12, 3), (6, 3, 3),
            (24, 4), (ks.NC,), (24,), (3,))
-_W = [_stack_array(*s, LANES) for s in _SHAPES]
-_1 = [_stack_array(*s, 1) for s in _SHAPES]
+_W = [stack_array(*s, LANES) for s in _SHAPES]
+_1 = [stack_array(*s, 1) for s in _SHAPES]
 _WIDE, _ONE = (0,) * LANES, (0,)  # lane markers (kernel_stages)
 (_wX, _wV, _wW, _wQ, _wAN, _wST, _wP, _wU, _wG, _wRm, _wT, _wC, _wact, _wlane) = _W
 (_1X, _1V, _1W, _1Q, _1AN, _1ST, _1P, _1U, _1G, _1Rm, _1T, _1C, _1act, _1lane) = _1
+(_rX, _rV, _rW, _rQ, _rRm, _rP, _rU, _rG, _rAN, _rST, _ron, _rE, _rTF, _rTN, _rFN, _rC, _ract,
+ _rfast) = [stack_array(*s) for s in kr.SHAPES]  # one robot alone (kernel_robot)
 
 
-@_jit(**ks.INLINE)
+@jit(**ks.INLINE)
 def _constants(prm, b, dt, C, act, pres, l):
     """Lane l of C (NC, L) and act (24, L) N/m (eq. 1) for robot b (kernel_stages names the
     rows). Returns True if its cable law is linear (a_exp = 1)."""
@@ -132,7 +78,7 @@ def _constants(prm, b, dt, C, act, pres, l):
     return a_exp == 1.0
 
 
-@_jit(**ks.JIT)  # not inlined: rare, and it would crowd the step loop
+@jit(**ks.JIT)  # not inlined: rare, and it would crowd the step loop
 def _retire(g, l, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST,
             lane):
     """Writes the state of lane l of group g (robot g*L + l) back, with its status `code` and
@@ -151,17 +97,15 @@ def _retire(g, l, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V
     lane[2, l] = 0.0
 
 
-@_jit(**ks.INLINE)
-def _record(g, rec, X, Q, lane, out_x, out_q, lanes):
-    """Renormalises the quaternions Q (6, 4, L) and writes X (6, 3, L) m, Q of the live lanes to
-    out_x, out_q[b, rec]."""
+@jit(**ks.INLINE)
+def _record(g, rec, X, Q, lane, out_x, out_q, lanes, normalise=True):
+    """Renormalises the quaternions Q (6, 4, L) (`ks.normalise`; unless told not to) and writes
+    X (6, 3, L) m, Q of the live lanes to out_x, out_q[b, rec]."""
     L = len(lanes)
-    for i in range(6):
-        for l in range(L):
-            iq = 1.0 / math.sqrt(Q[i, 0, l] ** 2 + Q[i, 1, l] ** 2 + Q[i, 2, l] ** 2
-                                 + Q[i, 3, l] ** 2)
-            for k in range(4):
-                Q[i, k, l] *= iq
+    if normalise:
+        for i in range(6):
+            for l in range(L):
+                ks.normalise(Q, i, l)
     for l in range(L):
         if lane[2, l] != 0.0:
             for i in range(6):
@@ -171,12 +115,10 @@ def _record(g, rec, X, Q, lane, out_x, out_q, lanes):
                     out_x[g * L + l, rec, i, k] = X[i, k, l]
 
 
-@_jit(**ks.INLINE)
-def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
-         status, fail_step, work, lanes):
-    """Group g of `advance` (same arguments, then the tuple of working arrays of _SHAPES): loads
-    its robots into the lanes, steps them, records after every block, retires a lane at its
-    failure and writes the live ones back at the end."""
+@jit(**ks.INLINE)
+def _load(g, x, v, q, w, anchor, stuck, prm, pres, dt, work, lanes):
+    """Loads the robots of group g into the lanes of `work` (`_run`). Returns whether all
+    their cable laws are linear and the number of live lanes."""
     X, V, W, Q, AN, ST, P, U, G, Rm, T, C, act, lane = work
     L, B = len(lanes), x.shape[0]
     linear, n_alive = True, 0
@@ -194,6 +136,18 @@ def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, 
             ST[n, l] = 1.0 if stuck[b, n] else 0.0
         lane[2, l] = 1.0 if g * L + l < B else 0.0
         n_alive += 1 if g * L + l < B else 0
+    return linear, n_alive
+
+
+@jit(**ks.INLINE)
+def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
+         status, fail_step, work, lanes):
+    """Group g of `advance` (same arguments, then the tuple of working arrays of _SHAPES): loads
+    its robots into the lanes, steps them, records after every block, retires a lane at its
+    failure and writes the live ones back at the end."""
+    X, V, W, Q, AN, ST, P, U, G, Rm, T, C, act, lane = work
+    L = len(lanes)
+    linear, n_alive = _load(g, x, v, q, w, anchor, stuck, prm, pres, dt, work, lanes)
     step = 0
     for rec in range(n_rec):
         for _ in range(every):
@@ -235,7 +189,7 @@ def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, 
                     ST, lane)
 
 
-@_jit(**ks.JIT)
+@jit(**ks.JIT)
 def _group_wide(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x,
                 out_q, status, fail_step):
     """`_run` for robots g*LANES ... g*LANES + LANES - 1."""
@@ -244,22 +198,44 @@ def _group_wide(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, 
                              _wRm(), _wT(), _wC(), _wact(), _wlane()), _WIDE)
 
 
-@_jit(**ks.JIT)
+@jit(**ks.JIT)
 def _group_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x,
                out_q, status, fail_step):
-    """`_run` for robot b alone."""
-    _run(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
-         status, fail_step, (_1X(), _1V(), _1W(), _1Q(), _1AN(), _1ST(), _1P(), _1U(), _1G(),
-                             _1Rm(), _1T(), _1C(), _1act(), _1lane()), _ONE)
+    """`_run` for robot b alone, stepped in the layout of `kernel_robot` (the group layout of
+    one lane loads, records and retires it)."""
+    work = (_1X(), _1V(), _1W(), _1Q(), _1AN(), _1ST(), _1P(), _1U(), _1G(), _1Rm(), _1T(),
+            _1C(), _1act(), _1lane())
+    X, V, W, Q, AN, ST, P, U, G, Rm, T, C, act, lane = work
+    S = (_rX(), _rV(), _rW(), _rQ(), _rRm(), _rP(), _rU(), _rG(), _rAN(), _rST(), _ron(), _rE(),
+         _rTF(), _rTN(), _rFN(), _rC(), _ract(), _rfast())
+    linear = _load(b, x, v, q, w, anchor, stuck, prm, pres, dt, work, _ONE)[0]
+    kr.load(S, X, V, W, Q, AN, ST, C, act)
+    step, code = 0, OK
+    for rec in range(n_rec):
+        for _ in range(every):
+            fastest = kr.step(S, linear, kind, meta, hz, dt)
+            if fastest < 0.0:  # before the step: the robot keeps its state
+                code = OFF_TERRAIN
+                break
+            step += 1
+            if not fastest <= C[ks.VMAX2, 0]:
+                code = NON_FINITE if fastest != fastest else TOO_FAST
+                break
+        if code != OK:
+            break
+        for i in range(6):  # by struts side by side: the same bits as in a group
+            ks.normalise(S[3], 0, i)
+        kr.store(S, X, V, W, Q, AN, ST)
+        _record(b, rec, X, Q, lane, out_x, out_q, _ONE, False)
+    kr.store(S, X, V, W, Q, AN, ST)
+    _retire(b, 0, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST,
+            lane)
 
 
-@_jit(parallel=True, nogil=True, **ks.JIT)
-def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
-            out_x, out_q, status, fail_step):
-    """Advance all robots in place (module docstring). State x, v (B, 6, 3) m, m/s; q (B, 6, 4);
-    w (B, 6, 3) rad/s body; anchor (B, 12, 3) m, stuck (B, 12) bool; prm (B, NP); pres (B, 12)
-    MPa; terrain kind (NO_TERRAIN, PLANE, HEIGHTFIELD), meta (7,), hz (nx, ny) m (Terrain.packed);
-    dt s; out_x (B, n_rec, 6, 3) m, out_q (B, n_rec, 6, 4); status, fail_step (B,) int64."""
+@jit(parallel=True, nogil=True, **ks.JIT)
+def _advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
+             out_x, out_q, status, fail_step):
+    """`advance`: the groups in parallel threads."""
     B = x.shape[0]
     if B < WIDE_FROM:
         for b in nb.prange(B):
@@ -271,7 +247,21 @@ def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, 
                         out_x, out_q, status, fail_step)
 
 
-@_jit(**ks.JIT)
+def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
+            out_x, out_q, status, fail_step):
+    """Advance all robots in place (module docstring). State x, v (B, 6, 3) m, m/s; q (B, 6, 4);
+    w (B, 6, 3) rad/s body; anchor (B, 12, 3) m, stuck (B, 12) bool; prm (B, NP); pres (B, 12)
+    MPa; terrain kind (NO_TERRAIN, PLANE, HEIGHTFIELD), meta (7,), hz (nx, ny) m (Terrain.packed);
+    dt s; out_x (B, n_rec, 6, 3) m, out_q (B, n_rec, 6, 4); status, fail_step (B,) int64.
+    The first call loads the group functions before `_advance` (`compiling.callees_first`)."""
+    args = (x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
+            status, fail_step)
+    if not _advance.overloads:
+        callees_first(_advance, (_group_one, _group_wide), args)
+    _advance(*args)
+
+
+@jit(**ks.JIT)
 def tensions(P, U, prm, pres):
     """Cable tensions (B, 24) N and node forces (B, 12, 3) N from node positions P and
     velocities U (B, 12, 3), packed parameters prm (B, NP) and pair pressures pres (B, 12) MPa."""

@@ -2,7 +2,7 @@
 side by side: every array has the lane (robot) index as its last, contiguous axis, e.g. strut
 centres X (6, 3, L). Each stage loops over struts, nodes or cables outside and over lanes inside;
 the lane loops have no branches (selects instead of `if`), so that LLVM turns them into SIMD
-instructions, one robot per lane. The per-robot rules (`_cable_tension`, `_terrain_contact`,
+instructions, one robot per lane. The per-robot rules (`_cable_tension`, `terrain_contact`,
 `_stick_force`, `_rotate`) are scalar functions called inside the lane loops.
 
 Per-lane constants are the rows of C (NC, L) named below. Booleans are stored as 0.0 / 1.0.
@@ -26,6 +26,11 @@ NO_TERRAIN, PLANE, HEIGHTFIELD = KINDS["none"], KINDS["plane"], KINDS["heightfie
 # the flags that assume finite values: the blow-up checks must see NaN.
 JIT = dict(cache=True, error_model="numpy", fastmath={"contract", "nsz", "arcp"})
 INLINE = dict(forceinline=True, **JIT)
+# The contact rules and `normalise` without fused multiply-add: there LLVM's choice of which
+# product of a*b - c*d to fuse depends on the code around, and a robot alone (kernel_robot) would
+# differ from the same robot in a group in the last bit. Elsewhere the choice has been the same in both layouts
+# (tests/physics/test_kernel_lanes); the flags travel with the instructions into the caller.
+EXACT = dict(INLINE, fastmath={"nsz", "arcp"})
 
 # Topology as kernel constants: node -> (strut, sign), cable -> nodes, strut -> its two nodes
 # (STRUT_A = centre + S/2 axis, STRUT_B = centre - S/2 axis), node -> its four cables in
@@ -47,11 +52,10 @@ NC = 19
 
 
 @nb.njit(**INLINE)
-def node_states(X, V, Q, W, C, Rm, P, U, lanes):
-    """Rotation matrices Rm (6, 3, 3, L) (columns = body axes in world) of the quaternions
-    Q (6, 4, L); node positions P (12, 3, L) m and velocities U (12, 3, L) m/s from the strut
-    centres X, V (6, 3, L) and body angular velocities W (6, 3, L) rad/s."""
-    for i in range(6):
+def rotations(Q, Rm, lanes):
+    """Rm (S, 3, 3, L) <- the rotation matrices (columns = body axes in world) of the
+    quaternions Q (S, 4, L)."""
+    for i in range(Q.shape[0]):
         for l in range(len(lanes)):
             qw, qx, qy, qz = Q[i, 0, l], Q[i, 1, l], Q[i, 2, l], Q[i, 3, l]
             Rm[i, 0, 0, l] = 1 - 2 * (qy * qy + qz * qz)
@@ -63,15 +67,29 @@ def node_states(X, V, Q, W, C, Rm, P, U, lanes):
             Rm[i, 2, 0, l] = 2 * (qx * qz - qw * qy)
             Rm[i, 2, 1, l] = 2 * (qy * qz + qw * qx)
             Rm[i, 2, 2, l] = 1 - 2 * (qx * qx + qy * qy)
+
+
+@nb.njit(**INLINE)
+def node(P, U, n, m, X, V, W, Rm, i, l, sg):
+    """P[n, :, m], U[n, :, m] <- position m and velocity m/s of the strut end at sg m (+-half
+    the length) along the axis of strut X[i, :, l], V, W, Rm."""
+    w0, w1 = W[i, 0, l], W[i, 1, l]
+    for k in range(3):
+        P[n, k, m] = X[i, k, l] + sg * Rm[i, k, 2, l]
+        # d c / dt = R (w x e3) = R (w1, -w0, 0)
+        U[n, k, m] = V[i, k, l] + sg * (Rm[i, k, 0, l] * w1 - Rm[i, k, 1, l] * w0)
+
+
+@nb.njit(**INLINE)
+def node_states(X, V, Q, W, C, Rm, P, U, lanes):
+    """Rotation matrices Rm (6, 3, 3, L) of the quaternions Q (6, 4, L) (`rotations`); node
+    positions P (12, 3, L) m and velocities U (12, 3, L) m/s (`node`) from the strut centres
+    X, V (6, 3, L) and body angular velocities W (6, 3, L) rad/s."""
+    rotations(Q, Rm, lanes)
     for n in range(12):
         i = NODE_STRUT[n]
         for l in range(len(lanes)):
-            sg = NODE_SIGN[n] * C[HL, l]
-            w0, w1 = W[i, 0, l], W[i, 1, l]
-            for k in range(3):
-                P[n, k, l] = X[i, k, l] + sg * Rm[i, k, 2, l]
-                # d c / dt = R (w x e3) = R (w1, -w0, 0)
-                U[n, k, l] = V[i, k, l] + sg * (Rm[i, k, 0, l] * w1 - Rm[i, k, 1, l] * w0)
+            node(P, U, n, l, X, V, W, Rm, i, l, NODE_SIGN[n] * C[HL, l])
 
 
 @nb.njit(**INLINE)
@@ -85,18 +103,27 @@ def _cable_tension(ln, ldot, K, Lr, a_exp, La, Bc, Lmin, act, linear):
 
 
 @nb.njit(**INLINE)
+def cable_force(dx, dy, dz, dux, duy, duz, C, l, a, linear):
+    """Tension (N) by `_cable_tension` of a cable from node 1 to node 2 = node 1 + d (m), the
+    velocity of node 2 relative to node 1 du (m/s), and its force (N) on node 1, with the
+    constants of lane l of C and the muscle a (N/m)."""
+    ln = math.sqrt(dx * dx + dy * dy + dz * dz)
+    il = 1.0 / ln  # one division, not three: the divider is the stage's bottleneck
+    ex, ey, ez = dx * il, dy * il, dz * il
+    ldot = ex * dux + ey * duy + ez * duz
+    f = _cable_tension(ln, ldot, C[K, l], C[LR, l], C[A_EXP, l], C[LA, l], C[BC, l], C[LMIN, l],
+                       a, linear)
+    return f, f * ex, f * ey, f * ez
+
+
+@nb.njit(**INLINE)
 def _cable(j, l, P, U, C, act, T, linear):
     """`cable_forces` for cable j of lane l."""
     n1, n2 = CABLE_NODES[j, 0], CABLE_NODES[j, 1]
-    dx, dy, dz = P[n2, 0, l] - P[n1, 0, l], P[n2, 1, l] - P[n1, 1, l], P[n2, 2, l] - P[n1, 2, l]
-    ln = math.sqrt(dx * dx + dy * dy + dz * dz)
-    ex, ey, ez = dx / ln, dy / ln, dz / ln
-    ldot = (ex * (U[n2, 0, l] - U[n1, 0, l]) + ey * (U[n2, 1, l] - U[n1, 1, l])
-            + ez * (U[n2, 2, l] - U[n1, 2, l]))
-    f = _cable_tension(ln, ldot, C[K, l], C[LR, l], C[A_EXP, l], C[LA, l], C[BC, l], C[LMIN, l],
-                       act[j, l], linear)
-    T[j, 0, l] = f
-    T[j, 1, l], T[j, 2, l], T[j, 3, l] = f * ex, f * ey, f * ez
+    T[j, 0, l], T[j, 1, l], T[j, 2, l], T[j, 3, l] = cable_force(
+        P[n2, 0, l] - P[n1, 0, l], P[n2, 1, l] - P[n1, 1, l], P[n2, 2, l] - P[n1, 2, l],
+        U[n2, 0, l] - U[n1, 0, l], U[n2, 1, l] - U[n1, 1, l], U[n2, 2, l] - U[n1, 2, l],
+        C, l, act[j, l], linear)
 
 
 @nb.njit(**INLINE)
@@ -122,8 +149,8 @@ def cable_sum(T, n, k, l):
     return s
 
 
-@nb.njit(**INLINE)
-def _terrain_contact(px, py, pz, kind, meta, hz):
+@nb.njit(**EXACT)
+def terrain_contact(px, py, pz, kind, meta, hz):
     """Unit normal (nx, ny, nz), signed distance (m) of p to the triangle plane under it, ok flag
     (False off the edge of a HEIGHTFIELD, or if p is NaN; the other values are then meaningless).
     meta (7,) = normal, offset, x0, y0, spacing; hz (nx, ny) m. Branch-free for HEIGHTFIELD."""
@@ -147,7 +174,7 @@ def _terrain_contact(px, py, pz, kind, meta, hz):
     return ax, ay, az, ax * (px - x0) + ay * (py - y0) + az * (pz - z0), ok
 
 
-@nb.njit(**INLINE)
+@nb.njit(**EXACT)
 def _stick_force(ddx, ddy, ddz, utx, uty, utz, kt, ct, cap):
     """(C4) friction force (N) of the stick spring k_t (N/m) and damper c_t (N s/m) from the
     tangential displacement dd (m) and velocity ut (m/s), scaled down to |f_t| = cap (N)."""
@@ -157,11 +184,11 @@ def _stick_force(ddx, ddy, ddz, utx, uty, utz, kt, ct, cap):
     return ftx * sc, fty * sc, ftz * sc
 
 
-@nb.njit(**INLINE)
-def _ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz):
+@nb.njit(**EXACT)
+def ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz):
     """`ground_forces` for node n of lane l."""
     px, py, pz = P[n, 0, l], P[n, 1, l], P[n, 2, l]
-    nx, ny, nz, dist, ok = _terrain_contact(px, py, pz, kind, meta, hz)
+    nx, ny, nz, dist, ok = terrain_contact(px, py, pz, kind, meta, hz)
     okl = (on[l] != 0.0) & ok
     on[l] = 1.0 if okl else 0.0
     pen = C[R, l] - dist
@@ -198,7 +225,7 @@ def _ground_at(n, P, U, G, AN, ST, C, on, kind, meta, hz, lanes):
     the node is above the terrain in every lane (the usual case), only G and ST change."""
     clear = True
     for l in range(len(lanes)):
-        dist, ok = _terrain_contact(P[n, 0, l], P[n, 1, l], P[n, 2, l], kind, meta, hz)[3:]
+        dist, ok = terrain_contact(P[n, 0, l], P[n, 1, l], P[n, 2, l], kind, meta, hz)[3:]
         clear &= ok & (C[R, l] - dist <= 0.0)
     if clear:
         for l in range(len(lanes)):
@@ -206,7 +233,7 @@ def _ground_at(n, P, U, G, AN, ST, C, on, kind, meta, hz, lanes):
             ST[n, l] = 0.0 if on[l] != 0.0 else ST[n, l]
     else:
         for l in range(len(lanes)):
-            _ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz)
+            ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz)
 
 
 @nb.njit(**INLINE)
@@ -238,6 +265,15 @@ def _rotate(Q, i, l, w0, w1, w2, dt):
     Q[i, 3, l] = qw * ez + qx * ey - qy * ex + qz * c
 
 
+@nb.njit(**EXACT)
+def normalise(Q, i, l):
+    """Q[i, :, l] <- the unit quaternion Q[i, :, l] / |Q[i, :, l]| (`_rotate` keeps |Q| = 1 up
+    to round-off only)."""
+    iq = 1.0 / math.sqrt(Q[i, 0, l] ** 2 + Q[i, 1, l] ** 2 + Q[i, 2, l] ** 2 + Q[i, 3, l] ** 2)
+    for k in range(4):
+        Q[i, k, l] *= iq
+
+
 @nb.njit(**INLINE)
 def _node_force(T, G, n, k, l):
     """Component k of the force (N) on node n in lane l: its cables (`cable_sum`) + contact G."""
@@ -245,38 +281,50 @@ def _node_force(T, G, n, k, l):
 
 
 @nb.njit(**INLINE)
+def strut(i, l, X, V, Q, W, Rm, C, dt, fax, fay, faz, fbx, fby, fbz):
+    """Semi-implicit Euler step of strut X[i, :, l], V, Q, W (rotation Rm) with the forces fa
+    on its first and fb on its second node (N): V (m/s) from the forces, gravity and damping
+    (eq. 3), then X (m); W (rad/s) by Euler's equations with the torque of eq. 4, then Q by
+    `_rotate`. Returns the squared end speed bound |v|^2 + hl^2 (w0^2 + w1^2), m^2/s^2."""
+    dt_m, ds, hl = C[DT_M, l], C[DS, l], C[HL, l]
+    V[i, 0, l] += dt_m * (fax + fbx) - dt * ds * V[i, 0, l]
+    V[i, 1, l] += dt_m * (fay + fby) - dt * ds * V[i, 1, l]
+    V[i, 2, l] += dt_m * (faz + fbz) - dt * (C[GRAV, l] + ds * V[i, 2, l])
+    X[i, 0, l] += dt * V[i, 0, l]
+    X[i, 1, l] += dt * V[i, 1, l]
+    X[i, 2, l] += dt * V[i, 2, l]
+    # body-frame torque (eq. 4): (0,0,L) x R^T f+ + (0,0,-L) x R^T f-
+    gx, gy, gz = fax - fbx, fay - fby, faz - fbz
+    d0 = Rm[i, 0, 0, l] * gx + Rm[i, 1, 0, l] * gy + Rm[i, 2, 0, l] * gz
+    d1 = Rm[i, 0, 1, l] * gx + Rm[i, 1, 1, l] * gy + Rm[i, 2, 1, l] * gz
+    w0, w1, w2 = W[i, 0, l], W[i, 1, l], W[i, 2, l]
+    # Euler's equations, I = diag(It, It, Ia): w x I w = ((Ia-It) w1 w2, (It-Ia) w2 w0, 0)
+    dt_I, gyro = C[DT_I, l], C[GYRO, l]
+    w0 += dt_I * (-hl * d1) - dt * (gyro * w1 * w2 + ds * w0)
+    w1 += dt_I * (hl * d0) + dt * (gyro * w2 * w0 - ds * w1)
+    w2 -= dt * ds * w2
+    W[i, 0, l], W[i, 1, l], W[i, 2, l] = w0, w1, w2
+    _rotate(Q, i, l, w0, w1, w2, dt)
+    return V[i, 0, l] ** 2 + V[i, 1, l] ** 2 + V[i, 2, l] ** 2 + hl * hl * (w0 * w0 + w1 * w1)
+
+
+@nb.njit(**INLINE)
+def faster(sp, fastest):
+    """The larger of two squared speeds, NaN if sp is NaN."""
+    return sp if (sp > fastest) | (sp != sp) else fastest
+
+
+@nb.njit(**INLINE)
 def integrate(X, V, Q, W, T, G, Rm, C, dt, fastest, lanes):
-    """Semi-implicit Euler step of the struts: V (m/s) from the node forces (cables T, contact
-    G), gravity and damping (eq. 3), then X (m); W (rad/s) by Euler's equations with the torque
-    of eq. 4, then Q by `_rotate`. fastest (L,) <- the largest squared end speed
-    |v|^2 + hl^2 (w0^2 + w1^2), m^2/s^2, over the struts of a lane; NaN if any is NaN."""
+    """`strut` for every strut, with its node forces: cables T and contact G. fastest (L,) <-
+    the largest squared end speed over the struts of a lane (`faster`)."""
     for l in range(len(lanes)):
         fastest[l] = 0.0
     for i in range(6):
         na, nb_ = STRUT_A[i], STRUT_B[i]
         for l in range(len(lanes)):
-            fax, fay, faz = (_node_force(T, G, na, 0, l), _node_force(T, G, na, 1, l),
-                             _node_force(T, G, na, 2, l))
-            fbx, fby, fbz = (_node_force(T, G, nb_, 0, l), _node_force(T, G, nb_, 1, l),
-                             _node_force(T, G, nb_, 2, l))
-            dt_m, ds, hl = C[DT_M, l], C[DS, l], C[HL, l]
-            V[i, 0, l] += dt_m * (fax + fbx) - dt * ds * V[i, 0, l]
-            V[i, 1, l] += dt_m * (fay + fby) - dt * ds * V[i, 1, l]
-            V[i, 2, l] += dt_m * (faz + fbz) - dt * (C[GRAV, l] + ds * V[i, 2, l])
-            X[i, 0, l] += dt * V[i, 0, l]
-            X[i, 1, l] += dt * V[i, 1, l]
-            X[i, 2, l] += dt * V[i, 2, l]
-            # body-frame torque (eq. 4): (0,0,L) x R^T f+ + (0,0,-L) x R^T f-
-            gx, gy, gz = fax - fbx, fay - fby, faz - fbz
-            d0 = Rm[i, 0, 0, l] * gx + Rm[i, 1, 0, l] * gy + Rm[i, 2, 0, l] * gz
-            d1 = Rm[i, 0, 1, l] * gx + Rm[i, 1, 1, l] * gy + Rm[i, 2, 1, l] * gz
-            w0, w1, w2 = W[i, 0, l], W[i, 1, l], W[i, 2, l]
-            # Euler's equations, I = diag(It, It, Ia): w x I w = ((Ia-It) w1 w2, (It-Ia) w2 w0, 0)
-            dt_I, gyro = C[DT_I, l], C[GYRO, l]
-            w0 += dt_I * (-hl * d1) - dt * (gyro * w1 * w2 + ds * w0)
-            w1 += dt_I * (hl * d0) + dt * (gyro * w2 * w0 - ds * w1)
-            w2 -= dt * ds * w2
-            W[i, 0, l], W[i, 1, l], W[i, 2, l] = w0, w1, w2
-            _rotate(Q, i, l, w0, w1, w2, dt)
-            sp = V[i, 0, l] ** 2 + V[i, 1, l] ** 2 + V[i, 2, l] ** 2 + hl * hl * (w0 * w0 + w1 * w1)
-            fastest[l] = sp if (sp > fastest[l]) | (sp != sp) else fastest[l]
+            sp = strut(i, l, X, V, Q, W, Rm, C, dt, _node_force(T, G, na, 0, l),
+                       _node_force(T, G, na, 1, l), _node_force(T, G, na, 2, l),
+                       _node_force(T, G, nb_, 0, l), _node_force(T, G, nb_, 1, l),
+                       _node_force(T, G, nb_, 2, l))
+            fastest[l] = faster(sp, fastest[l])
