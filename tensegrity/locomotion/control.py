@@ -68,7 +68,7 @@ class RollSettings:
     brake: bool = True
     brake_margin: float = 0.035
     brake_rate: float = 10.0
-    brake_tilt: float = 12.0
+    brake_tilt: float = 8.0
     brake_release_time: float = 1.5
     escape_attempts: int = 0
     dt: float = 1e-4
