@@ -68,16 +68,13 @@ def main() -> None:
         terrain = Terrain.slope(sl)
         state = d.State.concat([gv.place(params, f, terrain, (0.0, 0.0), h, len(actions))
                                 for _, f, h in poses])
-        brakes = [Brake(ws, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt)
-                  for _ in range(state.batch)]
 
         def ctl(b, obs):
-            brake = brakes[b]
-            face, obs = yield from _settle_gen(s, obs, brake if s.brake else None)
+            brake = Brake(ws, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None
+            face, obs = yield from _settle_gen(s, obs, brake)
             if face is None:
                 return "fell", None
-            res, _ = yield from _roll_gen(params, s, obs, actions[b % len(actions)], ws.max_pressure,
-                                          brake if s.brake else None)
+            res, _ = yield from _roll_gen(params, s, obs, actions[b % len(actions)], ws.max_pressure, brake)
             return face, res
 
         t0 = time.perf_counter()
