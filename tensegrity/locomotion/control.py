@@ -191,8 +191,8 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
                 level = max(0.0, level - peak * s.interval / (release if up.any() else s.catch_time))
         if phase == "top":
             fade = max(0.0, fade - s.interval / s.hold_time)
-        elif phase == "ramp" and expect > 0:  # handed over to the roll as it nears its pressure
-            fade = min(fade, max(0.0, 1.0 - level / expect))
+        elif phase == "ramp" and expect >= 0:  # handed over to the roll as it nears its
+            fade = min(fade, max(0.0, 1.0 - level / expect) if expect > 0 else 0.0)  # pressure
         pres = held * fade
         if brake and phase in ("release", "land"):  # braced for the face it is rolling onto,
             pres = brake.for_face(landed, obs.nodes) if rolling else held  # or back on its own

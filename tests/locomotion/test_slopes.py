@@ -94,3 +94,26 @@ def test_a_roll_goes_on_from_the_pressures_applied_before(ws):
         first = next(gen)
         assert np.abs(first - before).max() <= s.brake_rate * s.interval + 1e-9
         assert np.any(first != before)  # on its way to the brake and the roll
+
+
+def test_a_roll_planned_at_zero_pressure_lets_the_brake_go(ws):
+    """Where the workspace puts the CoG projection outside the support already at zero pressure
+    (plan pressure 0 MPa: only the brake holds the robot), the roll is the brake letting go,
+    at brake_rate, while the rolling pair has barely started. Once, the brake stayed on until
+    the pair reached the top of its range (4.8 MPa) and the robot, let go with that pressure
+    on, tumbled down a 20 deg slope (benchmarks/bench_locomotion.py)."""
+    s = lo.RollSettings(brake=True)
+    state = d.stand_on(DAMPED, EQUI, SLOPE)
+    brake = Brake(ws, s.brake_margin)
+    obs, = observe(DAMPED, SLOPE, state, s)
+    full = brake.for_face(EQUI, obs.nodes)
+    assert full.max() > 4 * s.brake_rate * s.interval
+    obs = replace(obs, face=EQUI, pressure=full)
+    pair = next(q for q in range(1, 13) if full[q - 1] == 0)
+    gen = _roll_gen(DAMPED, s, obs, (pair,), ws.max_pressure, brake, 0.0)
+    steps = int(np.ceil(full.max() / (s.brake_rate * s.interval))) + 1
+    pres = [next(gen)] + [gen.send(obs) for _ in range(steps)]  # the robot does not move
+    held = np.flatnonzero(full)
+    assert np.all(np.asarray(pres)[-1, held] == 0.0)  # let go within full / brake_rate
+    assert np.asarray(pres)[-1, pair - 1] <= len(pres) * s.ramp_rate * s.interval + 1e-9
+    assert np.all(np.diff(np.asarray(pres)[:, held], axis=0) >= -s.brake_rate * s.interval - 1e-9)
