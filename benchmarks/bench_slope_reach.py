@@ -9,9 +9,11 @@ the run's brake, then makes one controlled roll (`locomotion.control`, the runs'
 with the configured settings: ramp, hold, release, brake) with every single pair and every
 two-pair combination, up to the workspace's highest pressure. A roll counts as uphill when the
 robot then rests on another face with its CoG at least `--gain` m higher up the slope (along
-+x). Per slope: how many poses stand (braked), from how many some single pair or some
-combination rolls the robot uphill, and the outcomes of all rolls (uphill, across or down,
-not rolled, tumbled: on no face after the roll). All rolls of a slope are one batch.
++x), downhill when at least `--gain` m lower, across otherwise. Per slope: how many poses stand
+(braked), from how many some single pair or some combination rolls the robot uphill, from how
+many some action rolls it across or downhill under control (it then rests on a face), and the
+outcomes of all rolls (uphill, across, downhill, not rolled, tumbled: on no face after the
+roll). All rolls of a slope are one batch.
 
 Usage: python benchmarks/bench_slope_reach.py [--workspace results/workspace.nc]
        [--slopes 15 20 24] [--headings 8] [--gain 0.05] [--combos / --no-combos]
@@ -81,14 +83,14 @@ def main() -> None:
         out = lockstep(params, terrain, state, ctl, s)
         wall = time.perf_counter() - t0
         kinds = collections.Counter()
-        stood, up_single, up_combo, best = 0, 0, 0, {}
+        stood, up_single, up_combo, across, down, best = 0, 0, 0, 0, 0, {}
         for i, (kind, f, h) in enumerate(poses):
             res = [out[i * len(actions) + n][0] for n in range(len(actions))]
             if any(r[0] == "fell" for r in res):
                 kinds["fell before the roll"] += len(actions)
                 continue
             stood += 1
-            ups = []
+            ups, ways = [], set()
             for act, (_, r) in zip(actions, res):
                 gain = r.cog_after[0] - r.cog_before[0]
                 if r.face_after is None:
@@ -99,21 +101,28 @@ def main() -> None:
                     kinds["uphill"] += 1
                     ups.append((r.tip_pressure, act, gain))
                 else:
-                    kinds["across or down"] += 1
+                    way = "downhill" if gain <= -a.gain else "across"
+                    kinds[way] += 1
+                    ways.add(way)
             up_single += any(len(u[1]) == 1 for u in ups)
             up_combo += any(len(u[1]) == 2 for u in ups)
+            across += "across" in ways
+            down += "downhill" in ways
             if ups:
                 best[(kind, h)] = min(ups)
         print(f"\n== slope {sl:g} deg: {state.batch} rolls, wall {wall:.0f} s")
         print(f"poses that stand (braked where the brake acts): {stood}/{len(poses)}")
         print(f"poses with an uphill roll: by a single pair {up_single}, by a combination {up_combo}")
+        print(f"poses with a controlled roll (resting on a face after it): across {across}, downhill {down}")
         print("outcomes: " + ", ".join(f"{k} {v}" for k, v in kinds.most_common()))
         for (kind, h), (p, act, g) in sorted(best.items()):
             print(f"  {kind:11s} heading {h:5.1f} deg: least-pressure uphill roll "
                   f"{'+'.join(f'#{q}' for q in act)} at {p:.2f} MPa, {g:.2f} m up")
-        rows.append((sl, f"{stood}/{len(poses)}", up_single, up_combo, kinds["uphill"], kinds["tumbled"]))
-    print("\n| slope deg | poses standing | uphill by a single pair | uphill by a combination "
-          "| uphill rolls | tumbles |\n|---|---|---|---|---|---|")
+        rolled = sum(kinds[k] for k in ("uphill", "across", "downhill", "tumbled"))
+        rows.append((sl, f"{stood}/{len(poses)}", up_single, up_combo, across, down, kinds["uphill"],
+                     f"{kinds['tumbled']} ({100 * kinds['tumbled'] / max(rolled, 1):.0f} %)"))
+    print("\n| slope deg | poses standing | uphill by a single pair | uphill by a combination | across "
+          "| downhill | uphill rolls | tumbles (of the rolls) |\n|---|---|---|---|---|---|---|---|")
     for r in rows:
         print("| " + " | ".join(str(v) for v in r) + " |")
 
