@@ -8,81 +8,14 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
-import re
 import sys
 from collections.abc import Sequence
 
 import numpy as np
 
+from . import cli_args
+
 EXIT_USAGE, EXIT_INPUT, EXIT_SIM = 2, 3, 4
-
-
-def _floats(text: str, n: int | None = None, name: str = "value") -> list[float]:
-    try:
-        vals = [float(v) for v in text.replace(",", " ").split()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{name}: {text!r} is not a list of numbers") from None
-    if n is not None and len(vals) != n:
-        raise argparse.ArgumentTypeError(f"{name}: expected {n} numbers, got {text!r}")
-    if not all(np.isfinite(vals)):
-        raise argparse.ArgumentTypeError(f"{name}: {text!r} is not finite")
-    return vals
-
-
-def _face(text: str) -> float | tuple[int, ...]:
-    """A face on the command line: a number or three node numbers 'a,b,c'. Only the syntax is
-    checked here; the command checks the face itself (topology.face_number, exit 3)."""
-    parts = text.replace(",", " ").split()
-    try:
-        if len(parts) == 1:
-            return float(parts[0])
-        return tuple(int(p) for p in parts)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"face {text!r}: give a number 1..20 or three node "
-                                         "numbers of a face, e.g. 9,10,12") from None
-
-
-def _terrain(text: str):
-    """A terrain spec (physics.terrain.from_spec, the one reading for every command)."""
-    from .physics.terrain import from_spec
-    try:
-        return from_spec(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(str(e)) from None
-
-
-def _positive(name: str):
-    def parse(text: str) -> float:
-        v = _floats(text, 1, name)[0]
-        if not v > 0:
-            raise argparse.ArgumentTypeError(f"{name}: must be positive, got {text!r}")
-        return v
-    return parse
-
-
-def _non_negative(name: str):
-    def parse(text: str) -> float:
-        v = _floats(text, 1, name)[0]
-        if v < 0:
-            raise argparse.ArgumentTypeError(f"{name}: must be >= 0, got {text!r}")
-        return v
-    return parse
-
-
-_NUMBERS = re.compile(r"^-\.?\d[\d.eE+\-]*([, ]+-?\.?\d[\d.eE+\-]*)*$")
-
-
-def _join_negative_values(argv: list[str]) -> list[str]:
-    """`--goal -1.2,1.5` -> `--goal=-1.2,1.5`: argparse would take a value that starts with '-'
-    for an option, so numbers after an option are joined to it before parsing."""
-    out: list[str] = []
-    for tok in argv:
-        if out and _NUMBERS.match(tok) and out[-1].startswith("--") and "=" not in out[-1]:
-            out[-1] = f"{out[-1]}={tok}"
-        else:
-            out.append(tok)
-    return out
 
 
 def _load_cfg(args):
@@ -220,23 +153,6 @@ def cmd_render(args: argparse.Namespace) -> int:
     return 0
 
 
-def _xy(name: str):
-    """A world point or vector 'x,y' (m); negative numbers need no '=' (see _join_negative_values)."""
-    def parse(text: str) -> list[float]:
-        return _floats(text, 2, name)
-    return parse
-
-
-def _heading(text: str) -> list[float]:
-    """A target heading in deg from +x, or a vector 'x,y'."""
-    vals = _floats(text, None, "--direction")
-    if len(vals) == 1:
-        return [math.cos(math.radians(vals[0])), math.sin(math.radians(vals[0]))]
-    if len(vals) != 2:
-        raise argparse.ArgumentTypeError(f"--direction: give a heading in deg or x,y, got {text!r}")
-    return vals
-
-
 def _locomotion_setup(args):
     """Configuration, start face, terrain, parameters, settings and workspace of plan and roll."""
     from .io.formats import read_workspace
@@ -312,20 +228,20 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("simulate", parents=[common], help="simulate one actuation, write a netCDF",
                        description=cmd_simulate.__doc__)
-    p.add_argument("--face", type=_face, default=(9, 10, 12), help="start face: 1..20 or 'a,b,c' (default 9,10,12)")
+    p.add_argument("--face", type=cli_args.face, default=(9, 10, 12), help="start face: 1..20 or 'a,b,c' (default 9,10,12)")
     p.add_argument("--pair", type=int, nargs="+", required=True, help="actuator pair(s) 1..12")
     p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
-    p.add_argument("--duration", type=_positive("--duration"), default=2.0, help="simulated time, s (default 2)")
-    p.add_argument("--ramp", type=_non_negative("--ramp"), default=0.0, help="ramp time from 0 to the pressure, s (default 0: a step)")
+    p.add_argument("--duration", type=cli_args.positive("--duration"), default=2.0, help="simulated time, s (default 2)")
+    p.add_argument("--ramp", type=cli_args.non_negative("--ramp"), default=0.0, help="ramp time from 0 to the pressure, s (default 0: a step)")
     p.add_argument("--mode", choices=["free", "grounded"], default="free", help="free (no gravity/ground) or grounded")
-    p.add_argument("--terrain", type=_terrain, help="grounded terrain: flat, none, slope:ANGLE[:AZIMUTH], random:SEED[:AMPLITUDE]")
+    p.add_argument("--terrain", type=cli_args.terrain, help="grounded terrain: flat, none, slope:ANGLE[:AZIMUTH], random:SEED[:AMPLITUDE]")
     p.add_argument("--out", required=True, help="output netCDF path")
     p.set_defaults(func=cmd_simulate)
 
     p = sub.add_parser("query", help="nominal CoG and margin from the fitted curves", description=cmd_query.__doc__)
     p.add_argument("--curves", default="results/curves/curves.json", help="curves JSON (default results/curves/curves.json)")
     p.add_argument("--workspace", default="results/workspace.nc", help="workspace netCDF (default results/workspace.nc)")
-    p.add_argument("--face", type=_face, required=True, help="face: 1..20 or 'a,b,c'")
+    p.add_argument("--face", type=cli_args.face, required=True, help="face: 1..20 or 'a,b,c'")
     p.add_argument("--pair", type=int, required=True, help="actuator pair 1..12")
     p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
     p.add_argument("--json", action="store_true", help="print JSON")
@@ -334,7 +250,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("render", help="render a dataset to a PNG", description=cmd_render.__doc__)
     p.add_argument("dataset", help="a netCDF written by the workflow or by `tensegrity simulate`")
     p.add_argument("--out", required=True, help="output PNG path")
-    p.add_argument("--face", type=_face, help="face to show, for the workspace (default 9,10,12)")
+    p.add_argument("--face", type=cli_args.face, help="face to show, for the workspace (default 9,10,12)")
     p.set_defaults(func=cmd_render)
 
     p = sub.add_parser("stage", parents=[common], help="run one workflow stage outside Snakemake",
@@ -365,16 +281,16 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--workspace", default="results/workspace.nc", help="workspace file (default results/workspace.nc)")
         p.add_argument("--two-pair", help="two-pair workspace file (results/workspace_two_pair.nc): "
                        "combinations from it, not superposed (default: superposed)")
-        p.add_argument("--face", type=_face, default=(9, 10, 12), help="start face: 1..20 or 'a,b,c' (default 9,10,12)")
-        p.add_argument("--terrain", type=_terrain, default="flat",
+        p.add_argument("--face", type=cli_args.face, default=(9, 10, 12), help="start face: 1..20 or 'a,b,c' (default 9,10,12)")
+        p.add_argument("--terrain", type=cli_args.terrain, default="flat",
                        help="flat (default), slope:ANGLE[:AZIMUTH] or random:SEED[:AMPLITUDE]")
         p.add_argument("--yaw", type=float, default=0.0, help="turn of the robot about the terrain normal, deg")
         if name == "plan":
             tgt = p.add_mutually_exclusive_group(required=True)
-            tgt.add_argument("--direction", type=_heading, help="target heading in deg from +x, or a vector x,y")
-            tgt.add_argument("--goal", type=_xy("--goal"), help="goal point x,y in m")
+            tgt.add_argument("--direction", type=cli_args.heading, help="target heading in deg from +x, or a vector x,y")
+            tgt.add_argument("--goal", type=cli_args.xy("--goal"), help="goal point x,y in m")
         else:
-            p.add_argument("--goal", type=_xy("--goal"), required=True, help="goal point x,y in m")
+            p.add_argument("--goal", type=cli_args.xy("--goal"), required=True, help="goal point x,y in m")
             p.add_argument("--out", help="write the run to this netCDF file")
         p.set_defaults(func=func)
     return ap
@@ -382,7 +298,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     ap = build_parser()
-    args = ap.parse_args(_join_negative_values(sys.argv[1:] if argv is None else list(argv)))
+    args = ap.parse_args(cli_args.join_negative_values(sys.argv[1:] if argv is None else list(argv)))
     from .physics.dynamics import SimulationError
     try:
         return args.func(args)

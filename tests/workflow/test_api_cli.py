@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import tensegrity
-from tensegrity import cli, stages
+from tensegrity import cli, cli_args, stages
 from tensegrity.io import config
 from tensegrity.io import datasets
 
@@ -115,13 +115,13 @@ def test_render_command_draws_a_dataset_and_refuses_a_foreign_file(small_results
 # ---------------------------------------------------------------- one parser per argument kind
 
 def test_numbers_after_an_option_may_be_negative():
-    assert cli._join_negative_values(["roll", "--goal", "-1.2,1.5", "--yaw", "-30"]) == \
+    assert cli_args.join_negative_values(["roll", "--goal", "-1.2,1.5", "--yaw", "-30"]) == \
         ["roll", "--goal=-1.2,1.5", "--yaw=-30"]
-    assert cli._join_negative_values(["plan", "--face", "9,10,12", "-h"]) == ["plan", "--face", "9,10,12", "-h"]
-    args = cli.build_parser().parse_args(cli._join_negative_values(
+    assert cli_args.join_negative_values(["plan", "--face", "9,10,12", "-h"]) == ["plan", "--face", "9,10,12", "-h"]
+    args = cli.build_parser().parse_args(cli_args.join_negative_values(
         ["plan", "--goal", "-1.2,-0.5", "--yaw", "-30"]))
     assert args.goal == [-1.2, -0.5] and args.yaw == -30
-    args = cli.build_parser().parse_args(cli._join_negative_values(["plan", "--direction", "-90"]))
+    args = cli.build_parser().parse_args(cli_args.join_negative_values(["plan", "--direction", "-90"]))
     np.testing.assert_allclose(args.direction, [0.0, -1.0], atol=1e-15)
 
 
