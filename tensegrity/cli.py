@@ -187,7 +187,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
 def cmd_roll(args: argparse.Namespace) -> int:
     """Roll the robot toward a goal in the dynamic simulator; exit 1 if it did not arrive."""
     from .io import datasets
-    from .io.formats import RUN_ALLOW_NAN, run_dataset
+    from .io.run_formats import RUN_ALLOW_NAN, run_dataset
     from .locomotion.runs import describe, roll_to
     from .physics import dynamics
     cfg, face, terrain, params, s, ws = _locomotion_setup(args)

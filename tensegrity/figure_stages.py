@@ -10,7 +10,7 @@ import os
 import numpy as np
 import xarray as xr
 
-from .io import datasets, formats
+from .io import datasets, run_formats
 from .io.config import params_from_config
 from .physics import frames, topology as topo
 
@@ -165,7 +165,7 @@ def _render_nominal(ds, face: int, out, title: str) -> str:
 def _path_figure(ds: xr.Dataset, out, view: str) -> dict:
     """The path of the run dataset `ds` over its terrain, from above ("top") or "3d"."""
     from .render import runs as run_figures
-    terrain = formats.terrain_from_dataset(ds)
+    terrain = run_formats.terrain_from_dataset(ds)
     t = ds["time"].values
     if terrain.kind == "plane":
         slope = float(np.degrees(np.arccos(min(1.0, abs(float(np.asarray(terrain.normal)[2]))))))
@@ -190,19 +190,19 @@ def locomotion_states(paper_path: str | os.PathLike, slope_path: str | os.PathLi
     from .physics import contact as ct
     from .render import locomotion as state_figures
     ds = datasets.read(paper_path)
-    terrain = formats.terrain_from_dataset(ds)
+    terrain = run_formats.terrain_from_dataset(ds)
     face = int(ds["face"].values[0])
     pair = int(ds["step_pair"].values[0, 0])
     tip = float(ds["tip_pressure"].values[0])
     edge = [topo.edge_nodes(face, j) for j in range(3)].index(tuple(ds["edge"].values[0]))
-    k, p = formats.run_sample(ds, terrain, 1, "stable")
+    k, p = run_formats.run_sample(ds, terrain, 1, "stable")
     out = [state_figures.fig_state(
         p, terrain, face, fig8,
         f"Fig. 8  Stable: #{pair} at {ds['pressure'].values[k].max():.1f} MPa, the CoG "
         f"projection stays inside {topo.face_label(face)}",
         arrow=ct.edge_outward(p[topo.FACES[face - 1]])[edge])]
     try:
-        k, p = formats.run_sample(ds, terrain, 1, "rolling")
+        k, p = run_formats.run_sample(ds, terrain, 1, "rolling")
         title9 = (f"Fig. 9  Rolling: #{pair} tipped the robot at {tip:.2f} MPa; the CoG "
                   f"projection has left {topo.face_label(face)}")
     except ValueError:  # e.g. grounded sweeps: the planned pressure did not tip the robot
@@ -216,7 +216,7 @@ def locomotion_states(paper_path: str | os.PathLike, slope_path: str | os.PathLi
     sl = datasets.read(slope_path)
     k0 = int(np.searchsorted(sl["time"].values, sl["t_start"].values[0]))
     out.append(state_figures.fig_slope(
-        sl["nodes"].values[k0], formats.terrain_from_dataset(sl), int(sl["face"].values[0]), fig10,
+        sl["nodes"].values[k0], run_formats.terrain_from_dataset(sl), int(sl["face"].values[0]), fig10,
         f"Fig. 10  Slope: the CoG projects along gravity onto the contact plane "
         f"('{sl.attrs['run']}' run)"))
     return out
@@ -237,5 +237,5 @@ def locomotion_animation(run_path: str | os.PathLike, gif: str | os.PathLike, fp
     from .render import runs as run_figures
     ds = datasets.read(run_path)
     return run_figures.animate(ds["nodes"].values, ds["time"].values, ds["pressure"].values,
-                               formats.terrain_from_dataset(ds), gif, goal=ds["goal"].values,
+                               run_formats.terrain_from_dataset(ds), gif, goal=ds["goal"].values,
                                label=f"run '{ds.attrs.get('run', '')}'", fps=fps, speed=speed)

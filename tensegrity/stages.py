@@ -155,10 +155,10 @@ def locomotion_run(cfg: dict, name: str, workspace_path: str | Path, out_path: s
     from the workspace file (results/workspace.nc) and, if given, the measured two-pair
     curves of results/workspace_two_pair.nc (`Workspace.with_two_pair`; without it two pairs
     are superposed), and rolled in the grounded simulation.
-    Writes the run dataset (results/locomotion/{run}.nc, `io.formats.run_dataset`) to
+    Writes the run dataset (results/locomotion/{run}.nc, `io.run_formats.run_dataset`) to
     `out_path` and returns its path; prints the steps and the outcome. `cfg`: the sections of
     STAGE_CONFIG["locomotion_run"], merged over the workspace file's provenance."""
-    from .io import formats
+    from .io import formats, run_formats
     from .locomotion import demos, runs
     from .locomotion.control import RollSettings
     src = datasets.read(workspace_path)  # read once: the workspace and its provenance
@@ -174,9 +174,9 @@ def locomotion_run(cfg: dict, name: str, workspace_path: str | Path, out_path: s
     else:
         run = runs.roll_to(ws, setup["goal"], params, setup["terrain"], settings=s)
     print(runs.describe(run, name))
-    return datasets.write(formats.run_dataset(run, setup["terrain"], name), out_path,
+    return datasets.write(run_formats.run_dataset(run, setup["terrain"], name), out_path,
                           {**datasets.provenance_config(src), **cfg},
                           f"Rolling locomotion run '{name}': {run.outcome}",
-                          stage="locomotion", allow_nan=formats.RUN_ALLOW_NAN)
+                          stage="locomotion", allow_nan=run_formats.RUN_ALLOW_NAN)
 
 

@@ -17,7 +17,7 @@ from tensegrity.physics import dynamics as d
 from tensegrity.physics import frames, topology as topo
 from tensegrity import cli
 from tensegrity import locomotion as lo
-from tensegrity.io import formats
+from tensegrity.io import formats, run_formats
 from tensegrity.workspace import mapping
 from tensegrity.physics import statics
 from tensegrity.physics.params import Params
@@ -205,15 +205,15 @@ def test_paper_experiment(paper):
 
 def test_run_dataset_round_trip(paper, tmp_path):
     terrain = Terrain.flat()
-    path = datasets.write(formats.run_dataset(paper, terrain, "paper"), tmp_path / "paper.nc", {},
-                          "paper run", allow_nan=formats.RUN_ALLOW_NAN)
+    path = datasets.write(run_formats.run_dataset(paper, terrain, "paper"), tmp_path / "paper.nc", {},
+                          "paper run", allow_nan=run_formats.RUN_ALLOW_NAN)
     ds = datasets.read(path)
     assert list(ds["faces"].values) == [EQUI, ISO, NEXT]
     assert ds["step_pair"].values.tolist() == [[10, 0], [11, 0]]
     assert ds["tip_pressure"].values == pytest.approx([st.used.tip_pressure for st in paper.steps])
     assert ds.attrs["outcome"] == "arrived"
     assert ds["nodes"].shape == (len(paper.record.t), 12, 3)
-    back = formats.terrain_from_dataset(ds)
+    back = run_formats.terrain_from_dataset(ds)
     assert back.kind == "plane" and back.height(1.0, 2.0) == terrain.height(1.0, 2.0)
 
 
@@ -365,8 +365,8 @@ def test_state_figures_show_the_projection_inside_and_outside(tmp_path):
 
 def test_path_figure_and_animation_of_a_run(paper, tmp_path):
     from tensegrity.render import runs as rr
-    ds = formats.run_dataset(paper, Terrain.flat(), "paper")
-    terrain, t = formats.terrain_from_dataset(ds), ds["time"].values
+    ds = run_formats.run_dataset(paper, Terrain.flat(), "paper")
+    terrain, t = run_formats.terrain_from_dataset(ds), ds["time"].values
     step_end = np.searchsorted(t, ds["t_end"].values)  # each step's last sample
     assert np.array_equal(t[step_end], ds["t_end"].values)
     out = rr.fig_path(ds["nodes"].values, terrain, tmp_path / "top.png", "paper",

@@ -6,7 +6,7 @@ import pytest
 import xarray as xr
 
 from tensegrity import figure_stages, stages
-from tensegrity.io import datasets, formats
+from tensegrity.io import datasets, formats, run_formats
 from tensegrity.io.config import defaults
 from tensegrity.physics import frames, topology as topo
 from tensegrity.physics.terrain import Terrain
@@ -126,7 +126,7 @@ def test_path_titles_name_the_ground(tmp_path, monkeypatch, terrain, words):
     ds = xr.Dataset(attrs={"run": "r", "outcome": "arrived", "rolls": 1})
     seen = {}
     from tensegrity.render import runs
-    monkeypatch.setattr(formats, "terrain_from_dataset", lambda ds: terrain)
+    monkeypatch.setattr(run_formats, "terrain_from_dataset", lambda ds: terrain)
     monkeypatch.setattr(runs, "fig_path", lambda *a, **kw: seen.update(title=a[3]) or seen)
     ds = ds.assign(time=("time", [0.0, 1.0]), t_end=("step", [1.0]), next_face=("step", [8]),
                    goal=("axis", [1.0, 0.0, 0.0]), nodes=(("time", "node", "axis"), np.zeros((2, 12, 3))))

@@ -1,0 +1,122 @@
+"""The locomotion runs' files, results/locomotion/{run}.nc (docs/design.md §5, docs/datasets.md):
+the builder (`run_dataset`, written by `datasets.write(..., allow_nan=RUN_ALLOW_NAN)`) and the
+readers the figures use (`terrain_from_dataset`, `run_sample`).
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+import xarray as xr
+
+from ..physics import topology as topo
+from ..physics.terrain import Terrain
+from . import datasets
+
+if TYPE_CHECKING:  # imported where used: importing io.run_formats loads no simulator (numba)
+    from ..locomotion.runs import Run
+
+__all__ = ["RUN_ALLOW_NAN", "run_dataset", "terrain_from_dataset", "run_sample"]
+
+RUN_ALLOW_NAN = ("planned_pressure", "tip_pressure", "goal")  # NaN: no roll predicted / none / no goal
+
+
+def run_dataset(run: Run, terrain: Terrain, name: str = "") -> xr.Dataset:
+    """A run as an xarray Dataset (docs/design.md §5, results/locomotion/{run}.nc): samples
+    (time), steps (step, with the chosen pair(s) and pressures), the faces visited (visit) and
+    the terrain, with units and long names. Nothing time-dependent (no wall time) is stored.
+    Write it with `datasets.write(..., allow_nan=RUN_ALLOW_NAN)`."""
+    var = datasets.var
+    rec, steps = run.record, run.steps
+    n = len(steps)
+    used = [st.used for st in steps]
+    pairs = np.zeros((n, 2), np.int64)
+    for i, r in enumerate(used):
+        pairs[i, :len(r.pairs)] = r.pairs
+    edge = np.array([st.plan.edge for st in steps], np.int64).reshape(n, 2)
+    return xr.Dataset(
+        {"nodes": var(("time", "node", "axis"), rec.nodes, "m", "node positions, world frame"),
+         "cog": var(("time", "axis"), rec.cog, "m", "centre of gravity, world frame"),
+         "pressure": var(("time", "pair"), rec.pressure, "MPa", "pressure applied to each actuator pair"),
+         "contact_face": var(("time",), rec.face, "1", "face resting on the terrain (0: none)"),
+         "face": var(("step",), np.array([st.face for st in steps], np.int64), "1", "face the step started on"),
+         "next_face": var(("step",), np.array([st.face_after or 0 for st in steps], np.int64), "1",
+                          "face the robot settled on after the step (0: none)"),
+         "predicted_face": var(("step",), np.array([st.plan.next_face for st in steps], np.int64), "1",
+                               "face the plan predicted (across the planned edge)"),
+         "step_pair": var(("step", "slot"), pairs, "1", "actuator pair(s) driven in the step's rolling attempt (0: none)"),
+         "planned_pressure": var(("step",), np.array([st.plan.pressure for st in steps]), "MPa",
+                                 "least rolling pressure predicted by the workspace (NaN: no roll predicted)"),
+         "tip_pressure": var(("step",), np.array([r.tip_pressure for r in used]), "MPa",
+                             "pressure held when the robot tipped in the simulation (NaN: it did not roll)"),
+         "peak_pressure": var(("step",), np.array([r.peak_pressure for r in used]), "MPa",
+                              "highest pressure applied in the step's last attempt"),
+         "edge": var(("step", "end"), edge, "1", "nodes of the planned edge"),
+         "alignment": var(("step",), np.array([st.plan.alignment for st in steps]), "1",
+                          "cosine between the planned edge's outward direction and the target direction"),
+         "reach": var(("step",), np.array([st.plan.reach for st in steps]), "m",
+                      "predicted margin at the workspace's highest level (negative: outside)"),
+         "attempts": var(("step",), np.array([len(st.attempts) for st in steps], np.int64), "1",
+                         "candidates tried in the step"),
+         "t_start": var(("step",), np.array([st.attempts[0].t_start for st in steps]), "s", "start of the step"),
+         "t_end": var(("step",), np.array([r.t_end for r in used]), "s", "end of the step (settled)"),
+         "position": var(("step", "axis"), np.array([r.cog_after for r in used]).reshape(n, 3), "m",
+                         "centre of gravity after the step, world frame"),
+         "faces": var(("visit",), np.array(run.faces, np.int64), "1", "contact faces visited, in order"),
+         "goal": var(("axis",), run.goal, "m", "goal, world frame (NaN: a run over given edges)"),
+         "start": var(("axis",), run.start, "m", "centre of gravity at the start, world frame"),
+         "terrain_heights": var(("tx", "ty"), terrain.heights, "m",
+                                "height field of the terrain (kind heightfield)")},
+        coords={"time": ("time", rec.t, {"units": "s", "long_name": "time"}),
+                "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"}),
+                "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "actuator pair number"}),
+                "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "world axis"}),
+                "step": ("step", np.arange(1, n + 1), {"units": "1", "long_name": "step number"}),
+                "slot": ("slot", [1, 2], {"units": "1", "long_name": "pair slot (two pairs when combined)"}),
+                "end": ("end", [1, 2], {"units": "1", "long_name": "edge end"}),
+                "visit": ("visit", np.arange(1, len(run.faces) + 1), {"units": "1", "long_name": "visit number"})},
+        attrs={"run": name, "outcome": run.outcome, "message": run.message, "rolls": run.rolls,
+               "terrain_kind": terrain.kind, "terrain_normal": terrain.normal,
+               "terrain_offset": float(terrain.offset), "terrain_origin": np.asarray(terrain.origin, float),
+               "terrain_spacing": float(terrain.spacing)})
+
+
+def terrain_from_dataset(ds: xr.Dataset) -> Terrain:
+    """The terrain a run dataset (results/locomotion/{run}.nc) was simulated on: kind, normal,
+    offset (m), origin (m), spacing (m) from the attributes, heights (m) from terrain_heights."""
+    return Terrain(kind=str(ds.attrs["terrain_kind"]), normal=np.asarray(ds.attrs["terrain_normal"], float),
+                   offset=float(ds.attrs["terrain_offset"]), origin=tuple(np.asarray(ds.attrs["terrain_origin"], float)),
+                   spacing=float(ds.attrs["terrain_spacing"]), heights=ds["terrain_heights"].values)
+
+
+def run_sample(ds: xr.Dataset, terrain: Terrain, step: int, which: str) -> tuple[int, np.ndarray]:
+    """Index and nodes (12, 3) m of a sample of step `step` (1-based) of a run: 'stable' (the
+    pressure at half the tipping pressure, the robot still on its face) or 'rolling' (pivoting
+    on an edge of its face, the first sample with the CoG projection 25 mm outside, else the
+    furthest)."""
+    from ..physics import contact as ct
+    best = None
+    radius = float(datasets.provenance_config(ds)["params"]["strut_radius"])
+    t = ds["time"].values
+    k0 = int(np.searchsorted(t, ds["t_start"].values[step - 1]))
+    k1 = int(np.searchsorted(t, ds["t_end"].values[step - 1]))
+    face = int(ds["face"].values[step - 1])
+    nodes = ds["nodes"].values
+    pres = ds["pressure"].values.max(axis=1)
+    tip = float(ds["tip_pressure"].values[step - 1])
+    for k in range(k0, k1):
+        if which == "stable" and np.isfinite(tip) and pres[k] >= 0.5 * tip:
+            return k, nodes[k]
+        if which == "rolling":
+            touching = ct.clearance(nodes[k], terrain, radius)[topo.FACES[face - 1]] < 0.002
+            m = ct.judge(nodes[k], face).margin
+            if touching.sum() == 2 and m < 0:
+                if m < -0.025:
+                    return k, nodes[k]
+                if best is None or m < best[0]:
+                    best = (m, k)
+    if which == "stable":
+        return k0, nodes[k0]
+    if best is not None:
+        return best[1], nodes[best[1]]
+    raise ValueError(f"step {step} of run {ds.attrs.get('run')!r} never leaves its face")
