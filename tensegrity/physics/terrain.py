@@ -91,8 +91,9 @@ class Terrain:
         if self.kind != "heightfield":
             return np.broadcast_to(self.normal, np.broadcast(x, y).shape + (3,)).copy()
         e = 1e-6 * self.spacing
-        hx = (self.height(x + e, y) - self.height(x - e, y)) / (2 * e)
-        hy = (self.height(x, y + e) - self.height(x, y - e)) / (2 * e)
+        x, y = np.broadcast_arrays(x, y)
+        h = self.height(np.stack([x + e, x - e, x, x]), np.stack([y, y, y + e, y - e]))  # one query
+        hx, hy = (h[0] - h[1]) / (2 * e), (h[2] - h[3]) / (2 * e)
         n = np.stack([-hx, -hy, np.ones_like(hx)], axis=-1)
         return n / np.linalg.norm(n, axis=-1, keepdims=True)
 
