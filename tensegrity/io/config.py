@@ -23,14 +23,16 @@ import math
 import os
 from collections.abc import Iterable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import jsonschema
 import numpy as np
 import yaml
 
 from ..physics.params import Params
 from .cross_checks import semantic_errors
+
+if TYPE_CHECKING:
+    import jsonschema
 
 __all__ = ["ConfigError", "load", "validate", "params_from_config", "to_json", "merge", "schema",
            "defaults", "read_yaml", "check_files", "SCHEMA_PATH", "DEFAULT_PATH"]
@@ -120,6 +122,7 @@ def schema() -> dict:
 def _extend_with_default(cls):
     """Validator class that fills `default`s while validating (jsonschema FAQ pattern). Defaults
     are deep-copied so that filling a nested section never alters the schema itself."""
+    import jsonschema
     validate_properties = cls.VALIDATORS["properties"]
 
     def set_defaults(validator, properties, instance, schema):
@@ -134,6 +137,7 @@ def _extend_with_default(cls):
 
 @functools.lru_cache(maxsize=1)
 def _validator():
+    import jsonschema  # here: a job that validates no configuration does not pay its import
     s = _schema()
     cls = jsonschema.validators.validator_for(s)
     cls.check_schema(s)

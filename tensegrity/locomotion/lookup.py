@@ -146,7 +146,21 @@ class Workspace:
         rest state first. Two pairs take the measured two-pair curve (`with_two_pair`) where
         there is one; otherwise (fallback) pairs are superposed: rest + sum of the single
         displacements (an estimate that underestimates the shift: 46 mm for 58 mm measured, #10
-        with #6 on (9,10,12))."""
+        with #6 on (9,10,12)). The arrays are read-only: kept for the next call with the same
+        face and actions (a planner asks again for every pose)."""
+        acts = tuple(tuple(int(q) for q in act) for act in actions)
+        key = (int(face), acts)
+        if key not in self._curves:
+            self._curves[key] = self._curve(int(face), acts)
+        return self._curves[key]
+
+    @functools.cached_property
+    def _curves(self) -> dict:
+        """(face, actions) -> `curve`."""
+        return {}
+
+    def _curve(self, face: int, actions: tuple[tuple[int, ...], ...]) -> tuple[np.ndarray, np.ndarray]:
+        """`curve`, computed."""
         f = face - 1
         rest_cog, rest_support = self.rest_cog[f], self.rest_support[f]
         cog = np.concatenate([np.broadcast_to(rest_cog, (12, 1, 3)), self.cog[f]], axis=1)
@@ -163,8 +177,11 @@ class Workspace:
             out_cog.append(rest_cog + np.sum(cog[idx] - rest_cog, axis=0))
             out_support.append(rest_support + np.sum(support[idx] - rest_support, axis=0))
         n = self.levels.size + 1
-        return (np.reshape(out_cog, (len(out_cog), n, 3)),
-                np.reshape(out_support, (len(out_support), n, 3, 3)))  # A = 0: empty arrays
+        out = (np.reshape(out_cog, (len(out_cog), n, 3)),
+               np.reshape(out_support, (len(out_support), n, 3, 3)))  # A = 0: empty arrays
+        for a in out:
+            a.flags.writeable = False
+        return out
 
 
 @dataclass(frozen=True)

@@ -15,6 +15,8 @@ def check_pressures(p: ArrayLike, name: str = "pressure") -> np.ndarray:
     """Return p as float array; raise ValueError naming `name` if any value is NaN or outside
     [0, MAX_PRESSURE] MPa."""
     a = np.asarray(p, dtype=float)
+    if (a >= 0).all() and (a <= MAX_PRESSURE).all():  # the usual case (NaN fails both)
+        return a
     bad = ~np.isfinite(a) | (a < 0) | (a > MAX_PRESSURE)
     if np.any(bad):
         raise ValueError(f"{name}: {float(a[bad].ravel()[0])!r} MPa is outside 0..{MAX_PRESSURE} MPa")

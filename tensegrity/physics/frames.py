@@ -15,6 +15,8 @@ from numpy.typing import ArrayLike
 
 from .topology import FACE_REFERENCE, FACES, N_FACES, face_number, reference_nodes
 
+_NEXT = [1, 2, 0]  # corner k+1 (mod 3): edge k joins corners k and k+1
+
 def support_frame(tri: np.ndarray, ref: int, inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Supporting-triangle frame (docs/design.md §2, paper Fig. 5).
 
@@ -78,27 +80,20 @@ def rest_frame(face: int | Sequence[int], strut_length: float) -> tuple[np.ndarr
 def edge_distances(point: np.ndarray, tri: np.ndarray) -> np.ndarray:
     """Signed distances (m) of 2-D point(s) (..., 2) to the three edge lines of triangle(s)
     (..., 3, 2), positive on the inner side; edge k joins corners k and k+1 (mod 3)."""
-    centroid = tri.mean(axis=-2)
-    out = []
-    for k in range(3):
-        a, b = tri[..., k, :], tri[..., (k + 1) % 3, :]
-        e = b - a
-        nrm = np.stack([e[..., 1], -e[..., 0]], axis=-1) / np.linalg.norm(e, axis=-1)[..., None]
-        s = np.sign(np.sum(nrm * (centroid - a), axis=-1))[..., None]
-        out.append(np.sum(s * nrm * (point - a), axis=-1))
-    return np.stack(out, axis=-1)
+    point, tri = np.asarray(point), np.asarray(tri)
+    e = tri[..., _NEXT, :] - tri  # (..., 3, 2): the three edges at once
+    nrm = np.stack([e[..., 1], -e[..., 0]], axis=-1) / np.linalg.norm(e, axis=-1)[..., None]
+    s = np.sign(np.sum(nrm * (tri.mean(axis=-2)[..., None, :] - tri), axis=-1))[..., None]
+    return np.sum(s * nrm * (point[..., None, :] - tri), axis=-1)
 
 
 def margin_2d(point: np.ndarray, tri: np.ndarray) -> np.ndarray:
     """Signed Euclidean distance (m) of 2-D point(s) (..., 2) to the boundary of triangle(s)
     (..., 3, 2): positive inside, negative outside."""
-    seg = []
-    for k in range(3):
-        a, b = tri[..., k, :], tri[..., (k + 1) % 3, :]
-        e = b - a
-        t = np.clip(np.sum((point - a) * e, axis=-1) / np.sum(e * e, axis=-1), 0.0, 1.0)
-        seg.append(np.linalg.norm(point - (a + t[..., None] * e), axis=-1))
-    dist = np.min(np.stack(seg, axis=-1), axis=-1)
+    point, tri = np.asarray(point), np.asarray(tri)
+    e, rel = tri[..., _NEXT, :] - tri, point[..., None, :] - tri  # (..., 3, 2): per edge
+    t = np.clip(np.sum(rel * e, axis=-1) / np.sum(e * e, axis=-1), 0.0, 1.0)
+    dist = np.min(np.linalg.norm(point[..., None, :] - (tri + t[..., None] * e), axis=-1), axis=-1)
     inside = np.all(edge_distances(point, tri) >= 0, axis=-1)
     return np.where(inside, dist, -dist)
 

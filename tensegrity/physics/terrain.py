@@ -78,11 +78,13 @@ class Terrain:
         u, v = (x - self.origin[0]) / self.spacing, (y - self.origin[1]) / self.spacing
         i, j = np.floor(u).astype(int), np.floor(v).astype(int)
         ok = (i >= 0) & (j >= 0) & (i < z.shape[0] - 1) & (j < z.shape[1] - 1)
-        i, j = np.clip(i, 0, z.shape[0] - 2), np.clip(j, 0, z.shape[1] - 2)
+        i, j = np.minimum(np.maximum(i, 0), z.shape[0] - 2), np.minimum(np.maximum(j, 0), z.shape[1] - 2)
         s, t = u - i, v - j
         low = s + t <= 1
-        h_low = z[i, j] + s * (z[i + 1, j] - z[i, j]) + t * (z[i, j + 1] - z[i, j])
-        h_up = z[i + 1, j + 1] + (1 - s) * (z[i, j + 1] - z[i + 1, j + 1]) + (1 - t) * (z[i + 1, j] - z[i + 1, j + 1])
+        k, ny, zf = i * z.shape[1] + j, z.shape[1], z.ravel()  # the cell's corners, each read once
+        z00, z10, z01, z11 = zf[k], zf[k + ny], zf[k + 1], zf[k + ny + 1]
+        h_low = z00 + s * (z10 - z00) + t * (z01 - z00)
+        h_up = z11 + (1 - s) * (z01 - z11) + (1 - t) * (z10 - z11)
         return np.where(ok, np.where(low, h_low, h_up), np.nan)
 
     def normal_at(self, x: ArrayLike, y: ArrayLike) -> np.ndarray:
@@ -91,8 +93,9 @@ class Terrain:
         if self.kind != "heightfield":
             return np.broadcast_to(self.normal, np.broadcast(x, y).shape + (3,)).copy()
         e = 1e-6 * self.spacing
-        hx = (self.height(x + e, y) - self.height(x - e, y)) / (2 * e)
-        hy = (self.height(x, y + e) - self.height(x, y - e)) / (2 * e)
+        x, y = np.broadcast_arrays(x, y)
+        h = self.height(np.stack([x + e, x - e, x, x]), np.stack([y, y, y + e, y - e]))  # one query
+        hx, hy = (h[0] - h[1]) / (2 * e), (h[2] - h[3]) / (2 * e)
         n = np.stack([-hx, -hy, np.ones_like(hx)], axis=-1)
         return n / np.linalg.norm(n, axis=-1, keepdims=True)
 
