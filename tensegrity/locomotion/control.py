@@ -67,7 +67,7 @@ class RollSettings:
     arrive_tolerance: float = 0.3
     brake: bool = True
     brake_margin: float = 0.035
-    brake_rate: float = 10.0
+    brake_rate: float = 6.0
     brake_tilt: float = 8.0
     brake_release_time: float = 1.5
     escape_attempts: int = 0
