@@ -6,8 +6,13 @@ from __future__ import annotations
 import argparse
 import math
 import re
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .physics.terrain import Terrain
 
 
 def floats(text: str, n: int | None = None, name: str = "value") -> list[float]:
@@ -36,7 +41,7 @@ def face(text: str) -> float | tuple[int, ...]:
                                          "numbers of a face, e.g. 9,10,12") from None
 
 
-def terrain(text: str):
+def terrain(text: str) -> Terrain:
     """A terrain spec (physics.terrain.from_spec, the one reading for every command)."""
     from .physics.terrain import from_spec
     try:
@@ -45,7 +50,7 @@ def terrain(text: str):
         raise argparse.ArgumentTypeError(str(e)) from None
 
 
-def positive(name: str):
+def positive(name: str) -> Callable[[str], float]:
     def parse(text: str) -> float:
         v = floats(text, 1, name)[0]
         if not v > 0:
@@ -54,7 +59,7 @@ def positive(name: str):
     return parse
 
 
-def non_negative(name: str):
+def non_negative(name: str) -> Callable[[str], float]:
     def parse(text: str) -> float:
         v = floats(text, 1, name)[0]
         if v < 0:
@@ -78,7 +83,7 @@ def join_negative_values(argv: list[str]) -> list[str]:
     return out
 
 
-def xy(name: str):
+def xy(name: str) -> Callable[[str], list[float]]:
     """A world point or vector 'x,y' (m); negative numbers need no '=' (see join_negative_values)."""
     def parse(text: str) -> list[float]:
         return floats(text, 2, name)
