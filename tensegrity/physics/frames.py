@@ -17,6 +17,7 @@ from .topology import FACE_REFERENCE, FACES, N_FACES, face_number, reference_nod
 
 _NEXT = [1, 2, 0]  # corner k+1 (mod 3): edge k joins corners k and k+1
 
+
 def support_frame(tri: np.ndarray, ref: int, inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Supporting-triangle frame (docs/design.md §2, paper Fig. 5).
 
