@@ -7,7 +7,6 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.spatial.transform import Rotation
 
 from . import topology as topo
 from . import kernel
@@ -65,7 +64,31 @@ class State:
 def axes(q: np.ndarray) -> np.ndarray:
     """Rotation matrices (..., 3, 3) of unit quaternions (..., 4) (w, x, y, z); columns are the
     body axes in world components."""
-    return Rotation.from_quat(q.reshape(-1, 4), scalar_first=True).as_matrix().reshape(q.shape[:-1] + (3, 3))
+    w, x, y, z = np.moveaxis(q / np.linalg.norm(q, axis=-1, keepdims=True), -1, 0)
+    return np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
+                     2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+                     2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+                    axis=-1).reshape(q.shape[:-1] + (3, 3))
+
+
+def turn(axis: ArrayLike, angle: float) -> np.ndarray:
+    """Rotation matrix (3, 3) of `angle` rad about the unit vector `axis` (3,) (Rodrigues)."""
+    k = np.asarray(axis, dtype=float)
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+
+
+def align(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The smallest rotation (3, 3) taking the unit vector a (3,) onto the unit vector b (3,)
+    (about a x b; about any axis normal to a when they are opposite)."""
+    k = np.cross(a, b)
+    s, c = float(np.linalg.norm(k)), float(np.dot(a, b))
+    if s < 1e-12:
+        if c > 0:
+            return np.eye(3)
+        k = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
+        return turn(k / np.linalg.norm(k), np.pi)
+    return turn(k / s, np.arctan2(s, c))
 
 
 def nodes(x: np.ndarray, q: np.ndarray, strut_length: float | np.ndarray) -> np.ndarray:
@@ -132,9 +155,7 @@ def stand_on(params: Params, face: int | Sequence[int], terrain: Terrain | None 
     if terrain.kind == "heightfield" and np.isnan(terrain.height(px, py)):
         raise ValueError(f"terrain has nothing under the robot at position {position}")
     up = terrain.normal_at(px, py) if terrain.kind != "none" else np.array([0.0, 0.0, 1.0])
-    rot, _ = Rotation.align_vectors([-up], [outward])
-    rot = Rotation.from_rotvec(np.radians(yaw_deg) * up) * rot
-    p = rot.apply(p)
+    p = p @ (turn(up, np.radians(yaw_deg)) @ align(outward, -up)).T
     p[:, :2] += [px, py]
     if terrain.kind == "none":
         p[:, 2] += r - p[:, 2].min()
