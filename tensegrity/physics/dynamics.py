@@ -61,14 +61,16 @@ class State:
                        ("x", "v", "q", "w", "anchor", "stuck")), t=states[0].t if t is None else t)
 
 
-def axes(q: np.ndarray) -> np.ndarray:
-    """Rotation matrices (..., 3, 3) of unit quaternions (..., 4) (w, x, y, z); columns are the
-    body axes in world components."""
-    w, x, y, z = np.moveaxis(q / np.linalg.norm(q, axis=-1, keepdims=True), -1, 0)
-    return np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
-                     2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
-                     2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-                    axis=-1).reshape(q.shape[:-1] + (3, 3))
+def axes(q: np.ndarray, column: int | None = None) -> np.ndarray:
+    """Rotation matrices (..., 3, 3) of quaternions (..., 4) (w, x, y, z; normalised here);
+    columns are the body axes in world components. With `column` (0..2): that axis (..., 3)."""
+    w, x, y, z = np.moveaxis(q / np.sqrt((q * q).sum(axis=-1))[..., None], -1, 0)
+    cols = (lambda: (1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)),
+            lambda: (2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)),
+            lambda: (2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)))
+    if column is not None:
+        return np.stack(cols[column](), axis=-1)
+    return np.stack([np.stack(c(), axis=-1) for c in cols], axis=-1)
 
 
 def turn(axis: ArrayLike, angle: float) -> np.ndarray:
@@ -96,7 +98,7 @@ def nodes(x: np.ndarray, q: np.ndarray, strut_length: float | np.ndarray) -> np.
     (strut end = x + L c for the first node of a strut, x - L c for the second; eq. 4)."""
     half = 0.5 * np.asarray(strut_length, dtype=float)
     half = half.reshape(half.shape + (1,) * (x.ndim - half.ndim))[..., None, :] if half.ndim else half
-    c = axes(q)[..., :, 2] * (half if np.ndim(half) == 0 else half[..., 0, :][..., None, :])
+    c = axes(q, 2) * (half if np.ndim(half) == 0 else half[..., 0, :][..., None, :])
     p = np.empty(x.shape[:-2] + (topo.N_NODES, 3))
     p[..., topo.STRUTS[:, 0], :] = x + c
     p[..., topo.STRUTS[:, 1], :] = x - c

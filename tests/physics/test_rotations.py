@@ -14,6 +14,8 @@ def test_axes_are_scipys_matrices_of_any_quaternion():
     q = np.random.default_rng(3).normal(size=(4, 6, 4)) * 2.5  # not unit: both normalise
     want = Rotation.from_quat(q.reshape(-1, 4), scalar_first=True).as_matrix().reshape(4, 6, 3, 3)
     np.testing.assert_allclose(d.axes(q), want, atol=1e-15)
+    for k in range(3):  # one body axis alone: the matrix's column
+        np.testing.assert_allclose(d.axes(q, k), want[..., k], atol=1e-15)
 
 
 @pytest.mark.parametrize("b", [[0.0, 0.0, -1.0], [0.3, -0.4, 0.866], [-0.6, 0.0, -0.8]])
