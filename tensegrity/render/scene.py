@@ -64,6 +64,7 @@ def plotter(title: str | None, panels: int = 1, size: tuple[int, int] = WINDOW) 
     offscreen()
     pl = pv.Plotter(off_screen=True, window_size=size, shape=(1, 4 if panels == 3 else 1),
                     border=False)
+    pl.ren_win.SetMultiSamples(4)  # PyVista's 8 cost 0.15 s more a figure in software, no better to see
     pl.set_background("white")
     if panels == 3:
         ports = [(0.0, 0.0, 0.7, 0.93), (0.7, 0.45, 1.0, 0.93), (0.7, 0.0, 1.0, 0.45),
