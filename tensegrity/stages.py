@@ -46,6 +46,23 @@ def logging_to(path: str | os.PathLike, threads: int | None = None) -> Iterator[
             raise
 
 
+@contextlib.contextmanager
+def job(path: str | os.PathLike, threads: int | None = None) -> Iterator[None]:
+    """The body of a workflow script: `logging_to` the log file `path` with `threads` compute
+    threads; on success the process then ends at once, without the interpreter's teardown
+    (freeing numba's compiled code and the renderer took 0.3-0.45 s of CPU in every job, a
+    tenth of the pipeline's). Every output is written and closed by then; the streams are
+    flushed first. A failure raises as usual (traceback in the log, exit status 1)."""
+    import logging
+    import sys
+    with logging_to(path, threads):
+        yield
+    logging.shutdown()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(0)
+
+
 def _provenance(cfg: dict, *inputs) -> dict:
     """cfg merged over the provenance of the input files (inputs win nothing: cfg is newer)."""
     out = {}

@@ -37,41 +37,33 @@ rule locomotion_run:
         "../scripts/locomotion_run.py"
 
 
-rule locomotion_states:
-    """Fig. 8 (stable), Fig. 9 (rolling) from the paper run; Fig. 10 (slope) from a slope run."""
-    input:
-        paper="results/locomotion/paper.nc",
-        slope=f"results/locomotion/{SLOPE_RUN}.nc",
-    output:
-        fig8=report("results/figures/fig8_stable.png", caption="../report/fig8.rst", category="Locomotion"),
-        fig9=report("results/figures/fig9_rolling.png", caption="../report/fig9.rst", category="Locomotion"),
-        fig10=report("results/figures/fig10_slope.png", caption="../report/fig10.rst", category="Locomotion"),
-    log:
-        "results/logs/locomotion/states.log",
-    priority: 30
-    localrule: True
-    script:
-        "../scripts/locomotion_states.py"
+def _state_figure(name, caption):
+    return report(f"results/figures/{name}.png", caption=f"../report/{caption}.rst", category="Locomotion")
 
 
-if PATH_RUNS:
+if STATE_FIGURES or PATH_RUNS:
 
-    rule locomotion_path:
-        """The path of every run but `paper` over its terrain, from above and in 3D (one job for
-        all runs: each job would pay the renderer's start-up again)."""
+    rule locomotion_figures:
+        """Fig. 8 (stable), Fig. 9 (rolling) from the paper run and Fig. 10 (slope) from a slope
+        run; the path of every run but `paper` over its terrain, from above and in 3D (one job:
+        each job would pay the renderer's start-up again)."""
         input:
-            expand("results/locomotion/{run}.nc", run=PATH_RUNS),
+            paper=["results/locomotion/paper.nc"] if STATE_FIGURES else [],
+            slope=[f"results/locomotion/{SLOPE_RUN}.nc"] if STATE_FIGURES else [],
+            paths=expand("results/locomotion/{run}.nc", run=PATH_RUNS),
         output:
+            states=[_state_figure("fig8_stable", "fig8"), _state_figure("fig9_rolling", "fig9"),
+                    _state_figure("fig10_slope", "fig10")] if STATE_FIGURES else [],
             top=[report(f"results/figures/path_{run}_top.png", caption="../report/path.rst",
                         category="Locomotion", subcategory=run) for run in PATH_RUNS],
             three_d=[report(f"results/figures/path_{run}_3d.png", caption="../report/path.rst",
                             category="Locomotion", subcategory=run) for run in PATH_RUNS],
         log:
-            "results/logs/locomotion/paths.log",
+            "results/logs/locomotion/figures.log",
         priority: 30
         localrule: True
         script:
-            "../scripts/locomotion_path.py"
+            "../scripts/locomotion_figures.py"
 
 
 rule locomotion_animation:
@@ -101,6 +93,5 @@ rule locomotion_animation:
 rule locomotion_all:
     input:
         expand("results/locomotion/{run}.nc", run=LOCO_RUNS),
-        rules.locomotion_states.output if STATE_FIGURES else [],
-        expand("results/figures/path_{run}_{view}.png", run=PATH_RUNS, view=["top", "3d"]),
+        rules.locomotion_figures.output if STATE_FIGURES or PATH_RUNS else [],
         [f"results/figures/rolling_{LOCO['animation_run']}.gif"] if ANIMATION else [],

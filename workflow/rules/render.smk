@@ -17,31 +17,22 @@ rule render_robot:
         "../scripts/render_robot.py"
 
 
-rule render_cloud:
-    """Fig. 6: CoG point cloud and nominal CoGs of one pair on the equilateral face."""
+rule render_workspace:
+    """Fig. 6: the CoG point cloud and nominal CoGs of one pair on the equilateral face; Fig. 7:
+    the kinematic workspace of every contact case (one job: each job would pay the renderer's
+    start-up again)."""
     input:
         sweep=f"results/sweeps/{FIG6_CONTACT}/pair{FIG6_PAIR:02d}.nc",
-        nominal=f"results/nominal/{FIG6_CONTACT}.nc",
-    output:
-        report("results/figures/fig6_cog_cloud.png", caption="../report/fig6.rst", category="Figures", subcategory="CoG cloud"),
-    params:
-        max_pressure=2.4,
-    log:
-        "results/logs/render/cloud.log",
-    localrule: True
-    script:
-        "../scripts/render_cloud.py"
-
-
-rule render_workspace:
-    """Fig. 7: the kinematic workspace of every contact case (one job: each job would pay the
-    renderer's start-up again)."""
-    input:
         curves=expand("results/curves/{contact}.nc", contact=CONTACTS),
         nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
     output:
-        [report(f"results/figures/fig7_workspace_{contact}.png", caption="../report/fig7.rst",
-                category="Figures", subcategory=contact) for contact in CONTACTS],
+        fig6=report("results/figures/fig6_cog_cloud.png", caption="../report/fig6.rst", category="Figures",
+                    subcategory="CoG cloud"),
+        fig7=[report(f"results/figures/fig7_workspace_{contact}.png", caption="../report/fig7.rst",
+                     category="Figures", subcategory=contact) for contact in CONTACTS],
+    params:
+        fig6_nominal=f"results/nominal/{FIG6_CONTACT}.nc",
+        max_pressure=2.4,
     log:
         "results/logs/render/workspace.log",
     localrule: True
@@ -52,5 +43,4 @@ rule render_workspace:
 rule render_all:
     input:
         rules.render_robot.output,
-        rules.render_cloud.output,
-        expand("results/figures/fig7_workspace_{contact}.png", contact=CONTACTS),
+        rules.render_workspace.output,

@@ -1,5 +1,5 @@
 from tensegrity import gravity_stages, stages
 
-with stages.logging_to(snakemake.log[0], snakemake.threads):
+with stages.job(snakemake.log[0], snakemake.threads):
     gravity_stages.validate_gravity(snakemake.params.cfg, snakemake.input.gravity, snakemake.input.nominal,
                                     snakemake.output.nc, snakemake.output.md, snakemake.output.html)

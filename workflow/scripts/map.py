@@ -1,4 +1,4 @@
 from tensegrity import stages
 
-with stages.logging_to(snakemake.log[0]):
+with stages.job(snakemake.log[0]):
     stages.run_map({}, snakemake.input, snakemake.output[0])

@@ -1,0 +1,7 @@
+from tensegrity import stages
+
+with stages.job(snakemake.log[0]):
+    if snakemake.output.states:
+        stages.locomotion_states(snakemake.input.paper[0], snakemake.input.slope[0], *snakemake.output.states)
+    for run, top, three_d in zip(snakemake.input.paths, snakemake.output.top, snakemake.output.three_d):
+        stages.locomotion_paths(run, top, three_d)
