@@ -239,6 +239,4 @@ def roll_over(nodes: ArrayLike, face: int | Sequence[int], edge: Sequence[int]) 
     axis = (p[b] - p[a]) / np.linalg.norm(p[b] - p[a])
     u, v = inward(topo.FACES[to - 1]), inward(topo.FACES[f - 1])  # turn u onto v about the edge
     ang = np.arctan2(np.dot(axis, np.cross(u, v)), np.dot(u, v) - np.dot(u, axis) * np.dot(v, axis))
-    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    rot = np.eye(3) + np.sin(ang) * k + (1 - np.cos(ang)) * k @ k  # Rodrigues
-    return to, (p - p[a]) @ rot.T + p[a]
+    return to, (p - p[a]) @ frames.turn(axis, ang).T + p[a]

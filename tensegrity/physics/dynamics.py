@@ -8,7 +8,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import topology as topo
+from . import frames, topology as topo
 from . import kernel
 from .actuation import Schedule, check_pressures
 from .params import Params
@@ -71,26 +71,6 @@ def axes(q: np.ndarray, column: int | None = None) -> np.ndarray:
     if column is not None:
         return np.stack(cols[column](), axis=-1)
     return np.stack([np.stack(c(), axis=-1) for c in cols], axis=-1)
-
-
-def turn(axis: ArrayLike, angle: float) -> np.ndarray:
-    """Rotation matrix (3, 3) of `angle` rad about the unit vector `axis` (3,) (Rodrigues)."""
-    k = np.asarray(axis, dtype=float)
-    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
-
-
-def align(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The smallest rotation (3, 3) taking the unit vector a (3,) onto the unit vector b (3,)
-    (about a x b; about any axis normal to a when they are opposite)."""
-    k = np.cross(a, b)
-    s, c = float(np.linalg.norm(k)), float(np.dot(a, b))
-    if s < 1e-12:
-        if c > 0:
-            return np.eye(3)
-        k = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
-        return turn(k / np.linalg.norm(k), np.pi)
-    return turn(k / s, np.arctan2(s, c))
 
 
 def nodes(x: np.ndarray, q: np.ndarray, strut_length: float | np.ndarray) -> np.ndarray:
@@ -157,7 +137,7 @@ def stand_on(params: Params, face: int | Sequence[int], terrain: Terrain | None 
     if terrain.kind == "heightfield" and np.isnan(terrain.height(px, py)):
         raise ValueError(f"terrain has nothing under the robot at position {position}")
     up = terrain.normal_at(px, py) if terrain.kind != "none" else np.array([0.0, 0.0, 1.0])
-    p = p @ (turn(up, np.radians(yaw_deg)) @ align(outward, -up)).T
+    p = p @ (frames.turn(up, np.radians(yaw_deg)) @ frames.align(outward, -up)).T
     p[:, :2] += [px, py]
     if terrain.kind == "none":
         p[:, 2] += r - p[:, 2].min()

@@ -1,6 +1,7 @@
 """Support frames, margins and the crossed edge (docs/design.md §2, paper Fig. 5).
 
-One definition each: the support frame of a face on given nodes (`face_frame`), the CoG and
+One definition each: rotations about an axis and onto a direction (`turn`, `align`), the
+support frame of a face on given nodes (`face_frame`), the CoG and
 support triangle in it (`in_support_frame`, `rest_frame` for the unactuated robot), the signed
 margin of a CoG projection (`margin_2d`), the edge it has crossed (`crossed_edge`) and the least
 pressure at which a margin turns negative (`first_crossing`).
@@ -36,6 +37,26 @@ def support_frame(tri: np.ndarray, ref: int, inside: np.ndarray) -> tuple[np.nda
     y /= np.linalg.norm(y, axis=-1, keepdims=True)
     x = np.cross(y, z)
     return origin, np.stack([x, y, z], axis=-2)
+
+
+def turn(axis: ArrayLike, angle: float) -> np.ndarray:
+    """Rotation matrix (3, 3) of `angle` rad about the unit vector `axis` (3,) (Rodrigues)."""
+    k = np.asarray(axis, dtype=float)
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
+
+
+def align(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The smallest rotation (3, 3) taking the unit vector a (3,) onto the unit vector b (3,)
+    (about a x b; about any axis normal to a when they are opposite)."""
+    k = np.cross(a, b)
+    s, c = float(np.linalg.norm(k)), float(np.dot(a, b))
+    if s < 1e-12:
+        if c > 0:
+            return np.eye(3)
+        k = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
+        return turn(k / np.linalg.norm(k), np.pi)
+    return turn(k / s, np.arctan2(s, c))
 
 
 def to_frame(p: np.ndarray, origin: np.ndarray, rot: np.ndarray) -> np.ndarray:

@@ -5,6 +5,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from tensegrity.physics import dynamics as d
+from tensegrity.physics import frames
 from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
@@ -24,7 +25,7 @@ def test_align_is_the_smallest_rotation_of_a_onto_b(b):
     b = np.asarray(b) / np.linalg.norm(b)
     for a in [*rng.normal(size=(20, 3)), b, -b]:
         a = a / np.linalg.norm(a)
-        R = d.align(a, b)
+        R = frames.align(a, b)
         np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-14)
         assert np.linalg.det(R) == pytest.approx(1.0, abs=1e-14)
         np.testing.assert_allclose(R @ a, b, atol=1e-14)
