@@ -8,7 +8,8 @@ without a dot as a string), rejects NaN and infinities (JSON Schema bounds let N
 checks what the schema cannot say: strictly increasing pressure levels, nominal.discard below
 sweep.hold, a muscle minimum length below the cable rest length, a locomotion interval that is a
 whole number of time steps, and demonstration runs only with a workspace of both contact cases.
-`read_yaml` is the strict reader (a key given twice is an error) for any configuration file.
+`read_yaml` (`io.config_files`) is the strict reader (a key given twice is an error) for any
+configuration file.
 
 Every error is a `ConfigError` naming the offending key, e.g.
 ``config key sweep.pairs[0]: 13 is greater than the maximum of 12``.
@@ -29,6 +30,7 @@ import numpy as np
 import yaml
 
 from ..physics.params import Params
+from .config_files import ConfigError, check_files, read_yaml
 from .cross_checks import semantic_errors
 
 if TYPE_CHECKING:
@@ -42,69 +44,12 @@ _CONFIG_REL = Path("config", "config.yaml")
 DEFAULT_PATH = Path(__file__).resolve().parents[2] / _CONFIG_REL  # the checkout's file, if any
 
 
-class ConfigError(ValueError):
-    """An invalid configuration. `errors` lists one message per problem, each naming its key."""
-
-    def __init__(self, errors: str | list[str]):
-        self.errors = [errors] if isinstance(errors, str) else list(errors)
-        super().__init__("\n".join(self.errors))
-
-
 def _default_file() -> Path | None:
     """config/config.yaml of the checkout holding this package, else of the current directory."""
     for path in (DEFAULT_PATH, Path.cwd() / _CONFIG_REL):
         if path.is_file():
             return path
     return None
-
-
-# ---------------------------------------------------------------------------------------- YAML
-
-class _StrictLoader(yaml.SafeLoader):
-    """SafeLoader that refuses duplicate keys (PyYAML silently keeps the last one)."""
-
-
-def _construct_mapping(loader: _StrictLoader, node: yaml.MappingNode, deep: bool = False):
-    seen = set()
-    for key_node, _ in node.value:
-        if key_node.tag == "tag:yaml.org,2002:merge":
-            continue
-        key = loader.construct_object(key_node, deep=True)
-        if key in seen:
-            raise ConfigError(f"config file {key_node.start_mark.name} line "
-                              f"{key_node.start_mark.line + 1}: duplicate key {key!r}")
-        seen.add(key)
-    return loader.construct_mapping(node, deep=deep)
-
-
-_StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
-
-
-def read_yaml(path: str | os.PathLike) -> Any:
-    """The YAML file `path`, read strictly: a key given twice in a mapping is a ConfigError
-    naming the file, line and key (PyYAML, and so Snakemake, would silently keep the last)."""
-    with open(path, encoding="utf-8") as f:
-        try:
-            return yaml.load(f, Loader=_StrictLoader)
-        except yaml.YAMLError as e:
-            raise ConfigError(f"config file {path}: {e}") from None
-
-
-_read_yaml = read_yaml  # the name used before it was public
-
-
-def check_files(paths: Iterable[str | os.PathLike]) -> None:
-    """Re-read every configuration file in `paths` strictly (`read_yaml`); raises one ConfigError
-    listing every file with a duplicate key or a YAML error. The Snakefile runs it on the files
-    Snakemake loaded itself (`workflow.configfiles`), whose parser keeps the last of two keys."""
-    errors = []
-    for p in paths:
-        try:
-            read_yaml(p)
-        except ConfigError as e:
-            errors += e.errors
-    if errors:
-        raise ConfigError(errors)
 
 
 # -------------------------------------------------------------------------------------- schema
