@@ -1,10 +1,10 @@
 """Support frames, margins and the crossed edge (docs/design.md §2, paper Fig. 5).
 
 One definition each: rotations about an axis and onto a direction (`turn`, `align`), the
-support frame of a face on given nodes (`face_frame`), the CoG and
-support triangle in it (`in_support_frame`, `rest_frame` for the unactuated robot), the signed
-margin of a CoG projection (`margin_2d`), the edge it has crossed (`crossed_edge`) and the least
-pressure at which a margin turns negative (`first_crossing`).
+support frame of a face on given nodes (`face_frame`), the CoG and support triangle in it
+(`in_support_frame`, `rest_frame` for the unactuated robot), the signed margin of a CoG
+projection (`margin_2d`), the edge it has crossed (`crossed_edge`) and the least pressure at
+which a margin turns negative (`first_crossing`).
 """
 from __future__ import annotations
 
