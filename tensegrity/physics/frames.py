@@ -72,12 +72,14 @@ def face_frame(nodes: np.ndarray, face: int | Sequence[int]) -> tuple[np.ndarray
     return support_frame(nodes[..., FACES[f], :], int(FACE_REFERENCE[f]), nodes.mean(axis=-2))
 
 
-def in_support_frame(nodes: np.ndarray, face: int | Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
+def in_support_frame(nodes: np.ndarray, face: int | Sequence[int],
+                     frame: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """CoG (..., 3) m (mean of the nodes = mean of the strut centres, equal masses) and the
     support triangle (..., 3, 3) m, both in the support frame of the current, deformed `face`
-    (1..20 or three node numbers); corners in the order of FACES."""
+    (1..20 or three node numbers); corners in the order of FACES. `frame`: that frame's
+    `face_frame(nodes, face)` if the caller has it already."""
     nodes = np.asarray(nodes, float)
-    origin, rot = face_frame(nodes, face)
+    origin, rot = face_frame(nodes, face) if frame is None else frame
     support = nodes[..., FACES[face_number(face) - 1], :]
     return (to_frame(nodes.mean(axis=-2), origin, rot),
             to_frame(support, origin[..., None, :], rot[..., None, :, :]))

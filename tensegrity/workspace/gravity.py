@@ -74,7 +74,7 @@ def gravity_frame(nodes: np.ndarray, face: int) -> tuple[np.ndarray, np.ndarray,
     the deformed face's support frame, the CoG projected along gravity onto the face plane
     (..., 2) m and its signed margin (...,) m (paper Fig. 10, `frames.margin_2d`)."""
     origin, rot = frames.face_frame(nodes, face)
-    cog, support = frames.in_support_frame(nodes, face)
+    cog, support = frames.in_support_frame(nodes, face, (origin, rot))
     g = np.einsum("...ij,j->...i", rot, ct.GRAVITY_DIR)  # gravity in the support frame
     proj = cog[..., :2] - (cog[..., 2] / g[..., 2])[..., None] * g[..., :2]
     return cog, support, proj, frames.margin_2d(proj, support[..., :2])
