@@ -37,7 +37,8 @@ class RollSettings:
     brake_tilt deg; brake_release_time s; escape_attempts; dt s (the simulator's time step).
 
     A roll (see `roll`) ramps the pressure at ramp_rate; a support node lifted by more than
-    lift_tolerance holds it (at most hold_time s); once the unactuated robot would fall over the
+    lift_tolerance holds it (at most hold_time s, then the ramp goes on; where the brake does
+    not act, not held again while a node stays lifted); once the unactuated robot would fall over the
     pivot edge by release_margin (`contact.past_edge`) the pressure ramps down over
     release_time, and once it has landed on the next face over catch_time (held while it tips
     back); it has settled when its CoG moves slower than settle_speed on a face (contact_
@@ -171,6 +172,7 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
     S = float(params.strut_length)
     idx = np.asarray(pairs) - 1
     level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
+    rearmed = True  # a lift holds the pressure (not while it persists after a hold ran out)
     landed, apex = None, -1
     if brake is not None and not brake.active(face0, obs.nodes):
         brake = None  # where the brake does not act (flat or rough ground): the unbraked roll
@@ -213,6 +215,7 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
                 phase = "settle"
             continue
         lifted = obs.gap[support] - base > s.lift_tolerance
+        rearmed = rearmed or not lifted.any()
         over = False
         if lifted.sum() == 1:
             pivot = tuple(int(n) + 1 for n in support[~lifted])
@@ -224,13 +227,14 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
             if brake and over:  # brace for the landing on the face across the pivot edge
                 brake.landing(face0, pivot, obs.nodes)
             phase, t_phase = "release", 0.0
-        elif phase == "ramp" and lifted.any():
+        elif phase == "ramp" and lifted.any() and rearmed:
             tip, phase, t_phase = level, "hold", 0.0
         elif phase == "ramp" and level >= max_pressure:
             phase, t_phase = "top", 0.0
         elif phase == "hold" and t_phase >= s.hold_time - 1e-9:
-            if level < max_pressure:
-                phase, tip = "ramp", float("nan")  # rocking without rolling: keep raising
+            if level < max_pressure:  # rocking without rolling: keep raising; unbraked, not
+                phase, tip, rearmed = "ramp", float("nan"), brake is not None  # held again until
+                # the support is down (where the brake acts, each step is held: slopes need it)
             else:
                 phase, t_phase = "release", 0.0  # escalated to the limit: give up
         elif phase == "top" and t_phase >= s.hold_time - 1e-9 and fade <= 1e-9:
@@ -259,7 +263,9 @@ def roll(params: Params, state: d.State, terrain: Terrain, pairs: int | Sequence
          settings: RollSettings | None = None) -> RollResult:
     """One roll in the dynamic simulator (paper III.C step 4) of one robot resting on a face:
     drive 1-based `pairs` together from 0 toward `max_pressure` MPa at ramp_rate. When a support
-    node lifts the pressure is held (at most hold_time s, then the ramp resumes: escalation);
+    node lifts the pressure is held (at most hold_time s, then the ramp resumes: escalation,
+    held again only by a lift after the support was down again; braked rolls, see `_roll_gen`,
+    hold at every step while a node is lifted);
     once the unactuated robot would fall over the pivot edge (`contact.past_edge`), or it has
     landed on another face, the pressure is released, slowly once it has landed (held while it
     tips back); then it settles. If nothing lifts by max_pressure (held hold_time s), it is

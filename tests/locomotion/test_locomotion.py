@@ -289,6 +289,31 @@ def test_a_face_change_with_no_node_lifted_is_no_roll(ws):
     assert third[9] < second[9]  # released: it rolls
 
 
+def test_a_robot_that_stays_tipped_gets_the_whole_escalation(ws):
+    """Wedged in a hollow, the robot can lean on a fourth node: a support node stays lifted a
+    few mm while it does not tip over. After one hold the ramp goes on to the workspace's
+    highest level at ramp_rate. Before, the persisting lift held the pressure again at every
+    step (0.02 MPa per hold_time): on 0.05 m terrain, seed 3, attempts crept from 1.3 to 1.7 MPa
+    until the safety net released them, short of the 2.0 MPa planned: "stuck"."""
+    from dataclasses import replace
+    from tensegrity.locomotion.control import _roll_gen
+    from tensegrity.locomotion.lockstep import observe
+    s = lo.RollSettings()
+    state = d.stand_on(DAMPED, EQUI, Terrain.flat())
+    obs, = observe(DAMPED, Terrain.flat(), state, s)
+    gen = _roll_gen(DAMPED, s, obs, (10,), ws.max_pressure)
+    pres = next(gen)
+    gap = obs.gap.copy()
+    gap[8] += 5 * s.lift_tolerance  # node 9, the apex across edge 10-12, stays up
+    tipped = replace(obs, gap=gap)
+    need = ws.max_pressure / s.ramp_rate + 2 * s.hold_time  # s: the ramp and one hold, and slack
+    peak = 0.0
+    for k in range(1, int(round(need / s.interval)) + 1):
+        pres = gen.send(replace(tipped, t=obs.t + k * s.interval))
+        peak = max(peak, pres[9])
+    assert peak == pytest.approx(ws.max_pressure)
+
+
 def test_stuck_when_the_workspace_cannot_roll_the_robot(ws):
     """A workspace swept only to 1.6 MPa rolls nothing off (9,10,12): the run stops "stuck"
     after trying max_attempts candidates, each escalated to 1.6 MPa, and says so."""
