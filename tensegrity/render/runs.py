@@ -216,6 +216,23 @@ def fig_path(nodes: np.ndarray, terrain: Terrain, path: str | Path, title: str, 
     return finish(pl, path, title, contacts=contacts, view=view)
 
 
+def _title(pl: pv.Plotter, longest: str, width: int) -> pv.Text:
+    """A text actor centred at the top of the picture (`width` px wide), in the largest font
+    (at most 24) in which the text `longest` fits 96 % of the width. Unlike a corner annotation
+    (`add_text` at a named position), which finds its font size again whenever its text
+    changes (20 ms of a 35 ms frame), it keeps one size: the title of a frame does not jump."""
+    title = pl.add_text(longest, position=(0.5, 0.99), viewport=True, font_size=12, color="black",
+                        name="title")
+    title.prop.justification_horizontal, title.prop.justification_vertical = "center", "top"
+    box = np.zeros(4)
+    for size in range(24, 7, -1):
+        title.prop.font_size = size
+        title.GetBoundingBox(pl.renderer, box)
+        if box[1] - box[0] <= 0.96 * width:
+            break
+    return title
+
+
 def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: Terrain,
             path: str | Path, *, goal: ArrayLike | None = None, label: str = "", fps: int = 10,
             speed: float = 8.0, size: tuple[int, int] = (640, 480)) -> dict:
@@ -270,7 +287,11 @@ def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     head = f"{label}  " if label else ""
-    title = pl.add_text("", position="upper_edge", font_size=10, color="black", name="title")
+    titles = []
+    for i in frames:
+        act = ", ".join(f"#{k + 1} {pres[i, k]:.1f} MPa" for k in np.flatnonzero(pres[i] > 0)) or "released"
+        titles.append(f"{head}t = {t[i]:5.1f} s ({speed:g}x)  {act}")
+    title = _title(pl, max(titles, key=len), size[0])
     # The palette: the robot's, track's and goal's colours in four shades (the tubes are lit),
     # then the rest of the first frame's colours (mostly the terrain), 256 in all.
     key = np.array([[int(c[k:k + 2], 16) for k in (1, 3, 5)]
@@ -284,9 +305,7 @@ def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: 
         cables.points = nodes[i]
         trail[n:] = cog[i] + [0, 0, 0.02]
         track.points = trail
-        on = np.flatnonzero(pres[i] > 0)
-        act = ", ".join(f"#{k + 1} {pres[i, k]:.1f} MPa" for k in on) or "released"
-        title.set_text("upper_edge", f"{head}t = {t[i]:5.1f} s ({speed:g}x)  {act}")
+        title.input = titles[n]
         pl.render()
         rgb = np.ascontiguousarray(pl.screenshot(return_img=True)[..., :3])
         if palette is None:
