@@ -53,13 +53,12 @@ def clearance(nodes: ArrayLike, terrain: Terrain, radius: float) -> np.ndarray:
         raise ValueError("node positions hold NaN or inf: the state is not finite")
     if terrain.kind == "none":
         raise ValueError("terrain 'none' (the free mode) has no ground to stand on")
-    h = terrain.height(p[..., 0], p[..., 1])
+    h, n = terrain.height_and_normal(p[..., 0], p[..., 1])
     if np.any(np.isnan(h)):
         k = np.argwhere(np.isnan(h))[0]
         q = p[tuple(k)]
         raise ValueError(f"terrain has nothing under node {k[-1] + 1} at ({q[0]:.3f}, {q[1]:.3f}) m")
-    nz = terrain.normal_at(p[..., 0], p[..., 1])[..., 2]
-    return (p[..., 2] - h) * nz - radius
+    return (p[..., 2] - h) * n[..., 2] - radius
 
 
 def contact_face(nodes: ArrayLike, terrain: Terrain, radius: float, tol: float | None = None) -> int:
