@@ -69,6 +69,10 @@ def contact_face(nodes: ArrayLike, terrain: Terrain, radius: float, tol: float |
 
 
 _FACE_OF_NODES = {tuple(sorted(c.tolist())): f + 1 for f, c in enumerate(topo.FACES)}
+# the same as a table: [a, b, c] -> face (0: not a face) for 0-based nodes a < b < c
+_FACE_TABLE = np.zeros((topo.N_NODES,) * 3, np.int64)
+for _nodes, _face in _FACE_OF_NODES.items():
+    _FACE_TABLE[_nodes] = _face
 
 
 def resting_face(gap: ArrayLike, tol: float) -> np.ndarray:
@@ -79,9 +83,8 @@ def resting_face(gap: ArrayLike, tol: float) -> np.ndarray:
     low = np.sort(np.argsort(gap, axis=-1, kind="stable")[..., :3], axis=-1)
     tol = np.asarray(tol, float)[..., None]
     touching = np.all(np.take_along_axis(gap, low, axis=-1) <= tol, axis=-1)
-    flat = low.reshape(-1, 3)
-    face = np.array([_FACE_OF_NODES.get(tuple(row), 0) for row in flat.tolist()], np.int64)
-    return np.where(touching, face.reshape(low.shape[:-1]), 0)
+    face = _FACE_TABLE[low[..., 0], low[..., 1], low[..., 2]]
+    return np.where(touching, face, 0)
 
 
 def face_from_gaps(gap: ArrayLike, tol: float) -> int:
