@@ -1,4 +1,6 @@
 from tensegrity import stages
 
 with stages.job(snakemake.log[0]):
-    stages.run_nominal(snakemake.params.cfg, snakemake.input, snakemake.output[0])
+    n = len(snakemake.input) // len(snakemake.output)  # the sweep files of each contact case, in order
+    for k, out in enumerate(snakemake.output):
+        stages.run_nominal(snakemake.params.cfg, snakemake.input[k * n:(k + 1) * n], out)
