@@ -79,9 +79,10 @@ def in_support_frame(nodes: np.ndarray, face: int | Sequence[int],
     (1..20 or three node numbers); corners in the order of FACES. `frame`: that frame's
     `face_frame(nodes, face)` if the caller has it already."""
     nodes = np.asarray(nodes, float)
-    origin, rot = face_frame(nodes, face) if frame is None else frame
-    support = nodes[..., FACES[face_number(face) - 1], :]
-    return (to_frame(nodes.mean(axis=-2), origin, rot),
+    f = face_number(face) - 1
+    cog, support = nodes.mean(axis=-2), nodes[..., FACES[f], :]
+    origin, rot = support_frame(support, int(FACE_REFERENCE[f]), cog) if frame is None else frame
+    return (to_frame(cog, origin, rot),
             to_frame(support, origin[..., None, :], rot[..., None, :, :]))
 
 
