@@ -94,10 +94,11 @@ def sweep(params: Params, face: int, combos: ArrayLike, levels: ArrayLike, hold:
            "support": np.full((n, 3, P, P, 3, 3), np.nan)}
     i, j = grid_order(P).T
     ref_node = topo.FACES[face - 1, topo.FACE_REFERENCE[face - 1]]
+    centre = nodes.mean(axis=-2)
     # the frames toward the corners the stabiliser carries onto the reference corner
     for corner in sorted({int(np.flatnonzero(s.nodes[topo.FACES[face - 1]] == ref_node)[0]) for s in stabiliser(face)}):
-        origin, rot = frames.support_frame(tri, corner, nodes.mean(axis=-2))
-        cog = frames.to_frame(nodes.mean(axis=-2), origin, rot)
+        origin, rot = frames.support_frame(tri, corner, centre)
+        cog = frames.to_frame(centre, origin, rot)
         support = frames.to_frame(tri, origin[..., None, :], rot[..., None, :, :])
         for b in range(n):  # grid point k of the staircase is level k of workspace.nominal
             c, sd, t, _ = nom.nominal(tr.t, seg, cog[b], support[b], P * P, hold, discard)
