@@ -133,7 +133,7 @@ def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, slopes: Arr
     state = d.State.concat([place(params, face, terrain, centres[i], headings[j], N) for i, j in cases])
     level, n_settle = ramp_levels(ramp_rate, max_pressure, settle, interval)
     rec, gone = ramp(params, terrain, face, state, np.tile(pairs, len(cases)), level, n_settle,
-                     interval, dt, lift_tolerance, hold_time)
+                     interval, dt, lift_tolerance, hold_time, copies=N)
     return _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_step, rec, gone)
 
 
@@ -151,7 +151,7 @@ def ramp_levels(ramp_rate: float, max_pressure: float, settle: float, interval: 
 
 def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: np.ndarray,
          level: np.ndarray, n_settle: int, interval: float, dt: float = 1e-4,
-         lift_tolerance: float = 0.001, hold_time: float = HOLD) -> tuple[dict, np.ndarray]:
+         lift_tolerance: float = 0.001, hold_time: float = HOLD, copies: int = 1) -> tuple[dict, np.ndarray]:
     """Drive robot b of `state` (resting on `face`) with pair pair_of[b] through the pressures
     `level` (L,) MPa, one per `interval` s (the first n_settle at zero). As the controller does
     (`locomotion.control.roll`), when a support node has lifted by lift_tolerance m (from its
@@ -161,8 +161,16 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
     dropped once it rolls (see `run`) or, at the end of the settling, does not stand. Returns
     records (pressure (R, T) MPa, cog (R, T, 3), support (R, T, 3, 3), proj (R, T, 2), margin
     (R, T); `gravity_frame`, NaN once dropped) and the sample each robot was dropped at (R,)
-    (T: never, also when it reached the end of `level` or of its holds)."""
+    (T: never, also when it reached the end of `level` or of its holds).
+    `copies`: the robots come in runs of `copies` equal ones (the same state; `run` drives each
+    of a case's pairs from one placement): the settling, at zero pressure, is simulated for the
+    first robot of each run only and then copied to the others, with its records. The same
+    numbers as simulating every copy (a robot's results do not depend on its batch); the
+    gravity-aware workspace settles a twelfth of its robots."""
     R, L = state.batch, level.size
+    copies = int(copies) if n_settle > 0 else 1
+    if copies > 1 and (R % copies or np.any(level[:n_settle] != 0)):
+        raise ValueError(f"copies = {copies} needs runs of that many robots ({R}) settling at zero pressure")
     T = L + int(np.ceil(MAX_HOLD / interval - 1e-9))
     every = int(round(interval / dt))
     rec = {"pressure": np.full((R, T), np.nan), "cog": np.full((R, T, 3), np.nan),
@@ -175,6 +183,9 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
     base = np.zeros((R, 3))  # clearance of the support nodes at the end of the settling, m
     support = topo.FACES[face - 1]
     r = float(np.max(params.strut_radius))
+    if copies > 1:  # the first of each run until the end of the settling
+        active = np.arange(0, R, copies)
+        state = state.take(active)
     for t in range(T):
         ka = k[active]
         pres = np.zeros((active.size, topo.N_PAIRS))
@@ -204,6 +215,14 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
         if off.any():
             gone[active[off]] = np.where(k[active[off]] >= L, T, t + 1)
             active, state = active[~off], state.take(~off)
+        if copies > 1 and (t + 1 == n_settle or not active.size):  # the settling done: copy the runs
+            first = np.arange(0, R, copies)
+            for name in rec:
+                rec[name][:, : t + 1] = np.repeat(rec[name][first, : t + 1], copies, axis=0)
+            gone[:], base[:], k[:] = (np.repeat(a[first], copies, axis=0) for a in (gone, base, k))
+            state = state.take(np.repeat(np.arange(active.size), copies))
+            active = (active[:, None] + np.arange(copies)).ravel()
+            copies = 1
         if not active.size:
             break
     return rec, gone
