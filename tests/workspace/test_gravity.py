@@ -105,3 +105,19 @@ def test_the_dataset_round_trips_and_the_config_names_bad_keys(flat):
     for bad in ({"slopes": [0, 80]}, {"headings": [360]}, {"max_pressure": 12}, {"colour": 1}):
         with pytest.raises(config.ConfigError, match="gravity"):
             config.validate({"gravity": bad})
+
+
+def test_a_settling_shared_by_copies_gives_the_same_numbers():
+    """`ramp(copies=)` settles the first of each run of equal robots and copies it: the same
+    records, bit for bit, as settling every robot (two placements, three pairs each; one of
+    them on a slope too steep to stand on, dropped during the settling)."""
+    terrain, centres = gv.slope_field([0.0, 40.0])
+    state = d.State.concat([gv.place(P, EQUI, terrain, centres[i], 30.0, 3) for i in range(2)])
+    level, n = gv.ramp_levels(1.0, 1.0, 0.2, 0.02)
+    pairs = np.tile([10, 11, 4], 2)
+    one = gv.ramp(P, terrain, EQUI, state, pairs, level, n, 0.02)
+    shared = gv.ramp(P, terrain, EQUI, state, pairs, level, n, 0.02, copies=3)
+    assert (one[1] <= n).tolist() == [False] * 3 + [True] * 3
+    np.testing.assert_array_equal(one[1], shared[1])
+    for k in one[0]:
+        np.testing.assert_array_equal(one[0][k], shared[0][k])
