@@ -119,11 +119,11 @@ def edge_outward(tri: ArrayLike) -> np.ndarray:
     belongs to the edge joining corners k and k+1 (mod 3), as in frames.edge_distances."""
     tri = np.asarray(tri, float)
     c = tri.mean(axis=0)
-    n = frames.cross(tri[1] - tri[0], tri[2] - tri[0])
+    n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
     out = np.empty((3, 3))
     for k in range(3):
         e = tri[(k + 1) % 3] - tri[k]
-        o = frames.cross(e, n)
+        o = np.cross(e, n)
         o *= np.sign(np.dot(o, tri[k] - c))
         out[k] = o / np.linalg.norm(o)
     return out

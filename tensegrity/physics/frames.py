@@ -19,18 +19,6 @@ from .topology import FACE_REFERENCE, FACES, N_FACES, face_number, reference_nod
 _NEXT = [1, 2, 0]  # corner k+1 (mod 3): edge k joins corners k and k+1
 
 
-def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a x b of 3-vectors (..., 3), broadcast: the products and differences of np.cross, in its
-    order (the same numbers), without its axis handling, which made it the larger part of a
-    frame of a few robots."""
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
-    out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
-    out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-    return out
-
-
 def support_frame(tri: np.ndarray, ref: int, inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Supporting-triangle frame (docs/design.md §2, paper Fig. 5).
 
@@ -40,14 +28,14 @@ def support_frame(tri: np.ndarray, ref: int, inside: np.ndarray) -> tuple[np.nda
     in world components, so that local = rot @ (p - origin).
     """
     origin = tri.mean(axis=-2)
-    n = cross(tri[..., 1, :] - tri[..., 0, :], tri[..., 2, :] - tri[..., 0, :])
+    n = np.cross(tri[..., 1, :] - tri[..., 0, :], tri[..., 2, :] - tri[..., 0, :])
     n /= np.linalg.norm(n, axis=-1, keepdims=True)
     side = np.sign(np.sum(n * (inside - origin), axis=-1, keepdims=True))
     z = n * np.where(side == 0, 1.0, side)
     y = tri[..., ref, :] - origin
     y = y - np.sum(y * z, axis=-1, keepdims=True) * z
     y /= np.linalg.norm(y, axis=-1, keepdims=True)
-    x = cross(y, z)
+    x = np.cross(y, z)
     return origin, np.stack([x, y, z], axis=-2)
 
 

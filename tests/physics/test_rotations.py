@@ -54,11 +54,3 @@ def test_stand_on_places_the_robot_as_scipy_did(terrain):
             got = d.nodes(*(lambda s: (s.x, s.q))(d.stand_on(prm, face, terrain, yaw_deg=yaw)), S)[0]
             shift = (got - want).mean(0)  # stand_on then lifts the robot onto the ground
             np.testing.assert_allclose(got - shift, want, atol=1e-12)
-
-
-def test_cross_is_numpys_bit_for_bit():
-    rng = np.random.default_rng(3)
-    for sa, sb in [((3,), (3,)), ((100, 3), (100, 3)), ((7, 5, 3), (5, 3)), ((4, 3), (3,))]:
-        a = rng.normal(size=sa) * 10.0 ** rng.uniform(-5, 5, size=sa)
-        b = rng.normal(size=sb)
-        np.testing.assert_array_equal(frames.cross(a, b), np.cross(a, b))
