@@ -126,16 +126,3 @@ def test_fit_pairs_names_pair_and_axis():
         F.fit_pairs(P, cog)
     with pytest.raises(ValueError, match="shape"):
         F.fit_pairs(P, cog[..., :2])
-
-
-@pytest.mark.parametrize("name", ["poly1", "poly2", "poly3", "spline k=3", "spline k=4"])
-@pytest.mark.parametrize("values", [QUAD, SAT, 0.1 * np.sin(P)])
-def test_model_is_the_sklearn_pipeline_bit_for_bit(name, values):
-    # _Model computes the candidates without scikit-learn: the same numbers, on every fold's
-    # training points (the cross-validation) and outside them
-    for train in (np.arange(P.size) % 5 != 0, np.ones(P.size, bool)):
-        model = F._Model(name, P[train], values[train])
-        est = F._pipeline(name).fit(P[train][:, None], values[train])
-        assert np.array_equal(model.predict(Q), est.predict(Q[:, None]))
-        held = P[~train] if (~train).any() else P
-        assert np.array_equal(model.predict(held), est.predict(held[:, None]))
