@@ -64,6 +64,7 @@ class RollSettings:
     combine: bool = True
     min_alignment: float = 0.0
     max_attempts: int = 3
+    lookahead: int = 0  # candidates simulated before acting on steep slopes (0: off)
     max_rolls: int = 80
     arrive_tolerance: float = 0.3
     brake: bool = True

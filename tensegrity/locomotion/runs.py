@@ -138,6 +138,10 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
             tries = []
             todo = [c.pairs for c in pl.candidates[:s.max_attempts]]
             expect = {c.pairs: c.pressure for c in pl.candidates}
+            if s.lookahead and brk is not None and goal is not None and brk.active(face, obs.nodes):
+                from . import lookahead
+                todo = lookahead.order(params, terrain, s, obs, [c.pairs for c in pl.candidates[:s.lookahead]],
+                                       workspace.max_pressure, brk, expect, goal)[:s.max_attempts]
             while todo:
                 act = todo.pop(0)
                 res, obs = yield from _roll_gen(params, s, obs, act, workspace.max_pressure, brk,
