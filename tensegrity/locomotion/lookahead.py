@@ -38,6 +38,14 @@ def order(params: Params, terrain: Terrain, s, obs: Obs, acts: Sequence[tuple[in
     for act, (res, _, _) in zip(acts, out):
         res = res[0]
         dist = float(np.linalg.norm(res.cog_after[:2] - goal[:2]))
+        # below the goal it is uphill: out of reach on a steep slope (a climb costs 5 times)
+        dist += 5.0 * max(0.0, float(goal[2] - terrain.height(res.cog_after[0], res.cog_after[1])))
         key.append((0 if res.rolled and res.face_after is not None else 1 if res.face_after is not None else 2,
                     dist))
+    import os, sys
+    if os.environ.get("LOOKAHEAD_DEBUG"):
+        best = min(range(len(acts)), key=lambda i: key[i])
+        r = out[best][0][0]
+        print(f"LA t={obs.t:.2f} face={obs.face} best={acts[best]} cat={key[best][0]} pred_after={r.face_after} "
+              f"cats={[k[0] for k in key]}", file=sys.stderr)
     return [acts[i] for i in sorted(range(len(acts)), key=lambda i: key[i])]

@@ -147,6 +147,9 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
                 res, obs = yield from _roll_gen(params, s, obs, act, workspace.max_pressure, brk,
                                                 expect.get(act, float("nan")))
                 tries.append(res)
+                import os, sys
+                if os.environ.get("LOOKAHEAD_DEBUG") and s.lookahead:
+                    print(f"   ACT t0={res.t_start:.2f} {act} after={res.face_after} rolled={res.rolled}", file=sys.stderr)
                 if res.face_after is None or res.rolled:
                     break
                 if not todo and len(tries) == min(s.max_attempts, len(pl.candidates)) and s.escape_attempts:
