@@ -140,7 +140,9 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
             expect = {c.pairs: c.pressure for c in pl.candidates}
             if s.lookahead and brk is not None and goal is not None and brk.active(face, obs.nodes):
                 from . import lookahead
-                todo = lookahead.order(params, terrain, s, obs, [c.pairs for c in pl.candidates[:s.lookahead]],
+                first = [c.pairs for c in pl.candidates[:s.lookahead]]
+                first += escape(workspace, face, obs.nodes, set(first), **target)[:s.lookahead - len(first)]
+                todo = lookahead.order(params, terrain, s, obs, first,
                                        workspace.max_pressure, brk, expect, goal)[:s.max_attempts]
             while todo:
                 act = todo.pop(0)
