@@ -116,6 +116,15 @@ def report(name: str, runs: list[lo.Run], headings: np.ndarray, wall: float, tol
     print(f"rolls: {rolls} ({combos} with two pairs); rolls per metre of the arrived runs {rpm:.2f}")
     print(f"pressure at which the rolls tipped: mean {tip:.2f} MPa" + (
         f" (min {np.min(tips):.2f}, max {np.max(tips):.2f})" if tips else " (no roll)"))
+    seen = [st.simulated for r in runs for st in r.steps if st.simulated]
+    if seen:  # what the lookahead saw: how far the robot's reach goes from each face
+        best = np.array([max((x.cog_after[2] - x.cog_before[2] for x in sim
+                              if x.rolled and x.face_after is not None), default=np.nan) for sim in seen])
+        falls = sum(x.face_after is None for sim in seen for x in sim)
+        print(f"lookahead: {len(seen)} steps, {sum(map(len, seen))} rolls simulated, "
+              f"{100 * falls / sum(map(len, seen)):.0f} % of them tumble; the best height change of a roll "
+              f"that lands: median {1e3 * np.nanmedian(best):+.0f} mm, below 0 on "
+              f"{np.mean(~(best >= 0)) * 100:.0f} % of the steps")
     print(f"wall {wall:.1f} s for the batch ({wall / n:.2f} s per run)")
     for r, h in [(r, h) for r, h in zip(runs, headings) if r.outcome != "arrived"][:8]:
         print(f"  not arrived: goal at {h:.0f} deg -> {r.outcome} after {r.rolls} rolls: {r.message}")

@@ -22,7 +22,7 @@ from ..physics.terrain import Terrain
 from .lookup import Workspace, predict
 from .plan import _candidates, _direction
 
-__all__ = ["Brake", "hold", "escape"]
+__all__ = ["Brake", "hold", "escape", "on_incline"]
 
 
 def _actions(workspace: Workspace, face: int, combos: bool) -> list[tuple[int, ...]]:
@@ -53,6 +53,13 @@ def hold(workspace: Workspace, face: int, nodes: np.ndarray, margin: float) -> n
     return out
 
 
+def on_incline(terrain: Terrain, face: int, nodes: np.ndarray, min_tilt: float) -> bool:
+    """The ground under 1-based `face` of the robot `nodes` (12, 3) m is one plane tilted by at
+    least `min_tilt` deg (`Terrain.incline`; uneven ground is not)."""
+    p = np.asarray(nodes)[topo.FACES[face - 1]]
+    return bool(terrain.incline(p[:, 0], p[:, 1]) >= min_tilt)  # NaN: uneven
+
+
 class Brake:
     """The braking policy of a run: `for_face(face, nodes)` returns the pressures (12,) MPa of
     `hold` on `face`, chosen once per visit of a face (a new face, a new choice) so that the
@@ -71,10 +78,7 @@ class Brake:
         """Braking applies to the robot `nodes` (12, 3) m on 1-based `face`: everywhere without
         a terrain, else where the ground under the face's nodes is one plane tilted by at least
         min_tilt deg (`Terrain.incline`)."""
-        if self.terrain is None:
-            return True
-        p = np.asarray(nodes)[topo.FACES[face - 1]]
-        return bool(self.terrain.incline(p[:, 0], p[:, 1]) >= self.min_tilt)  # NaN: uneven
+        return self.terrain is None or on_incline(self.terrain, face, nodes, self.min_tilt)
 
     def _hold(self, face: int, nodes: np.ndarray) -> np.ndarray:
         if not self.active(face, nodes):

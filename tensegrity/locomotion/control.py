@@ -34,7 +34,8 @@ class RollSettings:
     lift_tolerance m; hold_time s; release_margin m; release_time s; catch_time s;
     settle_speed m/s; settle_time s; contact_tolerance m; combine; min_alignment;
     max_attempts; max_rolls; arrive_tolerance m; brake; brake_margin m; brake_rate MPa/s;
-    brake_tilt deg; brake_release_time s; escape_attempts; dt s (the simulator's time step).
+    brake_tilt deg; brake_release_time s; escape_attempts; lookahead; lookahead_tilt deg; dt s
+    (the simulator's time step).
 
     A roll (see `roll`) ramps the pressure at ramp_rate; a support node lifted by more than
     lift_tolerance holds it (at most hold_time s, then the ramp goes on; where the brake does
@@ -50,7 +51,10 @@ class RollSettings:
     pressure falls over brake_release_time instead of release_time, so that the brake takes
     the robot over as it lands. When all max_attempts
     candidates fail, escape_attempts more actions are tried in the order of `brake.escape`
-    before the run ends "stuck"."""
+    before the run ends "stuck". Where the ground under the face is an even incline of at least
+    lookahead_tilt (on uneven ground, once the planned roll has failed), a run toward a goal
+    first simulates up to lookahead actions (the plan's candidates, then `brake.escape`'s) from
+    the robot's state and tries the max_attempts best that do not tumble (`lookahead.rank`)."""
     ramp_rate: float = 1.0
     interval: float = 0.02
     lift_tolerance: float = 0.001
@@ -64,6 +68,8 @@ class RollSettings:
     combine: bool = True
     min_alignment: float = 0.0
     max_attempts: int = 3
+    lookahead: int = 30
+    lookahead_tilt: float = 17.0
     max_rolls: int = 80
     arrive_tolerance: float = 0.3
     brake: bool = True
@@ -77,11 +83,11 @@ class RollSettings:
     def __post_init__(self):
         for f in fields(self):
             v = getattr(self, f.name)
-            if f.name in ("combine", "min_alignment", "brake", "escape_attempts"):
+            if f.name in ("combine", "min_alignment", "brake", "escape_attempts", "lookahead"):
                 continue
             if isinstance(v, bool) or not (np.isfinite(v) and v > 0):
                 raise ValueError(f"locomotion setting {f.name} must be a positive number, got {np.asarray(v).tolist()!r}")
-        for name in ("max_attempts", "max_rolls", "escape_attempts"):
+        for name in ("max_attempts", "max_rolls", "escape_attempts", "lookahead"):
             v = getattr(self, name)
             if isinstance(v, bool) or not np.isfinite(v) or v < 0 or float(v) != int(v):
                 raise ValueError(f"locomotion setting {name} must be a whole number, got {np.asarray(v).tolist()!r}")

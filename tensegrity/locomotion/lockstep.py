@@ -55,6 +55,7 @@ class Obs:
     speed: float       # CoG speed over the last interval, m/s (NaN: unknown)
     pressure: np.ndarray = field(default_factory=lambda: np.zeros(topo.N_PAIRS))  # (12,) MPa
     # applied over the last interval: the next controller goes on from them (brake_rate)
+    state: d.State | None = field(default=None, repr=False)  # the robot's whole state (batch 1)
 
 
 def observe(params: Params, terrain: Terrain, state: d.State, s: RollSettings,
@@ -72,7 +73,8 @@ def observe(params: Params, terrain: Terrain, state: d.State, s: RollSettings,
             speed = float(np.linalg.norm(P[b].mean(axis=0) - before[b].nodes.mean(axis=0))
                           / (state.t - before[b].t))
         out.append(Obs(state.t, P[b], gaps[b], int(faces[b]) or None, speed,
-                       np.zeros(topo.N_PAIRS) if pressure is None else pressure[b].copy()))
+                       np.zeros(topo.N_PAIRS) if pressure is None else pressure[b].copy(),
+                       state.take([b])))
     return out
 
 

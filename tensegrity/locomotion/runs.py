@@ -24,7 +24,8 @@ from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from .control import RollResult, RollSettings, _roll_gen, _settle_gen
-from .brake import Brake, escape
+from . import lookahead
+from .brake import Brake, escape, on_incline
 from .lockstep import Controller, Obs, Record, lockstep
 from .lookup import Face, Workspace
 from .plan import Plan, plan
@@ -39,11 +40,13 @@ _TABU = 4  # a run avoids rolling back onto the faces of its last four steps
 @dataclass(frozen=True)
 class Step:
     """One step of a run: the plan made on `face` (1-based), the attempts in order, and the
-    face the robot ended on (None if on no face)."""
+    face the robot ended on (None if on no face); `simulated`: the rolls tried in simulation
+    first (`lookahead.foresee`, where lookahead applies), the attempts among them in their order."""
     face: int
     plan: Plan
     attempts: tuple[RollResult, ...]
     face_after: int | None
+    simulated: tuple[RollResult, ...] = ()
 
     @property
     def rolled(self) -> bool:
@@ -135,9 +138,25 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
             visited = (visited + [face])[-_TABU - 1:]
             pl = plan(workspace, face, obs.nodes, avoid=visited[:-1], combine=s.combine,
                       min_alignment=s.min_alignment, **target)
-            tries = []
+            tries: list[RollResult] = []
             todo = [c.pairs for c in pl.candidates[:s.max_attempts]]
             expect = {c.pairs: c.pressure for c in pl.candidates}
+            simulated: tuple[RollResult, ...] = ()
+
+            def foresee(obs: Obs, tried: set) -> list[tuple[int, ...]]:
+                """Simulate up to lookahead untried actions (the plan's, then the escape order);
+                the max_attempts best that land on a face (a tumble is never tried)."""
+                nonlocal simulated
+                acts = [c.pairs for c in pl.candidates if c.pairs not in tried][:s.lookahead]
+                acts += escape(workspace, face, obs.nodes, tried | set(acts), **target)[:s.lookahead - len(acts)]
+                simulated = tuple(lookahead.foresee(params, terrain, s, obs, acts, workspace.max_pressure,
+                                                    brk, expect))
+                return [acts[i] for i in lookahead.rank(simulated, goal, terrain)
+                        if simulated[i].face_after is not None][:s.max_attempts]
+            look = bool(s.lookahead) and goal is not None
+            uneven = not on_incline(terrain, face, obs.nodes, 0.0)
+            if look and on_incline(terrain, face, obs.nodes, s.lookahead_tilt):
+                todo = foresee(obs, set())
             while todo:
                 act = todo.pop(0)
                 res, obs = yield from _roll_gen(params, s, obs, act, workspace.max_pressure, brk,
@@ -145,12 +164,20 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
                 tries.append(res)
                 if res.face_after is None or res.rolled:
                     break
-                if not todo and len(tries) == min(s.max_attempts, len(pl.candidates)) and s.escape_attempts:
+                if look and uneven and not simulated:
+                    # on uneven ground the planned roll failed: foresee the others
+                    todo = foresee(obs, {r.pairs for r in tries})
+                elif not todo and not simulated and len(tries) == min(s.max_attempts, len(pl.candidates)) and s.escape_attempts:
                     # stuck: other actions, those predicted to roll toward the target first
                     todo = escape(workspace, face, obs.nodes, {r.pairs for r in tries},
                                   **target)[:s.escape_attempts]
+            if not tries:  # nothing tried: no step
+                outcome, message = "stuck", (
+                    f"every one of the {len(simulated)} actions simulated on face "
+                    f"{topo.face_label(face)} (lookahead) tumbles the robot")
+                break
             after = tries[-1].face_after
-            steps.append(Step(face, pl, tuple(tries), after))
+            steps.append(Step(face, pl, tuple(tries), after, simulated))
             if after is not None and not tries[-1].rolled:
                 outcome = "stuck"
                 message = (f"no candidate rolled the robot off face {topo.face_label(face)}: tried "

@@ -1,0 +1,59 @@
+"""Rolls tried in simulation before the robot acts (issue 10 item 3; docs/design.md §6).
+
+On a steep even slope which roll lands under control is a matter of the landing's dynamics,
+which neither workspace predicts (benchmarks/bench_slope_reach.py: on 20 deg a third of the rolls
+that move the robot tumble). `foresee` simulates candidate rolls from the robot's current state
+with the run's own controller (`control._roll_gen`, a copy of its brake), all in one batch, so
+each result is the roll the run would make; `rank` orders them for a goal.
+"""
+from __future__ import annotations
+
+import copy
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..physics import dynamics as d
+from ..physics.params import Params
+from ..physics.terrain import Terrain
+from .brake import Brake
+from .control import RollResult, RollSettings, _roll_gen
+from .lockstep import Obs, lockstep
+
+__all__ = ["foresee", "rank", "CLIMB_COST"]
+
+CLIMB_COST = 5.0  # m of distance per m of height an end below the goal costs (no way back up)
+
+
+def foresee(params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
+            acts: Sequence[tuple[int, ...]], max_pressure: float, brake: Brake | None,
+            expect: dict[tuple[int, ...], float]) -> list[RollResult]:
+    """The rolls (one RollResult per action of `acts`, 1-based pairs) the robot observed in
+    `obs` (with its `state`) would make, each with the run's settings `s`, a copy of `brake` and
+    the planned pressure `expect[act]` MPa (NaN if absent), simulated together from the same
+    state. Raises SimulationError if a simulation blows up."""
+    if obs.state is None:
+        raise ValueError("the observation carries no state to simulate from")
+    if not acts:
+        return []
+    state = d.State.concat([obs.state] * len(acts))
+
+    def make(b: int, ob: Obs):
+        ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy())
+        return _roll_gen(params, s, ob, tuple(acts[b]), max_pressure, copy.deepcopy(brake),
+                         expect.get(tuple(acts[b]), float("nan")))
+    return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
+
+
+def rank(results: Sequence[RollResult], goal: np.ndarray, terrain: Terrain) -> list[int]:
+    """Indices of `results` in the order to try them toward `goal` (3,) m: the rolls that end
+    on another face first, closest to the goal first (horizontal distance, m, plus CLIMB_COST
+    times the height the CoG's ground point ends below the goal's); then those that did not
+    roll; those that end on no face (tumbles) last."""
+    def key(i: int) -> tuple[int, float]:
+        r = results[i]
+        c = np.asarray(r.cog_after, float)
+        below = max(0.0, float(goal[2] - terrain.height(c[0], c[1])))
+        return (0 if r.rolled and r.face_after is not None else 1 if r.face_after is not None else 2,
+                float(np.linalg.norm(c[:2] - goal[:2])) + CLIMB_COST * below)
+    return sorted(range(len(results)), key=key)

@@ -1,0 +1,65 @@
+"""Issue 10 item 3: rolls tried in simulation before the robot acts on steep slopes
+(`locomotion.lookahead`). What is simulated must be what the run then does: the same state, the
+same controller and brake, so the executed roll equals its prediction to round-off."""
+import numpy as np
+import pytest
+
+from tensegrity import locomotion as lo
+from tensegrity.locomotion import lookahead
+from tensegrity.locomotion.control import RollResult
+from tensegrity.locomotion.lockstep import Obs
+from tensegrity.physics import topology as topo
+from tensegrity.physics.params import Params
+from tensegrity.physics.terrain import Terrain
+
+EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
+DAMPED = Params(strut_damping=1.0)
+
+
+def test_the_roll_made_is_the_roll_foreseen(ws):
+    """On a 20 deg slope (lookahead applies: an even incline of at least lookahead_tilt) the
+    first step simulates the plan's candidates and escape actions from the robot's settled state;
+    the attempt the run then makes is the first of `rank`'s order, and it ends exactly as its
+    simulation did: the same face, the same CoG and times, the same peak pressure."""
+    s = lo.RollSettings(lookahead=4, max_attempts=1, max_rolls=1, escape_attempts=0)
+    run = lo.roll_to(ws, (0.0, -2.0), DAMPED, Terrain.slope(20.0), settings=s)
+    step = run.steps[0]
+    assert len(step.simulated) == 4 and len(step.attempts) == 1
+    done = step.attempts[0]
+    first = step.simulated[lookahead.rank(step.simulated, run.goal, Terrain.slope(20.0))[0]]
+    assert done.pairs == first.pairs
+    assert (done.rolled, done.face_after) == (first.rolled, first.face_after)
+    assert np.allclose(done.cog_after, first.cog_after, rtol=0, atol=1e-12)
+    assert (done.t_start, done.t_end, done.peak_pressure) == (first.t_start, first.t_end, first.peak_pressure)
+    # with lookahead off the same run plans blindly: nothing simulated
+    off = lo.roll_to(ws, (0.0, -2.0), DAMPED, Terrain.slope(20.0),
+                     settings=lo.RollSettings(lookahead=0, max_attempts=1, max_rolls=1, escape_attempts=0))
+    assert off.steps[0].simulated == ()
+
+
+def test_no_lookahead_on_gentler_slopes(ws):
+    """Below lookahead_tilt (17 deg) a run plans from the workspace alone."""
+    s = lo.RollSettings(lookahead=4, max_attempts=1, max_rolls=1, escape_attempts=0)
+    assert lo.roll_to(ws, (0.0, -2.0), DAMPED, Terrain.slope(10.0), settings=s).steps[0].simulated == ()
+
+
+def _res(pairs, rolled, face_after, cog):
+    return RollResult(pairs, rolled, EQUI, face_after, np.nan, 1.0, 0.0, 1.0, np.zeros(3),
+                      np.asarray(cog, float))
+
+
+def test_rank_puts_landed_rolls_first_and_tumbles_last():
+    """Landed rolls by distance to the goal (ending below it costs CLIMB_COST per m of height),
+    then the attempts that did not roll, then the tumbles, however close they ended."""
+    slope = Terrain.slope(20.0)
+    goal = np.array([0.0, -2.0, 0.0])  # across the slope, at the start's height
+    t = np.tan(np.radians(20.0))
+    res = [_res((1,), False, None, (0.0, -2.0, 0.0)),        # tumbled, right at the goal
+           _res((2,), False, EQUI, (0.0, 0.0, 0.0)),         # did not roll
+           _res((3,), True, 5, (0.0, -0.2, 0.0)),            # 1.8 m away, level
+           _res((4,), True, 6, (-0.1, -0.3, -0.1 * t)),      # 1.70 m away, 0.036 m lower: 1.88
+           _res((5,), True, 7, (0.0, -0.25, 0.0))]           # 1.75 m away, level
+    assert lookahead.rank(res, goal, slope) == [4, 2, 3, 1, 0]
+    with pytest.raises(ValueError, match="no state"):
+        lookahead.foresee(DAMPED, slope, lo.RollSettings(), Obs(0.0, np.zeros((12, 3)),
+                          np.zeros(12), EQUI, np.nan), [(1,)], 4.8, None, {})
