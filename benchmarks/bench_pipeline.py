@@ -57,10 +57,12 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--cores", type=int, default=2)
-    ap.add_argument("--keep", type=Path, help="leave the last run's folder here (must not exist)")
+    ap.add_argument("--keep", type=Path, help="leave the last run's folder here (new or empty)")
     ap.add_argument("--configfile", type=Path, help="a configuration over config/config.yaml")
     ap.add_argument("--until", help="run the pipeline up to this rule only")
     args = ap.parse_args()
+    if args.keep and args.keep.exists() and any(args.keep.iterdir()):
+        ap.error(f"--keep {args.keep}: the folder exists and is not empty")
     extra = (["--configfile", str(args.configfile.resolve())] if args.configfile else []) + \
         (["--until", args.until] if args.until else [])
     subprocess.run([sys.executable, "-c", "from tensegrity.physics.dynamics import warm; warm()"],
@@ -78,7 +80,7 @@ def main() -> None:
                 for name, c in sorted(jobs.items(), key=lambda kv: -kv[1]):
                     print(f"    {name:32s} {c:6.2f}")
                 if args.keep:
-                    shutil.copytree(tmp, args.keep)
+                    shutil.copytree(tmp, args.keep, dirs_exist_ok=True)
     walls.sort(), cpus.sort()
     print(f"median of {args.runs}: {walls[len(walls) // 2]:.1f} s wall, {cpus[len(cpus) // 2]:.1f} s CPU "
           f"on {args.cores} cores (target: 30 s wall)")
