@@ -41,7 +41,7 @@ _TABU = 4  # a run avoids rolling back onto the faces of its last four steps
 class Step:
     """One step of a run: the plan made on `face` (1-based), the attempts in order, and the
     face the robot ended on (None if on no face); `simulated`: the rolls tried in simulation
-    first (`lookahead.foresee`, where lookahead applies), the attempts among them in their order."""
+    first (`lookahead.foresee`, where lookahead applies), in the order they were simulated."""
     face: int
     plan: Plan
     attempts: tuple[RollResult, ...]
