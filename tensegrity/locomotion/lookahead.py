@@ -4,7 +4,8 @@ On a steep even slope which roll lands under control is a matter of the landing'
 which neither workspace predicts (benchmarks/bench_slope_reach.py: on 20 deg a third of the rolls
 that move the robot tumble). `foresee` simulates candidate rolls from the robot's current state
 with the run's own controller (`control._roll_gen`, a copy of its brake), all in one batch, so
-each result is the roll the run would make; `rank` orders them for a goal.
+each result is the roll the run would make; `rank` orders them for a goal; `choose` does both
+for a run's step.
 """
 from __future__ import annotations
 
@@ -16,11 +17,13 @@ import numpy as np
 from ..physics import dynamics as d
 from ..physics.params import Params
 from ..physics.terrain import Terrain
-from .brake import Brake
+from .brake import Brake, escape
 from .control import RollResult, RollSettings, _roll_gen
 from .lockstep import Obs, lockstep
+from .lookup import Workspace
+from .plan import Plan
 
-__all__ = ["foresee", "rank", "CLIMB_COST"]
+__all__ = ["foresee", "rank", "choose", "CLIMB_COST"]
 
 CLIMB_COST = 5.0  # m of distance per m of height an end below the goal costs (no way back up)
 
@@ -57,3 +60,18 @@ def rank(results: Sequence[RollResult], goal: np.ndarray, terrain: Terrain) -> l
         return (0 if r.rolled and r.face_after is not None else 1 if r.face_after is not None else 2,
                 float(np.linalg.norm(c[:2] - goal[:2])) + CLIMB_COST * below)
     return sorted(range(len(results)), key=key)
+
+
+def choose(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
+           face: int, pl: Plan, tried: set, goal: np.ndarray, brake: Brake | None,
+           target: dict) -> tuple[list[tuple[int, ...]], tuple[RollResult, ...]]:
+    """A run's step by lookahead on `face` (1-based): simulate up to s.lookahead actions not in
+    `tried` (the plan's candidates, then `brake.escape`'s order toward `target`, its goal= or direction=), and return the
+    s.max_attempts that land on a face, best first (`rank` toward `goal` (3,) m), with the
+    simulated rolls in the order simulated. A tumble is never returned."""
+    acts = [c.pairs for c in pl.candidates if c.pairs not in tried][:s.lookahead]
+    acts += escape(workspace, face, obs.nodes, tried | set(acts), **target)[:s.lookahead - len(acts)]
+    expect = {c.pairs: c.pressure for c in pl.candidates}
+    simulated = tuple(foresee(params, terrain, s, obs, acts, workspace.max_pressure, brake, expect))
+    return ([acts[i] for i in rank(simulated, goal, terrain)
+             if simulated[i].face_after is not None][:s.max_attempts], simulated)

@@ -142,21 +142,11 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
             todo = [c.pairs for c in pl.candidates[:s.max_attempts]]
             expect = {c.pairs: c.pressure for c in pl.candidates}
             simulated: tuple[RollResult, ...] = ()
-
-            def foresee(obs: Obs, tried: set) -> list[tuple[int, ...]]:
-                """Simulate up to lookahead untried actions (the plan's, then the escape order);
-                the max_attempts best that land on a face (a tumble is never tried)."""
-                nonlocal simulated
-                acts = [c.pairs for c in pl.candidates if c.pairs not in tried][:s.lookahead]
-                acts += escape(workspace, face, obs.nodes, tried | set(acts), **target)[:s.lookahead - len(acts)]
-                simulated = tuple(lookahead.foresee(params, terrain, s, obs, acts, workspace.max_pressure,
-                                                    brk, expect))
-                return [acts[i] for i in lookahead.rank(simulated, goal, terrain)
-                        if simulated[i].face_after is not None][:s.max_attempts]
             look = bool(s.lookahead) and goal is not None
             uneven = not on_incline(terrain, face, obs.nodes, 0.0)
             if look and on_incline(terrain, face, obs.nodes, s.lookahead_tilt):
-                todo = foresee(obs, set())
+                todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl, set(),
+                                                   goal, brk, target)
             while todo:
                 act = todo.pop(0)
                 res, obs = yield from _roll_gen(params, s, obs, act, workspace.max_pressure, brk,
@@ -166,7 +156,8 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
                     break
                 if look and uneven and not simulated:
                     # on uneven ground the planned roll failed: foresee the others
-                    todo = foresee(obs, {r.pairs for r in tries})
+                    todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl,
+                                                       {r.pairs for r in tries}, goal, brk, target)
                 elif not todo and not simulated and len(tries) == min(s.max_attempts, len(pl.candidates)) and s.escape_attempts:
                     # stuck: other actions, those predicted to roll toward the target first
                     todo = escape(workspace, face, obs.nodes, {r.pairs for r in tries},
