@@ -25,8 +25,6 @@ from __future__ import annotations
 
 import argparse
 import collections
-import contextlib
-import sys
 import tempfile
 import time
 from pathlib import Path
@@ -34,7 +32,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from tensegrity import locomotion as lo
+from tensegrity import locomotion as lo, progress
 from tensegrity.io import config, formats
 from tensegrity.locomotion.demos import locomotion_params
 from tensegrity.physics.terrain import Terrain
@@ -55,28 +53,6 @@ def workspace(path: str, two_pair: str | None) -> lo.Workspace:
         from tensegrity.io.two_pair_formats import read_two_pair
         ws = ws.with_two_pair(*read_two_pair(two_pair))
     return ws
-
-
-@contextlib.contextmanager
-def progress(desc: str):
-    """A count of the simulated seconds on stderr (tqdm) while the batch runs; shown only when
-    stderr is a terminal."""
-    from tqdm import tqdm
-
-    from tensegrity.physics import dynamics
-    simulate = dynamics.simulate
-
-    def counted(params, state, schedule, *a, **k):
-        out = simulate(params, state, schedule, *a, **k)
-        bar.update(schedule.duration)
-        return out
-    with tqdm(desc=desc, unit="s sim", disable=None, file=sys.stderr, leave=False,
-              bar_format="{desc}: {n:.1f} s simulated per run [{elapsed}, {rate_fmt}]") as bar:
-        dynamics.simulate = counted
-        try:
-            yield
-        finally:
-            dynamics.simulate = simulate
 
 
 def _cls(heading_deg: float) -> str:
@@ -195,7 +171,7 @@ def main() -> None:
     rows = []
     for name, terrain, by_class in cases:
         t0 = time.perf_counter()
-        with progress(name):
+        with progress.simulated(name, leave=False):
             runs = lo.roll_many(ws, goals, params, terrain, settings=settings)
         rows.append(report(name, runs, headings, time.perf_counter() - t0,
                            settings.arrive_tolerance, by_class))

@@ -13,7 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from . import cli_args
+from . import cli_args, progress
 
 EXIT_USAGE, EXIT_INPUT, EXIT_SIM = 2, 3, 4
 
@@ -21,18 +21,6 @@ EXIT_USAGE, EXIT_INPUT, EXIT_SIM = 2, 3, 4
 def _load_cfg(args):
     from .io import config
     return config.load(args.config, overrides=args.set or None)
-
-
-def _progress(total: float | None, desc: str):
-    """A progress bar on stderr in simulated seconds (tqdm; total None: a count without a bar),
-    shown only when stderr is a terminal."""
-    from tqdm import tqdm
-    if total is None:
-        fmt = "{desc}: {n:.1f} s simulated [{elapsed}, {rate_fmt}]"
-    else:
-        fmt = "{desc}: {percentage:3.0f}%|{bar}| {n:.1f}/{total:.1f} s simulated [{elapsed}<{remaining}]"
-    return tqdm(total=None if total is None else round(total, 6), desc=desc, unit="s sim",
-                disable=None, file=sys.stderr, bar_format=fmt)
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
@@ -58,7 +46,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     n = max(1, round(args.duration / chunk))
     ramp_n = round(args.ramp / chunk)
     xs, qs, ts, ps = [], [], [], []
-    with _progress(n * chunk, "simulate") as bar:
+    with progress.bar(n * chunk, "simulate") as bar:
         for k in range(n):
             level = args.pressure * min(1.0, (k + 1) / ramp_n) if ramp_n else args.pressure
             pres = np.zeros(12)
@@ -189,19 +177,9 @@ def cmd_roll(args: argparse.Namespace) -> int:
     from .io import datasets
     from .io.run_formats import RUN_ALLOW_NAN, run_dataset
     from .locomotion.runs import describe, roll_to
-    from .physics import dynamics
     cfg, face, terrain, params, s, ws = _locomotion_setup(args)
-    simulate = dynamics.simulate
-    with _progress(None, "roll") as bar:
-        def counted(params_, state, schedule, *a, **k):  # the simulated time, as it passes
-            out = simulate(params_, state, schedule, *a, **k)
-            bar.update(schedule.duration)
-            return out
-        dynamics.simulate = counted  # the run's length is not known beforehand: no total
-        try:
-            run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw)
-        finally:
-            dynamics.simulate = simulate
+    with progress.simulated("roll"):
+        run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw)
     print(describe(run, "roll"))
     if args.out:
         datasets.write(run_dataset(run, terrain, "roll"), args.out, cfg,

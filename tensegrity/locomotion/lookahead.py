@@ -26,6 +26,7 @@ from .plan import Plan
 __all__ = ["foresee", "rank", "choose", "CLIMB_COST"]
 
 CLIMB_COST = 5.0  # m of distance per m of height an end below the goal costs (no way back up)
+REVISIT_COST = 0.25  # m, landing on a face of the run's last few steps (a back-and-forth)
 
 
 def foresee(params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
@@ -48,30 +49,34 @@ def foresee(params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
     return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
 
 
-def rank(results: Sequence[RollResult], goal: np.ndarray, terrain: Terrain) -> list[int]:
+def rank(results: Sequence[RollResult], goal: np.ndarray, terrain: Terrain,
+         avoid: Sequence[int] = ()) -> list[int]:
     """Indices of `results` in the order to try them toward `goal` (3,) m: the rolls that end
     on another face first, closest to the goal first (horizontal distance, m, plus CLIMB_COST
-    times the height the CoG's ground point ends below the goal's); then those that did not
-    roll; those that end on no face (tumbles) last."""
+    times the height the CoG's ground point ends below the goal's, plus REVISIT_COST for landing
+    on a face of `avoid`, 1-based); then those that did not roll; those that end on no face
+    (tumbles) last."""
     def key(i: int) -> tuple[int, float]:
         r = results[i]
         c = np.asarray(r.cog_after, float)
         below = max(0.0, float(goal[2] - terrain.height(c[0], c[1])))
         return (0 if r.rolled and r.face_after is not None else 1 if r.face_after is not None else 2,
-                float(np.linalg.norm(c[:2] - goal[:2])) + CLIMB_COST * below)
+                float(np.linalg.norm(c[:2] - goal[:2])) + CLIMB_COST * below
+                + REVISIT_COST * (r.face_after in avoid))
     return sorted(range(len(results)), key=key)
 
 
 def choose(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
            face: int, pl: Plan, tried: set, goal: np.ndarray, brake: Brake | None,
-           target: dict) -> tuple[list[tuple[int, ...]], tuple[RollResult, ...]]:
+           target: dict, avoid: Sequence[int] = ()) -> tuple[list[tuple[int, ...]], tuple[RollResult, ...]]:
     """A run's step by lookahead on `face` (1-based): simulate up to s.lookahead actions not in
-    `tried` (the plan's candidates, then `brake.escape`'s order toward `target`, its goal= or direction=), and return the
-    s.max_attempts that land on a face, best first (`rank` toward `goal` (3,) m), with the
-    simulated rolls in the order simulated. A tumble is never returned."""
+    `tried` (the plan's candidates, then `brake.escape`'s order toward `target`, a dict with
+    goal= or direction=); return the s.max_attempts that land on a face, best first (`rank`
+    toward `goal` (3,) m, landing on a face of `avoid` penalised), and the simulated rolls in the
+    order simulated. A tumble is never returned."""
     acts = [c.pairs for c in pl.candidates if c.pairs not in tried][:s.lookahead]
     acts += escape(workspace, face, obs.nodes, tried | set(acts), **target)[:s.lookahead - len(acts)]
     expect = {c.pairs: c.pressure for c in pl.candidates}
     simulated = tuple(foresee(params, terrain, s, obs, acts, workspace.max_pressure, brake, expect))
-    return ([acts[i] for i in rank(simulated, goal, terrain)
+    return ([acts[i] for i in rank(simulated, goal, terrain, avoid)
              if simulated[i].face_after is not None][:s.max_attempts], simulated)

@@ -146,7 +146,7 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
             uneven = not on_incline(terrain, face, obs.nodes, 0.0)
             if look and on_incline(terrain, face, obs.nodes, s.lookahead_tilt):
                 todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl, set(),
-                                                   goal, brk, target)
+                                                   goal, brk, target, visited[:-1])
             while todo:
                 act = todo.pop(0)
                 res, obs = yield from _roll_gen(params, s, obs, act, workspace.max_pressure, brk,
@@ -157,7 +157,7 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
                 if look and uneven and not simulated:
                     # on uneven ground the planned roll failed: foresee the others
                     todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl,
-                                                       {r.pairs for r in tries}, goal, brk, target)
+                                                       {r.pairs for r in tries}, goal, brk, target, visited[:-1])
                 elif not todo and not simulated and len(tries) == min(s.max_attempts, len(pl.candidates)) and s.escape_attempts:
                     # stuck: other actions, those predicted to roll toward the target first
                     todo = escape(workspace, face, obs.nodes, {r.pairs for r in tries},

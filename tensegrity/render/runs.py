@@ -18,7 +18,7 @@ from ..physics import topology as topo
 from ..physics.terrain import Terrain
 from .files import atomic
 from .scene import (CABLE_COLOUR, LABEL, STRUT_COLOURS, WINDOW, add_terrain, finish,
-                    plotter, robot, terrain_mesh)
+                    fit_camera, plotter, robot, terrain_mesh)
 
 __all__ = ["fig_path", "animate"]
 
@@ -87,46 +87,6 @@ def _oblique_camera(pl: pv.Plotter, centre, cog: np.ndarray, distance: float) ->
     pl.camera.position = c + distance * d / np.linalg.norm(d)
     pl.camera.up = (0, 0, 1)
     pl.camera.view_angle = 30.0
-
-
-def _fit_camera(pl: pv.Plotter, points: np.ndarray, top: float = 0.86, right: float = 0.95) -> None:
-    """Keep the camera's direction and view angle, and move it so that every row of points
-    (n, 3) m is in the picture: within 95 % of the half-width and half-height, below `top`
-    of the half-height (the title is above) and left of `right` of the half-width (a colour
-    bar may be to the right). Perspective, found by bisection."""
-    cam = pl.camera
-    pos, focal = np.asarray(cam.position, float), np.asarray(cam.focal_point, float)
-    d = (pos - focal) / np.linalg.norm(pos - focal)
-    up = np.asarray(cam.up, float)
-    up = up - np.dot(up, d) * d
-    up /= np.linalg.norm(up)
-    side = np.cross(up, d)
-    tan = np.tan(np.radians(cam.view_angle) / 2)
-    aspect = WINDOW[0] / WINDOW[1]
-    pts = np.asarray(points, float)
-    pts = pts[np.isfinite(pts).all(axis=1)]
-    centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
-
-    def spread(c, dist):  # normalised image coordinates of the points
-        rel = pts - (c + dist * d)
-        depth = -(rel @ d)
-        return rel @ side / (depth * tan * aspect), rel @ up / (depth * tan), depth
-
-    size = float(np.max(np.linalg.norm(pts - centre, axis=1)))
-    for _ in range(3):  # centre the points in the free part of the picture
-        lo, hi = 0.1 * size, 20 * size
-        for _ in range(40):
-            mid = 0.5 * (lo + hi)
-            x, y, depth = spread(centre, mid)
-            ok = ((depth > 0).all() and x.min() >= -0.95 and x.max() <= right and y.max() <= top
-                  and y.min() >= -0.95)
-            lo, hi = (lo, mid) if ok else (mid, hi)
-        x, y, depth = spread(centre, hi)
-        shift_y = 0.5 * (y.max() + y.min()) - 0.5 * (top - 0.95)
-        shift_x = 0.5 * (x.max() + x.min()) - 0.5 * (right - 0.95)
-        centre = centre + np.median(depth) * tan * (shift_y * up + shift_x * aspect * side)
-    cam.focal_point = centre
-    cam.position = centre + hi * d
 
 
 def _top_camera(pl: pv.Plotter, centre, extent: float) -> None:
@@ -204,7 +164,7 @@ def fig_path(nodes: np.ndarray, terrain: Terrain, path: str | Path, title: str, 
     if view == "3d":
         robot(pl, nodes[0], opacity=0.35, name="robot at the start")
         _oblique_camera(pl, centre, cog, 2.6 * extent)
-        _fit_camera(pl, np.vstack([terrain_mesh(terrain, centre, ground).points, nodes[0],
+        fit_camera(pl, np.vstack([terrain_mesh(terrain, centre, ground).points, nodes[0],
                                    nodes[-1], track]),
                     right=0.7 if terrain.kind == "heightfield" else 0.95)  # the colour bar
     else:

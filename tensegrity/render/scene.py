@@ -1,5 +1,6 @@
 """Shared VTK plumbing of every figure (docs/design.md §7): the off-screen plotter, colours,
-label style, tubes, struts, node numbers, the robot camera and the PNG writer.
+label style, tubes, struts, node numbers, the robot camera, a camera that fits given points
+and the PNG writer.
 
 Every figure is drawn off-screen: white background, a title, a fixed camera, WINDOW pixels.
 Node, pair and face numbers shown are 1-based as in the paper; lengths are taken in m.
@@ -29,7 +30,7 @@ from ..physics.terrain import Terrain
 
 __all__ = ["WINDOW", "STRUT_COLOURS", "CABLE_COLOUR", "PAIR_COLOURS", "AXIS_COLOURS", "LABEL",
            "offscreen", "plotter", "finish", "tube", "lines", "strut_length", "struts", "robot",
-           "node_labels", "robot_camera", "terrain_mesh", "add_terrain"]
+           "node_labels", "robot_camera", "fit_camera", "terrain_mesh", "add_terrain"]
 
 WINDOW = (1200, 900)  # px
 STRUT_COLOURS = ["#1f77b4", "#2ca02c", "#d62728", "#9467bd", "#ff7f0e", "#17becf"]
@@ -149,6 +150,46 @@ def robot_camera(pl: pv.Plotter, nodes: np.ndarray, zoom: float = 1.0) -> None:
     cam.up = up
     cam.view_angle = 30.0
     pl.renderer.ResetCameraClippingRange()
+
+
+def fit_camera(pl: pv.Plotter, points: np.ndarray, top: float = 0.86, right: float = 0.95) -> None:
+    """Keep the camera's direction and view angle, and move it so that every row of points
+    (n, 3) m is in the picture: within 95 % of the half-width and half-height, below `top`
+    of the half-height (the title is above) and left of `right` of the half-width (a colour
+    bar may be to the right). Perspective, found by bisection."""
+    cam = pl.camera
+    pos, focal = np.asarray(cam.position, float), np.asarray(cam.focal_point, float)
+    d = (pos - focal) / np.linalg.norm(pos - focal)
+    up = np.asarray(cam.up, float)
+    up = up - np.dot(up, d) * d
+    up /= np.linalg.norm(up)
+    side = np.cross(up, d)
+    tan = np.tan(np.radians(cam.view_angle) / 2)
+    aspect = WINDOW[0] / WINDOW[1]
+    pts = np.asarray(points, float)
+    pts = pts[np.isfinite(pts).all(axis=1)]
+    centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+
+    def spread(c, dist):  # normalised image coordinates of the points
+        rel = pts - (c + dist * d)
+        depth = -(rel @ d)
+        return rel @ side / (depth * tan * aspect), rel @ up / (depth * tan), depth
+
+    size = float(np.max(np.linalg.norm(pts - centre, axis=1)))
+    for _ in range(3):  # centre the points in the free part of the picture
+        lo, hi = 0.1 * size, 20 * size
+        for _ in range(40):
+            mid = 0.5 * (lo + hi)
+            x, y, depth = spread(centre, mid)
+            ok = ((depth > 0).all() and x.min() >= -0.95 and x.max() <= right and y.max() <= top
+                  and y.min() >= -0.95)
+            lo, hi = (lo, mid) if ok else (mid, hi)
+        x, y, depth = spread(centre, hi)
+        shift_y = 0.5 * (y.max() + y.min()) - 0.5 * (top - 0.95)
+        shift_x = 0.5 * (x.max() + x.min()) - 0.5 * (right - 0.95)
+        centre = centre + np.median(depth) * tan * (shift_y * up + shift_x * aspect * side)
+    cam.focal_point = centre
+    cam.position = centre + hi * d
 
 
 def node_labels(pl: pv.Plotter, nodes: np.ndarray, idx: Sequence[int] | np.ndarray, font_size: int = 22,

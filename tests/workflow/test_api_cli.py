@@ -1,4 +1,5 @@
 """The public Python API and the command line."""
+import io
 import json
 import subprocess
 import sys
@@ -182,3 +183,31 @@ def test_render_draws_the_reference_support_of_the_datasets_strut_length(tmp_pat
     stages.render_dataset(path, tmp_path / "n.png")
     np.testing.assert_allclose(seen["support"], frames.rest_frame(8, 0.8)[1])
     assert not np.allclose(seen["support"], frames.rest_frame(8, 0.5)[1])
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+@pytest.mark.parametrize("terminal", [False, True])
+def test_progress_counts_simulated_seconds_on_a_terminal_only(monkeypatch, terminal):
+    """`progress.simulated` (roll, bench_locomotion) counts the simulated seconds of every
+    `dynamics.simulate` call while it is open, on a terminal; elsewhere it writes nothing."""
+    from tensegrity import progress
+    from tensegrity.physics import dynamics as d
+    from tensegrity.physics.actuation import Schedule
+    from tensegrity.physics.params import Params
+    from tensegrity.physics.terrain import Terrain
+    err = _Terminal() if terminal else io.StringIO()
+    monkeypatch.setattr(sys, "stderr", err)
+    params, flat = Params(), Terrain.flat()
+    state = d.stand_on(params, 1, flat)
+    with progress.simulated("test") as bar:
+        for _ in range(2):
+            state, _ = d.simulate(params, state, Schedule.constant(np.zeros(12), 0.01), flat, 1e-4, 10)
+        if terminal:  # a disabled bar counts nothing
+            assert bar.n == pytest.approx(0.02)
+    assert d.simulate.__name__ == "simulate"  # put back
+    assert ("test: 0.0 s simulated" in err.getvalue()) == terminal
+    assert (err.getvalue() == "") != terminal
