@@ -26,7 +26,7 @@ from .plan import Plan
 __all__ = ["foresee", "rank", "choose", "CLIMB_COST"]
 
 CLIMB_COST = 5.0  # m of distance per m of height an end below the goal costs (no way back up)
-REVISIT_COST = 0.0  # m, landing on a face of the run's last few steps (a back-and-forth); being measured
+REVISIT_COST = 0.25  # m, landing on a face of the run's last few steps (a back-and-forth on a slope)
 
 
 def foresee(params: Params, terrain: Terrain, s: RollSettings, obs: Obs,

@@ -157,7 +157,7 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
                 if look and uneven and not simulated:
                     # on uneven ground the planned roll failed: foresee the others
                     todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl,
-                                                       {r.pairs for r in tries}, goal, brk, target, visited[:-1])
+                                                       {r.pairs for r in tries}, goal, brk, target)
                 elif not todo and not simulated and len(tries) == min(s.max_attempts, len(pl.candidates)) and s.escape_attempts:
                     # stuck: other actions, those predicted to roll toward the target first
                     todo = escape(workspace, face, obs.nodes, {r.pairs for r in tries},

@@ -60,6 +60,9 @@ def test_rank_puts_landed_rolls_first_and_tumbles_last():
            _res((4,), True, 6, (-0.1, -0.3, -0.1 * t)),      # 1.70 m away, 0.036 m lower: 1.88
            _res((5,), True, 7, (0.0, -0.25, 0.0))]           # 1.75 m away, level
     assert lookahead.rank(res, goal, slope) == [4, 2, 3, 1, 0]
+    # a face of the last steps costs REVISIT_COST: landing back on 7 falls behind 5 and 6
+    assert lookahead.REVISIT_COST > 0.18
+    assert lookahead.rank(res, goal, slope, avoid=[7, 9]) == [2, 3, 4, 1, 0]
     with pytest.raises(ValueError, match="no state"):
         lookahead.foresee(DAMPED, slope, lo.RollSettings(), Obs(0.0, np.zeros((12, 3)),
                           np.zeros(12), EQUI, np.nan), [(1,)], 4.8, None, {})
