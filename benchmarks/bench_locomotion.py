@@ -18,6 +18,7 @@ Usage: python benchmarks/bench_locomotion.py [--workspace results/workspace.nc]
        [--two-pair results/workspace_two_pair.nc | none] [--directions 8] [--distance 2.0]
        [--only flat terrain slope] [--amplitudes 0.03 0.05] [--seeds 1 2 3]
        [--slopes 10 15 20 24] [--strut-damping 1.0] [--set brake=true escape_attempts=0 ...]
+       [--steps]
 Without the workspace file, one is computed first with the default configuration (~30 s).
 `--runs` is a synonym of `--directions`.
 """
@@ -108,6 +109,24 @@ def report(name: str, runs: list[lo.Run], headings: np.ndarray, wall: float, tol
                 rpm=rpm, tip=tip)
 
 
+def steps(runs: list[lo.Run], headings: np.ndarray) -> None:
+    """Every step of every run: the face and its type, the heading of +x (uphill on the slopes)
+    in its support frame when the roll began, the action, the tip pressure and the CoG's change."""
+    from tensegrity.physics import topology as topo
+    from tensegrity.workspace.gravity import heading_of
+    for r, h in zip(runs, headings):
+        print(f"  goal at {h:.0f} deg: {r.outcome}, faces {r.faces}")
+        for st in r.steps:
+            a = st.used
+            k = min(int(np.searchsorted(r.record.t, a.t_start)), len(r.record.t) - 1)
+            d = 1e3 * (np.asarray(a.cog_after) - np.asarray(a.cog_before))
+            print(f"    {topo.face_label(st.face)} {topo.FACE_TYPES[st.face - 1]:11s} +x at "
+                  f"{float(heading_of(r.record.nodes[k], st.face)):6.1f} deg -> "
+                  f"{topo.face_label(st.face_after) if st.face_after else 'no face'} by "
+                  f"{'+'.join(f'#{p}' for p in a.pairs)}, tip {a.tip_pressure:.2f} MPa; CoG "
+                  f"{d[2]:+.0f} mm up, {d[0]:+.0f} mm along +x")
+
+
 def scenarios(a: argparse.Namespace) -> list[tuple[str, Terrain, bool]]:
     """(name, terrain, report per direction class) of every scenario asked for."""
     size = 2 * a.distance + 4.0
@@ -137,6 +156,8 @@ def main() -> None:
     ap.add_argument("--slopes", nargs="+", type=float, default=[10, 15, 20, 24], help="slope angles, deg")
     ap.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE",
                     help="override locomotion settings (RollSettings), e.g. brake=true escape_attempts=0")
+    ap.add_argument("--steps", action="store_true",
+                    help="print every step of every run: face, heading of +x in its frame, action, CoG change")
     ap.add_argument("--strut-damping", type=float, default=None,
                     help="strut damping of the rolling simulations, 1/s (default: config locomotion.strut_damping)")
     a = ap.parse_args()
@@ -175,6 +196,8 @@ def main() -> None:
             runs = lo.roll_many(ws, goals, params, terrain, settings=settings)
         rows.append(report(name, runs, headings, time.perf_counter() - t0,
                            settings.arrive_tolerance, by_class))
+        if a.steps:
+            steps(runs, headings)
     print("\n| scenario | arrived | outcomes | rolls/m | mean tip MPa |\n|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['name']} | {r['rate']} | {r['outcomes']} | {r['rpm']:.2f} | {r['tip']:.2f} |")

@@ -192,7 +192,7 @@ BENCHMARKS = {
     "bench_step.py": ["--seconds", "0.01"],
     "bench_locomotion.py": ["--workspace", "{tiny}/results/workspace.nc", "--two-pair",
                             "{tiny}/results/workspace_two_pair.nc", "--directions", "2",
-                            "--distance", "0.6", "--only", "flat", "slope", "--slopes", "15"],
+                            "--distance", "0.6", "--only", "flat", "slope", "--slopes", "15", "--steps"],
     "bench_slope_reach.py": ["--workspace", "{tiny}/results/workspace.nc", "--slopes", "20",
                              "--headings", "1", "--no-combos"],
     "calibration.py": ["--quick"],
