@@ -16,7 +16,7 @@ from numba.extending import intrinsic
 
 # The files compiled into kernel.py's functions besides kernel.py itself.
 WATCHED = [Path(__file__).with_name(n)
-           for n in ("kernel_stages.py", "kernel_robot.py", "compiling.py")]
+           for n in ("kernel_stages.py", "kernel_contact.py", "kernel_robot.py", "compiling.py")]
 
 
 def _watching(locator):

@@ -20,13 +20,14 @@ import numba as nb
 import numpy as np
 
 from . import kernel_robot as kr
+from . import kernel_contact as kc
 from . import kernel_stages as ks
 from . import topology as topo
 from .compiling import callees_first, jit, stack_array
 from .params import IDX
 
 OK, NON_FINITE, TOO_FAST, OFF_TERRAIN = 0, 1, 2, 3  # status codes (values fixed: see dynamics)
-NO_TERRAIN = ks.NO_TERRAIN
+NO_TERRAIN = kc.NO_TERRAIN
 LANES = 8  # robots per group: one AVX-512 register of float64
 WIDE_FROM = 3  # smaller batches run one robot per group (and per thread): faster for 1 or 2
 CABLE_PAIR = np.ascontiguousarray(topo.CABLE_PAIR.astype(np.int64))
@@ -156,7 +157,7 @@ def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, 
             if kind != NO_TERRAIN:
                 for l in range(L):
                     lane[1, l] = 1.0
-                ks.ground_forces(P, U, G, AN, ST, C, lane[1], kind, meta, hz, lanes)
+                kc.ground_forces(P, U, G, AN, ST, C, lane[1], kind, meta, hz, lanes)
                 off = False
                 for l in range(L):
                     off |= (lane[1, l] == 0.0) & (lane[2, l] != 0.0)

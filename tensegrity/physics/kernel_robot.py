@@ -1,7 +1,7 @@
 """One robot alone, in SIMD lanes of its own: its struts, nodes and cables side by side (a batch
 of one or two robots, `kernel.advance`). The stages of `kernel_stages` are written for a group of
 robots, one per lane; a lone robot would leave all lanes but one empty. Here the same per-item
-functions (`ks.rotations`, `ks.node`, `ks.cable_force`, `ks.ground_node`, `ks.strut`) run with the
+functions (`ks.rotations`, `ks.node`, `ks.cable_force`, `kc.ground_node`, `ks.strut`) run with the
 item as the lane: strut i in lane i of 8 (lanes 6, 7: padding), node STRUT_A[i] in lane i and
 STRUT_B[i] in lane 8 + i of 16, cable j in lane j of 24. The only new code is the layout: the
 cable ends and a node's four cables are picked from those lanes by whole-vector shuffles (`take`).
@@ -20,6 +20,7 @@ import numpy as np
 from numba.core import types
 from numba.extending import intrinsic
 
+from . import kernel_contact as kc
 from . import kernel_stages as ks
 from .kernel_stages import DT_I, DT_M, GRAV, HL, INLINE, NC, R
 
@@ -106,12 +107,12 @@ def _cables(P, U, E, C, act, linear, TF, TN, FN):
 
 @nb.njit(**INLINE)
 def _ground(P, U, G, AN, ST, C, on, kind, meta, hz):
-    """`ks.ground_forces` for the nodes of the robot, for the terrain kind (a constant). False
+    """`kc.ground_forces` for the nodes of the robot, for the terrain kind (a constant). False
     if a node has no terrain under it: then, as there, the nodes after it (in node order) are
     left unchanged."""
     clear, ok_all = True, True
     for m in range(16):
-        dist, ok = ks.terrain_contact(P[0, 0, m], P[0, 1, m], P[0, 2, m], kind, meta, hz)[3:]
+        dist, ok = kc.terrain_contact(P[0, 0, m], P[0, 1, m], P[0, 2, m], kind, meta, hz)[3:]
         pad = PAD[m] != 0.0
         clear &= (ok & (C[R, m] - dist <= 0.0)) | pad
         ok_all &= ok | pad
@@ -121,12 +122,12 @@ def _ground(P, U, G, AN, ST, C, on, kind, meta, hz):
     elif ok_all:
         for m in range(16):
             on[m] = 1.0
-            ks.ground_node(0, m, P, U, G, AN, ST, C, on, kind, meta, hz)
+            kc.ground_node(0, m, P, U, G, AN, ST, C, on, kind, meta, hz)
     else:  # rare: node by node, in node order
         prev = 1.0
         for n in range(12):
             on[NODE_LANE[n]] = prev
-            ks.ground_node(0, NODE_LANE[n], P, U, G, AN, ST, C, on, kind, meta, hz)
+            kc.ground_node(0, NODE_LANE[n], P, U, G, AN, ST, C, on, kind, meta, hz)
             prev = on[NODE_LANE[n]]
     return ok_all
 
@@ -142,11 +143,11 @@ def step(S, linear, kind, meta, hz, dt):
         ks.node(P, U, 0, i, X, V, W, Rm, 0, i, 1.0 * C[HL, i])
         ks.node(P, U, 0, 8 + i, X, V, W, Rm, 0, i, -1.0 * C[HL, i])
     _cables(P, U, E, C, act, linear, TF, TN, FN)
-    if kind == ks.PLANE:
-        if not _ground(P, U, G, AN, ST, C, on, ks.PLANE, meta, hz):
+    if kind == kc.PLANE:
+        if not _ground(P, U, G, AN, ST, C, on, kc.PLANE, meta, hz):
             return -1.0
-    elif kind == ks.HEIGHTFIELD:
-        if not _ground(P, U, G, AN, ST, C, on, ks.HEIGHTFIELD, meta, hz):
+    elif kind == kc.HEIGHTFIELD:
+        if not _ground(P, U, G, AN, ST, C, on, kc.HEIGHTFIELD, meta, hz):
             return -1.0
     for i in range(8):
         fast[i] = ks.strut(0, i, X, V, Q, W, Rm, C, dt, FN[0, i] + G[0, 0, i],
