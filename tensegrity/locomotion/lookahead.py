@@ -23,9 +23,9 @@ from .lockstep import Obs, lockstep
 from .lookup import Workspace
 from .plan import Plan
 
-__all__ = ["foresee", "rank", "choose", "CLIMB_COST"]
+__all__ = ["foresee", "rank", "choose", "CLIMB_COST", "REVISIT_COST"]
 
-CLIMB_COST = 5.0  # m of distance per m of height an end below the goal costs (no way back up)
+CLIMB_COST = 5.0  # m of distance per m of height an end below the goal costs (climbing back is slow)
 REVISIT_COST = 0.25  # m, landing on a face of the run's last few steps (a back-and-forth on a slope)
 
 
