@@ -19,8 +19,8 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from . import kernel_robot as kr
 from . import kernel_contact as kc
+from . import kernel_robot as kr
 from . import kernel_stages as ks
 from . import topology as topo
 from .compiling import callees_first, jit, stack_array
