@@ -39,6 +39,9 @@ from tensegrity.locomotion.demos import locomotion_params
 from tensegrity.physics.terrain import Terrain
 
 
+SLIDE = 0.5  # m: a roll that moves the CoG further than this slid (reported, not judged)
+
+
 def workspace(path: str, two_pair: str | None) -> lo.Workspace:
     if Path(path).is_file():
         ws = formats.read_workspace(path)
@@ -91,6 +94,11 @@ def report(name: str, runs: list[lo.Run], headings: np.ndarray, wall: float, tol
     print(f"final distance to goal: median {np.median([r.distance_to_goal for r in runs]):.3f} m, "
           f"max {max(r.distance_to_goal for r in runs):.3f} m")
     print(f"rolls: {rolls} ({combos} with two pairs); rolls per metre of the arrived runs {rpm:.2f}")
+    moves = [float(np.linalg.norm(np.subtract(st.used.cog_after, st.used.cog_before)[:2]))
+             for r in runs for st in r.steps if st.rolled]
+    if moves:  # a roll moves the CoG 0.1-0.3 m; more is a slide down a slope, not a controlled roll
+        print(f"rolls that moved the CoG more than {SLIDE} m (slides): {sum(m > SLIDE for m in moves)}"
+              f" of {len(moves)}, largest {max(moves):.2f} m")
     print(f"pressure at which the rolls tipped: mean {tip:.2f} MPa" + (
         f" (min {np.min(tips):.2f}, max {np.max(tips):.2f})" if tips else " (no roll)"))
     seen = [st.simulated for r in runs for st in r.steps if st.simulated]

@@ -145,8 +145,8 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
             look = bool(s.lookahead) and goal is not None
             uneven = not on_incline(terrain, face, obs.nodes, 0.0)
             if look and on_incline(terrain, face, obs.nodes, s.lookahead_tilt):
-                todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl, set(),
-                                                   goal, brk, target, visited[:-1])
+                todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl, set(), goal,
+                                                   brk, target, visited[:-1], lookahead.INCLINE_CLIMB_COST)
             while todo:
                 act = todo.pop(0)
                 res, obs = yield from _roll_gen(params, s, obs, act, workspace.max_pressure, brk,

@@ -8,7 +8,7 @@ from tensegrity import locomotion as lo
 from tensegrity.locomotion import lookahead
 from tensegrity.locomotion.control import RollResult
 from tensegrity.locomotion.lockstep import Obs
-from tensegrity.physics import topology as topo
+from tensegrity.physics import dynamics as d, topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 
@@ -26,7 +26,8 @@ def test_the_roll_made_is_the_roll_foreseen(ws):
     step = run.steps[0]
     assert len(step.simulated) == 4 and len(step.attempts) == 1
     done = step.attempts[0]
-    first = step.simulated[lookahead.rank(step.simulated, run.goal, Terrain.slope(20.0))[0]]
+    first = step.simulated[lookahead.rank(step.simulated, run.goal, Terrain.slope(20.0), [],
+                                         lookahead.INCLINE_CLIMB_COST)[0]]
     assert done.pairs == first.pairs
     assert (done.rolled, done.face_after) == (first.rolled, first.face_after)
     assert np.allclose(done.cog_after, first.cog_after, rtol=0, atol=1e-12)
@@ -60,9 +61,36 @@ def test_rank_puts_landed_rolls_first_and_tumbles_last():
            _res((4,), True, 6, (-0.1, -0.3, -0.1 * t)),      # 1.70 m away, 0.036 m lower: 1.88
            _res((5,), True, 7, (0.0, -0.25, 0.0))]           # 1.75 m away, level
     assert lookahead.rank(res, goal, slope) == [4, 2, 3, 1, 0]
+    assert lookahead.rank(res, goal, slope, climb=0.0) == [3, 4, 2, 1, 0]  # height ignored
     # a face of the last steps costs REVISIT_COST: landing back on 7 falls behind 5 and 6
     assert lookahead.REVISIT_COST > 0.18
     assert lookahead.rank(res, goal, slope, avoid=[7, 9]) == [2, 3, 4, 1, 0]
     with pytest.raises(ValueError, match="no state"):
         lookahead.foresee(DAMPED, slope, lo.RollSettings(), Obs(0.0, np.zeros((12, 3)),
                           np.zeros(12), EQUI, np.nan), [(1,)], 4.8, None, {})
+
+
+def test_choose_foresees_every_action_before_giving_up(ws, monkeypatch):
+    """When every one of the first `lookahead` actions tumbles, `choose` foresees the face's
+    other actions (each once) before a run ends stuck, and returns those that land."""
+    batches = []
+
+    def fake(params, terrain, s, obs, acts, max_pressure, brake, expect):
+        batches.append(list(acts))
+        land = len(batches) > 1  # the first batch all tumbles, the second lands
+        return [_res(a, land, 5 if land else None, (0.0, -0.1 * k, 0.0)) for k, a in enumerate(acts)]
+
+    monkeypatch.setattr(lookahead, "foresee", fake)
+    s = lo.RollSettings(lookahead=3, max_attempts=2)
+    slope = Terrain.slope(20.0)
+    st = d.stand_on(DAMPED, EQUI, slope)
+    obs = Obs(0.0, d.nodes(st.x, st.q, DAMPED.strut_length)[0], np.zeros(12), EQUI, 0.0)
+    pl = lo.plan(ws, EQUI, obs.nodes, goal=np.array([0.0, -2.0, 0.0]))
+    todo, simulated = lookahead.choose(ws, DAMPED, slope, s, obs, EQUI, pl, set(),
+                                       np.array([0.0, -2.0, 0.0]), None, dict(goal=np.array([0.0, -2.0])))
+    first, rest = batches
+    assert len(first) == 3 and rest and not set(first) & set(rest)
+    every = {(int(q),) for q in ws.pairs(EQUI)}
+    assert set(first) | set(rest) >= every  # every single pair foreseen
+    assert len(simulated) == len(first) + len(rest)
+    assert len(todo) == 2 and all(a in rest for a in todo)
