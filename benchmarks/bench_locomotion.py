@@ -35,11 +35,9 @@ import yaml
 
 from tensegrity import locomotion as lo, progress
 from tensegrity.io import config, formats
+from tensegrity.locomotion import lookahead
 from tensegrity.locomotion.demos import locomotion_params
 from tensegrity.physics.terrain import Terrain
-
-
-SLIDE = 0.5  # m: a roll that moves the CoG further than this slid (reported, not judged)
 
 
 def workspace(path: str, two_pair: str | None) -> lo.Workspace:
@@ -97,7 +95,7 @@ def report(name: str, runs: list[lo.Run], headings: np.ndarray, wall: float, tol
     moves = [float(np.linalg.norm(np.subtract(st.used.cog_after, st.used.cog_before)[:2]))
              for r in runs for st in r.steps if st.rolled]
     if moves:  # a roll moves the CoG 0.1-0.3 m; more is a slide down a slope, not a controlled roll
-        print(f"rolls that moved the CoG more than {SLIDE} m (slides): {sum(m > SLIDE for m in moves)}"
+        print(f"rolls that moved the CoG more than {lookahead.SLIDE} m (slides): {sum(m > lookahead.SLIDE for m in moves)}"
               f" of {len(moves)}, largest {max(moves):.2f} m")
     print(f"pressure at which the rolls tipped: mean {tip:.2f} MPa" + (
         f" (min {np.min(tips):.2f}, max {np.max(tips):.2f})" if tips else " (no roll)"))

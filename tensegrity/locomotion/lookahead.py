@@ -23,10 +23,12 @@ from .lockstep import Obs, lockstep
 from .lookup import Workspace
 from .plan import Plan
 
-__all__ = ["foresee", "rank", "choose", "CLIMB_COST", "INCLINE_CLIMB_COST", "REVISIT_COST"]
+__all__ = ["foresee", "lands", "rank", "choose", "CLIMB_COST", "INCLINE_CLIMB_COST", "SLIDE",
+           "REVISIT_COST"]
 
 CLIMB_COST = 5.0  # m of distance per m of height an end below the goal costs (climbing back is slow)
 INCLINE_CLIMB_COST = 10.0  # the same on an even incline, where height lost is lost for good
+SLIDE = 0.5  # m: on an even incline, a roll that moves the CoG further (horizontally) slid: a tumble
 REVISIT_COST = 0.25  # m, landing on a face of the run's last few steps (a back-and-forth on a slope)
 
 
@@ -50,18 +52,25 @@ def foresee(params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
     return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
 
 
+def lands(r: RollResult, slide: float = np.inf) -> bool:
+    """The roll `r` ends on a face, its CoG moved at most `slide` m horizontally (a roll moves it
+    0.1-0.3 m; more is a slide down an incline, which counts as a tumble)."""
+    return r.face_after is not None and bool(
+        np.linalg.norm(np.subtract(r.cog_after, r.cog_before)[:2]) <= slide)
+
+
 def rank(results: Sequence[RollResult], goal: np.ndarray, terrain: Terrain,
-         avoid: Sequence[int] = (), climb: float = CLIMB_COST) -> list[int]:
+         avoid: Sequence[int] = (), climb: float = CLIMB_COST, slide: float = np.inf) -> list[int]:
     """Indices of `results` in the order to try them toward `goal` (3,) m: the rolls that end
     on another face first, closest to the goal first (horizontal distance, m, plus `climb`
-    (m per m) times the height the CoG's ground point ends below the goal's, plus REVISIT_COST for landing
-    on a face of `avoid`, 1-based); then those that did not roll; those that end on no face
-    (tumbles) last."""
+    (m per m) times the height the CoG's ground point ends below the goal's, plus REVISIT_COST
+    for landing on a face of `avoid`, 1-based); then those that did not roll; those that tumble
+    (end on no face, or slide further than `slide` m: `lands`) last."""
     def key(i: int) -> tuple[int, float]:
         r = results[i]
         c = np.asarray(r.cog_after, float)
         below = max(0.0, float(goal[2] - terrain.height(c[0], c[1])))
-        return (0 if r.rolled and r.face_after is not None else 1 if r.face_after is not None else 2,
+        return (0 if r.rolled and lands(r, slide) else 1 if lands(r, slide) else 2,
                 float(np.linalg.norm(c[:2] - goal[:2])) + climb * below
                 + REVISIT_COST * (r.face_after in avoid))
     return sorted(range(len(results)), key=key)
@@ -69,20 +78,24 @@ def rank(results: Sequence[RollResult], goal: np.ndarray, terrain: Terrain,
 
 def choose(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
            face: int, pl: Plan, tried: set, goal: np.ndarray, brake: Brake | None,
-           target: dict, avoid: Sequence[int] = (), climb: float = CLIMB_COST) -> tuple[list[tuple[int, ...]], tuple[RollResult, ...]]:
+           target: dict, avoid: Sequence[int] = (), incline: bool = False
+           ) -> tuple[list[tuple[int, ...]], tuple[RollResult, ...]]:
     """A run's step by lookahead on `face` (1-based): simulate up to s.lookahead actions not in
     `tried` (the plan's candidates, then `brake.escape`'s order toward `target`, a dict with
-    goal= or direction=), and if every one of them tumbles, the face's other actions; return the s.max_attempts that land on a face, best first (`rank`
-    toward `goal` (3,) m with `climb`, landing on a face of `avoid` penalised), and the simulated rolls in the
-    order simulated. A tumble is never returned."""
+    goal= or direction=), and if every one of them tumbles, the face's other actions; return
+    the s.max_attempts that land on a face, best first (`rank` toward `goal` (3,) m, landing on
+    a face of `avoid` penalised; on an even `incline`, with INCLINE_CLIMB_COST and a slide
+    further than SLIDE counted as a tumble), and the simulated rolls in the order simulated.
+    A tumble is never returned."""
+    climb, slide = (INCLINE_CLIMB_COST, SLIDE) if incline else (CLIMB_COST, np.inf)
     acts = [c.pairs for c in pl.candidates if c.pairs not in tried][:s.lookahead]
     acts += escape(workspace, face, obs.nodes, tried | set(acts), **target)[:s.lookahead - len(acts)]
     expect = {c.pairs: c.pressure for c in pl.candidates}
     simulated = tuple(foresee(params, terrain, s, obs, acts, workspace.max_pressure, brake, expect))
-    if all(r.face_after is None for r in simulated):
+    if not any(lands(r, slide) for r in simulated):
         # every one tumbles: foresee the face's other actions too before giving up
         acts += escape(workspace, face, obs.nodes, tried | set(acts), **target)
         simulated += tuple(foresee(params, terrain, s, obs, acts[len(simulated):],
                                    workspace.max_pressure, brake, expect))
-    return ([acts[i] for i in rank(simulated, goal, terrain, avoid, climb)
-             if simulated[i].face_after is not None][:s.max_attempts], simulated)
+    return ([acts[i] for i in rank(simulated, goal, terrain, avoid, climb, slide)
+             if lands(simulated[i], slide)][:s.max_attempts], simulated)

@@ -146,7 +146,7 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
             uneven = not on_incline(terrain, face, obs.nodes, 0.0)
             if look and on_incline(terrain, face, obs.nodes, s.lookahead_tilt):
                 todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl, set(), goal,
-                                                   brk, target, visited[:-1], lookahead.INCLINE_CLIMB_COST)
+                                                   brk, target, visited[:-1], incline=True)
             while todo:
                 act = todo.pop(0)
                 res, obs = yield from _roll_gen(params, s, obs, act, workspace.max_pressure, brk,
@@ -165,7 +165,9 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
             if not tries:  # nothing tried: no step
                 outcome, message = "stuck", (
                     f"every one of the {len(simulated)} actions simulated on face "
-                    f"{topo.face_label(face)} (lookahead) tumbles the robot")
+                    f"{topo.face_label(face)} (lookahead) tumbles the robot"
+                    + (f" or slides it more than {lookahead.SLIDE} m" if simulated and on_incline(
+                        terrain, face, obs.nodes, s.lookahead_tilt) else ""))
                 break
             after = tries[-1].face_after
             steps.append(Step(face, pl, tuple(tries), after, simulated))

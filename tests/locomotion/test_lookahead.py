@@ -27,7 +27,7 @@ def test_the_roll_made_is_the_roll_foreseen(ws):
     assert len(step.simulated) == 4 and len(step.attempts) == 1
     done = step.attempts[0]
     first = step.simulated[lookahead.rank(step.simulated, run.goal, Terrain.slope(20.0), [],
-                                         lookahead.INCLINE_CLIMB_COST)[0]]
+                                         lookahead.INCLINE_CLIMB_COST, lookahead.SLIDE)[0]]
     assert done.pairs == first.pairs
     assert (done.rolled, done.face_after) == (first.rolled, first.face_after)
     assert np.allclose(done.cog_after, first.cog_after, rtol=0, atol=1e-12)
@@ -44,8 +44,8 @@ def test_no_lookahead_on_gentler_slopes(ws):
     assert lo.roll_to(ws, (0.0, -2.0), DAMPED, Terrain.slope(10.0), settings=s).steps[0].simulated == ()
 
 
-def _res(pairs, rolled, face_after, cog):
-    return RollResult(pairs, rolled, EQUI, face_after, np.nan, 1.0, 0.0, 1.0, np.zeros(3),
+def _res(pairs, rolled, face_after, cog, before=(0.0, 0.0, 0.0)):
+    return RollResult(pairs, rolled, EQUI, face_after, np.nan, 1.0, 0.0, 1.0, np.asarray(before, float),
                       np.asarray(cog, float))
 
 
@@ -62,6 +62,11 @@ def test_rank_puts_landed_rolls_first_and_tumbles_last():
            _res((5,), True, 7, (0.0, -0.25, 0.0))]           # 1.75 m away, level
     assert lookahead.rank(res, goal, slope) == [4, 2, 3, 1, 0]
     assert lookahead.rank(res, goal, slope, climb=0.0) == [3, 4, 2, 1, 0]  # height ignored
+    # a landing whose CoG moved further than `slide` (1.0 m from (0, 0.8)) is a tumble
+    slid = res[:4] + [_res((5,), True, 7, (0.0, -0.25, 0.0), before=(0.0, 0.8, 0.0))]
+    assert lookahead.rank(slid, goal, slope) == [4, 2, 3, 1, 0]
+    assert lookahead.rank(slid, goal, slope, slide=0.5) == [2, 3, 1, 0, 4]
+    assert lookahead.lands(slid[4], 1.06) and not lookahead.lands(slid[4], 1.04)
     # a face of the last steps costs REVISIT_COST: landing back on 7 falls behind 5 and 6
     assert lookahead.REVISIT_COST > 0.18
     assert lookahead.rank(res, goal, slope, avoid=[7, 9]) == [2, 3, 4, 1, 0]
