@@ -92,8 +92,7 @@ def report(name: str, runs: list[lo.Run], headings: np.ndarray, wall: float, tol
     print(f"final distance to goal: median {np.median([r.distance_to_goal for r in runs]):.3f} m, "
           f"max {max(r.distance_to_goal for r in runs):.3f} m")
     print(f"rolls: {rolls} ({combos} with two pairs); rolls per metre of the arrived runs {rpm:.2f}")
-    moves = [float(np.linalg.norm(np.subtract(st.used.cog_after, st.used.cog_before)[:2]))
-             for r in runs for st in r.steps if st.rolled]
+    moves = [lookahead.moved(st.used) for r in runs for st in r.steps if st.rolled]
     if moves:  # a roll moves the CoG 0.1-0.3 m; more is a slide down a slope, not a controlled roll
         print(f"rolls that moved the CoG more than {lookahead.SLIDE} m (slides): {sum(m > lookahead.SLIDE for m in moves)}"
               f" of {len(moves)}, largest {max(moves):.2f} m")

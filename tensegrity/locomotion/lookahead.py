@@ -23,7 +23,7 @@ from .lockstep import Obs, lockstep
 from .lookup import Workspace
 from .plan import Plan
 
-__all__ = ["foresee", "lands", "rank", "choose", "CLIMB_COST", "INCLINE_CLIMB_COST", "SLIDE",
+__all__ = ["foresee", "moved", "lands", "rank", "choose", "CLIMB_COST", "INCLINE_CLIMB_COST", "SLIDE",
            "REVISIT_COST"]
 
 CLIMB_COST = 5.0  # m of distance per m of height an end below the goal costs (climbing back is slow)
@@ -52,11 +52,15 @@ def foresee(params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
     return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
 
 
+def moved(r: RollResult) -> float:
+    """How far the roll `r` moved the CoG horizontally, m (a roll: 0.1-0.3 m)."""
+    return float(np.linalg.norm(np.subtract(r.cog_after, r.cog_before)[:2]))
+
+
 def lands(r: RollResult, slide: float = np.inf) -> bool:
-    """The roll `r` ends on a face, its CoG moved at most `slide` m horizontally (a roll moves it
-    0.1-0.3 m; more is a slide down an incline, which counts as a tumble)."""
-    return r.face_after is not None and bool(
-        np.linalg.norm(np.subtract(r.cog_after, r.cog_before)[:2]) <= slide)
+    """The roll `r` ends on a face, its CoG moved at most `slide` m horizontally (`moved`; more
+    is a slide down an incline, which counts as a tumble)."""
+    return r.face_after is not None and moved(r) <= slide
 
 
 def rank(results: Sequence[RollResult], goal: np.ndarray, terrain: Terrain,
@@ -70,7 +74,8 @@ def rank(results: Sequence[RollResult], goal: np.ndarray, terrain: Terrain,
         r = results[i]
         c = np.asarray(r.cog_after, float)
         below = max(0.0, float(goal[2] - terrain.height(c[0], c[1])))
-        return (0 if r.rolled and lands(r, slide) else 1 if lands(r, slide) else 2,
+        landed = lands(r, slide)
+        return (0 if r.rolled and landed else 1 if landed else 2,
                 float(np.linalg.norm(c[:2] - goal[:2])) + climb * below
                 + REVISIT_COST * (r.face_after in avoid))
     return sorted(range(len(results)), key=key)

@@ -144,7 +144,8 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
             simulated: tuple[RollResult, ...] = ()
             look = bool(s.lookahead) and goal is not None
             uneven = not on_incline(terrain, face, obs.nodes, 0.0)
-            if look and on_incline(terrain, face, obs.nodes, s.lookahead_tilt):
+            incline = look and on_incline(terrain, face, obs.nodes, s.lookahead_tilt)
+            if incline:
                 todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl, set(), goal,
                                                    brk, target, visited[:-1], incline=True)
             while todo:
@@ -166,8 +167,7 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
                 outcome, message = "stuck", (
                     f"every one of the {len(simulated)} actions simulated on face "
                     f"{topo.face_label(face)} (lookahead) tumbles the robot"
-                    + (f" or slides it more than {lookahead.SLIDE} m" if simulated and on_incline(
-                        terrain, face, obs.nodes, s.lookahead_tilt) else ""))
+                    + (f" or slides it more than {lookahead.SLIDE} m" if incline else ""))
                 break
             after = tries[-1].face_after
             steps.append(Step(face, pl, tuple(tries), after, simulated))
