@@ -175,25 +175,37 @@ def locomotion_run(cfg: dict, name: str, workspace_path: str | Path, out_path: s
     Writes the run dataset (results/locomotion/{run}.nc, `io.run_formats.run_dataset`) to
     `out_path` and returns its path; prints the steps and the outcome. `cfg`: the sections of
     STAGE_CONFIG["locomotion_run"], merged over the workspace file's provenance."""
+    return locomotion_runs(cfg, [name], workspace_path, [out_path], two_pair_path)[0]
+
+
+def locomotion_runs(cfg: dict, names: Sequence[str], workspace_path: str | Path,
+                    out_paths: Sequence[str | Path], two_pair_path: str | Path | None = None) -> list[Path]:
+    """`locomotion_run` of each of `names` in turn, to the matching `out_paths`, the workspace
+    read once (the workflow's rule `locomotion_runs`: one job, which starts the simulator once)."""
     from .io import formats, run_formats
     from .locomotion import demos, runs
     from .locomotion.control import RollSettings
+    if len(names) != len(out_paths):
+        raise ValueError(f"{len(names)} runs {list(names)} but {len(out_paths)} output paths")
     src = datasets.read(workspace_path)  # read once: the workspace and its provenance
     ws = formats.workspace_from_dataset(src)
     if two_pair_path is not None:
         from .io.two_pair_formats import read_two_pair
         ws = ws.with_two_pair(*read_two_pair(two_pair_path))
-    setup = demos.demo_setup(cfg, name)
+    setups = [demos.demo_setup(cfg, name) for name in names]  # an unknown name: before any run
     params = demos.locomotion_params(cfg)
     s = RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
-    if "edges" in setup:
-        run = runs.roll_over(ws, setup["edges"], params, setup["terrain"], settings=s)
-    else:
-        run = runs.roll_to(ws, setup["goal"], params, setup["terrain"], settings=s)
-    print(runs.describe(run, name))
-    return datasets.write(run_formats.run_dataset(run, setup["terrain"], name), out_path,
-                          {**datasets.provenance_config(src), **cfg},
-                          f"Rolling locomotion run '{name}': {run.outcome}",
-                          stage="locomotion", allow_nan=run_formats.RUN_ALLOW_NAN)
+    out = []
+    for name, setup, out_path in zip(names, setups, out_paths):
+        if "edges" in setup:
+            run = runs.roll_over(ws, setup["edges"], params, setup["terrain"], settings=s)
+        else:
+            run = runs.roll_to(ws, setup["goal"], params, setup["terrain"], settings=s)
+        print(runs.describe(run, name), flush=True)
+        out.append(datasets.write(run_formats.run_dataset(run, setup["terrain"], name), out_path,
+                                  {**datasets.provenance_config(src), **cfg},
+                                  f"Rolling locomotion run '{name}': {run.outcome}",
+                                  stage="locomotion", allow_nan=run_formats.RUN_ALLOW_NAN))
+    return out
 
 

@@ -101,7 +101,7 @@ def two_pair_curves(cfg: dict, contact_paths: Sequence[str | os.PathLike], out_p
 
 
 def render_two_pair(nominal_path: str | os.PathLike, contact_path: str | os.PathLike, out: str | os.PathLike) -> dict:
-    """Stage `render_two_pair`: the CoG projections one pair reaches (results/nominal/{contact}.nc)
+    """Figure stage (rule `render`): the CoG projections one pair reaches (results/nominal/{contact}.nc)
     and two pairs reach (results/two_pair/{contact}.nc), with the unactuated support triangle."""
     from .physics import frames
     from .render import two_pair as draw

@@ -10,10 +10,10 @@ example changes, and what depends on them, and nothing else), with the
 example's `--config`/`--configfile` merged over the tiny configuration and every output as the
 target except the run's GIF (`--omit-from locomotion_animation`: 15 s each, and it does not
 depend on what the examples change; the smoke test makes it), the gravity-aware workspace with
-the slope limit, and the two-pair checks, curves and figures (unless the example changes the
+the slope limit, and the two-pair checks and curves (unless the example changes the
 section `gravity` or `two_pair`; the smoke test makes them); it must exit 0, and a run that did not
 arrive must be named at the end and fail check 6. The grounded examples also leave out the
-curves (`fit` and after: Fig. 7, curves.json) and Fig. 6, which the tiny levels cannot give in
+curves (`fit` and after: curves.json and the figures of `render`), which the tiny levels cannot give in
 the grounded mode (see `_snakemake_argv`). A block whose command repeats an earlier one (config/README
 repeats README's subset, finer levels and grounded mode) is not run twice.
 README's two set-up commands are what CI itself runs, so they are not repeated.
@@ -91,14 +91,14 @@ def _snakemake_argv(argv: list[str]) -> list[str]:
             # the tiny levels start at 1.2 MPa, where the grounded robot on #4 and #10 has already
             # rolled off: fit needs two standing levels and Fig. 6 one level of #10 before the
             # roll (with the default levels from 0.4 MPa they have them)
-            omit += ["fit"]  # and Fig. 6 and 7 with it (render_workspace)
-        # the gravity-aware workspace and the two-pair checks, curves and figures (the tiny run
+            omit += ["fit"]  # and the figures of `render` with it (Figs. 1 and 4-7, two-pair regions)
+        # the gravity-aware workspace and the two-pair checks and curves (the tiny run
         # makes them) are left out unless the example changes their section; the two-pair
         # workspace itself stays: the demonstration runs read it
         if not re.search(r"\bgravity=|\bgravity:", " ".join(argv)):
             omit += ["gravity"]  # and what follows from it: slope_limit, validate_gravity
         if not re.search(r"\btwo_pair=|\btwo_pair:", " ".join(argv)):
-            omit += ["validate_two_pair", "two_pair_curves", "render_two_pair"]
+            omit += ["validate_two_pair", "two_pair_curves"]
         out += ["--omit-from", *omit]
         # the tiny run's records name its own copy's scripts: the code is the same checkout
         out += ["--rerun-triggers", "mtime", "params", "input", "software-env"]

@@ -29,7 +29,7 @@ SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 # rules, left out; the whole tiny workflow runs locally in the `tiny` fixture).
 TARGETS = ["results/workspace.nc", "results/curves/curves.json", "results/workspace_gravity.nc"]
 # Rules that are not `localrule: True` and so must go through sbatch, with their job counts.
-SUBMITTED = {"sweep": 2, "gravity": 1}
+SUBMITTED = {"sweep": 1, "gravity": 1}
 PIDFILES = ["/run/munge/munged.pid", "/run/slurmctld.pid", "/run/slurmd.pid"]
 # One file per test session using the cluster (named by its PID): the last one out stops it, so
 # that a session does not stop the cluster under another's jobs, nor leave it running.

@@ -1,6 +1,6 @@
 # Rolling locomotion (paper III.C-D, IV): demonstration runs planned from the
 # workspace and rolled in the grounded simulation, then Fig. 8-10, paths and an animation.
-# Rules call tensegrity.stages (locomotion_run and the figure stages).
+# Rules call tensegrity.stages (locomotion_runs and the figure stages).
 
 LOCO = config["locomotion"]
 LOCO_RUNS = LOCO["runs"]
@@ -12,29 +12,31 @@ STATE_FIGURES = "paper" in LOCO_RUNS and SLOPE_RUN in LOCO_RUNS
 ANIMATION = LOCO["animation_run"] in LOCO_RUNS
 
 
-rule locomotion_run:
-    """One demonstration run: plan from the workspace (two pairs from the two-pair workspace),
-    roll in the grounded simulation, repeat."""
-    input:
-        workspace="results/workspace.nc",
-        two_pair="results/workspace_two_pair.nc",
-    output:
-        "results/locomotion/{run}.nc",
-    params:
-        cfg=stage_config(config, "locomotion_run"),
-    log:
-        "results/logs/locomotion/{run}.log",
-    benchmark:
-        "results/benchmarks/locomotion/{run}.tsv"
-    wildcard_constraints:
-        run="|".join(LOCO_RUNS) or "^$",  # the configured runs only
-    priority: 30  # the runs and their figures end the workflow: before the other figures
-    threads: 1
-    resources:
-        mem_mb=1000,
-        runtime=30,
-    script:
-        "../scripts/locomotion_run.py"
+if LOCO_RUNS:
+
+    rule locomotion_runs:
+        """The demonstration runs, one after the other: plan from the workspace (two pairs from
+        the two-pair workspace), roll in the grounded simulation, repeat (one job: a job costs
+        about 1 s to start the simulator, a run 1-3 s)."""
+        input:
+            workspace="results/workspace.nc",
+            two_pair="results/workspace_two_pair.nc",
+        output:
+            expand("results/locomotion/{run}.nc", run=LOCO_RUNS),
+        params:
+            cfg=stage_config(config, "locomotion_run"),
+            runs=LOCO_RUNS,  # in the order of the outputs
+        log:
+            "results/logs/locomotion/runs.log",
+        benchmark:
+            "results/benchmarks/locomotion/runs.tsv"
+        priority: 45  # heads the longest chain (-> their figures, validate): before slope_limit
+        threads: 1
+        resources:
+            mem_mb=1000,
+            runtime=30,
+        script:
+            "../scripts/locomotion_runs.py"
 
 
 def _state_figure(name, caption):

@@ -2,45 +2,38 @@ FIG6_PAIR = 10 if 10 in PAIRS else PAIRS[0]
 FIG6_CONTACT = "equilateral" if "equilateral" in CONTACTS else CONTACTS[0]
 
 
-rule render_robot:
-    """Fig. 1 (the robot, numbered), Fig. 4 (actuator pairs), Fig. 5 (support frame)."""
-    output:
-        fig1=report("results/figures/fig1_robot.png", caption="../report/fig1.rst", category="Figures", subcategory="robot"),
-        fig4=report("results/figures/fig4_pairs.png", caption="../report/fig4.rst", category="Figures", subcategory="robot"),
-        fig5=report("results/figures/fig5_support_frame.png", caption="../report/fig5.rst", category="Figures", subcategory="robot"),
-    params:
-        cfg=stage_config(config, "render_robot"),
-    log:
-        "results/logs/render/robot.log",
-    localrule: True
-    script:
-        "../scripts/render_robot.py"
-
-
-rule render_workspace:
-    """Fig. 6: the CoG point cloud and nominal CoGs of one pair on the equilateral face; Fig. 7:
-    the kinematic workspace of every contact case (one job: each job would pay the renderer's
-    start-up again)."""
+rule render:
+    """Fig. 1 (the robot, numbered), Fig. 4 (actuator pairs), Fig. 5 (support frame); Fig. 6:
+    the CoG point cloud and nominal CoGs of one pair on the equilateral face; Fig. 7: the
+    kinematic workspace of every contact case; the CoG region one pair and two pairs reach, with
+    the support triangle, of every contact case (one job: each job would pay the renderer's
+    start-up again, about 2 s)."""
     input:
         sweep=f"results/sweeps/{FIG6_CONTACT}/pair{FIG6_PAIR:02d}.nc",
         curves=expand("results/curves/{contact}.nc", contact=CONTACTS),
         nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
+        two_pair=expand("results/two_pair/{contact}.nc", contact=CONTACTS),
     output:
+        fig1=report("results/figures/fig1_robot.png", caption="../report/fig1.rst", category="Figures", subcategory="robot"),
+        fig4=report("results/figures/fig4_pairs.png", caption="../report/fig4.rst", category="Figures", subcategory="robot"),
+        fig5=report("results/figures/fig5_support_frame.png", caption="../report/fig5.rst", category="Figures", subcategory="robot"),
         fig6=report("results/figures/fig6_cog_cloud.png", caption="../report/fig6.rst", category="Figures",
                     subcategory="CoG cloud"),
         fig7=[report(f"results/figures/fig7_workspace_{contact}.png", caption="../report/fig7.rst",
                      category="Figures", subcategory=contact) for contact in CONTACTS],
+        two_pair=[report(f"results/figures/two_pair_{contact}.png", caption="../report/two_pair.rst",
+                         category="Figures", subcategory=contact) for contact in CONTACTS],
     params:
+        cfg=stage_config(config, "render_robot"),
         fig6_nominal=f"results/nominal/{FIG6_CONTACT}.nc",
         max_pressure=2.4,
     log:
-        "results/logs/render/workspace.log",
+        "results/logs/render.log",
     localrule: True
     script:
-        "../scripts/render_workspace.py"
+        "../scripts/render.py"
 
 
 rule render_all:
     input:
-        rules.render_robot.output,
-        rules.render_workspace.output,
+        rules.render.output,

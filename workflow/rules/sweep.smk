@@ -1,15 +1,17 @@
 rule sweep:
-    """Pressure staircase on every configured pair, standing on one contact face."""
+    """Pressure staircase on every configured pair, standing on each contact face (one job:
+    a job costs about 1 s to start the simulator)."""
     output:
-        expand("results/sweeps/{{contact}}/pair{pair:02d}.nc", pair=PAIRS),
+        [expand(f"results/sweeps/{contact}/pair{{pair:02d}}.nc", pair=PAIRS) for contact in CONTACTS],
     params:
         cfg=stage_config(config, "sweep"),
+        folders={contact: f"results/sweeps/{contact}" for contact in CONTACTS},
     log:
-        "results/logs/sweep/{contact}.log",
+        "results/logs/sweep.log",
     benchmark:
-        "results/benchmarks/sweep/{contact}.tsv"
+        "results/benchmarks/sweep.tsv"
     priority: 35  # feeds the locomotion runs (-> map), the longest chain of short jobs
-    threads: 1  # the jobs are short: two in parallel beat one with two threads
+    threads: 1  # short batches: beside the gravity-aware workspace
     resources:
         mem_mb=1000,
         runtime=10,

@@ -4,15 +4,17 @@
 # samples) stops the run before any job, naming the key (io.config.validate, in the Snakefile).
 
 rule two_pair:
-    """Free-mode staircase over the two-pair grid on one contact face (one robot per orbit)."""
+    """Free-mode staircase over the two-pair grid on each contact face (one robot per orbit;
+    one job: a job costs about 1 s to start the simulator)."""
     output:
-        "results/two_pair/{contact}.nc",
+        expand("results/two_pair/{contact}.nc", contact=CONTACTS),
     params:
         cfg=stage_config(config, "two_pair"),
+        contacts=CONTACTS,  # in the order of the outputs
     log:
-        "results/logs/two_pair/{contact}.log",
+        "results/logs/two_pair/sweep.log",
     benchmark:
-        "results/benchmarks/two_pair/{contact}.tsv"
+        "results/benchmarks/two_pair.tsv"
     priority: 35  # feeds the locomotion runs (-> two_pair_map)
     threads: 1
     resources:
@@ -76,22 +78,6 @@ rule validate_two_pair:
         runtime=10,
     script:
         "../scripts/two_pair_validate.py"
-
-
-rule render_two_pair:
-    """The CoG region one pair and two pairs reach, with the support triangle, of every contact
-    case (one job: each job would pay the renderer's start-up again)."""
-    input:
-        nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
-        two_pair=expand("results/two_pair/{contact}.nc", contact=CONTACTS),
-    output:
-        [report(f"results/figures/two_pair_{contact}.png", caption="../report/two_pair.rst",
-                category="Figures", subcategory=contact) for contact in CONTACTS],
-    log:
-        "results/logs/render/two_pair.log",
-    localrule: True
-    script:
-        "../scripts/two_pair_render.py"
 
 
 rule two_pair_all:
