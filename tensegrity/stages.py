@@ -195,6 +195,7 @@ def locomotion_runs(cfg: dict, names: Sequence[str], workspace_path: str | Path,
     setups = [demos.demo_setup(cfg, name) for name in names]  # an unknown name: before any run
     params = demos.locomotion_params(cfg)
     s = RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
+    provenance = {**datasets.provenance_config(src), **cfg}  # the same for every run
     out = []
     for name, setup, out_path in zip(names, setups, out_paths):
         if "edges" in setup:
@@ -203,8 +204,7 @@ def locomotion_runs(cfg: dict, names: Sequence[str], workspace_path: str | Path,
             run = runs.roll_to(ws, setup["goal"], params, setup["terrain"], settings=s)
         print(runs.describe(run, name), flush=True)
         out.append(datasets.write(run_formats.run_dataset(run, setup["terrain"], name), out_path,
-                                  {**datasets.provenance_config(src), **cfg},
-                                  f"Rolling locomotion run '{name}': {run.outcome}",
+                                  provenance, f"Rolling locomotion run '{name}': {run.outcome}",
                                   stage="locomotion", allow_nan=run_formats.RUN_ALLOW_NAN))
     return out
 
