@@ -34,7 +34,6 @@ wildcard_constraints:
 include: "workflow/rules/sweep.smk"
 include: "workflow/rules/nominal.smk"
 include: "workflow/rules/fit.smk"
-include: "workflow/rules/map.smk"
 include: "workflow/rules/render.smk"
 include: "workflow/rules/validate.smk"
 include: "workflow/rules/locomotion.smk"
@@ -65,3 +64,12 @@ onsuccess:
     text = runs_warning(expand("results/locomotion/{run}.nc", run=LOCO_RUNS))
     if text:
         print(text, file=sys.stderr)
+
+
+# Snakemake's job rate limiter (at most 100 job starts a second, for cluster submission) ends every
+# scheduling round by starting a 1 s threading.Timer that is not a daemon thread, so Python waited
+# for the last one: every local run ended about 1 s after its last job. A local run needs no rate
+# limit. (Snakemake 9 internals, `JobScheduler.job_rate_limiter`: left alone if they change.)
+onstart:
+    if not workflow.remote_exec and hasattr(getattr(workflow, "scheduler", None), "job_rate_limiter"):
+        workflow.scheduler.job_rate_limiter = None

@@ -16,6 +16,7 @@ rule fit:
     resources:
         mem_mb=1000,
         runtime=5,
+    priority: 40  # feeds the figures of `render`
     localrule: True
     script:
         "../scripts/fit.py"

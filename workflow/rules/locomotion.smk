@@ -30,7 +30,7 @@ if LOCO_RUNS:
             "results/logs/locomotion/runs.log",
         benchmark:
             "results/benchmarks/locomotion/runs.tsv"
-        priority: 45  # heads the longest chain (-> their figures, validate): before slope_limit
+        priority: 60  # the longest chain (sweep -> nominal -> runs -> figures): first
         threads: 1
         resources:
             mem_mb=1000,
@@ -43,16 +43,17 @@ def _state_figure(name, caption):
     return report(f"results/figures/{name}.png", caption=f"../report/{caption}.rst", category="Locomotion")
 
 
-if STATE_FIGURES or PATH_RUNS:
+if STATE_FIGURES or PATH_RUNS or ANIMATION:
 
     rule locomotion_figures:
         """Fig. 8 (stable), Fig. 9 (rolling) from the paper run and Fig. 10 (slope) from a slope
-        run; the path of every run but `paper` over its terrain, from above and in 3D (one job:
-        each job would pay the renderer's start-up again)."""
+        run; the path of every run but `paper` over its terrain, from above and in 3D; the GIF of
+        `animation_run` (one job: each job would pay the renderer's start-up again, about 2 s)."""
         input:
             paper=["results/locomotion/paper.nc"] if STATE_FIGURES else [],
             slope=[f"results/locomotion/{SLOPE_RUN}.nc"] if STATE_FIGURES else [],
             paths=expand("results/locomotion/{run}.nc", run=PATH_RUNS),
+            animation=[f"results/locomotion/{LOCO['animation_run']}.nc"] if ANIMATION else [],
         output:
             states=[_state_figure("fig8_stable", "fig8"), _state_figure("fig9_rolling", "fig9"),
                     _state_figure("fig10_slope", "fig10")] if STATE_FIGURES else [],
@@ -60,40 +61,24 @@ if STATE_FIGURES or PATH_RUNS:
                         category="Locomotion", subcategory=run) for run in PATH_RUNS],
             three_d=[report(f"results/figures/path_{run}_3d.png", caption="../report/path.rst",
                             category="Locomotion", subcategory=run) for run in PATH_RUNS],
+            gif=[report(f"results/figures/rolling_{LOCO['animation_run']}.gif",
+                        caption="../report/animation.rst", category="Locomotion")] if ANIMATION else [],
+        params:
+            fps=LOCO["animation_fps"],
+            speed=LOCO["animation_speed"],
         log:
             "results/logs/locomotion/figures.log",
-        priority: 30
-        localrule: True
+        benchmark:
+            "results/benchmarks/locomotion/figures.tsv"
+        priority: 55
+        resources:
+            mem_mb=1500,
+            runtime=10,
         script:
             "../scripts/locomotion_figures.py"
-
-
-rule locomotion_animation:
-    """An animation (GIF) of one run."""
-    input:
-        "results/locomotion/{run}.nc",
-    output:
-        report("results/figures/rolling_{run}.gif", caption="../report/animation.rst",
-               category="Locomotion"),
-    params:
-        fps=LOCO["animation_fps"],
-        speed=LOCO["animation_speed"],
-    log:
-        "results/logs/locomotion/animation_{run}.log",
-    priority: 30
-    benchmark:
-        "results/benchmarks/locomotion/animation_{run}.tsv"
-    wildcard_constraints:
-        run="|".join(LOCO_RUNS) or "^$",  # the configured runs only
-    resources:
-        mem_mb=1500,
-        runtime=10,
-    script:
-        "../scripts/locomotion_animation.py"
 
 
 rule locomotion_all:
     input:
         expand("results/locomotion/{run}.nc", run=LOCO_RUNS),
-        rules.locomotion_figures.output if STATE_FIGURES or PATH_RUNS else [],
-        [f"results/figures/rolling_{LOCO['animation_run']}.gif"] if ANIMATION else [],
+        rules.locomotion_figures.output if STATE_FIGURES or PATH_RUNS or ANIMATION else [],

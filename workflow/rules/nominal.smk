@@ -1,15 +1,18 @@
 rule nominal:
     """Average each level's CoG samples into the nominal CoG, with spread, triangle and margin,
-    of every contact case (one job: every consumer reads both, and a job costs 0.45 s to start)."""
+    of every contact case, and map the canonical workspaces to all 20 faces with the symmetry
+    group (one job: every consumer reads both contact cases, and a job costs 0.45 s to start)."""
     input:
         [expand(f"results/sweeps/{contact}/pair{{pair:02d}}.nc", pair=PAIRS) for contact in CONTACTS],
     output:
-        expand("results/nominal/{contact}.nc", contact=CONTACTS),
+        nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
+        workspace="results/workspace.nc",
     params:
         cfg=stage_config(config, "nominal"),
+        map_cfg=stage_config(config, "map"),
     log:
         "results/logs/nominal.log",
-    priority: 35  # feeds the locomotion runs (-> map)
+    priority: 45  # feeds the locomotion runs
     resources:
         mem_mb=1000,
         runtime=5,

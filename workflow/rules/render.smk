@@ -29,6 +29,7 @@ rule render:
         max_pressure=2.4,
     log:
         "results/logs/render.log",
+    priority: 20
     localrule: True
     script:
         "../scripts/render.py"

@@ -10,7 +10,7 @@ rule sweep:
         "results/logs/sweep.log",
     benchmark:
         "results/benchmarks/sweep.tsv"
-    priority: 35  # feeds the locomotion runs (-> map), the longest chain of short jobs
+    priority: 45  # heads the longest chain (-> nominal -> runs -> figures): first
     threads: 1  # short batches: beside the gravity-aware workspace
     resources:
         mem_mb=1000,

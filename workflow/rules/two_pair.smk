@@ -4,55 +4,30 @@
 # samples) stops the run before any job, naming the key (io.config.validate, in the Snakefile).
 
 rule two_pair:
-    """Free-mode staircase over the two-pair grid on each contact face (one robot per orbit;
-    one job: a job costs about 1 s to start the simulator)."""
+    """Free-mode staircase over the two-pair grid on each contact face (one robot per orbit),
+    mapped by symmetry to all 20 faces, and the fitted surfaces CoG(p_a, p_b) per combination and
+    axis as one JSON file of plain numbers (one job: a job costs about 1 s to start the simulator,
+    and the map and the surfaces take 0.2 s)."""
     output:
-        expand("results/two_pair/{contact}.nc", contact=CONTACTS),
+        contacts=expand("results/two_pair/{contact}.nc", contact=CONTACTS),
+        workspace="results/workspace_two_pair.nc",
+        curves="results/curves/two_pair.json",
     params:
         cfg=stage_config(config, "two_pair"),
+        map_cfg=stage_config(config, "two_pair_map"),
+        curves_cfg=stage_config(config, "two_pair_curves"),
         contacts=CONTACTS,  # in the order of the outputs
     log:
         "results/logs/two_pair/sweep.log",
     benchmark:
         "results/benchmarks/two_pair.tsv"
-    priority: 35  # feeds the locomotion runs (-> two_pair_map)
+    priority: 45  # feeds the locomotion runs: beside the sweep
     threads: 1
     resources:
         mem_mb=1500,
         runtime=10,
     script:
-        "../scripts/two_pair_sweep.py"
-
-
-rule two_pair_map:
-    """The two-pair workspace of all 20 faces, mapped by symmetry."""
-    input:
-        expand("results/two_pair/{contact}.nc", contact=CONTACTS),
-    output:
-        "results/workspace_two_pair.nc",
-    params:
-        cfg=stage_config(config, "two_pair_map"),
-    log:
-        "results/logs/two_pair/map.log",
-    priority: 35
-    localrule: True
-    script:
-        "../scripts/two_pair_map.py"
-
-
-rule two_pair_curves:
-    """Fitted surfaces CoG(p_a, p_b) per combination and axis as one JSON file of plain numbers."""
-    input:
-        expand("results/two_pair/{contact}.nc", contact=CONTACTS),
-    output:
-        "results/curves/two_pair.json",
-    params:
-        cfg=stage_config(config, "two_pair_curves"),
-    log:
-        "results/logs/two_pair/curves.log",
-    localrule: True
-    script:
-        "../scripts/two_pair_curves.py"
+        "../scripts/two_pair.py"
 
 
 rule validate_two_pair:
@@ -72,6 +47,7 @@ rule validate_two_pair:
         "results/logs/validate_two_pair.log",
     benchmark:
         "results/benchmarks/validate_two_pair.tsv"
+    priority: 30
     threads: 1
     resources:
         mem_mb=1500,

@@ -16,7 +16,7 @@ rule validate:
         "results/logs/validate.log",
     benchmark:
         "results/benchmarks/validate.tsv"
-    priority: 30  # with the runs' figures: the last jobs, run side by side
+    priority: 25
     threads: 1  # a second one only while the other core idles: the figures of the runs use it
     resources:
         mem_mb=2000,

@@ -1,5 +1,0 @@
-from tensegrity import stages, two_pair_stages
-
-with stages.job(snakemake.log[0], snakemake.threads):
-    for contact, out in zip(snakemake.params.contacts, snakemake.output):
-        two_pair_stages.run_two_pair(snakemake.params.cfg, contact, out)
