@@ -74,7 +74,7 @@ def observe(params: Params, terrain: Terrain, state: d.State, s: RollSettings,
                           / (state.t - before[b].t))
         out.append(Obs(state.t, P[b], gaps[b], int(faces[b]) or None, speed,
                        np.zeros(topo.N_PAIRS) if pressure is None else pressure[b].copy(),
-                       state.take([b])))
+                       state.take(slice(b, b + 1))))  # views: no state is written in place
     return out
 
 

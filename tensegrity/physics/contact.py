@@ -11,6 +11,8 @@ Edges are named by their two 1-based node numbers, smaller first, e.g. (10, 12).
 """
 from __future__ import annotations
 
+import itertools
+
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -69,10 +71,11 @@ def contact_face(nodes: ArrayLike, terrain: Terrain, radius: float, tol: float |
 
 
 _FACE_OF_NODES = {tuple(sorted(c.tolist())): f + 1 for f, c in enumerate(topo.FACES)}
-# the same as a table: [a, b, c] -> face (0: not a face) for 0-based nodes a < b < c
+# the same as a table: [a, b, c] -> face (0: not a face) for 0-based nodes a, b, c in any order
 _FACE_TABLE = np.zeros((topo.N_NODES,) * 3, np.int64)
 for _nodes, _face in _FACE_OF_NODES.items():
-    _FACE_TABLE[_nodes] = _face
+    for _order in itertools.permutations(_nodes):
+        _FACE_TABLE[_order] = _face
 
 
 def resting_face(gap: ArrayLike, tol: float) -> np.ndarray:
@@ -80,11 +83,9 @@ def resting_face(gap: ArrayLike, tol: float) -> np.ndarray:
     `gap` (..., 12) m each within `tol` m of touching, and forming one of the 20 faces.
     Returns the 1-based face (...,) int, 0 where no face rests on the terrain."""
     gap = np.asarray(gap, float)
-    low = np.sort(np.argsort(gap, axis=-1, kind="stable")[..., :3], axis=-1)
-    tol = np.asarray(tol, float)[..., None]
-    touching = np.all(np.take_along_axis(gap, low, axis=-1) <= tol, axis=-1)
-    face = _FACE_TABLE[low[..., 0], low[..., 1], low[..., 2]]
-    return np.where(touching, face, 0)
+    low = np.argsort(gap, axis=-1, kind="stable")[..., :3]
+    touching = np.take_along_axis(gap, low[..., 2:], axis=-1)[..., 0] <= np.asarray(tol, float)  # the third least
+    return np.where(touching, _FACE_TABLE[low[..., 0], low[..., 1], low[..., 2]], 0)
 
 
 def face_from_gaps(gap: ArrayLike, tol: float) -> int:
