@@ -61,27 +61,17 @@ class State:
                        ("x", "v", "q", "w", "anchor", "stuck")), t=states[0].t if t is None else t)
 
 
-# Entry (i, k) of the rotation matrix of a unit quaternion (w, x, y, z) = q[0..3] is
-# 2 (q[A] q[B] + SIGN q[C] q[D]), and 1 minus that on the diagonal (k = column; e.g. column 2 is
-# 2 (xz + wy), 2 (yz - wx), 1 - 2 (xx + yy)): indices (3 rows, 3 columns).
-_RA = np.array([[2, 1, 1], [1, 1, 2], [1, 2, 1]])
-_RB = np.array([[2, 2, 3], [2, 1, 3], [3, 3, 1]])
-_RC = np.array([[3, 0, 0], [0, 3, 0], [0, 0, 2]])
-_RD = np.array([[3, 3, 2], [3, 3, 1], [2, 1, 2]])
-_RSIGN = np.array([[1.0, -1.0, 1.0], [1.0, 1.0, -1.0], [-1.0, 1.0, 1.0]])
-
-
 def axes(q: np.ndarray, column: int | None = None) -> np.ndarray:
     """Rotation matrices (..., 3, 3) of quaternions (..., 4) (w, x, y, z; normalised here);
     columns are the body axes in world components. With `column` (0..2): that axis (..., 3)."""
     q = q / np.sqrt((q * q).sum(axis=-1))[..., None]
-    k = slice(None) if column is None else column  # rows i, columns k of the index tables
-    r = 2 * (q[..., _RA[:, k]] * q[..., _RB[:, k]] + _RSIGN[:, k] * (q[..., _RC[:, k]] * q[..., _RD[:, k]]))
-    if column is None:
-        r[..., [0, 1, 2], [0, 1, 2]] = 1 - r[..., [0, 1, 2], [0, 1, 2]]
-    else:
-        r[..., column] = 1 - r[..., column]
-    return r
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    cols = (lambda: (1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)),
+            lambda: (2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)),
+            lambda: (2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)))
+    if column is not None:
+        return np.stack(cols[column](), axis=-1)
+    return np.stack([np.stack(c(), axis=-1) for c in cols], axis=-1)
 
 
 def nodes(x: np.ndarray, q: np.ndarray, strut_length: float | np.ndarray) -> np.ndarray:
