@@ -4,7 +4,7 @@ The schema is tensegrity/io/config.schema.yaml (JSON Schema 2020-12, in YAML); e
 default, so `validate({})` is the complete default configuration. On top of the schema this module
 converts numeric strings to numbers (Snakemake parses nested `--config` values with YAML's
 BaseLoader, so `sweep='{levels: [0.5, 1.0]}'` arrives as ['0.5', '1.0'], and PyYAML reads `1e-4`
-without a dot as a string), rejects NaN and infinities (JSON Schema bounds let NaN through), and
+without a dot as a string) and `null` to None where the schema allows it, rejects NaN and infinities (JSON Schema bounds let NaN through), and
 checks what the schema cannot say: strictly increasing pressure levels, nominal.discard below
 sweep.hold, a muscle minimum length below the cable rest length, a locomotion interval that is a
 whole number of time steps, and demonstration runs only with a workspace of both contact cases.
@@ -126,9 +126,12 @@ def _to_number(s: str) -> float | None:
         return None
 
 
+_YAML_NULL = ("null", "Null", "NULL", "~")
+
+
 def _coerce(sch: dict, value: Any) -> Any:
     """Numbers given as strings -> numbers, integral floats -> int for integers, ints -> float for
-    numbers, where the schema says so."""
+    numbers, YAML's null given as a string -> None, where the schema says so."""
     if isinstance(value, dict):
         props = sch.get("properties", {})
         return {k: _coerce(props[k], v) if k in props else v for k, v in value.items()}
@@ -136,6 +139,8 @@ def _coerce(sch: dict, value: Any) -> Any:
         items = sch.get("items")
         return [_coerce(items, v) for v in value] if isinstance(items, dict) else value
     t = sch.get("type")
+    if isinstance(t, list) and "null" in t and isinstance(value, str) and value.strip() in _YAML_NULL:
+        return None  # `animation_run: null` given with --config
     if t in ("number", "integer") and isinstance(value, str):
         x = _to_number(value)
         value = value if x is None else x

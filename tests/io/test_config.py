@@ -219,6 +219,17 @@ def test_numbers_as_strings_are_converted():
         config.validate({"sweep": {"levels": [".nan", "1.0"]}})
 
 
+def test_null_as_a_string_is_none_where_the_schema_allows_it():
+    """`--config locomotion='{animation_run: null}'` (no GIF) arrives as the string 'null'."""
+    for null in ("null", "~", None):
+        assert config.validate({"locomotion": {"animation_run": null}})["locomotion"]["animation_run"] is None
+    assert config.validate({})["locomotion"]["animation_run"] == "terrain"
+    with pytest.raises(ConfigError, match=r"locomotion\.animation_run: 'none' is not one of"):
+        config.validate({"locomotion": {"animation_run": "none"}})
+    with pytest.raises(ConfigError, match=r"sweep\.hold"):  # not where the schema has no null
+        config.validate({"sweep": {"hold": "null"}})
+
+
 def test_snakemake_command_line_overrides():
     snakemake_cli = pytest.importorskip("snakemake.cli")
     from snakemake.utils import update_config

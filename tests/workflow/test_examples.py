@@ -10,9 +10,8 @@ example changes, and what depends on them, and nothing else), with the
 example's `--config`/`--configfile` merged over the tiny configuration and every output as the
 target except the run's GIF (`locomotion.animation_run: null` before the example's own
 configuration: 3 s each, and it does not depend on what the examples change; the smoke test
-makes it), the gravity-aware workspace with
-the slope limit, and the two-pair checks and curves (unless the example changes the
-section `gravity` or `two_pair`; the smoke test makes them); it must exit 0, and a run that did not
+makes it) and the gravity-aware workspace with the slope limit (unless the example changes the
+section `gravity`; the smoke test makes them); it must exit 0, and a run that did not
 arrive must be named at the end and fail check 6. The grounded examples also leave out the
 curves (`fit` and after: curves.json and the figures of `render`), which the tiny levels cannot give in
 the grounded mode (see `_snakemake_argv`). A block whose command repeats an earlier one (config/README
@@ -95,13 +94,10 @@ def _snakemake_argv(argv: list[str]) -> list[str]:
             # rolled off: fit needs two standing levels and Fig. 6 one level of #10 before the
             # roll (with the default levels from 0.4 MPa they have them)
             omit += ["fit"]  # and the figures of `render` with it (Figs. 1 and 4-7, two-pair regions)
-        # the gravity-aware workspace and the two-pair checks (the tiny run
-        # makes them) are left out unless the example changes their section; the two-pair
-        # workspace itself stays: the demonstration runs read it
+        # the gravity-aware workspace and the slope limit (the tiny run makes them) are left
+        # out unless the example changes the section `gravity`
         if not re.search(r"\bgravity=|\bgravity:", " ".join(argv)):
             omit += ["gravity"]  # and what follows from it: slope_limit (with the gravity checks)
-        if not re.search(r"\btwo_pair=|\btwo_pair:", " ".join(argv)):
-            omit += ["validate_two_pair"]
         out += ["--omit-from", *omit] if omit else []
         # the tiny run's records name its own copy's scripts: the code is the same checkout
         out += ["--rerun-triggers", "mtime", "params", "input", "software-env"]

@@ -25,11 +25,12 @@ import xarray as xr
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "tests" / "workflow" / "slurm"
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
-# Up to the workspace and the curves, and the gravity-aware workspace (the figures are local
-# rules, left out; the whole tiny workflow runs locally in the `tiny` fixture).
+# Up to the workspace and the curves (which fit with the two-pair surfaces: they need the
+# two-pair sweeps), and the gravity-aware workspace (the figures are left out; the whole tiny
+# workflow runs locally in the `tiny` fixture).
 TARGETS = ["results/workspace.nc", "results/curves/curves.json", "results/workspace_gravity.nc"]
 # Rules that are not `localrule: True` and so must go through sbatch, with their job counts.
-SUBMITTED = {"sweep": 1, "gravity": 1}
+SUBMITTED = {"sweep": 1, "two_pair": 1, "gravity": 1}
 PIDFILES = ["/run/munge/munged.pid", "/run/slurmctld.pid", "/run/slurmd.pid"]
 # One file per test session using the cluster (named by its PID): the last one out stops it, so
 # that a session does not stop the cluster under another's jobs, nor leave it running.
@@ -185,14 +186,14 @@ def test_jobs_went_through_slurm(runs):
 def test_slurm_gives_the_same_datasets_as_local(runs):
     slurm, _, local = runs
     files = sorted(p.relative_to(slurm) for p in (slurm / "results").rglob("*.nc"))
-    # sweeps, nominal, curves, workspace, gravity-aware workspace
-    assert len(files) == 2 * 5 + 2 + 2 + 1 + 1
+    # sweeps, nominal, curves, workspace, gravity-aware workspace, two-pair sweeps and workspace
+    assert len(files) == 2 * 5 + 2 + 2 + 1 + 1 + 2 + 1
     for f in files:
         with xr.open_dataset(slurm / f) as a, xr.open_dataset(local / f) as b:
             # data, coordinates and attributes (the provenance config) alike
             assert a.identical(b), f
-    json = "results/curves/curves.json"
-    assert (slurm / json).read_bytes() == (local / json).read_bytes()
+    for json in ("results/curves/curves.json", "results/curves/two_pair.json"):
+        assert (slurm / json).read_bytes() == (local / json).read_bytes(), json
 
 
 # Design studies (issue 12): the tiny study (tests/studies/tiny_study.yaml, two chunk jobs) through

@@ -1,14 +1,18 @@
 rule fit:
     """Cross-validated curve of the nominal CoG against pressure, per pair and axis, of every
-    contact case, and all of them as one JSON file of plain numbers (one job: scikit-learn
-    takes 1.3 s to import)."""
+    contact case, and all of them as one JSON file of plain numbers; the fitted surfaces
+    CoG(p_a, p_b) of the two-pair workspace, per combination and axis, as one JSON file (one
+    job: scikit-learn takes 1.3 s to import)."""
     input:
-        expand("results/nominal/{contact}.nc", contact=CONTACTS),
+        nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
+        two_pair=expand("results/two_pair/{contact}.nc", contact=CONTACTS),
     output:
         curves=expand("results/curves/{contact}.nc", contact=CONTACTS),
         json="results/curves/curves.json",
+        two_pair="results/curves/two_pair.json",
     params:
         cfg=stage_config(config, "fit"),
+        two_pair_cfg=stage_config(config, "two_pair_curves"),
     log:
         "results/logs/fit.log",
     benchmark:

@@ -1,17 +1,26 @@
 rule validate:
     """Check the workspace against the paper, statics, symmetry, the grounded mode and dt/2, and
-    that the demonstration runs arrived (check 6: it waits for the runs)."""
+    that the demonstration runs arrived (check 6: it waits for the runs); check the two-pair
+    workspace against statics, direct simulation on other faces and superposition (one job: a
+    job costs about 1 s to start the simulator)."""
     input:
         nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
         workspace="results/workspace.nc",
         runs=expand("results/locomotion/{run}.nc", run=config["locomotion"]["runs"]),
+        two_pair_contacts=expand("results/two_pair/{contact}.nc", contact=CONTACTS),
+        two_pair="results/workspace_two_pair.nc",
     output:
         nc="results/validation/validation.nc",
         md="results/validation/summary.md",
         html=report("results/validation/summary.html", caption="../report/validation.rst",
                     category="Validation"),
+        two_pair_nc="results/validation/two_pair.nc",
+        two_pair_md="results/validation/two_pair.md",
+        two_pair_html=report("results/validation/two_pair.html", caption="../report/two_pair_validation.rst",
+                             category="Validation"),
     params:
         cfg=stage_config(config, "validate"),
+        two_pair_cfg=stage_config(config, "validate_two_pair"),
     log:
         "results/logs/validate.log",
     benchmark:
