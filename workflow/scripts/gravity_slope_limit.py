@@ -7,3 +7,4 @@ with stages.job(snakemake.log[0], snakemake.threads):
     gravity_stages.validate_gravity(snakemake.params.validate_cfg, snakemake.input.gravity, snakemake.input.nominal,
                                     snakemake.output.validation_nc, snakemake.output.validation_md,
                                     snakemake.output.validation_html)
+    gravity_stages.render_gravity(snakemake.input.gravity, snakemake.output.gravity_png)
