@@ -9,7 +9,7 @@ Snakemake's records of them (so Snakemake re-runs every job whose configuration,
 example changes, and what depends on them, and nothing else), with the
 example's `--config`/`--configfile` merged over the tiny configuration and every output as the
 target except the run's GIF (`locomotion.animation_run: null` before the example's own
-configuration: 3 s each, and it does not depend on what the examples change; the smoke test
+configuration: 2 s each, and it does not depend on what the examples change; the smoke test
 makes it) and the gravity-aware workspace with the slope limit (unless the example changes the
 section `gravity`; the smoke test makes them); it must exit 0, and a run that did not
 arrive must be named at the end and fail check 6. The grounded examples also leave out the
