@@ -18,7 +18,7 @@ rule gravity:
     benchmark:
         "results/benchmarks/gravity.tsv"
     priority: 35  # fills the other core once the chain to the runs has started
-    threads: 1  # beside the sweeps from the start: on two it ran alone (the SLURM profile sets 2)
+    threads: 1  # beside the chain to the runs: on two it ran alone (the SLURM profile sets 2)
     resources:
         mem_mb=2000,
         runtime=10,
