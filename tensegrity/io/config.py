@@ -4,10 +4,11 @@ The schema is tensegrity/io/config.schema.yaml (JSON Schema 2020-12, in YAML); e
 default, so `validate({})` is the complete default configuration. On top of the schema this module
 converts numeric strings to numbers (Snakemake parses nested `--config` values with YAML's
 BaseLoader, so `sweep='{levels: [0.5, 1.0]}'` arrives as ['0.5', '1.0'], and PyYAML reads `1e-4`
-without a dot as a string) and `null` to None where the schema allows it, rejects NaN and infinities (JSON Schema bounds let NaN through), and
-checks what the schema cannot say: strictly increasing pressure levels, nominal.discard below
-sweep.hold, a muscle minimum length below the cable rest length, a locomotion interval that is a
-whole number of time steps, and demonstration runs only with a workspace of both contact cases.
+without a dot as a string) and the string `null` to None where the schema allows null, rejects NaN
+and infinities (JSON Schema bounds let NaN through), and checks what the schema cannot say:
+strictly increasing pressure levels, nominal.discard below sweep.hold, a muscle minimum length
+below the cable rest length, a locomotion interval that is a whole number of time steps, and
+demonstration runs only with a workspace of both contact cases.
 `read_yaml` (`io.config_files`) is the strict reader (a key given twice is an error) for any
 configuration file.
 

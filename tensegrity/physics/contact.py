@@ -12,7 +12,6 @@ Edges are named by their two 1-based node numbers, smaller first, e.g. (10, 12).
 from __future__ import annotations
 
 import itertools
-
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -83,8 +82,8 @@ def resting_face(gap: ArrayLike, tol: float) -> np.ndarray:
     `gap` (..., 12) m each within `tol` m of touching, and forming one of the 20 faces.
     Returns the 1-based face (...,) int, 0 where no face rests on the terrain."""
     gap = np.asarray(gap, float)
-    low = np.argsort(gap, axis=-1, kind="stable")[..., :3]
-    touching = np.take_along_axis(gap, low[..., 2:], axis=-1)[..., 0] <= np.asarray(tol, float)  # the third least
+    low = np.argsort(gap, axis=-1, kind="stable")[..., :3]  # the three least, least first
+    touching = np.take_along_axis(gap, low[..., 2:], axis=-1)[..., 0] <= np.asarray(tol, float)
     return np.where(touching, _FACE_TABLE[low[..., 0], low[..., 1], low[..., 2]], 0)
 
 
