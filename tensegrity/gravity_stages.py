@@ -58,18 +58,21 @@ def run_gravity(cfg: Mapping, out_path: str | os.PathLike, figure_path: str | os
     path = datasets.write(ds, out_path, dict(cfg), "Gravity-aware workspace: single pairs ramped on flat ground "
                           "and slopes until the robot rolls", stage="gravity", allow_nan=gf.GRAVITY_ALLOW_NAN)
     if figure_path:
-        render_gravity(path, figure_path)
+        _tip_figure(ds, figure_path)
     return path
+
+
+def _tip_figure(ds: Any, figure_path: str | os.PathLike) -> None:
+    from .render.gravity import tip_figure
+    tip_figure(figure_path, [str(c) for c in ds["contact"].values], ds["slope"].values, ds["heading"].values,
+               ds["tip_pressure"].values, ds["stood"].values.astype(bool), float(ds.attrs["max_pressure_setting"]))
 
 
 def render_gravity(gravity_path: str | os.PathLike, figure_path: str | os.PathLike) -> Path:
     """The figure of tipping pressures of the gravity-aware workspace file `gravity_path`
     (results/workspace_gravity.nc), to `figure_path` (the workflow draws it in the job of the
     slope limit, which imports matplotlib anyway)."""
-    from .render.gravity import tip_figure
-    ds = datasets.read(gravity_path)
-    tip_figure(figure_path, [str(c) for c in ds["contact"].values], ds["slope"].values, ds["heading"].values,
-               ds["tip_pressure"].values, ds["stood"].values.astype(bool), float(ds.attrs["max_pressure_setting"]))
+    _tip_figure(datasets.read(gravity_path), figure_path)
     return Path(figure_path)
 
 

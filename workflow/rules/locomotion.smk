@@ -10,6 +10,7 @@ SLOPE_RUN = "slope_down" if "slope_down" in LOCO_RUNS or "slope_up" not in LOCO_
 # (config/README.md); `runs: []` leaves out the locomotion stage.
 STATE_FIGURES = "paper" in LOCO_RUNS and SLOPE_RUN in LOCO_RUNS
 ANIMATION = LOCO["animation_run"] in LOCO_RUNS
+LOCO_FIGURES = STATE_FIGURES or PATH_RUNS or ANIMATION  # the job of the runs' figures has work
 
 
 if LOCO_RUNS:
@@ -43,7 +44,7 @@ def _state_figure(name, caption):
     return report(f"results/figures/{name}.png", caption=f"../report/{caption}.rst", category="Locomotion")
 
 
-if STATE_FIGURES or PATH_RUNS or ANIMATION:
+if LOCO_FIGURES:
 
     rule locomotion_figures:
         """Fig. 8 (stable), Fig. 9 (rolling) from the paper run and Fig. 10 (slope) from a slope
@@ -81,4 +82,4 @@ if STATE_FIGURES or PATH_RUNS or ANIMATION:
 rule locomotion_all:
     input:
         expand("results/locomotion/{run}.nc", run=LOCO_RUNS),
-        rules.locomotion_figures.output if STATE_FIGURES or PATH_RUNS or ANIMATION else [],
+        rules.locomotion_figures.output if LOCO_FIGURES else [],
