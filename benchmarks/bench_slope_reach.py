@@ -13,7 +13,9 @@ robot then rests on another face with its CoG at least `--gain` m higher up the 
 (braked), from how many some single pair or some combination rolls the robot uphill, from how
 many some action rolls it across or downhill under control (it then rests on a face), and the
 outcomes of all rolls (uphill, across, downhill, not rolled, tumbled: on no face after the
-roll). All rolls of a slope are one batch.
+roll). All rolls of a slope are one batch. Then the best repeatable gaits uphill and across
+that these rolls suggest (`gaits`: cycles in the graph of poses and the rolls that land; a
+candidate to check by simulation, not a proof); `--headings 24` gives the graph enough poses.
 
 Usage: python benchmarks/bench_slope_reach.py [--workspace results/workspace.nc]
        [--slopes 15 20 24] [--headings 8] [--gain 0.05] [--combos / --no-combos]
@@ -31,11 +33,76 @@ from tensegrity import locomotion as lo
 from tensegrity.io import config, formats
 from tensegrity.locomotion.brake import Brake
 from tensegrity.locomotion.control import _roll_gen, _settle_gen
+from tensegrity.locomotion import lookahead
 from tensegrity.locomotion.demos import locomotion_params
 from tensegrity.locomotion.lockstep import lockstep
 from tensegrity.physics import dynamics as d, topology as topo
 from tensegrity.physics.terrain import Terrain
-from tensegrity.workspace import gravity as gv
+from tensegrity.workspace import gravity as gv, mapping
+
+
+def gaits(landings: list, headings: np.ndarray, longest: int = 6) -> None:
+    """Print the best repeatable gait uphill (+x) and across (+y) that the rolls of one slope
+    suggest: a cycle of at most `longest` rolls in the graph whose states are the contact case,
+    the uphill heading in its support frame (to the nearest of `headings`, deg) and the parity of
+    the face's map from the canonical face (a mirror image rolls across the other way), whose
+    edges are the rolls that land on a face (no slide, `lookahead.lands`), with the CoG's move.
+    The graph assumes a landing posed like the canonical face at that heading rolls like it;
+    a cycle is a candidate gait, to be checked by simulation, not a proof."""
+    n = len(headings)
+    kinds = sorted({k for k, *_ in landings} | set(topo.CONTACT_FACES))
+    sid = {(k, b, p): i for i, (k, b, p) in enumerate(itertools.product(kinds, range(n), (1, -1)))}
+    edges = []  # (from, to, canonical action, CoG move (3,) m, world)
+    for kind, h, act, face, nodes, move in landings:
+        b = int(np.searchsorted(headings, h))
+        det = mapping.face_map(face)[2][0]  # -1: the face is a mirror image of the canonical one
+        hc = float(gv.heading_of(nodes, face)) * det + (0.0 if det > 0 else 180.0)
+        b2 = int(np.round(hc % 360.0 / (360.0 / n))) % n
+        for p in (1, -1):
+            edges.append((sid[kind, b, p], sid[str(topo.FACE_TYPES[face - 1]), b2, int(p * det)], act,
+                          move * [1.0, p, 1.0]))
+    for name, axis in (("uphill", 0), ("across", 1)):
+        # across: the most across of the cycles that lose no height (mean uphill move >= 0),
+        # found by weighting the uphill move more and more
+        for lam in ((0.0,) if axis == 0 else (0.0, 0.25, 0.5, 1.0, 2.0, 4.0)):
+            best = _best_cycle(len(sid), edges, np.eye(3)[axis] + [lam, 0.0, 0.0], longest)
+            if best is None or np.mean([e[3][0] for e in best]) >= 0.0:
+                break
+        if best is None or np.mean([e[3][0] for e in best]) < 0.0 or np.mean([e[3][axis] for e in best]) < 1e-3:
+            print(f"  no {name} gait: no cycle of landings" + ("" if best is None else
+                                                              " that moves that way and keeps its height"))
+            continue
+        moves = np.array([e[3] for e in best])
+        acts = ", ".join("+".join(f"#{q}" for q in e[2]) for e in best)
+        print(f"  best {name} gait ({len(best)} rolls, pairs of the canonical faces: {acts}): per roll {1e3 * moves[:, 0].mean():+.0f} mm "
+              f"uphill (x), {1e3 * moves[:, 1].mean():+.0f} mm across (y), {1e3 * moves[:, 2].mean():+.0f} mm up")
+
+
+def _best_cycle(size: int, edges: list, weight: np.ndarray, longest: int) -> list | None:
+    """The edges of the cycle of at most `longest` edges with the largest mean of the moves
+    (3,) m weighted by `weight` (3,) (max-plus matrix powers), None if there is no cycle."""
+    w = np.full((size, size), -np.inf)
+    pick: dict = {}
+    for a, b, act, move in edges:
+        if move @ weight > w[a, b]:
+            w[a, b], pick[a, b] = move @ weight, (a, b, act, move)
+    walks, back, best = [w], [None], (-np.inf, 0, 0)
+    for k in range(2, longest + 1):
+        m = walks[-1][:, :, None] + w[None, :, :]
+        back.append(m.argmax(axis=1))
+        walks.append(m.max(axis=1))
+    for k, wk in enumerate(walks, 1):
+        v = int(np.argmax(np.diag(wk)))
+        if wk[v, v] / k > best[0] + 1e-12:
+            best = (wk[v, v] / k, k, v)
+    if not np.isfinite(best[0]):
+        return None
+    _, k, v = best
+    path = [v]
+    for j in range(k, 1, -1):
+        path.append(int(back[j - 1][v, path[-1]]))
+    path = [v] + path[::-1]
+    return [pick[path[i], path[i + 1]] for i in range(k)]
 
 
 def main() -> None:
@@ -76,13 +143,13 @@ def main() -> None:
             face, obs = yield from _settle_gen(s, obs, brake)
             if face is None:
                 return "fell", None
-            res, _ = yield from _roll_gen(params, s, obs, actions[b % len(actions)], ws.max_pressure, brake)
-            return face, res
+            res, ob = yield from _roll_gen(params, s, obs, actions[b % len(actions)], ws.max_pressure, brake)
+            return face, (res, ob.nodes)
 
         t0 = time.perf_counter()
         out = lockstep(params, terrain, state, ctl, s)
         wall = time.perf_counter() - t0
-        kinds = collections.Counter()
+        kinds, landings = collections.Counter(), []
         stood, up_single, up_combo, across, down, best = 0, 0, 0, 0, 0, {}
         for i, (kind, f, h) in enumerate(poses):
             res = [out[i * len(actions) + n][0] for n in range(len(actions))]
@@ -91,8 +158,10 @@ def main() -> None:
                 continue
             stood += 1
             ups, ways = [], set()
-            for act, (_, r) in zip(actions, res):
+            for act, (_, (r, nodes)) in zip(actions, res):
                 gain = r.cog_after[0] - r.cog_before[0]
+                if r.rolled and lookahead.lands(r, lookahead.SLIDE):
+                    landings.append((kind, h, act, r.face_after, nodes, np.subtract(r.cog_after, r.cog_before)))
                 if r.face_after is None:
                     kinds["tumbled"] += 1
                 elif not r.rolled:
@@ -118,6 +187,7 @@ def main() -> None:
         for (kind, h), (p, act, g) in sorted(best.items()):
             print(f"  {kind:11s} heading {h:5.1f} deg: least-pressure uphill roll "
                   f"{'+'.join(f'#{q}' for q in act)} at {p:.2f} MPa, {g:.2f} m up")
+        gaits(landings, headings)
         rolled = sum(kinds[k] for k in ("uphill", "across", "downhill", "tumbled"))
         rows.append((sl, f"{stood}/{len(poses)}", up_single, up_combo, across, down, kinds["uphill"],
                      f"{kinds['tumbled']} ({100 * kinds['tumbled'] / max(rolled, 1):.0f} %)"))
