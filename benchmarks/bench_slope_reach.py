@@ -44,23 +44,25 @@ from tensegrity.workspace import gravity as gv, mapping
 def gaits(landings: list, headings: np.ndarray, longest: int = 6) -> None:
     """Print the best repeatable gait uphill (+x) and across (+y) that the rolls of one slope
     suggest: a cycle of at most `longest` rolls in the graph whose states are the contact case,
-    the uphill heading in its support frame (to the nearest of `headings`, deg) and the parity of
+    the uphill heading in its support frame as settled (to the nearest of `headings`, deg) and the parity of
     the face's map from the canonical face (a mirror image rolls across the other way), whose
     edges are the rolls that land on a face (no slide, `lookahead.lands`), with the CoG's move.
     The graph assumes a landing posed like the canonical face at that heading rolls like it;
     a cycle is a candidate gait, to be checked by simulation, not a proof."""
     n = len(headings)
-    kinds = sorted({k for k, *_ in landings} | set(topo.CONTACT_FACES))
-    sid = {(k, b, p): i for i, (k, b, p) in enumerate(itertools.product(kinds, range(n), (1, -1)))}
-    edges = []  # (from, to, canonical action, CoG move (3,) m, world)
-    for kind, h, act, face, nodes, move in landings:
-        b = int(np.searchsorted(headings, h))
-        det = mapping.face_map(face)[2][0]  # -1: the face is a mirror image of the canonical one
+    sid = {(k, b, p): i for i, (k, b, p) in enumerate(itertools.product(topo.CONTACT_FACES, range(n), (1, -1)))}
+
+    def pose(nodes: np.ndarray, face: int, parity: int) -> int:
+        """The state of the robot `nodes` resting on `face`, its pose seen from a start of
+        `parity`: the face's kind, the canonical heading of uphill to the nearest sample, parity."""
+        det = int(round(mapping.face_map(face)[2][0]))  # -1: a mirror image of the canonical face
         hc = float(gv.heading_of(nodes, face)) * det + (0.0 if det > 0 else 180.0)
-        b2 = int(np.round(hc % 360.0 / (360.0 / n))) % n
+        return sid[str(topo.FACE_TYPES[face - 1]), int(np.round(hc % 360.0 / (360.0 / n))) % n, parity * det]
+
+    edges = []  # (from, to, canonical action, CoG move (3,) m, world)
+    for face0, start, act, face, end, move in landings:  # face0: canonical (the pose's)
         for p in (1, -1):
-            edges.append((sid[kind, b, p], sid[str(topo.FACE_TYPES[face - 1]), b2, int(p * det)], act,
-                          move * [1.0, p, 1.0]))
+            edges.append((pose(start, face0, p), pose(end, face, p), act, move * [1.0, p, 1.0]))
     for name, axis in (("uphill", 0), ("across", 1)):
         # across: the most across of the cycles that lose no height (mean uphill move >= 0),
         # found by weighting the uphill move more and more
@@ -144,7 +146,7 @@ def main() -> None:
             if face is None:
                 return "fell", None
             res, ob = yield from _roll_gen(params, s, obs, actions[b % len(actions)], ws.max_pressure, brake)
-            return face, (res, ob.nodes)
+            return face, (res, obs.nodes, ob.nodes)
 
         t0 = time.perf_counter()
         out = lockstep(params, terrain, state, ctl, s)
@@ -158,10 +160,11 @@ def main() -> None:
                 continue
             stood += 1
             ups, ways = [], set()
-            for act, (_, (r, nodes)) in zip(actions, res):
+            for act, (_, (r, start, end)) in zip(actions, res):
                 gain = r.cog_after[0] - r.cog_before[0]
-                if r.rolled and lookahead.lands(r, lookahead.SLIDE):
-                    landings.append((kind, h, act, r.face_after, nodes, np.subtract(r.cog_after, r.cog_before)))
+                if r.rolled and lookahead.lands(r, lookahead.SLIDE) and r.face_before == f:
+                    landings.append((r.face_before, start, act, r.face_after, end,
+                                     np.subtract(r.cog_after, r.cog_before)))
                 if r.face_after is None:
                     kinds["tumbled"] += 1
                 elif not r.rolled:
