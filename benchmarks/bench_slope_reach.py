@@ -44,20 +44,22 @@ from tensegrity.workspace import gravity as gv, mapping
 def gaits(landings: list, headings: np.ndarray, longest: int = 6) -> None:
     """Print the best repeatable gait uphill (+x) and across (+y) that the rolls of one slope
     suggest: a cycle of at most `longest` rolls in the graph whose states are the contact case,
-    the uphill heading in its support frame as settled (to the nearest of `headings`, deg) and the parity of
-    the face's map from the canonical face (a mirror image rolls across the other way), whose
-    edges are the rolls that land on a face (no slide, `lookahead.lands`), with the CoG's move.
+    the uphill heading in its support frame as settled (to the nearest of `headings`, deg) and
+    the parity of the face's map from the canonical face (a mirror image rolls across the other
+    way), whose edges are the rolls that land on a face (no slide, `lookahead.lands`), with the
+    CoG's move.
     The graph assumes a landing posed like the canonical face at that heading rolls like it;
     a cycle is a candidate gait, to be checked by simulation, not a proof."""
     n = len(headings)
-    sid = {(k, b, p): i for i, (k, b, p) in enumerate(itertools.product(topo.CONTACT_FACES, range(n), (1, -1)))}
+    sid = {key: i for i, key in enumerate(itertools.product(topo.CONTACT_FACES, range(n), (1, -1)))}
 
     def pose(nodes: np.ndarray, face: int, parity: int) -> int:
         """The state of the robot `nodes` resting on `face`, its pose seen from a start of
         `parity`: the face's kind, the canonical heading of uphill to the nearest sample, parity."""
         det = int(round(mapping.face_map(face)[2][0]))  # -1: a mirror image of the canonical face
         hc = float(gv.heading_of(nodes, face)) * det + (0.0 if det > 0 else 180.0)
-        return sid[str(topo.FACE_TYPES[face - 1]), int(np.round(hc % 360.0 / (360.0 / n))) % n, parity * det]
+        b = int(np.round(hc % 360.0 / (360.0 / n))) % n
+        return sid[str(topo.FACE_TYPES[face - 1]), b, parity * det]
 
     edges = []  # (from, to, canonical action, CoG move (3,) m, world)
     for face0, start, act, face, end, move in landings:  # face0: canonical (the pose's)
@@ -70,14 +72,15 @@ def gaits(landings: list, headings: np.ndarray, longest: int = 6) -> None:
             best = _best_cycle(len(sid), edges, np.eye(3)[axis] + [lam, 0.0, 0.0], longest)
             if best is None or np.mean([e[3][0] for e in best]) >= 0.0:
                 break
-        if best is None or np.mean([e[3][0] for e in best]) < 0.0 or np.mean([e[3][axis] for e in best]) < 1e-3:
-            print(f"  no {name} gait: no cycle of landings" + ("" if best is None else
-                                                              " that moves that way and keeps its height"))
+        moves = np.array([e[3] for e in best]) if best is not None else np.zeros((1, 3))
+        if best is None or moves[:, 0].mean() < 0.0 or moves[:, axis].mean() < 1e-3:
+            print(f"  no {name} gait: no cycle of landings"
+                  + ("" if best is None else " that moves that way and keeps its height"))
             continue
-        moves = np.array([e[3] for e in best])
         acts = ", ".join("+".join(f"#{q}" for q in e[2]) for e in best)
-        print(f"  best {name} gait ({len(best)} rolls, pairs of the canonical faces: {acts}): per roll {1e3 * moves[:, 0].mean():+.0f} mm "
-              f"uphill (x), {1e3 * moves[:, 1].mean():+.0f} mm across (y), {1e3 * moves[:, 2].mean():+.0f} mm up")
+        print(f"  best {name} gait ({len(best)} rolls, pairs of the canonical faces: {acts}): per roll "
+              f"{1e3 * moves[:, 0].mean():+.0f} mm uphill (x), {1e3 * moves[:, 1].mean():+.0f} mm across (y), "
+              f"{1e3 * moves[:, 2].mean():+.0f} mm up")
 
 
 def _best_cycle(size: int, edges: list, weight: np.ndarray, longest: int) -> list | None:
