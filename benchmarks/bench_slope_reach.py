@@ -56,10 +56,11 @@ def gaits(landings: list, headings: np.ndarray, longest: int = 6) -> None:
     def pose(nodes: np.ndarray, face: int, parity: int) -> int:
         """The state of the robot `nodes` resting on `face`, its pose seen from a start of
         `parity`: the face's kind, the canonical heading of uphill to the nearest sample, parity."""
-        det = int(round(mapping.face_map(face)[2][0]))  # -1: a mirror image of the canonical face
-        hc = float(gv.heading_of(nodes, face)) * det + (0.0 if det > 0 else 180.0)
+        diag = mapping.face_map(face)[2]  # x flips (-1) where the face mirrors the canonical one
+        h = np.radians(float(gv.heading_of(nodes, face)))
+        hc = np.degrees(np.arctan2(np.sin(h) * diag[1], np.cos(h) * diag[0]))  # canonical frame
         b = int(np.round(hc % 360.0 / (360.0 / n))) % n
-        return sid[str(topo.FACE_TYPES[face - 1]), b, parity * det]
+        return sid[str(topo.FACE_TYPES[face - 1]), b, parity * int(diag[0])]
 
     edges = []  # (from, to, canonical action, CoG move (3,) m, world)
     for face0, start, act, face, end, move in landings:  # face0: canonical (the pose's)
@@ -70,9 +71,9 @@ def gaits(landings: list, headings: np.ndarray, longest: int = 6) -> None:
         # found by weighting the uphill move more and more
         for lam in ((0.0,) if axis == 0 else (0.0, 0.25, 0.5, 1.0, 2.0, 4.0)):
             best = _best_cycle(len(sid), edges, np.eye(3)[axis] + [lam, 0.0, 0.0], longest)
-            if best is None or np.mean([e[3][0] for e in best]) >= 0.0:
+            moves = np.array([e[3] for e in best or [(0, 0, (), np.zeros(3))]])  # (rolls, 3) m
+            if moves[:, 0].mean() >= 0.0:
                 break
-        moves = np.array([e[3] for e in best]) if best is not None else np.zeros((1, 3))
         if best is None or moves[:, 0].mean() < 0.0 or moves[:, axis].mean() < 1e-3:
             print(f"  no {name} gait: no cycle of landings"
                   + ("" if best is None else " that moves that way and keeps its height"))
