@@ -54,7 +54,9 @@ class RollSettings:
     before the run ends "stuck". Where the ground under the face is an even incline of at least
     lookahead_tilt (on uneven ground, once the planned roll has failed), a run toward a goal
     first simulates up to lookahead actions (the plan's candidates, then `brake.escape`'s) from
-    the robot's state and tries the max_attempts best that do not tumble (`lookahead.rank`)."""
+    the robot's state and tries the max_attempts best that do not tumble (`lookahead.rank`);
+    on such an incline a goal across the slope is reached by a switchback
+    (`lookahead.switchback`)."""
     ramp_rate: float = 1.0
     interval: float = 0.02
     lift_tolerance: float = 0.001

@@ -5,7 +5,8 @@ which neither workspace predicts (benchmarks/bench_slope_reach.py: on 20 deg a t
 that move the robot tumble). `foresee` simulates candidate rolls from the robot's current state
 with the run's own controller (`control._roll_gen`, a copy of its brake), all in one batch, so
 each result is the roll the run would make; `rank` orders them for a goal; `choose` does both
-for a run's step.
+for a run's step. `switchback` routes a run to a goal across a steep slope: straight uphill
+first (the robot climbs in a two-roll gait, but loses height on most rolls across), then down.
 """
 from __future__ import annotations
 
@@ -23,13 +24,19 @@ from .lockstep import Obs, lockstep
 from .lookup import Workspace
 from .plan import Plan
 
-__all__ = ["foresee", "moved", "lands", "rank", "choose", "CLIMB_COST", "INCLINE_CLIMB_COST", "SLIDE",
-           "REVISIT_COST"]
+__all__ = ["foresee", "moved", "lands", "rank", "choose", "switchback", "CLIMB_COST",
+           "INCLINE_CLIMB_COST", "SLIDE", "REVISIT_COST", "CLIMB_CONE", "DESCENT_CONE"]
 
 CLIMB_COST = 5.0  # m of distance per m of height an end below the goal costs (climbing back is slow)
 INCLINE_CLIMB_COST = 10.0  # the same on an even incline, where height lost is lost for good
 SLIDE = 0.5  # m: on an even incline, a roll that moves the CoG further (horizontally) slid: a tumble
 REVISIT_COST = 0.25  # m, landing on a face of the run's last few steps (a back-and-forth on a slope)
+# On a steep even incline (lookahead_tilt) the robot climbs straight uphill in a two-roll gait and
+# descends under control, but loses height on most rolls across (docs/benchmarks.md, 20 deg): a
+# goal more than CLIMB_CONE deg and less than DESCENT_CONE deg from straight uphill is reached by
+# a switchback, straight uphill first, then down toward the goal (`switchback`).
+CLIMB_CONE = 30.0  # deg from straight uphill
+DESCENT_CONE = 135.0  # deg from straight uphill: the 135-225 deg goals arrive directly
 
 
 def foresee(params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
@@ -79,6 +86,25 @@ def rank(results: Sequence[RollResult], goal: np.ndarray, terrain: Terrain,
                 float(np.linalg.norm(c[:2] - goal[:2])) + climb * below
                 + REVISIT_COST * (r.face_after in avoid))
     return sorted(range(len(results)), key=key)
+
+
+def switchback(terrain: Terrain, start: np.ndarray, goal: np.ndarray) -> np.ndarray | None:
+    """The turning point (3,) m (on the ground) of a switchback from `start` to `goal` (world
+    points, m) on an incline: straight uphill of `start`, so far that the goal then lies
+    DESCENT_CONE deg from straight uphill; None where the goal lies within CLIMB_CONE deg of
+    straight uphill or at least DESCENT_CONE deg from it (headed for directly), or on level
+    ground."""
+    n = terrain.normal_at(start[0], start[1])
+    if np.hypot(n[0], n[1]) < 1e-12:
+        return None
+    up = -n[:2] / np.hypot(n[0], n[1])  # uphill, horizontal unit vector
+    g = np.subtract(goal[:2], start[:2])
+    along, across = float(g @ up), abs(float(g @ [-up[1], up[0]]))
+    angle = np.degrees(np.arctan2(across, along))
+    if not CLIMB_CONE + 1e-6 < angle < DESCENT_CONE - 1e-6:
+        return None
+    turn = np.asarray(start[:2], float) + (along + across / np.tan(np.radians(180.0 - DESCENT_CONE))) * up
+    return np.array([turn[0], turn[1], float(terrain.height(turn[0], turn[1]))])
 
 
 def choose(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettings, obs: Obs,

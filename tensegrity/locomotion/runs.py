@@ -110,6 +110,10 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
     brk = Brake(workspace, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None
     try:
         face, obs = yield from _settle_gen(s, obs, brk)
+        via = None  # the turning point of a switchback up a steep incline (lookahead.switchback)
+        if goal is not None and direction is None and s.lookahead and face is not None \
+                and on_incline(terrain, face, obs.nodes, s.lookahead_tilt):
+            via = lookahead.switchback(terrain, obs.nodes.mean(axis=0), goal)
         for k in range(s.max_rolls + 1):
             if face is None:
                 outcome, message = "no_contact", (
@@ -126,7 +130,13 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
                 break
             if k == s.max_rolls:
                 break
-            target = dict(goal=goal) if direction is None else dict(direction=direction)
+            if via is not None:  # reached (or passed above) the turning point: on to the goal
+                c = obs.nodes.mean(axis=0)
+                if (np.linalg.norm(c[:2] - via[:2]) <= s.arrive_tolerance
+                        or terrain.height(c[0], c[1]) >= via[2]):
+                    via = None
+            aim = goal if via is None else via
+            target = dict(goal=aim) if direction is None else dict(direction=direction)
             if edges is not None:
                 e = tuple(sorted(int(n) for n in edges[k]))
                 corners = [topo.edge_nodes(face, j) for j in range(3)]
@@ -146,7 +156,7 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
             uneven = not on_incline(terrain, face, obs.nodes, 0.0)
             incline = look and on_incline(terrain, face, obs.nodes, s.lookahead_tilt)
             if incline:
-                todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl, set(), goal,
+                todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl, set(), aim,
                                                    brk, target, visited[:-1], incline=True)
             while todo:
                 act = todo.pop(0)
@@ -158,7 +168,7 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
                 if look and uneven and not simulated:
                     # on uneven ground the planned roll failed: foresee the others
                     todo, simulated = lookahead.choose(workspace, params, terrain, s, obs, face, pl,
-                                                       {r.pairs for r in tries}, goal, brk, target)
+                                                       {r.pairs for r in tries}, aim, brk, target)
                 elif not todo and not simulated and len(tries) == min(s.max_attempts, len(pl.candidates)) and s.escape_attempts:
                     # stuck: other actions, those predicted to roll toward the target first
                     todo = escape(workspace, face, obs.nodes, {r.pairs for r in tries},

@@ -19,14 +19,18 @@ DAMPED = Params(strut_damping=1.0)
 def test_the_roll_made_is_the_roll_foreseen(ws):
     """On a 20 deg slope (lookahead applies: an even incline of at least lookahead_tilt) the
     first step simulates the plan's candidates and escape actions from the robot's settled state;
-    the attempt the run then makes is the first of `rank`'s order, and it ends exactly as its
-    simulation did: the same face, the same CoG and times, the same peak pressure."""
+    the attempt the run then makes is the first of `rank`'s order toward the switchback's turning
+    point (the goal lies across the slope), and it ends exactly as its simulation did: the same
+    face, the same CoG and times, the same peak pressure."""
     s = lo.RollSettings(lookahead=4, max_attempts=1, max_rolls=1, escape_attempts=0)
-    run = lo.roll_to(ws, (0.0, -2.0), DAMPED, Terrain.slope(20.0), settings=s)
+    slope = Terrain.slope(20.0)
+    run = lo.roll_to(ws, (0.0, -2.0), DAMPED, slope, settings=s)
     step = run.steps[0]
     assert len(step.simulated) == 4 and len(step.attempts) == 1
     done = step.attempts[0]
-    first = step.simulated[lookahead.rank(step.simulated, run.goal, Terrain.slope(20.0), [],
+    via = lookahead.switchback(slope, done.cog_before, run.goal)  # from the settled robot
+    assert via is not None and via[0] > 1.5  # straight uphill (+x) first
+    first = step.simulated[lookahead.rank(step.simulated, via, slope, [],
                                          lookahead.INCLINE_CLIMB_COST, lookahead.SLIDE)[0]]
     assert done.pairs == first.pairs
     assert (done.rolled, done.face_after) == (first.rolled, first.face_after)
@@ -42,6 +46,35 @@ def test_no_lookahead_on_gentler_slopes(ws):
     """Below lookahead_tilt (17 deg) a run plans from the workspace alone."""
     s = lo.RollSettings(lookahead=4, max_attempts=1, max_rolls=1, escape_attempts=0)
     assert lo.roll_to(ws, (0.0, -2.0), DAMPED, Terrain.slope(10.0), settings=s).steps[0].simulated == ()
+
+
+@pytest.mark.parametrize("azimuth", [0.0, 30.0, -120.0])
+def test_switchback_climbs_first_then_descends_at_the_descent_cone(azimuth):
+    """A goal across a steep slope is reached via a turning point straight uphill of the start,
+    from which the goal lies DESCENT_CONE deg from uphill; goals within CLIMB_CONE of uphill or
+    at least DESCENT_CONE from it, and level ground, need none."""
+    slope = Terrain.slope(20.0, azimuth)
+    up = np.array([np.cos(np.radians(azimuth)), np.sin(np.radians(azimuth))])
+    assert slope.height(*(up * 0.1)) > slope.height(0.0, 0.0)  # uphill: along the azimuth
+    start = np.array([0.3, -0.2, 0.4])
+
+    def goal(angle, dist=2.0):  # `angle` deg from uphill, to the left
+        a = np.radians(azimuth + angle)
+        p = start[:2] + dist * np.array([np.cos(a), np.sin(a)])
+        return np.array([p[0], p[1], float(slope.height(*p))])
+
+    for angle in (40.0, 90.0, 120.0, -100.0):
+        g = goal(angle)
+        via = lookahead.switchback(slope, start, g)
+        off = via[:2] - start[:2]
+        assert np.allclose(off / np.linalg.norm(off), up)  # straight uphill
+        assert via[2] == pytest.approx(float(slope.height(via[0], via[1])))
+        leg = g[:2] - via[:2]
+        seen = np.degrees(np.arccos(leg @ up / np.linalg.norm(leg)))
+        assert seen == pytest.approx(lookahead.DESCENT_CONE)
+    for angle in (0.0, 20.0, -30.0, 30.0, 135.0, 180.0, -150.0):
+        assert lookahead.switchback(slope, start, goal(angle)) is None
+    assert lookahead.switchback(Terrain.flat(), start, goal(90.0)) is None
 
 
 def _res(pairs, rolled, face_after, cog, before=(0.0, 0.0, 0.0)):
