@@ -35,7 +35,7 @@ REVISIT_COST = 0.25  # m, landing on a face of the run's last few steps (a back-
 # descends under control, but loses height on most rolls across (docs/benchmarks.md, 20 deg): a
 # goal more than CLIMB_CONE deg and less than DESCENT_CONE deg from straight uphill is reached by
 # a switchback, straight uphill first, then down toward the goal (`switchback`).
-CLIMB_CONE = 30.0  # deg from straight uphill
+CLIMB_CONE = 10.0  # deg from straight uphill: 22.5 deg goals got stuck heading there directly
 DESCENT_CONE = 135.0  # deg from straight uphill: the 135-225 deg goals arrive directly
 
 
