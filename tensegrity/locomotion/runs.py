@@ -108,12 +108,14 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
     visited: list[int] = []
     outcome, message = "step_limit", f"step limit of {s.max_rolls} rolls reached"
     brk = Brake(workspace, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None
+    turn = None  # the turning point of a switchback up a steep incline (lookahead.switchback)
     try:
         face, obs = yield from _settle_gen(s, obs, brk)
-        via = None  # the turning point of a switchback up a steep incline (lookahead.switchback)
+        via = None  # the turning point while the run heads for it
         if goal is not None and direction is None and s.lookahead and face is not None \
                 and on_incline(terrain, face, obs.nodes, s.lookahead_tilt):
             via = lookahead.switchback(terrain, obs.nodes.mean(axis=0), goal)
+        turn = via
         for k in range(s.max_rolls + 1):
             if face is None:
                 outcome, message = "no_contact", (
@@ -193,6 +195,9 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
     except d.SimulationError as e:
         outcome = "off_terrain" if "no terrain" in str(e) else "sim_error"
         message = str(e)
+    if edges is None and turn is not None:
+        message += (f"; by a switchback: straight uphill toward ({turn[0]:.2f}, {turn[1]:.2f}) m "
+                    "first, then toward the goal")
     return outcome, message, steps
 
 

@@ -30,6 +30,7 @@ def test_the_roll_made_is_the_roll_foreseen(ws):
     done = step.attempts[0]
     via = lookahead.switchback(slope, done.cog_before, run.goal)  # from the settled robot
     assert via is not None and via[0] > 1.5  # straight uphill (+x) first
+    assert f"by a switchback: straight uphill toward ({via[0]:.2f}, {via[1]:.2f}) m" in run.message
     first = step.simulated[lookahead.rank(step.simulated, via, slope, [],
                                          lookahead.INCLINE_CLIMB_COST, lookahead.SLIDE)[0]]
     assert done.pairs == first.pairs
