@@ -111,11 +111,10 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
     turn = None  # the turning point of a switchback up a steep incline (lookahead.switchback)
     try:
         face, obs = yield from _settle_gen(s, obs, brk)
-        via = None  # the turning point while the run heads for it
         if goal is not None and direction is None and s.lookahead and face is not None \
                 and on_incline(terrain, face, obs.nodes, s.lookahead_tilt):
-            via = lookahead.switchback(terrain, obs.nodes.mean(axis=0), goal)
-        turn = via
+            turn = lookahead.switchback(terrain, obs.nodes.mean(axis=0), goal)
+        via = turn  # while the run heads for the turning point
         for k in range(s.max_rolls + 1):
             if face is None:
                 outcome, message = "no_contact", (
