@@ -65,7 +65,12 @@ def plotter(title: str | None, panels: int = 1, size: tuple[int, int] = WINDOW) 
     offscreen()
     pl = pv.Plotter(off_screen=True, window_size=size, shape=(1, 4 if panels == 3 else 1),
                     border=False)
-    pl.ren_win.SetMultiSamples(4)  # PyVista's 8 cost 0.15 s more a figure in software, no better to see
+    # Edges smoothed by FXAA, a filter of the finished image, not by multisampling: MSAA x4 cost
+    # 0.17 s a figure in software (llvmpipe), FXAA 0.04 s, and they look alike (compared side by
+    # side). Set on the renderers: PyVista's enable_anti_aliasing("fxaa") turns to SSAA under EGL.
+    pl.ren_win.SetMultiSamples(0)
+    for r in pl.renderers:
+        r.UseFXAAOn()
     pl.set_background("white")
     if panels == 3:
         ports = [(0.0, 0.0, 0.7, 0.93), (0.7, 0.45, 1.0, 0.93), (0.7, 0.0, 1.0, 0.45),

@@ -29,6 +29,8 @@ rule render:
         max_pressure=2.4,
     log:
         "results/logs/render.log",
+    benchmark:
+        "results/benchmarks/render.tsv"
     priority: 20
     localrule: True
     script:
