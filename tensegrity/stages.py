@@ -118,7 +118,7 @@ def run_nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: s
 
 def run_fit(cfg: dict, nominal_path: str | os.PathLike, out_path: str | os.PathLike) -> Path:
     """Fit a curve per pair and axis to the nominal CoG; write the plain-number curves."""
-    from .workspace import fit  # scikit-learn is slow to import: only this stage needs it
+    from .workspace import fit
     src = datasets.read(nominal_path)
     f = cfg["fit"]
     p, cog = src["pressure"].values, src["cog"].values

@@ -1,27 +1,24 @@
 """Curve fits of the nominal CoG against pressure: cog_axis(pressure) per pair and axis.
 
-A curve is chosen by cross-validation among sklearn pipelines (polynomials of degree 1..D and
-cubic splines with uniform knots) and exported as plain numbers: a piecewise polynomial with
-`breaks` (m+1,) in MPa and `coefs` (m, deg+1) in the local variable u = p - breaks[i], **highest
-power first** (the numpy.polyval / scipy PPoly order). Outside [pmin, pmax] the end pieces are
-continued (cubic/polynomial extrapolation, identical to the estimator's); callers should stay
-inside the valid range. Evaluation needs numpy only (no sklearn, no pickle).
+A curve is chosen by cross-validation (`cv_select`, also the choice of the two-pair surfaces)
+among least-squares polynomials of degree 1..D (numpy.polynomial) and cubic least-squares splines
+with uniform knots (scipy.interpolate B-splines), and exported as plain numbers: a piecewise
+polynomial with `breaks` (m+1,) in MPa and `coefs` (m, deg+1) in the local variable
+u = p - breaks[i], **highest power first** (the numpy.polyval / scipy PPoly order). Outside
+[pmin, pmax] the end pieces are continued (cubic/polynomial extrapolation); callers should stay
+inside the valid range. Evaluation needs numpy only (no scipy, no pickle).
 """
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import Any, Mapping
 
 import numpy as np
-from numpy.polynomial import Polynomial
 from numpy.typing import ArrayLike
 
-if TYPE_CHECKING:
-    from sklearn.pipeline import Pipeline
-
-# scikit-learn and scipy are imported where curves are fitted, so that evaluating an exported
-# curve (evaluate, from_dict, arrays_to_curves) needs numpy only.
+# scipy is imported where splines are fitted, so that evaluating an exported curve (evaluate,
+# from_dict, arrays_to_curves) needs numpy only.
 
 TIE_RTOL = 0.05   # a more complex model must lower the CV RMSE by more than 5 % to win
 TIE_ATOL = 1e-9   # ... and by more than this fraction of max|values| (roundoff on exact data)
@@ -95,84 +92,90 @@ def _check(pressure, values) -> tuple[np.ndarray, np.ndarray]:
     return p[o], v[o]
 
 
-def _candidates(max_degree: int, spline_knots) -> list[tuple[str, int, object]]:
-    """(name, number of parameters, unfitted pipeline), ordered simplest first."""
-    from sklearn.linear_model import LinearRegression
-    from sklearn.pipeline import make_pipeline
-    from sklearn.preprocessing import PolynomialFeatures, SplineTransformer
-    c = [(f"poly{d}", d + 1, make_pipeline(PolynomialFeatures(d, include_bias=False),
-                                           LinearRegression())) for d in range(1, max_degree + 1)]
-    # k uniform knots give k+2 cubic B-splines summing to 1, so with the intercept: k+2 parameters
-    c += [(f"spline k={k}", k + 2, make_pipeline(
-        SplineTransformer(n_knots=k, degree=3, knots="uniform", extrapolation="continue"),
-        LinearRegression())) for k in spline_knots]
+def cv_select(sizes: Sequence[int], predict: Callable[[int, np.ndarray], np.ndarray],
+              values: np.ndarray, folds: int, tie_rtol: float = TIE_RTOL) -> tuple[int, float]:
+    """Cross-validated choice among candidate models 0..len(sizes)-1, simplest first (sizes:
+    their numbers of parameters), of `values` (n,) at points sorted by their coordinates.
+
+    Point i goes to fold i mod folds (interleaved, deterministic; leave-one-out when n < folds).
+    A candidate with more parameters than the smallest training fold has points is skipped.
+    predict(c, train) returns candidate c fitted on the points where `train` (n,) is True,
+    evaluated at the others. The score is the RMSE of the pooled held-out predictions; the
+    simplest candidate within tie_rtol * best + TIE_ATOL * max|values| of the best wins.
+    Returns (candidate, CV RMSE), or (0, NaN) if no candidate can be validated."""
+    v = np.asarray(values, float)
+    nf = min(int(folds), v.size)
+    if nf < 2:
+        raise ValueError(f"folds must be >= 2, got {folds}")
+    fold = np.arange(v.size) % nf
+    n_train = v.size - int(np.ceil(v.size / nf))
+    scores = []
+    for c, size in enumerate(sizes):
+        if size > n_train:
+            continue
+        pred = np.empty_like(v)
+        for k in range(nf):
+            test = fold == k
+            pred[test] = predict(c, ~test)
+        scores.append((c, float(np.sqrt(np.mean((pred - v) ** 2)))))
+    if not scores:
+        return 0, float("nan")
+    best = min(s for _, s in scores)
+    tol = tie_rtol * best + TIE_ATOL * float(np.max(np.abs(v)))
+    return next(x for x in scores if x[1] <= best + tol)
+
+
+def _candidates(max_degree: int, spline_knots: Iterable[int]) -> list[tuple[str, int]]:
+    """(name, number of parameters) of the candidate curves, simplest first: polynomials
+    "polyD" and cubic splines "spline k=K" (K uniform knots: K + 2 B-splines)."""
+    c = [(f"poly{d}", d + 1) for d in range(1, max_degree + 1)]
+    c += [(f"spline k={k}", k + 2) for k in spline_knots]
     return sorted(c, key=lambda t: t[1])  # stable: polynomials before splines of equal size
 
 
-def _export(name: str, est, p: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
-    """The fitted pipeline as (kind, breaks, coefs highest power first)."""
-    lr = est[-1]
+def _least_squares(name: str, p: np.ndarray, v: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
+    """Candidate `name` fitted by least squares to values v (n,) at sorted pressures p (n,) MPa,
+    as (kind, breaks, coefs highest power first): a polynomial in u = p - p[0] over
+    [p[0], p[-1]] (numpy.polynomial), or a cubic spline whose K knots divide [p[0], p[-1]]
+    evenly, continued by three more at the same spacing on each side, so that the end pieces
+    extend as cubics (one piece between knots; the B-splines of scipy.interpolate, their
+    coefficients by numpy's least squares, the least-norm ones where the points leave some
+    undetermined, as the splines' own make_lsq_spline would not)."""
     if name.startswith("poly"):
-        low = Polynomial(np.r_[lr.intercept_, lr.coef_])(Polynomial([p[0], 1.0])).coef
-        low = np.pad(low, (0, lr.coef_.size + 1 - low.size))   # in u = p - pmin
+        low = np.polynomial.polynomial.polyfit(p - p[0], v, int(name[4:]))
         return "polynomial", np.array([p[0], p[-1]]), low[::-1][None, :]
-    spl = est[0].bsplines_[0]
-    k, m = spl.k, est[0].n_knots - 1           # base interval is t[k] .. t[k + m] = pmin .. pmax
     from scipy.interpolate import BSpline, PPoly
-    pp = PPoly.from_spline(BSpline(spl.t, lr.coef_, k))
-    coefs = pp.c[:, k:k + m].T.copy()
-    coefs[:, -1] += lr.intercept_
-    return "spline", spl.t[k:k + m + 1].copy(), coefs
+    base = np.linspace(p[0], p[-1], int(name.split("=")[1]))
+    h = base[1] - base[0]
+    t = np.r_[base[0] - h * np.arange(3, 0, -1), base, base[-1] + h * np.arange(1, 4)]
+    c = np.linalg.lstsq(BSpline.design_matrix(p, t, 3).toarray(), v, rcond=None)[0]
+    pp = PPoly.from_spline(BSpline(t, c, 3))
+    return "spline", base, pp.c[:, 3:3 + base.size - 1].T.copy()
 
 
 def fit_curve(pressure: ArrayLike, values: ArrayLike, max_degree: int = 3,
-              spline_knots: Iterable[int] = (3, 4), folds: int = 5, tie_rtol: float = TIE_RTOL,
-              return_model: bool = False) -> Curve | tuple[Curve, Pipeline]:
+              spline_knots: Iterable[int] = (3, 4), folds: int = 5,
+              tie_rtol: float = TIE_RTOL) -> Curve:
     """Fit value(pressure): pressure (n,) MPa, values (n,) (e.g. CoG in m) -> Curve.
 
-    CV: points sorted by pressure go to fold (rank mod folds) (interleaved, deterministic; leave-
-    one-out when n < folds), pooled RMSE of held-out predictions. Candidates with more parameters
-    than the smallest training fold are skipped. Ties: the simplest candidate whose CV RMSE is
-    within tie_rtol*best + TIE_ATOL*max|values| of the best wins. The winner is refit on all points;
-    if no candidate can be validated (n = 2) a line is fitted with cv_rmse = NaN.
-    With return_model=True returns (Curve, fitted sklearn pipeline)."""
+    The candidates (`_candidates`) are chosen among by `cv_select`, each fitted and evaluated
+    in its exported form (`_least_squares`, `evaluate`). The winner is refit on all points; if
+    no candidate can be validated (n = 2) a line is fitted with cv_rmse = NaN."""
     p, v = _check(pressure, values)
-    nf = min(int(folds), p.size)
-    if nf < 2:
-        raise ValueError(f"folds must be >= 2, got {folds}")
     cands = _candidates(int(max_degree), tuple(int(k) for k in spline_knots))
     if not cands:
         raise ValueError("no candidate models: max_degree < 1 and spline_knots empty")
-    from sklearn import config_context
-    from sklearn.base import clone
-    fold = np.arange(p.size) % nf
-    n_train = p.size - int(np.ceil(p.size / nf))
-    scores = []
-    # the data were checked above (finite, 1-D): skip scikit-learn's own checks of every
-    # parameter and array in each of the folds' fits, which cost more than the fits. The folds
-    # are fitted here as cross_val_predict(est, cv=PredefinedSplit(fold)) fits them (a clone
-    # per fold, fitted on the others, predicting its points; the same numbers), without its
-    # joblib dispatch and checks: 2.5 of the fit stage's 4.6 s
-    with config_context(assume_finite=True, skip_parameter_validation=True):
-        for name, npar, est in cands:
-            if npar <= n_train:
-                pred = np.empty_like(v)
-                for k in range(nf):
-                    test = fold == k
-                    pred[test] = clone(est).fit(p[~test, None], v[~test]).predict(p[test, None])
-                scores.append((name, est, float(np.sqrt(np.mean((pred - v) ** 2)))))
-    if scores:
-        best = min(s[2] for s in scores)
-        tol = tie_rtol * best + TIE_ATOL * float(np.max(np.abs(v)))
-        name, est, rmse = next(s for s in scores if s[2] <= best + tol)
-    else:
-        name, est, rmse = cands[0][0], cands[0][2], np.nan
-        if not name.startswith("poly"):
-            raise ValueError(f"{p.size} points are too few for any candidate model")
-    est.fit(p[:, None], v)
-    kind, breaks, coefs = _export(name, est, p)
-    curve = Curve(kind, breaks, coefs, p[0], p[-1], rmse, name)
-    return (curve, est) if return_model else curve
+
+    def predict(c: int, train: np.ndarray) -> np.ndarray:
+        _, breaks, coefs = _least_squares(cands[c][0], p[train], v[train])
+        return evaluate({"breaks": breaks, "coefs": coefs}, p[~train])
+
+    best, rmse = cv_select([n for _, n in cands], predict, v, folds, tie_rtol)
+    name = cands[best][0]
+    if np.isnan(rmse) and not name.startswith("poly"):
+        raise ValueError(f"{p.size} points are too few for any candidate model")
+    kind, breaks, coefs = _least_squares(name, p, v)
+    return Curve(kind, breaks, coefs, p[0], p[-1], rmse, name)
 
 
 def fit_pairs(pressure: ArrayLike, cog: ArrayLike, **opts: Any) -> list[list[Curve]]:

@@ -21,7 +21,7 @@ from ..physics import symmetry as sym
 from ..physics.actuation import Schedule, check_pressures
 from ..physics.params import Params
 from . import nominal as nom
-from .fit import TIE_ATOL, TIE_RTOL
+from .fit import cv_select
 from .mapping import CANONICAL
 
 COMBOS = np.array(list(combinations(range(1, topo.N_PAIRS + 1), 2)))  # (66, 2), 1-based, sorted
@@ -212,36 +212,24 @@ def powers(degree: int) -> np.ndarray:
 
 def fit_surface(pa: ArrayLike, pb: ArrayLike, values: ArrayLike, max_degree: int = 3, folds: int = 5) -> dict:
     """Least-squares polynomial value(p_a, p_b) (MPa) of total degree 1..max_degree chosen by
-    cross-validation as `workspace.fit.fit_curve` chooses a curve: points sorted by (p_a, p_b)
-    go to fold rank mod folds, a candidate needs no more parameters than the smallest training
-    fold has points, the simplest within TIE_RTOL of the best CV RMSE wins, refit on all
-    points. Returns plain numbers: powers (n, 2), coefs (n,) in value/MPa^(i+j), degree,
+    cross-validation as a curve is (`workspace.fit.cv_select`, points sorted by (p_a, p_b)),
+    refit on all points. Returns plain numbers: powers (n, 2), coefs (n,) in value/MPa^(i+j), degree,
     cv_rmse (value units, NaN if nothing could be validated), pmin, pmax (MPa)."""
     pa, pb, v = (np.asarray(x, float).ravel() for x in (pa, pb, values))
     if not (pa.size == pb.size == v.size) or pa.size < 3 or not np.all(np.isfinite(np.r_[pa, pb, v])):
         raise ValueError(f"fit_surface needs >= 3 finite points of equal count, got {pa.size}, {pb.size}, {v.size}")
     o = np.lexsort((pb, pa))
     pa, pb, v = pa[o], pb[o], v[o]
-    nf = min(int(folds), v.size)
-    fold = np.arange(v.size) % nf
-    n_train = v.size - int(np.ceil(v.size / nf))
     design = lambda a, b, pw: a[:, None] ** pw[:, 0] * b[:, None] ** pw[:, 1]
-    scores = []
-    for deg in range(1, int(max_degree) + 1):
-        pw = powers(deg)
-        if len(pw) > n_train:
-            break
-        pred = np.empty_like(v)
-        for k in range(nf):
-            tr = fold != k
-            coef = np.linalg.lstsq(design(pa[tr], pb[tr], pw), v[tr], rcond=None)[0]
-            pred[~tr] = design(pa[~tr], pb[~tr], pw) @ coef
-        scores.append((deg, float(np.sqrt(np.mean((pred - v) ** 2)))))
-    if scores:
-        best = min(s for _, s in scores)
-        deg, rmse = next(x for x in scores if x[1] <= best + TIE_RTOL * best + TIE_ATOL * np.max(np.abs(v)))
-    else:
-        deg, rmse = 1, np.nan
+    degrees = range(1, int(max_degree) + 1)
+
+    def predict(c: int, train: np.ndarray) -> np.ndarray:
+        pw = powers(degrees[c])
+        coef = np.linalg.lstsq(design(pa[train], pb[train], pw), v[train], rcond=None)[0]
+        return design(pa[~train], pb[~train], pw) @ coef
+
+    c, rmse = cv_select([len(powers(d)) for d in degrees], predict, v, folds)
+    deg = degrees[c] if degrees else 1
     pw = powers(deg)
     coef = np.linalg.lstsq(design(pa, pb, pw), v, rcond=None)[0]
     lo, hi = float(min(pa.min(), pb.min())), float(max(pa.max(), pb.max()))

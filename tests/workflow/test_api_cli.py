@@ -18,7 +18,7 @@ def test_public_names_resolve():
         assert getattr(tensegrity, name) is not None
 
 
-def test_a_curve_evaluates_without_scikit_learn(tmp_path):
+def test_a_curve_evaluates_without_scipy(tmp_path):
     curve = {"breaks": [0.4, 2.0, 4.8], "coefs": [[1.0, 0.0, 0.5], [2.0, 0.1, 0.3]]}
     code = ("import sys; sys.modules['sklearn'] = None; sys.modules['scipy'] = None\n"
             "from tensegrity.workspace import fit\n"

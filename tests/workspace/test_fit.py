@@ -1,11 +1,26 @@
-"""Fast tests of tensegrity.workspace.fit: exported curves against the sklearn estimator, model choice,
-serialisation round trips and input checks."""
+"""Fast tests of tensegrity.workspace.fit: exported curves against scikit-learn's pipelines of
+the same models (an independent least-squares fit; scikit-learn is a test-only dependency), model
+choice, serialisation round trips and input checks."""
 import json
 
 import numpy as np
 import pytest
 
 from tensegrity.workspace import fit as F
+
+
+def sklearn_model(model: str):
+    """scikit-learn's pipeline (unfitted) of the candidate `model` ("polyD" or "spline k=K"):
+    the same least-squares model, computed independently."""
+    from sklearn.linear_model import LinearRegression
+    from sklearn.pipeline import make_pipeline
+    from sklearn.preprocessing import PolynomialFeatures, SplineTransformer
+    if model.startswith("poly"):
+        features = PolynomialFeatures(int(model[4:]), include_bias=False)
+    else:
+        features = SplineTransformer(n_knots=int(model.split("=")[1]), degree=3, knots="uniform",
+                                     extrapolation="continue")
+    return make_pipeline(features, LinearRegression())
 
 P = np.linspace(0.4, 4.8, 12)             # the default sweep levels, MPa
 Q = np.linspace(P[0], P[-1], 200)          # evaluation pressures across the range
@@ -17,7 +32,8 @@ TOL = 1e-9                                 # m; float64 roundoff on 0.1 m values
 @pytest.mark.parametrize("values, kind", [(QUAD, "polynomial"), (SAT, "spline"),
                                           (0.1 * np.minimum(P, 2.6), "spline")])
 def test_export_matches_estimator(values, kind):
-    curve, est = F.fit_curve(P, values, return_model=True)
+    curve = F.fit_curve(P, values)
+    est = sklearn_model(curve.model).fit(P[:, None], values)
     assert curve.kind == kind
     np.testing.assert_allclose(F.evaluate(curve, Q), est.predict(Q[:, None]), rtol=0, atol=TOL)
     # the end pieces continue outside [pmin, pmax] exactly as the estimator does
@@ -32,10 +48,34 @@ def test_export_matches_estimator(values, kind):
                                          ({"max_degree": 0, "spline_knots": (4,)}, "spline k=4")])
 def test_export_restricted_candidates(opts, model):
     v = 0.1 * np.sin(P)                    # smooth, not representable by any candidate
-    curve, est = F.fit_curve(P, v, return_model=True, **opts)
+    curve = F.fit_curve(P, v, **opts)
+    est = sklearn_model(model).fit(P[:, None], v)
     assert curve.model == model
     assert curve.coefs.shape == (int(model[-1]) - 1 if "spline" in model else 1, 4)
     np.testing.assert_allclose(F.evaluate(curve, Q), est.predict(Q[:, None]), rtol=0, atol=TOL)
+
+
+@pytest.mark.parametrize("values, model", [(QUAD + 2e-3 * np.sin(7 * P), "poly2"),
+                                           (SAT + 1e-4 * np.cos(5 * P), "spline k=4")])
+def test_cv_rmse_is_sklearns_cross_validation(values, model):
+    # the winner's score: held-out predictions of folds rank mod 5, as scikit-learn makes them
+    from sklearn.model_selection import PredefinedSplit, cross_val_predict
+    curve = F.fit_curve(P, values)
+    assert curve.model == model
+    pred = cross_val_predict(sklearn_model(model), P[:, None], values,
+                             cv=PredefinedSplit(np.arange(P.size) % 5))
+    assert curve.cv_rmse == pytest.approx(np.sqrt(np.mean((pred - values) ** 2)), rel=1e-9)
+
+
+def test_spline_with_undetermined_coefficients():
+    # levels crowded at one end leave B-splines of 5 knots without points: the fit is still the
+    # least-squares one (unique at the points, as scikit-learn's), its CV score finite
+    p = np.r_[np.linspace(0.4, 1.0, 10), 4.8]
+    v = np.sin(p)
+    curve = F.fit_curve(p, v, max_degree=0, spline_knots=(5,))
+    assert curve.model == "spline k=5" and np.isfinite(curve.cv_rmse)
+    est = sklearn_model("spline k=5").fit(p[:, None], v)
+    np.testing.assert_allclose(curve(p), est.predict(p[:, None]), rtol=0, atol=TOL)
 
 
 def test_cv_prefers_true_degree_on_ties():

@@ -2,7 +2,7 @@ rule fit:
     """Cross-validated curve of the nominal CoG against pressure, per pair and axis, of every
     contact case, and all of them as one JSON file of plain numbers; the fitted surfaces
     CoG(p_a, p_b) of the two-pair workspace, per combination and axis, as one JSON file (one
-    job: scikit-learn takes 1.3 s to import)."""
+    job: each job pays about 0.5 s to start and read its inputs)."""
     input:
         nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
         two_pair=expand("results/two_pair/{contact}.nc", contact=CONTACTS),
