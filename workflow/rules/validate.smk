@@ -25,7 +25,7 @@ rule validate:
         "results/logs/validate.log",
     benchmark:
         "results/benchmarks/validate.tsv"
-    priority: 25
+    priority: 42  # before the fit and `render` (5 s together): the three end side by side
     threads: 1  # a second one only while the other core idles: the figures of the runs use it
     resources:
         mem_mb=2000,
