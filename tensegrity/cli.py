@@ -176,7 +176,8 @@ def cmd_roll(args: argparse.Namespace) -> int:
     """Roll the robot toward a goal in the dynamic simulator; exit 1 if it did not arrive."""
     from .io import datasets
     from .io.run_formats import RUN_ALLOW_NAN, run_dataset
-    from .locomotion.runs import describe, roll_to
+    from .locomotion.outcome import describe
+    from .locomotion.runs import roll_to
     cfg, face, terrain, params, s, ws = _locomotion_setup(args)
     with progress.simulated("roll"):
         run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw)

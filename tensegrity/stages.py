@@ -183,7 +183,7 @@ def locomotion_runs(cfg: dict, names: Sequence[str], workspace_path: str | Path,
     """`locomotion_run` of each of `names` in turn, to the matching `out_paths`, the workspace
     read once (the workflow's rule `locomotion_runs`: one job, which starts the simulator once)."""
     from .io import formats, run_formats
-    from .locomotion import demos, runs
+    from .locomotion import demos, outcome, runs
     from .locomotion.control import RollSettings
     if len(names) != len(out_paths):
         raise ValueError(f"{len(names)} runs {list(names)} but {len(out_paths)} output paths")
@@ -202,7 +202,7 @@ def locomotion_runs(cfg: dict, names: Sequence[str], workspace_path: str | Path,
             run = runs.roll_over(ws, setup["edges"], params, setup["terrain"], settings=s)
         else:
             run = runs.roll_to(ws, setup["goal"], params, setup["terrain"], settings=s)
-        print(runs.describe(run, name), flush=True)
+        print(outcome.describe(run, name), flush=True)
         out.append(datasets.write(run_formats.run_dataset(run, setup["terrain"], name), out_path,
                                   provenance, f"Rolling locomotion run '{name}': {run.outcome}",
                                   stage="locomotion", allow_nan=run_formats.RUN_ALLOW_NAN))

@@ -14,7 +14,7 @@ from ..physics.terrain import Terrain
 from . import datasets
 
 if TYPE_CHECKING:  # imported where used: importing io.run_formats loads no simulator (numba)
-    from ..locomotion.runs import Run
+    from ..locomotion.outcome import Run
 
 __all__ = ["RUN_ALLOW_NAN", "run_dataset", "terrain_from_dataset", "run_sample"]
 

@@ -7,7 +7,8 @@
   `lockstep` simulates a batch of robots, one controller each.
 - `brake`: the actuation that holds the robot on a face (slopes) and the escape order of
   actions off a face where the planned candidates failed.
-- `runs`: `roll_to`, `roll_many`, `roll_over` (plan, roll, repeat) and `describe`.
+- `runs`: `roll_to`, `roll_many`, `roll_over` (plan, roll, repeat); `outcome`: the `Run` and
+  its `Step`s they return, and `describe`, a run in words.
 - `demos`: the workflow's demonstration runs (`DEMOS`, `demo_setup`).
 
 Files are read and written elsewhere: `io.formats` (workspace, run datasets) and
@@ -19,7 +20,8 @@ from .demos import DEMOS
 from .lockstep import Record
 from .lookup import Prediction, Workspace, predict
 from .plan import Candidate, Plan, plan
-from .runs import OUTCOMES, Run, Step, describe, roll_many, roll_over, roll_to
+from .outcome import OUTCOMES, Run, Step, describe
+from .runs import roll_many, roll_over, roll_to
 
 __all__ = ["Workspace", "Prediction", "predict", "Candidate", "Plan", "plan", "RollSettings",
            "RollResult", "Record", "roll", "settle", "Step", "Run", "roll_to", "roll_many",

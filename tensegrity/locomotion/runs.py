@@ -6,14 +6,13 @@ contact face, plan from the workspace (`plan`), roll in the dynamic simulator (`
 plan the simulation does not follow is escalated along the ramp to the workspace's highest
 level, then the next candidate is tried, then (escape_attempts) the actions `brake.escape`
 orders, then the run ends "stuck"; a step limit bounds every
-run, and every run ends with one of OUTCOMES and a message. Runs of a batch are simulated
-together (`lockstep`); each equals its single run. `describe` says what happened in words.
+run, and every run ends with one of `outcome.OUTCOMES` and a message (`outcome.Run`). Runs of
+a batch are simulated together (`lockstep`); each equals its single run.
 """
 from __future__ import annotations
 
 import time as _time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -26,77 +25,14 @@ from ..physics.terrain import Terrain
 from .control import RollResult, RollSettings, _roll_gen, _settle_gen
 from . import lookahead
 from .brake import Brake, escape, on_incline
-from .lockstep import Controller, Obs, Record, lockstep
+from .lockstep import Controller, Obs, lockstep
 from .lookup import Face, Workspace
-from .plan import Plan, plan
+from .outcome import Run, Step
+from .plan import plan
 
-__all__ = ["OUTCOMES", "Step", "Run", "roll_to", "roll_many", "roll_over", "describe"]
-
-OUTCOMES = ("arrived", "step_limit", "stuck", "no_contact", "off_terrain", "sim_error")
+__all__ = ["roll_to", "roll_many", "roll_over"]
 
 _TABU = 4  # a run avoids rolling back onto the faces of its last four steps
-
-
-@dataclass(frozen=True)
-class Step:
-    """One step of a run: the plan made on `face` (1-based), the attempts in order, and the
-    face the robot ended on (None if on no face); `simulated`: the rolls tried in simulation
-    first (`lookahead.foresee`, where lookahead applies), in the order they were simulated."""
-    face: int
-    plan: Plan
-    attempts: tuple[RollResult, ...]
-    face_after: int | None
-    simulated: tuple[RollResult, ...] = ()
-
-    @property
-    def rolled(self) -> bool:
-        """The step's last attempt rolled the robot onto another face."""
-        return bool(self.attempts) and self.attempts[-1].rolled
-
-    @property
-    def used(self) -> RollResult:
-        """The attempt that rolled the robot (or the last one)."""
-        return self.attempts[-1]
-
-
-@dataclass(frozen=True)
-class Run:
-    """A run. outcome: one of OUTCOMES; message: why it ended; goal (3,) m (NaN for a run over
-    a list of edges); start (3,) m: the CoG at the start; steps; record: the samples; wall:
-    wall-clock time, s (shared by the runs of a batch); state: the final state."""
-    outcome: str
-    message: str
-    goal: np.ndarray
-    start: np.ndarray
-    steps: tuple[Step, ...]
-    record: Record
-    wall: float
-    state: d.State = field(repr=False)
-
-    @property
-    def final(self) -> np.ndarray:
-        """Final CoG (3,) m."""
-        return self.record.cog[-1] if len(self.record.t) else self.start
-
-    @property
-    def distance_to_goal(self) -> float:
-        """Horizontal distance of the final CoG to the goal, m (NaN without a goal)."""
-        return float(np.linalg.norm(self.final[:2] - self.goal[:2]))
-
-    @property
-    def travelled(self) -> float:
-        """Horizontal distance from the start to the final CoG, m."""
-        return float(np.linalg.norm(self.final[:2] - self.start[:2]))
-
-    @property
-    def rolls(self) -> int:
-        """Number of steps that rolled the robot."""
-        return sum(1 for st in self.steps if st.rolled)
-
-    @property
-    def faces(self) -> list[int]:
-        """The contact faces visited, in order (start, then after each roll)."""
-        return [st.face for st in self.steps[:1]] + [st.face_after for st in self.steps if st.rolled]
 
 
 def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
@@ -297,18 +233,3 @@ def roll_over(workspace: Workspace, edges: Sequence[Sequence[int]], params: Para
         workspace, params, terrain, s, o, edges=edges), s)
     return Run(res[0], res[1], np.full(3, np.nan), start[0], tuple(res[2]), rec,
                _time.perf_counter() - t0, st)
-
-
-def describe(run: Run, name: str = "") -> str:
-    """A few lines a person can read: the outcome and every step."""
-    lines = [f"run {name}: {run.outcome} ({run.message}); {run.rolls} rolls, "
-             f"{run.travelled:.2f} m from the start" + ("" if np.isnan(run.goal[0]) else
-                                                   f", {run.distance_to_goal:.2f} m from the goal")]
-    for k, st in enumerate(run.steps, 1):
-        r = st.used
-        lines.append(f"  step {k}: {topo.face_label(st.face)} -> "
-                     f"{topo.face_label(st.face_after) if st.face_after else 'no face'}: planned "
-                     f"{st.plan.pairs} at {st.plan.pressure:.2f} MPa over {st.plan.edge}; rolled by "
-                     f"{r.pairs} at {r.tip_pressure:.2f} MPa (peak {r.peak_pressure:.2f}), "
-                     f"{len(st.attempts)} attempt(s)")
-    return "\n".join(lines)
