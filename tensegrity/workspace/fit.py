@@ -138,9 +138,9 @@ def _least_squares(name: str, p: np.ndarray, v: np.ndarray) -> tuple[str, np.nda
     as (kind, breaks, coefs highest power first): a polynomial in u = p - p[0] over
     [p[0], p[-1]] (numpy.polynomial), or a cubic spline whose K knots divide [p[0], p[-1]]
     evenly, continued by three more at the same spacing on each side, so that the end pieces
-    extend as cubics (one piece between knots; the B-splines of scipy.interpolate, their
-    coefficients by numpy's least squares, the least-norm ones where the points leave some
-    undetermined, as the splines' own make_lsq_spline would not)."""
+    extend as cubics (one piece between knots): scipy.interpolate's B-splines with coefficients
+    by numpy's least squares, the least-norm ones where the points leave some undetermined
+    (scipy's make_lsq_spline returns NaN there)."""
     if name.startswith("poly"):
         low = np.polynomial.polynomial.polyfit(p - p[0], v, int(name[4:]))
         return "polynomial", np.array([p[0], p[-1]]), low[::-1][None, :]
@@ -158,8 +158,8 @@ def fit_curve(pressure: ArrayLike, values: ArrayLike, max_degree: int = 3,
               tie_rtol: float = TIE_RTOL) -> Curve:
     """Fit value(pressure): pressure (n,) MPa, values (n,) (e.g. CoG in m) -> Curve.
 
-    The candidates (`_candidates`) are chosen among by `cv_select`, each fitted and evaluated
-    in its exported form (`_least_squares`, `evaluate`). The winner is refit on all points; if
+    `cv_select` chooses among the candidates (`_candidates`), each fitted and evaluated in its
+    exported form (`_least_squares`, `evaluate`). The winner is refit on all points; if
     no candidate can be validated (n = 2) a line is fitted with cv_rmse = NaN."""
     p, v = _check(pressure, values)
     cands = _candidates(int(max_degree), tuple(int(k) for k in spline_knots))
