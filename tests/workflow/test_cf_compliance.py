@@ -6,12 +6,12 @@ dependency, environment.txt), the same as `cchecker.py --test=cf:1.10 FILE`.
 
 Two of the checker's findings are name heuristics that conflict with the dataset contract
 (docs/design.md §5), listed in KNOWN and reported in docs/datasets.md: a dimension called `time`
-must be a CF calendar time (standard_name `time`, units "s since <epoch>", a calendar, every
-other dimension to its left), and one called `pressure`, or any coordinate in pressure units,
-must be atmospheric (standard_name `air_pressure`, a vertical axis, rightmost). The muscle pressure is a relative
-pressure in MPa and the simulation time has no epoch. Everything else must be clean; the curve
-files score 100 %; `test_every_dataset_scores_100_percent` turns into a failure (XPASS) the day
-the contract changes so that the allowance can go.
+must be a CF calendar time (standard_name `time`, units "s since <epoch>", a calendar, every other
+dimension to its left), and one called `pressure`, or any coordinate in pressure units, must be
+atmospheric (standard_name `air_pressure`, a vertical axis, rightmost). The muscle pressure is a
+relative pressure in MPa and the simulation time has no epoch. Everything else must be clean; the
+curve files score 100 %; `test_every_dataset_scores_100_percent` turns into a failure (XPASS) the
+day the contract changes so that the allowance can go.
 """
 import json
 import re
