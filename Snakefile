@@ -1,5 +1,6 @@
-# The workspace pipeline: sweeps -> nominal CoG -> fitted curves -> 20-face workspace
-# -> figures. Rules live in workflow/rules/<stage>.smk and call tensegrity.stages.
+# The workspace pipeline: sweeps -> nominal CoG -> fitted curves -> 20-face workspace -> figures,
+# two-pair and gravity-aware workspaces, locomotion runs, validation. Rules live in
+# workflow/rules/<rule>.smk and call tensegrity.stages.<rule> (one module per rule file).
 import os
 import sys
 
@@ -11,7 +12,6 @@ import sys
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 from tensegrity.io.config import check_files as check_config_files, validate as validate_config
-from tensegrity.sections import stage_config  # the config sections each rule passes
 
 configfile: "config/config.yaml"
 
@@ -22,10 +22,10 @@ configfile: "config/config.yaml"
 check_config_files(workflow.configfiles)
 config.update(validate_config(config))
 
-CONTACTS = config["sweep"]["contacts"]
-PAIRS = config["sweep"]["pairs"]
-
 report: "workflow/report/workflow.rst"
+
+
+include: "workflow/rules/common.smk"
 
 wildcard_constraints:
     contact="|".join(CONTACTS),
@@ -35,11 +35,11 @@ include: "workflow/rules/sweep.smk"
 include: "workflow/rules/nominal.smk"
 include: "workflow/rules/fit.smk"
 include: "workflow/rules/render.smk"
-include: "workflow/rules/validate.smk"
-include: "workflow/rules/locomotion.smk"
-include: "workflow/rules/study.smk"
 include: "workflow/rules/two_pair.smk"
 include: "workflow/rules/gravity.smk"
+include: "workflow/rules/locomotion.smk"
+include: "workflow/rules/validate.smk"
+include: "workflow/rules/study.smk"
 
 
 rule all:
@@ -59,7 +59,7 @@ rule all:
 # A demonstration run that did not arrive does not stop the workflow (its file and path figures
 # show what happened; validation check 6 fails), but the run must not look like a success.
 onsuccess:
-    from tensegrity.validation.runs import warning as runs_warning  # numerical imports: only here
+    from tensegrity.stages.validate import runs_warning  # numerical imports: only here
 
     text = runs_warning(expand("results/locomotion/{run}.nc", run=LOCO_RUNS))
     if text:

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import collections
+import dataclasses
 import tempfile
 import time
 from pathlib import Path
@@ -33,28 +34,25 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from tensegrity import locomotion as lo, progress
-from tensegrity.io import config, formats
+from tensegrity import locomotion as lo
+from tensegrity.cli import progress
+from tensegrity.io import config, formats, settings as io_settings
 from tensegrity.locomotion import lookahead
-from tensegrity.locomotion.demos import locomotion_params
 from tensegrity.physics.terrain import Terrain
 
 
 def workspace(path: str, two_pair: str | None) -> lo.Workspace:
     if Path(path).is_file():
-        ws = formats.read_workspace(path)
-    else:
-        from tensegrity import stages
-        print(f"{path} not found: computing the workspace with the default configuration")
-        cfg = config.load()
-        with tempfile.TemporaryDirectory() as tmp:
-            nominal = [stages.run_nominal(cfg, stages.run_sweep(cfg, c, f"{tmp}/{c}"), f"{tmp}/{c}.nc")
-                       for c in cfg["sweep"]["contacts"]]
-            ws = formats.read_workspace(stages.run_map(cfg, nominal, f"{tmp}/workspace.nc"))
-    if two_pair:
-        from tensegrity.io.two_pair_formats import read_two_pair
-        ws = ws.with_two_pair(*read_two_pair(two_pair))
-    return ws
+        return formats.read_workspace(path, two_pair)
+    from tensegrity.stages import nominal as nominal_stage, sweep as sweep_stage
+    from tensegrity.stages.config import stage_config
+    print(f"{path} not found: computing the workspace with the default configuration")
+    cfg = config.load()
+    with tempfile.TemporaryDirectory() as tmp:
+        nominal = [nominal_stage.nominal(stage_config(cfg, "nominal"),
+                                         sweep_stage.sweep(stage_config(cfg, "sweep"), c, f"{tmp}/{c}"), f"{tmp}/{c}.nc")
+                   for c in cfg["sweep"]["contacts"]]
+        return formats.read_workspace(nominal_stage.workspace({}, nominal, f"{tmp}/workspace.nc"), two_pair)
 
 
 def _cls(heading_deg: float) -> str:
@@ -167,7 +165,7 @@ def main() -> None:
                     help="strut damping of the rolling simulations, 1/s (default: config locomotion.strut_damping)")
     a = ap.parse_args()
     cfg = config.load()
-    params = locomotion_params(cfg)
+    params = io_settings.params(cfg)
     if a.distance < float(params.strut_length):  # roll_many refuses goals closer than the robot
         ap.error(f"--distance {a.distance} m is less than the robot's size (strut length "
                  f"{params.strut_length} m)")
@@ -176,8 +174,8 @@ def main() -> None:
     cases = scenarios(a)  # bad slopes etc. raise here, before any work
     try:
         over = {k: yaml.safe_load(v) for k, v in (kv.split("=", 1) for kv in a.set)}
-        settings = lo.RollSettings.from_config({**cfg["locomotion"], **over}, cfg["sim"]["dt"])
-    except ValueError as e:
+        settings = io_settings.build(lo.RollSettings, config.merge(cfg, {"locomotion": over}))
+    except (ValueError, KeyError) as e:
         ap.error(f"--set {' '.join(a.set)}: {e}")
     unknown = set(over) - set(lo.RollSettings.__dataclass_fields__)
     if unknown:
@@ -186,19 +184,19 @@ def main() -> None:
         a.two_pair = None
     ws = workspace(a.workspace, a.two_pair)
     if a.strut_damping is not None:
-        params = params.replace(strut_damping=a.strut_damping)
+        settings = dataclasses.replace(settings, strut_damping=a.strut_damping)
     headings = np.arange(a.directions) * 360.0 / a.directions
     goals = a.distance * np.stack([np.cos(np.radians(headings)), np.sin(np.radians(headings))], axis=1)
     print(f"{a.directions} goals {a.distance} m away at {', '.join(f'{h:.0f}' for h in headings)} deg "
           f"from +x (uphill on slopes); start on (9,10,12) at the origin; ramp {settings.ramp_rate} "
-          f"MPa/s; strut damping {params.strut_damping} 1/s; dt {settings.dt} s; combinations "
+          f"MPa/s; strut damping {settings.strut_damping} 1/s; dt {settings.dt} s; combinations "
           + ("from the two-pair workspace" if a.two_pair else "superposed")
           + (f"; settings {' '.join(a.set)}" if a.set else ""))
     rows = []
     for name, terrain, by_class in cases:
         t0 = time.perf_counter()
-        with progress.simulated(name, leave=False):
-            runs = lo.roll_many(ws, goals, params, terrain, settings=settings)
+        with progress.bar(None, name, leave=False) as bar:
+            runs = lo.roll_many(ws, goals, params, terrain, settings=settings, progress=bar.update)
         rows.append(report(name, runs, headings, time.perf_counter() - t0,
                            settings.arrive_tolerance, by_class))
         if a.steps:

@@ -34,7 +34,7 @@ from tensegrity.io import config, formats
 from tensegrity.locomotion.brake import Brake
 from tensegrity.locomotion.control import _roll_gen, _settle_gen
 from tensegrity.locomotion import lookahead
-from tensegrity.locomotion.demos import locomotion_params
+from tensegrity.io import settings as io_settings
 from tensegrity.locomotion.lockstep import lockstep
 from tensegrity.physics import dynamics as d, topology as topo
 from tensegrity.physics.terrain import Terrain
@@ -123,8 +123,8 @@ def main() -> None:
     if a.headings < 1:
         ap.error(f"--headings {a.headings}: at least one")
     cfg = config.load()
-    params = locomotion_params(cfg)
-    s = lo.RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
+    s = io_settings.build(lo.RollSettings, cfg)
+    params = s.rolling(io_settings.params(cfg))
     for sl in a.slopes:
         Terrain.slope(sl)  # a bad angle stops here, before any work
     ws = formats.read_workspace(a.workspace)

@@ -1,6 +1,6 @@
 """Design-study throughput (issue 12): designs per hour for a full free-mode workspace per design
 (12 pairs x 12 levels x 2 contact cases, `--hold` s per level), computed as the chunk job does
-(`study_stages.run_chunk`: one batched simulation of designs x contacts x pairs robots, the
+(`stages.study.study_chunk`: one batched simulation of designs x contacts x pairs robots, the
 level averages, the paper's statements per design, the chunk file). Prints figures; asserts
 nothing. Target: 1,000 designs in under 10 minutes on 2 cores.
 
@@ -25,8 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from tensegrity import study_stages
-from tensegrity.io import config, datasets
+from tensegrity.stages import study as study_stage
+from tensegrity.stages.config import stage_config
+from tensegrity.io import config, datasets, study_config
 from tensegrity.physics import dynamics
 from tensegrity.studies import spec
 from tensegrity.validation import paper
@@ -60,15 +61,14 @@ def main() -> None:
     args = ap.parse_args()
     import numba
     numba.set_num_threads(min(args.threads, numba.config.NUMBA_NUM_THREADS))
-    cfg = config.load()
-    cfg = {k: cfg[k] for k in ("params", "sim", "locomotion")}
+    cfg = stage_config(config.load(), "study_chunk")
     dt = cfg["sim"]["dt"]
     print(f"full workspace per design: 12 pairs x 12 levels x 2 contacts, hold {args.hold} s, dt {dt} s, "
           f"samples every {args.sample_every} steps, {numba.get_num_threads()} threads")
     print(f"{'designs':>8} {'robots':>7} {'wall s':>8} {'Mrobot-steps/s':>15} {'designs/h':>10} "
           f"{'1000 designs':>13} | {'kernel':>7} {'frames':>7} {'paper':>7} {'write':>7}")
     for n in args.designs:
-        st = spec.validate({"parameters": {"cable_stiffness": {"low": 700.0, "high": 1500.0, "units": "N/m"},
+        st = study_config.validate({"parameters": {"cable_stiffness": {"low": 700.0, "high": 1500.0, "units": "N/m"},
                                            "cable_pretension": {"low": 12.0, "high": 30.0, "units": "N"}},
                             "design": {"method": "lhs", "n": n, "seed": 1}, "chunk_size": n,
                             "workspace": {"hold": args.hold, "discard": min(0.2, args.hold / 2),
@@ -78,7 +78,7 @@ def main() -> None:
         with tempfile.TemporaryDirectory() as tmp, timed(dynamics, "simulate", clock), \
                 timed(paper, "check_paper", clock), timed(datasets, "write", clock):
             t0 = time.perf_counter()
-            study_stages.run_chunk(cfg, st, 0, Path(tmp) / "chunk.nc")
+            study_stage.study_chunk(cfg, st, 0, Path(tmp) / "chunk.nc")
             wall = time.perf_counter() - t0
         robots = n * 24
         steps = robots * round(12 * args.hold / dt)

@@ -8,13 +8,15 @@ Simulation
     simulate(params, state, schedule, terrain, dt, record_every) -> (State, Trajectory)
     step(params, state, pressure, dt, terrain) -> State
 Workspace
-    load_workspace(path) -> Workspace       results/workspace.nc, for planning
+    load_workspace(path, two_pair=...) -> Workspace   results/workspace.nc (and, by default,
+                                            results/workspace_two_pair.nc beside it), for planning
     load_curves(path) -> dict               results/curves/curves.json
     evaluate_curve(curve, pressure)         a fitted curve (dict or Curve) at pressures (MPa) -> m
-    query_workspace(curves, workspace_ds, face, pair, pressure) -> Answer   CoG (m), margin, any face
+    query_workspace(curves, workspace, face, pair, pressure) -> Answer   CoG (m), margin, any face
 Locomotion
+    RollSettings                            how rolls are driven (config `locomotion`; defaults the schema's)
     plan_roll(workspace, face, nodes, direction=..., goal=...) -> Plan
-    roll_to(workspace, goal, params, terrain) -> Run
+    roll_to(workspace, goal, params, terrain, settings=RollSettings()) -> Run   as the pipeline rolls
 """
 from __future__ import annotations
 
@@ -25,7 +27,7 @@ from importlib.metadata import PackageNotFoundError, version as _version
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from .locomotion.lookup import Workspace
+    from .workspace.lookup import Workspace
 
 try:
     __version__ = _version("tensegrity")
@@ -35,16 +37,17 @@ except PackageNotFoundError:  # run from a source tree that was never installed
 _API = {
     "Params": ("physics.params", "Params"),
     "Terrain": ("physics.terrain", "Terrain"),
-    "Schedule": ("physics.actuation", "Schedule"),
+    "Schedule": ("physics.schedule", "Schedule"),
     "State": ("physics.dynamics", "State"),
     "SimulationError": ("physics.dynamics", "SimulationError"),
     "stand_on": ("physics.dynamics", "stand_on"),
     "simulate": ("physics.dynamics", "simulate"),
     "step": ("physics.dynamics", "step"),
-    "load_curves": ("workspace.query", "load_curves"),
+    "load_curves": ("io.formats", "read_curves"),
     "query_workspace": ("workspace.query", "query"),
     "evaluate_curve": ("workspace.fit", "evaluate"),
-    "Workspace": ("locomotion.lookup", "Workspace"),
+    "Workspace": ("workspace.lookup", "Workspace"),
+    "RollSettings": ("locomotion.settings", "RollSettings"),
     "plan_roll": ("locomotion.plan", "plan"),
     "roll_to": ("locomotion.runs", "roll_to"),
 }
@@ -52,10 +55,18 @@ _API = {
 __all__ = ["__version__", "load_workspace", *_API]
 
 
-def load_workspace(path: str | os.PathLike = "results/workspace.nc") -> Workspace:
-    """The 20-face workspace (results/workspace.nc) as a locomotion.Workspace for planning."""
+def load_workspace(path: str | os.PathLike = "results/workspace.nc",
+                   two_pair: str | os.PathLike | None = "beside") -> Workspace:
+    """The 20-face workspace (results/workspace.nc) as a `Workspace` for planning, with the
+    measured two-pair curves of `two_pair` (results/workspace_two_pair.nc): by default the file
+    workspace_two_pair.nc beside `path` if it exists, as the pipeline's runs plan; None: two
+    pairs superposed from the single-pair curves."""
+    from pathlib import Path
     from .io.formats import read_workspace
-    return read_workspace(path)
+    if two_pair == "beside":
+        beside = Path(path).with_name("workspace_two_pair.nc")
+        two_pair = beside if beside.is_file() else None
+    return read_workspace(path, two_pair)
 
 
 def __getattr__(name):

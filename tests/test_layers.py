@@ -1,79 +1,128 @@
 """The layers of docs/design.md §8, held by reading every module's imports (including the ones
-inside functions): physics/ knows nothing above it; figures draw from arrays; nothing imports
-the workflow's entry points."""
+inside functions and under TYPE_CHECKING): every module of the package belongs to a layer, a
+layer imports only the layers below it, and no modules import each other in a circle."""
 import ast
 from pathlib import Path
 
 import pytest
 
 PKG = Path(__file__).resolve().parents[1] / "tensegrity"
-LAYERS = ("physics", "workspace", "locomotion", "validation", "io", "render", "stages", "figure_stages",
-          "cli")
-# what each layer must never import (besides itself)
-FORBIDDEN = {
-    "physics": {"workspace", "locomotion", "validation", "io", "render", "stages", "figure_stages", "cli"},
-    "render": {"io", "locomotion", "validation", "stages", "figure_stages", "cli"},
-    "workspace": {"locomotion", "validation", "render", "stages", "figure_stages", "cli"},
-    "locomotion": {"validation", "render", "stages", "figure_stages", "cli"},
-    "validation": {"render", "stages", "figure_stages", "cli"},
-    "io": {"render", "stages", "cli", "validation"},
+_DOMAIN = ("physics", "paper", "workspace", "locomotion", "validation", "studies")
+# what each layer may import besides itself: the layers below it (docs/design.md §8)
+ALLOWED = {
+    "physics": set(),
+    "paper": set(),
+    "workspace": {"physics", "paper"},
+    "locomotion": {"physics", "paper", "workspace"},
+    "validation": {"physics", "paper", "workspace", "locomotion"},
+    "studies": {"physics", "paper", "workspace", "locomotion", "validation"},
+    "render": {"physics", "paper", "atomic"},
+    "atomic": set(),
+    "io": {*_DOMAIN, "atomic"},
+    "stages": {*_DOMAIN, "atomic", "render", "io"},
+    "cli": {*_DOMAIN, "atomic", "render", "io", "stages"},
+    "__init__": {*_DOMAIN, "io"},
 }
-# Design studies (issue 12): studies/ builds on physics, workspace, locomotion and io; only the
-# entry points (study_stages, cli) import it.
-LAYERS += ("studies", "study_stages")
-FORBIDDEN["studies"] = {"validation", "render", "stages", "figure_stages", "cli", "study_stages"}
-for _layer in ("physics", "render", "workspace", "locomotion", "validation", "io"):
-    FORBIDDEN[_layer] = FORBIDDEN[_layer] | {"studies", "study_stages"}
 
 
-def _layer_imports(path: Path, pkg: Path = PKG) -> set[str]:
-    """The tensegrity layers a module of package directory `pkg` imports, resolving relative
-    imports."""
+def _module_name(path: Path, pkg: Path = PKG) -> str:
+    """'tensegrity.physics.frames' of .../tensegrity/physics/frames.py (a package: its __init__)."""
+    parts = path.relative_to(pkg.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _imports(path: Path, pkg: Path = PKG) -> set[str]:
+    """The tensegrity modules (dotted names) a module imports, relative imports resolved."""
     rel = path.relative_to(pkg.parent).with_suffix("").parts  # ('tensegrity', 'physics', 'x')
+    here = list(rel[:-1]) if rel[-1] == "__init__" else list(rel[:-1])
     out = set()
     for node in ast.walk(ast.parse(path.read_text())):
         if isinstance(node, ast.ImportFrom):
-            if node.level:
-                base = list(rel[:len(rel) - node.level])
-                target = base + (node.module.split(".") if node.module else [])
-            else:
-                target = (node.module or "").split(".")
+            base = here[:len(here) - (node.level - 1)] if node.level else []
+            target = base + (node.module.split(".") if node.module else [])
             if target[:1] != ["tensegrity"]:
                 continue
-            if len(target) > 1:
-                out.add(target[1])
-            else:  # from tensegrity import x
-                out.update(a.name for a in node.names)
+            out.add(".".join(target))
+            out.update(".".join(target + [a.name]) for a in node.names)  # `from . import x`: maybe a module
         elif isinstance(node, ast.Import):
-            for a in node.names:
-                parts = a.name.split(".")
-                if parts[0] == "tensegrity" and len(parts) > 1:
-                    out.add(parts[1])
-    return out & set(LAYERS)
+            out.update(a.name for a in node.names if a.name.split(".")[0] == "tensegrity")
+    return out
 
 
-MODULES = sorted(p for p in PKG.rglob("*.py") if p.parent != PKG)
+MODULES = sorted(PKG.rglob("*.py"))
+NAMES = {_module_name(p): p for p in MODULES}
+
+
+def _layer(name: str) -> str:
+    parts = name.split(".")
+    return "__init__" if len(parts) == 1 else parts[1]
+
+
+def _edges() -> dict[str, set[str]]:
+    """module -> the modules of the package it imports: names that are not modules dropped, and
+    a package whose module is imported by name (`from .. import paper`: tensegrity.paper, not
+    tensegrity)."""
+    out = {}
+    for name, p in NAMES.items():
+        mods = {m for m in _imports(p) if m in NAMES and m != name}
+        out[name] = {m for m in mods if not any(o.startswith(m + ".") for o in mods)}
+    return out
 
 
 @pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(PKG)))
 def test_module_imports_no_higher_layer(path):
-    layer = path.relative_to(PKG).parts[0]
-    bad = _layer_imports(path) & FORBIDDEN.get(layer, set())
-    assert not bad, f"{path.relative_to(PKG)} ({layer}/) imports {sorted(bad)}"
+    name = _module_name(path)
+    layer = _layer(name)
+    assert layer in ALLOWED, f"{name}: a module of no layer ({layer}); give it one in docs/design.md §8"
+    bad = {_layer(m) for m in _edges()[name]} - ALLOWED[layer] - {layer}
+    assert not bad, f"{path.relative_to(PKG)} ({layer}) imports {sorted(bad)}"
 
 
-def test_the_check_sees_relative_and_lazy_imports(tmp_path):
-    """The test itself can fail: a lazy relative import of io from physics is caught."""
+def test_no_import_circle():
+    """Tarjan's strongly connected components of the module graph: every one a single module."""
+    edges, index, low, stack, on, circles = _edges(), {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in edges[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                circles.append(sorted(comp))
+    for v in sorted(edges):
+        if v not in index:
+            visit(v)
+    assert not circles, f"modules that import each other: {circles}"
+
+
+def test_the_checks_see_relative_lazy_imports_and_circles(tmp_path):
+    """The tests themselves can fail: a lazy relative import of io from physics is seen."""
     mod = tmp_path / "tensegrity" / "physics" / "probe.py"
     mod.parent.mkdir(parents=True)
     mod.write_text("def f():\n    from ..io import datasets\n    return datasets\n")
-    assert _layer_imports(mod, tmp_path / "tensegrity") == {"io"}
+    assert "tensegrity.io.datasets" in _imports(mod, tmp_path / "tensegrity")
+    init = tmp_path / "tensegrity" / "physics" / "__init__.py"
+    init.write_text("from . import probe\n")
+    assert "tensegrity.physics.probe" in _imports(init, tmp_path / "tensegrity")
 
 
 def test_modules_are_of_a_size_a_reader_holds_in_mind():
-    sizes = {str(p.relative_to(PKG)): len(p.read_text().splitlines()) for p in PKG.rglob("*.py")}
-    big = {k: v for k, v in sizes.items() if v > 400}
-    assert not big, f"modules over 400 lines: {big}"
+    sizes = {str(p.relative_to(PKG)): len(p.read_text().splitlines()) for p in MODULES}
+    big = {k: v for k, v in sizes.items() if v > 300}
+    assert not big, f"modules over 300 lines: {big}"
 
 
 def _public_functions(path: Path):
@@ -89,8 +138,8 @@ def _public_functions(path: Path):
 
 def test_public_functions_have_type_hints():
     missing = []
-    for path in PKG.rglob("*.py"):
-        if path.name in ("kernel.py", "kernel_stages.py", "kernel_contact.py", "kernel_robot.py"):  # numba functions: typed by their compiled signatures
+    for path in MODULES:
+        if "kernel" in path.relative_to(PKG).parts[:2]:  # numba functions: typed by their compiled signatures
             continue
         for name, fn in _public_functions(path):
             args = [a for a in fn.args.args + fn.args.kwonlyargs if a.arg not in ("self", "cls")]

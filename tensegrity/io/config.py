@@ -20,10 +20,9 @@ from __future__ import annotations
 import copy
 import difflib
 import functools
-import json
 import math
 import os
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -37,7 +36,7 @@ from .cross_checks import semantic_errors
 if TYPE_CHECKING:
     import jsonschema
 
-__all__ = ["ConfigError", "load", "validate", "params_from_config", "to_json", "merge", "schema",
+__all__ = ["ConfigError", "load", "validate", "params_from_config", "merge", "schema",
            "defaults", "read_yaml", "check_files", "SCHEMA_PATH", "DEFAULT_PATH"]
 
 SCHEMA_PATH = Path(__file__).with_name("config.schema.yaml")  # package data: works from any install
@@ -81,13 +80,18 @@ def _extend_with_default(cls):
     return jsonschema.validators.extend(cls, {"properties": set_defaults})
 
 
+def filling_validator(schema: dict) -> Any:
+    """A jsonschema validator of `schema` (checked first) that fills its defaults while it
+    validates."""
+    import jsonschema  # here: a job that validates no configuration does not pay its import
+    cls = jsonschema.validators.validator_for(schema)
+    cls.check_schema(schema)
+    return _extend_with_default(cls)(schema)
+
+
 @functools.lru_cache(maxsize=1)
 def _validator():
-    import jsonschema  # here: a job that validates no configuration does not pay its import
-    s = _schema()
-    cls = jsonschema.validators.validator_for(s)
-    cls.check_schema(s)
-    return _extend_with_default(cls)(s)
+    return filling_validator(_schema())
 
 
 # ------------------------------------------------------------------------------------- helpers
@@ -104,14 +108,14 @@ def _where(path: Iterable) -> str:
     return f"config key {kp}" if kp else "config"
 
 
-def _plain(obj: Any) -> Any:
+def plain(obj: Any) -> Any:
     """Deep copy into dict/list/scalars (Snakemake's config may hold other Mapping types)."""
     if isinstance(obj, Mapping):
-        return {k: _plain(v) for k, v in obj.items()}
+        return {k: plain(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [_plain(v) for v in obj]
+        return [plain(v) for v in obj]
     if isinstance(obj, np.ndarray):
-        return [_plain(v) for v in obj.tolist()]
+        return [plain(v) for v in obj.tolist()]
     if isinstance(obj, np.generic):
         return obj.item()
     return obj
@@ -191,18 +195,25 @@ def validate(cfg: Mapping | None) -> dict:
         cfg = {}
     if not isinstance(cfg, Mapping):
         raise ConfigError(f"config: expected a mapping of sections, got {type(cfg).__name__}")
-    sch = _schema()
-    inst = _coerce(sch, _plain(cfg))
-    errors = []
-    for err in sorted(_validator().iter_errors(inst), key=_sort_key):
-        errors += _schema_message(err)
-    errors += _nonfinite(inst)
+    inst, errors = check_against(_validator(), _schema(), cfg)
     if errors:
         raise ConfigError(errors)
     errors = semantic_errors(inst)
     if errors:
         raise ConfigError(errors)
     return inst
+
+
+def check_against(validator: Any, schema: dict, data: Mapping,
+                  message: Callable[[Any], list[str] | None] | None = None) -> tuple[dict, list[str]]:
+    """`data` coerced to `schema` (numbers given as strings, null), its defaults filled in by
+    `validator` (`filling_validator`), and every problem: schema errors (worded by `message`
+    where it returns a list) and non-finite numbers, one message per problem naming its key."""
+    inst = _coerce(schema, plain(data))
+    errors = []
+    for err in sorted(validator.iter_errors(inst), key=_sort_key):
+        errors += (message(err) if message else None) or _schema_message(err)
+    return inst, errors + _nonfinite(inst)
 
 
 def defaults() -> dict:
@@ -213,12 +224,12 @@ def defaults() -> dict:
 def merge(base: Mapping, overrides: Mapping) -> dict:
     """Copy of `base` updated recursively with `overrides` (mappings merge, anything else
     replaces), the same rule as Snakemake's `--config`."""
-    out = _plain(base)
+    out = plain(base)
     for key, val in overrides.items():
         if isinstance(val, Mapping) and isinstance(out.get(key), dict):
             out[key] = merge(out[key], val)
         else:
-            out[key] = _plain(val)
+            out[key] = plain(val)
     return out
 
 
@@ -256,7 +267,7 @@ def load(path_or_dict: str | os.PathLike | Mapping | None = None,
     if path_or_dict is None:
         path_or_dict = _default_file() or {}
     if isinstance(path_or_dict, Mapping):
-        cfg = _plain(path_or_dict)
+        cfg = plain(path_or_dict)
     else:
         cfg = read_yaml(path_or_dict)
         if cfg is None:  # an empty file is an empty configuration
@@ -281,19 +292,3 @@ def params_from_config(cfg: Mapping) -> Params:
     else:
         section = cfg
     return Params(**validate({"params": section})["params"])
-
-
-def _json_default(obj: Any) -> Any:
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, Path):
-        return str(obj)
-    raise TypeError(f"config value of type {type(obj).__name__} is not JSON serialisable")
-
-
-def to_json(cfg: Mapping) -> str:
-    """The configuration as JSON with sorted keys, for provenance attributes; deterministic.
-    Raises ValueError on NaN or infinity (validate first)."""
-    return json.dumps(_plain(cfg), sort_keys=True, allow_nan=False, default=_json_default)

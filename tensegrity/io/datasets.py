@@ -26,14 +26,14 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from .config import to_json
 
 try:
     __version__ = _metadata.version("tensegrity")
 except _metadata.PackageNotFoundError:  # a source tree that was never installed
     __version__ = "0+unknown"
 
-__all__ = ["write", "read", "provenance_config", "CONVENTIONS", "CorruptDatasetError"]
+__all__ = ["write", "read", "provenance_config", "robot_value", "strut_length", "strut_radius", "geometry_vars",
+           "CONVENTIONS", "CorruptDatasetError"]
 
 CONVENTIONS = "CF-1.10"
 _STRING_KINDS = "USO"  # unicode, bytes, object (strings as read back by xarray)
@@ -204,15 +204,40 @@ def read(path: str | os.PathLike) -> xr.Dataset:
     return out
 
 
-def strut_length(ds: xr.Dataset | str | os.PathLike) -> float:
-    """Strut length S (m) a dataset was made with: its provenance's `params.strut_length`, else
-    the default of the configuration schema (a dataset written without a configuration)."""
+def robot_value(ds: xr.Dataset | str | os.PathLike, name: str) -> float:
+    """A robot parameter (`params` key `name`, SI) a dataset was made with: its scalar variable
+    `name` (files written since the geometry is stored in them), else its provenance's
+    `params.<name>` (files written before), else the configuration schema's default."""
+    if isinstance(ds, xr.Dataset) and name in ds.variables and ds[name].ndim == 0:
+        return float(ds[name].values)
+    if not isinstance(ds, xr.Dataset):
+        with xr.open_dataset(ds, engine="netcdf4") as f:
+            if name in f.variables and f[name].ndim == 0:
+                return float(f[name].values)
     from .config import defaults
     try:
         section = provenance_config(ds).get("params") or {}
     except ValueError:  # no `config` attribute
         section = {}
-    return float(section.get("strut_length", defaults()["params"]["strut_length"]))
+    return float(section.get(name, defaults()["params"][name]))
+
+
+def strut_length(ds: xr.Dataset | str | os.PathLike) -> float:
+    """Strut length S (m) a dataset was made with (`robot_value`)."""
+    return robot_value(ds, "strut_length")
+
+
+def strut_radius(ds: xr.Dataset | str | os.PathLike) -> float:
+    """Strut radius r (m, the contact sphere's) a dataset was made with (`robot_value`)."""
+    return robot_value(ds, "strut_radius")
+
+
+def geometry_vars(strut_length: float, strut_radius: float | None = None) -> dict:
+    """The robot's geometry as scalar variables of a file (read back by `robot_value`)."""
+    out = {"strut_length": var((), float(strut_length), "m", "strut length S of the robot")}
+    if strut_radius is not None:
+        out["strut_radius"] = var((), float(strut_radius), "m", "strut radius r of the robot (contact sphere radius)")
+    return out
 
 
 def provenance_config(ds: xr.Dataset | str | os.PathLike) -> dict:
@@ -232,3 +257,20 @@ def provenance_config(ds: xr.Dataset | str | os.PathLike) -> dict:
         return json.loads(attrs["config"])
     except json.JSONDecodeError as e:
         raise ValueError(f"{where}: its 'config' attribute is not valid JSON: {e}") from None
+
+
+def _json_default(obj: Any) -> Any:
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"config value of type {type(obj).__name__} is not JSON serialisable")
+
+
+def to_json(cfg: Mapping) -> str:
+    """The configuration as JSON with sorted keys, for provenance attributes; deterministic.
+    Raises ValueError on NaN or infinity (validate first)."""
+    from .config import plain
+    return json.dumps(plain(cfg), sort_keys=True, allow_nan=False, default=_json_default)

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..physics import contact as ct, topology as topo
 from ..physics.terrain import Terrain
-from .lookup import Workspace, predict
+from ..workspace.lookup import Workspace, predict
 from .plan import _candidates, _direction
 
 __all__ = ["Brake", "hold", "escape", "on_incline"]

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -21,9 +21,7 @@ from ..physics import topology as topo
 from ..physics.actuation import Schedule
 from ..physics.params import Params
 from ..physics.terrain import Terrain
-
-if TYPE_CHECKING:
-    from .control import RollSettings
+from .settings import RollSettings
 
 __all__ = ["Record", "Obs", "observe", "lockstep"]
 
@@ -97,13 +95,16 @@ class _threads:
 
 
 def lockstep(params: Params, terrain: Terrain, state: d.State,
-             make: Callable[[int, Obs], Controller], s: RollSettings
-             ) -> list[tuple[Any, d.State, Record]]:
+             make: Callable[[int, Obs], Controller], s: RollSettings,
+             progress: Callable[[float], None] | None = None) -> list[tuple[Any, d.State, Record]]:
     """Drive one controller per robot of `state` (B robots) through the simulator together, one
-    check interval (s.interval s, time step s.dt s) at a time; make(b, obs) returns robot b's
-    controller. A robot whose simulation fails gets the SimulationError thrown into its
-    controller; the others go on. Returns per robot (result, final State, Record)."""
+    check interval (s.interval s, time step s.dt s) at a time, the struts damped as every roll
+    is (`RollSettings.rolling`); make(b, obs) returns robot b's controller. A robot whose
+    simulation fails gets the SimulationError thrown into its controller; the others go on.
+    progress(seconds), if given, receives the simulated time of each interval. Returns per
+    robot (result, final State, Record)."""
     state.check()
+    params = s.rolling(params)
     every = int(round(s.interval / s.dt))
     B = state.batch
     first = observe(params, terrain, state, s)
@@ -136,6 +137,8 @@ def lockstep(params: Params, terrain: Terrain, state: d.State,
                         failed[b] = e
                         parts.append(batch.take([i]))
                 batch = d.State.concat(parts, t=batch.t + s.interval)
+            if progress is not None:
+                progress(s.interval)
             ob = observe(params, terrain, batch, s, [last[b] for b in live], pres[live])
             keep = []
             for i, b in enumerate(live):

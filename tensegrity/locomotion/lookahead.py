@@ -19,9 +19,10 @@ from ..physics import dynamics as d
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from .brake import Brake, escape
-from .control import RollResult, RollSettings, _roll_gen
+from .control import RollResult, _roll_gen
+from .settings import RollSettings
 from .lockstep import Obs, lockstep
-from .lookup import Workspace
+from ..workspace.lookup import Workspace
 from .plan import Plan
 
 __all__ = ["foresee", "moved", "lands", "rank", "choose", "switchback", "CLIMB_COST",

@@ -4,16 +4,21 @@ themselves are made by `runs` (roll_to, roll_many, roll_over)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import topology as topo
 from .control import RollResult
 from .lockstep import Record
 from .plan import Plan
 
-__all__ = ["OUTCOMES", "Step", "Run", "describe"]
+if TYPE_CHECKING:
+    from ..physics.terrain import Terrain
+
+__all__ = ["OUTCOMES", "Step", "Run", "describe", "sample"]
 
 OUTCOMES = ("arrived", "step_limit", "stuck", "no_contact", "off_terrain", "sim_error")
 
@@ -93,3 +98,34 @@ def describe(run: Run, name: str = "") -> str:
                      f"{r.pairs} at {r.tip_pressure:.2f} MPa (peak {r.peak_pressure:.2f}), "
                      f"{len(st.attempts)} attempt(s)")
     return "\n".join(lines)
+
+
+PIVOT_TOUCH = 0.002  # m: a support node this close to the terrain still touches it (the pivot edge)
+ROLLING_MARGIN = -0.025  # m: the CoG projection this far outside shows a robot rolling
+
+
+def sample(nodes: np.ndarray, pressure: np.ndarray, k0: int, k1: int, face: int, tip: float,
+           terrain: Terrain, radius: float, which: str) -> int:
+    """Index of a sample of one step of a run, samples k0..k1-1 of nodes (T, 12, 3) m and
+    pressure (T,) MPa (the highest pair's), on `face` with tipping pressure `tip` MPa (NaN:
+    none), contact spheres of `radius` m: 'stable' (the pressure at half the tipping pressure,
+    the robot still on its face; else k0) or 'rolling' (pivoting on an edge of its face, the
+    first sample with the CoG projection ROLLING_MARGIN outside, else the furthest; ValueError
+    if the step never leaves its face)."""
+    best = None
+    for k in range(k0, k1):
+        if which == "stable" and np.isfinite(tip) and pressure[k] >= 0.5 * tip:
+            return k
+        if which == "rolling":
+            touching = ct.clearance(nodes[k], terrain, radius)[topo.FACES[face - 1]] < PIVOT_TOUCH
+            m = ct.judge(nodes[k], face).margin
+            if touching.sum() == 2 and m < 0:
+                if m < ROLLING_MARGIN:
+                    return k
+                if best is None or m < best[0]:
+                    best = (m, k)
+    if which == "stable":
+        return k0
+    if best is not None:
+        return best[1]
+    raise ValueError("the step never leaves its face")

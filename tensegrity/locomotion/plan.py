@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 from ..physics import contact as ct
 from ..physics import frames, topology as topo
 from ..physics.terrain import Terrain
-from .lookup import Face, Workspace, predict
+from ..workspace.lookup import Face, Workspace, predict
 
 __all__ = ["Candidate", "Plan", "plan"]
 

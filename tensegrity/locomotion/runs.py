@@ -12,21 +12,23 @@ a batch are simulated together (`lockstep`); each equals its single run.
 from __future__ import annotations
 
 import time as _time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .. import paper
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
-from .control import RollResult, RollSettings, _roll_gen, _settle_gen
+from .control import RollResult, _roll_gen, _settle_gen
+from .settings import RollSettings
 from . import lookahead
 from .brake import Brake, escape, on_incline
 from .lockstep import Controller, Obs, lockstep
-from .lookup import Face, Workspace
+from ..workspace.lookup import Face, Workspace
 from .outcome import Run, Step
 from .plan import plan
 
@@ -169,9 +171,10 @@ def _check_goal(goal, terrain: Terrain, start: np.ndarray, size: float) -> np.nd
 
 def roll_many(workspace: Workspace, goals: ArrayLike, params: Params | None = None,
               terrain: Terrain | None = None, state: d.State | None = None,
-              face: Face = (9, 10, 12), settings: RollSettings | None = None,
+              face: Face = paper.START_FACE, settings: RollSettings | None = None,
               position: Sequence[float] = (0.0, 0.0), yaw_deg: float = 0.0,
-              direction: ArrayLike | None = None) -> list[Run]:
+              direction: ArrayLike | None = None,
+              progress: Callable[[float], None] | None = None) -> list[Run]:
     """`roll_to` for several goals (G, 2) m at once, one robot each, simulated as one batch
     (same parameters and terrain); each run equals its single run."""
     params = params or Params()
@@ -185,7 +188,7 @@ def roll_many(workspace: Workspace, goals: ArrayLike, params: Params | None = No
     checked = [_check_goal(gl, terrain, start[b], S) for b, gl in enumerate(goals)]
     t0 = _time.perf_counter()
     out = lockstep(params, terrain, state, lambda b, o: _drive(
-        workspace, params, terrain, s, o, goal=checked[b], direction=direction), s)
+        workspace, params, terrain, s, o, goal=checked[b], direction=direction), s, progress)
     wall = _time.perf_counter() - t0
     return [Run(res[0], res[1], checked[b], start[b], tuple(res[2]), rec, wall, st)
             for b, (res, st, rec) in enumerate(out)]
@@ -193,15 +196,18 @@ def roll_many(workspace: Workspace, goals: ArrayLike, params: Params | None = No
 
 def roll_to(workspace: Workspace, goal: ArrayLike, params: Params | None = None,
             terrain: Terrain | None = None, state: d.State | None = None,
-            face: Face = (9, 10, 12), settings: RollSettings | None = None,
+            face: Face = paper.START_FACE, settings: RollSettings | None = None,
             position: Sequence[float] = (0.0, 0.0), yaw_deg: float = 0.0,
-            direction: ArrayLike | None = None) -> Run:
+            direction: ArrayLike | None = None, progress: Callable[[float], None] | None = None) -> Run:
     """Roll toward the world point `goal` (x, y) m: settle, then plan, roll, repeat (paper
     III.C) until the CoG is within arrive_tolerance of the goal ("arrived"), after max_rolls
     rolls ("step_limit"), when no candidate rolls the robot ("stuck"), it rests on no face
     ("no_contact"), leaves the terrain ("off_terrain") or the simulation fails ("sim_error").
     Starts from `state` (one robot), or stands the robot on `face` at `position` (m) turned by
     yaw_deg (deg). `direction` (a world vector) replaces the goal's direction for planning.
+    `params` default: `Params()`; `settings` default: `RollSettings()`, the pipeline's defaults
+    (the struts damped by settings.strut_damping in every roll). progress(seconds) receives
+    the simulated time as it passes.
 
     Raises ValueError for bad input: a goal closer than the robot's size (the strut length),
     a non-finite goal or state, a terrain with nothing under the robot or the goal."""
@@ -209,12 +215,12 @@ def roll_to(workspace: Workspace, goal: ArrayLike, params: Params | None = None,
     if gl.size not in (2, 3):
         raise ValueError(f"goal must be a finite world point (x, y) m, got {goal!r}")
     return roll_many(workspace, gl[None, :2], params, terrain, state, face, settings, position,
-                     yaw_deg, direction)[0]
+                     yaw_deg, direction, progress)[0]
 
 
 def roll_over(workspace: Workspace, edges: Sequence[Sequence[int]], params: Params | None = None,
               terrain: Terrain | None = None, state: d.State | None = None,
-              face: Face = (9, 10, 12), settings: RollSettings | None = None,
+              face: Face = paper.START_FACE, settings: RollSettings | None = None,
               position: Sequence[float] = (0.0, 0.0), yaw_deg: float = 0.0) -> Run:
     """Roll over each edge of `edges` (pairs of 1-based node numbers) in turn, planning each
     roll toward that edge's outward direction, e.g. the paper's experiment (IV.B):

@@ -89,3 +89,29 @@ def success_rate(success: np.ndarray) -> tuple[float, float, float]:
     centre = (p + z * z / (2 * n)) / (1 + z * z / n)
     half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
     return float(p), float(max(0.0, centre - half)), float(min(1.0, centre + half))
+
+
+def censor_values(study: Mapping) -> dict[str, float]:
+    """Where an undefined output is censored (MPa): a pair that never tips, at the highest
+    swept level ('workspace'); a roll that never happens, at the roll's highest pressure ('roll')."""
+    return {"workspace": float(study["workspace"]["levels"][-1]), "roll": float(study["roll"]["max_pressure"])}
+
+
+def all_indices(study: Mapping, X: np.ndarray, outputs: Mapping[str, np.ndarray],
+                complete: bool) -> tuple[dict[str, dict[str, np.ndarray]], list[str]]:
+    """The indices (`sensitivity`) of every output (name -> y (N,)) over the designs X (N, k):
+    output -> {index: (k,)}, NaN where the study was not run in full (`complete` False) or
+    SALib could not compute them; and the messages of those it could not compute. Outputs
+    named roll_* are censored at the roll's highest pressure, the others at the highest level."""
+    censor = censor_values(study)
+    method = method_of(study)
+    out, failed = {}, []
+    for o, y in outputs.items():
+        nan = {n: np.full(X.shape[1], np.nan) for p in INDICES[method] for n in p if n}
+        try:
+            out[o] = sensitivity(study, X, y, censor["roll" if o.startswith("roll_") else "workspace"]) if complete else nan
+        except (np.linalg.LinAlgError, ValueError) as e:  # e.g. delta's density of a 0/1 output
+            out[o] = nan
+            failed.append(f"{o}: {type(e).__name__}: {str(e).splitlines()[0]}")
+            print(f"sensitivity of {o} not computed: {e}")
+    return out, failed

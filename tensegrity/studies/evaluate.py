@@ -12,8 +12,9 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from .. import paper
 from ..locomotion import control
-from ..locomotion.control import RollSettings
+from ..locomotion.settings import RollSettings
 from ..locomotion.lockstep import lockstep
 from ..physics import dynamics as d
 from ..physics import frames, topology as topo
@@ -22,9 +23,11 @@ from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace import sweep as sw
 
+STATEMENTS = ("1.1", "1.2", "1.3", "1.4", "1.5")  # the paper's statements (validation check 1)
+STATEMENT_CODE = {"pass": 1, "fail": 0, "not evaluated": -1}
+
 # The paper's experiment (IV.B; docs/design.md §1): (pairs driven, face it must land on).
-PAPER_START = (9, 10, 12)
-PAPER_SEQUENCE = (((10,), (10, 11, 12)), ((11,), (6, 10, 11)))
+PAPER_SEQUENCE = tuple(((pair,), face) for pair, _, face in paper.EXPERIMENT)
 
 
 def batch_params(designs: Sequence[Params], repeat: int = 1) -> Params:
@@ -66,14 +69,15 @@ def _blocks(hold: float, dt: float, record_every: int, block_s: float = 0.1) -> 
 
 
 def workspace(designs: Sequence[Params], contacts: Sequence[str], pairs: Sequence[int],
-              levels: Sequence[float], hold: float, discard: float, dt: float = 1e-4,
-              record_every: int = 10, progress: Callable[[float], None] | None = None) -> StudyWorkspace:
-    """Free-mode staircase (paper III.A; workspace.sweep with mode 'free') of every pair on every
-    contact face for every design, as ONE batch of D * C * P robots; each level (MPa) is held
-    `hold` s and averaged after `discard` s as workspace.nominal.nominal does (the samples of
-    the level's first `discard` s left out). A level is simulated in blocks of 0.1 s whose
-    samples are summed, so that memory does not grow with `hold`. progress(s) is called with the
-    simulated seconds after each level."""
+              setup: sw.SweepSetup, discard: float,
+              progress: Callable[[float], None] | None = None) -> StudyWorkspace:
+    """Free-mode staircase of `setup` (paper III.A; workspace.sweep in the free mode, its settle
+    and mode not used) of every pair on every contact face for every design, as ONE batch of
+    D * C * P robots; each level (MPa) is held setup.hold s and averaged after `discard` s as
+    workspace.nominal.nominal does (the samples of the level's first `discard` s left out). A
+    level is simulated in blocks of 0.1 s whose samples are summed, so that memory does not
+    grow with the hold. progress(s) is called with the simulated seconds after each level."""
+    levels, hold, dt, record_every = setup.levels, setup.hold, setup.dt, setup.record_every
     faces = np.array([topo.face_number(topo.CONTACT_FACES[c]) for c in contacts])
     pairs = np.array([topo.check_pair(p) for p in pairs])
     levels = np.asarray(levels, float)
@@ -160,8 +164,24 @@ def roll_sequence(designs: Sequence[Params], settings: RollSettings, max_pressur
 
 def _rolls(designs, settings, max_pressure, terrain) -> list[RollOutcome]:
     prm = batch_params(designs)
-    state = _stand(designs, [topo.face_number(PAPER_START)], terrain, 1)
+    state = _stand(designs, [topo.face_number(paper.START_FACE)], terrain, 1)
     shared = {"done": 0, "n": len(designs), "t_end": None}
     out = lockstep(prm, terrain, state, lambda b, o: _sequence(designs[b], settings, o, max_pressure, shared),
                    settings)
     return [r[0] for r in out]
+
+
+def design_outputs(ws: StudyWorkspace, tip_pressure: np.ndarray, reference_pressure: float) -> dict[str, np.ndarray]:
+    """Per design (D,): the margin (D, C, N) m at `reference_pressure` MPa (interpolated in the
+    levels), its smallest value min_margin, the lowest tipping pressure of any pair and contact
+    best_tip_pressure MPa (tip_pressure (D, C, N); NaN: none tips) and the objective: that
+    pressure where every pair stands at the reference pressure (NaN: not standing)."""
+    flat = ws.margin.reshape(-1, ws.margin.shape[-1])
+    mref = np.array([np.interp(reference_pressure, ws.levels, m) for m in flat]).reshape(ws.margin.shape[:-1])
+    D = mref.shape[0]
+    tip = np.where(np.isfinite(tip_pressure), tip_pressure, np.inf)
+    best = tip.reshape(D, -1).min(axis=1)
+    best = np.where(np.isfinite(best), best, np.nan)
+    min_margin = mref.reshape(D, -1).min(axis=1)
+    return {"reference_margin": mref, "min_margin": min_margin, "best_tip_pressure": best,
+            "objective": np.where(min_margin > 0, best, np.nan)}

@@ -29,7 +29,8 @@ from ..physics import statics, topology as topo
 from ..physics.params import Params
 from . import grounded, paper, runs as demo_runs
 from .common import CONTACTS, FAIL, LEVEL_TOL, N_CONTACTS, SKIP, CheckError, CheckSettings, Result, status
-from .nominals import SweepSetup, common_levels, full_nominal, nominal_face, simulate_nominal
+from ..workspace.sweep import SweepSetup
+from .nominals import common_levels, full_nominal, nominal_face, simulate_nominal
 
 
 # ----------------------------------------------------------------------- 2. statics
@@ -116,11 +117,12 @@ class MappingResult(Result):
 
 
 def check_mapping(params: Params, workspace: xr.Dataset, faces: Sequence[int], setup: SweepSetup,
-                  tolerance: float = CheckSettings.mapping_tolerance,
+                  discard: float, tolerance: float = CheckSettings.mapping_tolerance,
                   min_per_kind: int = 2) -> MappingResult:
     """The workspace mapped by symmetry (results/workspace.nc) against a direct simulation
     standing on each face of `faces` (non-canonical; at least `min_per_kind` of each kind):
-    the nominal CoG and the deformed support triangle; goal: largest distance under `tolerance` m."""
+    the nominal CoG and the deformed support triangle (the staircase of `setup`, averaged after
+    `discard` s); goal: largest distance under `tolerance` m."""
     faces = np.array([topo.face_number(f) for f in faces], np.int64)
     levels = np.asarray(setup.levels, float)
     F, P = len(faces), len(levels)
@@ -142,7 +144,7 @@ def check_mapping(params: Params, workspace: xr.Dataset, faces: Sequence[int], s
         pairs = [p + 1 for p in range(topo.N_PAIRS) if np.isfinite(wc[p]).all()]
         if not pairs:
             continue
-        run = simulate_nominal(params, face, pairs, setup)
+        run = simulate_nominal(params, face, pairs, setup, discard)
         idx = np.array(pairs) - 1
         dcog[i, idx] = run.cog
         dcog_diff[i, idx] = np.linalg.norm(wc[idx] - run.cog, axis=-1)
@@ -172,7 +174,7 @@ class TimestepResult(Result):
 
 
 def check_timestep(params: Params, nominals: Mapping[str, xr.Dataset], setup: SweepSetup,
-                   tolerance: float = CheckSettings.timestep_tolerance) -> TimestepResult:
+                   discard: float, tolerance: float = CheckSettings.timestep_tolerance) -> TimestepResult:
     """The pipeline's nominal CoG (time step setup.dt) against the same sweep at dt/2 (the same
     sample times: record_every doubled); goal: largest distance under `tolerance` m."""
     levels = common_levels(nominals)
@@ -190,7 +192,7 @@ def check_timestep(params: Params, nominals: Mapping[str, xr.Dataset], setup: Sw
             continue
         idx = np.array(pairs) - 1
         faces[contact] = nominal_face(ds)
-        run = simulate_nominal(params, faces[contact], pairs, setup, dt=setup.dt / 2,
+        run = simulate_nominal(params, faces[contact], pairs, setup, discard, dt=setup.dt / 2,
                                record_every=2 * setup.record_every)
         hcog[c, idx] = run.cog
         diff[c, idx] = np.linalg.norm(fc[idx] - run.cog, axis=-1)
@@ -201,11 +203,12 @@ def check_timestep(params: Params, nominals: Mapping[str, xr.Dataset], setup: Sw
 
 # -------------------------------------------------------------------- all checks
 
-def run_checks(params: Params, setup: SweepSetup, nominals: Mapping[str, xr.Dataset],
+def run_checks(params: Params, setup: SweepSetup, discard: float, nominals: Mapping[str, xr.Dataset],
                workspace: xr.Dataset | None, settings: CheckSettings = CheckSettings(),
                on_result: Callable[[Result], None] | None = None,
                runs: Mapping[str, xr.Dataset] | None = None) -> list[Result]:
-    """Every check, in order 1-6, with `params` and the pipeline's sweep `setup` on the nominal
+    """Every check, in order 1-6, with `params` and the pipeline's sweep `setup` (its nominal
+    average after `discard` s) on the nominal
     datasets (contact -> results/nominal/{contact}.nc), the workspace (results/workspace.nc) and
     the demonstration runs (name -> results/locomotion/{run}.nc; None or empty: check 6 is not
     evaluated).
@@ -216,10 +219,10 @@ def run_checks(params: Params, setup: SweepSetup, nominals: Mapping[str, xr.Data
         ("paper", "1", lambda: paper.check_paper(nominals, params.strut_length, s.ranking_pressure,
                                                  s.tip_pressure_tolerance, s.orbit_tolerance)),
         ("statics", "2", lambda: check_statics(params, nominals, s.statics_pressures, s.statics_tolerance)),
-        ("mapping", "3", lambda: check_mapping(params, workspace, s.faces, setup, s.mapping_tolerance)),
-        ("grounded", "4", lambda: grounded.check_grounded(params, nominals, setup, s.grounded_settle,
+        ("mapping", "3", lambda: check_mapping(params, workspace, s.faces, setup, discard, s.mapping_tolerance)),
+        ("grounded", "4", lambda: grounded.check_grounded(params, nominals, setup, discard, s.grounded_settle,
                                                           s.grounded_tolerance)),
-        ("timestep", "5", lambda: check_timestep(params, nominals, setup, s.timestep_tolerance)),
+        ("timestep", "5", lambda: check_timestep(params, nominals, setup, discard, s.timestep_tolerance)),
         ("runs", "6", lambda: demo_runs.check_runs(runs or {})),
     ]
     out = []

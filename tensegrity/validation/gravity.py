@@ -16,7 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..locomotion.control import RollSettings, roll, settle
+from ..locomotion.control import roll, settle
+from ..locomotion.settings import RollSettings
 from ..locomotion.lockstep import Record
 from ..physics import frames, topology as topo
 from ..physics.params import Params
@@ -25,6 +26,9 @@ from ..workspace import gravity as gv
 from .common import INFO, LEVEL_TOL, SKIP, CheckSettings, status
 from .grounded import GroundedComparison, compare_grounded
 from .summary import Table, Verdict, edge_label, label, mm
+
+
+TITLE = "Validation of the gravity-aware workspace"
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,8 @@ from numpy.typing import ArrayLike
 from ..physics import topology as topo
 from ..physics.params import Params
 from .common import CONTACTS, N_CONTACTS, SKIP, CheckSettings, Result, status, tip
-from .nominals import SweepSetup, common_levels, full_nominal, nominal_face, simulate_nominal
+from ..workspace.sweep import SweepSetup
+from .nominals import common_levels, full_nominal, nominal_face, simulate_nominal
 
 
 @dataclass(frozen=True)
@@ -103,7 +104,7 @@ class GroundedResult(Result):
 
 
 def check_grounded(params: Params, nominals: Mapping[str, xr.Dataset], setup: SweepSetup,
-                   settle: float = CheckSettings.grounded_settle,
+                   discard: float, settle: float = CheckSettings.grounded_settle,
                    tolerance: float = CheckSettings.grounded_tolerance) -> GroundedResult:
     """The paper's assumption (III.A-B: cable forces dominate, gravity does not change the
     shape, the robot rolls when the CoG projection leaves the triangle), measured: the pipeline's
@@ -136,7 +137,7 @@ def check_grounded(params: Params, nominals: Mapping[str, xr.Dataset], setup: Sw
         if idx.size == 0:
             continue
         faces[contact] = face
-        run = simulate_nominal(params, face, idx + 1, setup, mode="grounded", settle=settle)
+        run = simulate_nominal(params, face, idx + 1, setup, discard, mode="grounded", settle=settle)
         cmp_ = compare_grounded(levels, face, fc[idx], fs[idx], fm[idx], run.cog, run.margin,
                                 run.end_face, tolerance)
         gcog[c, idx] = np.where(cmp_.rolled[..., None], np.nan, run.cog)

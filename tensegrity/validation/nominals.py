@@ -4,7 +4,7 @@ averaged as the pipeline does (workspace.sweep, workspace.nominal)."""
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import xarray as xr
@@ -14,6 +14,7 @@ from ..physics.params import Params
 from ..workspace import nominal as nom
 from ..workspace.mapping import all_pairs, same_levels
 from ..workspace import sweep as sw
+from ..workspace.sweep import SweepSetup
 
 
 def full_nominal(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -36,21 +37,6 @@ def nominal_face(ds: xr.Dataset) -> int:
 
 
 @dataclass(frozen=True)
-class SweepSetup:
-    """How the pipeline's sweeps were run, so that the checks can run the same sweep: levels
-    (P,) MPa, hold s, settle s, mode ('free' or 'grounded'), dt s, record_every steps, discard s
-    (the nominal average). The defaults are the schema's `sweep`, `sim` and `nominal` defaults
-    (pinned by tests/validation); `report.sweep_setup` makes one from a configuration."""
-    levels: tuple[float, ...]
-    hold: float = 1.0
-    settle: float = 0.0
-    mode: str = "free"
-    dt: float = 1e-4
-    record_every: int = 10
-    discard: float = 0.2
-
-
-@dataclass(frozen=True)
 class NominalRun:
     """Nominal CoG of a simulated sweep, per pair (n,) and level (P,): pairs (n,) 1-based,
     cog (n, P, 3) m and support (n, P, 3, 3) m in the face's support frame, margin (n, P) m,
@@ -63,19 +49,17 @@ class NominalRun:
     end_face: np.ndarray
 
 
-def simulate_nominal(params: Params, face: int | Sequence[int], pairs: Sequence[int], setup: SweepSetup, *,
-                     mode: str | None = None, settle: float | None = None, dt: float | None = None,
-                     record_every: int | None = None) -> NominalRun:
+def simulate_nominal(params: Params, face: int | Sequence[int], pairs: Sequence[int], setup: SweepSetup,
+                     discard: float, **override) -> NominalRun:
     """Run the staircase of `setup` on `pairs` (1-based, batched) standing on `face` (1..20 or
-    three node numbers) and average each level as the pipeline does (workspace.nominal.nominal);
-    `mode`, `settle` (s), `dt` (s) and `record_every` (steps) override the setup's."""
+    three node numbers) and average each level after its first `discard` s as the pipeline does
+    (workspace.nominal.nominal); `override` replaces fields of the setup (mode, settle s, dt s,
+    record_every steps)."""
     face = topo.face_number(face)
-    res = sw.run(params, face, pairs, setup.levels, setup.hold,
-                 setup.settle if settle is None else settle, mode or setup.mode,
-                 setup.dt if dt is None else dt,
-                 setup.record_every if record_every is None else record_every)
+    setup = replace(setup, **override)
+    res = sw.run(params, face, pairs, setup)
     P = len(setup.levels)
-    out = [nom.nominal(res.t, res.level, res.cog[b], res.support[b], P, setup.hold, setup.discard)
+    out = [nom.nominal(res.t, res.level, res.cog[b], res.support[b], P, setup.hold, discard)
            for b in range(len(res.pairs))]
     last = np.array([np.flatnonzero(res.level == k)[-1] for k in range(P)])
     end_face = res.resting_face[:, last]

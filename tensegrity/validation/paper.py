@@ -9,18 +9,14 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
+from .. import paper
 from ..physics import frames, symmetry as sym, topology as topo
 from ..physics.params import Params
 from .common import CONTACTS, LEVEL_TOL, N_CONTACTS, SKIP, CheckSettings, Result, status, tip
 from .nominals import common_levels, full_nominal, nominal_face
 
-# The paper's statements (section and value). The pressure of the second roll is not given: the
-# prototype needed 6 V against 11.1 V for the first (IV.B), i.e. a lower drive.
-PAPER_FACE = {"equilateral": (9, 10, 12), "isosceles": (10, 11, 12)}
-PAPER_LARGE, PAPER_LESS = (9, 10, 12), (4, 6, 7)        # III.A, Fig. 7
-PAPER_TIP_PRESSURE = 4.2                                # MPa, #10 on (9,10,12), III.C
-PAPER_EDGE = {10: (10, 12), 11: (10, 11)}               # III.C and IV.B: (10,11,12), (6,10,11)
-PAPER_VOLTAGE = {10: 11.1, 11: 6.0}                     # V, IV.B
+# The paper's statements are `tensegrity.paper`'s. The pressure of the second roll is not given:
+# the prototype needed 6 V against 11.1 V for the first (IV.B), i.e. a lower drive.
 
 
 def migration(levels: ArrayLike, cog: np.ndarray, rest: np.ndarray, pressure: float) -> np.ndarray:
@@ -146,7 +142,7 @@ def check_paper(nominals: Mapping[str, xr.Dataset], strut_length: float = Params
             pass
     st: dict[str, str] = {}
     eq, iso = CONTACTS
-    on_paper = {k: k in faces and faces[k] == topo.face_number(PAPER_FACE[k]) for k in CONTACTS}
+    on_paper = {k: k in faces and faces[k] == topo.face_number(topo.CONTACT_FACES[k]) for k in CONTACTS}
 
     # 1.1 ranking
     in_levels = bool(levels[0] - LEVEL_TOL <= ranking_pressure <= levels[-1] + LEVEL_TOL)
@@ -155,21 +151,21 @@ def check_paper(nominals: Mapping[str, xr.Dataset], strut_length: float = Params
         st["1.1"] = SKIP
     else:
         ranking = np.argsort(-mig[0], kind="stable") + 1
-        st["1.1"] = status(on_paper[eq] and set(ranking[:3]) == set(PAPER_LARGE)
-                           and set(ranking[3:6]) == set(PAPER_LESS))
+        st["1.1"] = status(on_paper[eq] and set(ranking[:3]) == set(paper.LARGE_PAIRS)
+                           and set(ranking[3:6]) == set(paper.LESS_PAIRS))
 
     # 1.2, 1.3, 1.4 tipping pressures and edges
     p10, p11 = tipp[0, 10 - 1], tipp[1, 11 - 1]
     st["1.2"] = SKIP if not swept[0, 10 - 1] else status(bool(
-        on_paper[eq] and abs(p10 - PAPER_TIP_PRESSURE) <= tip_tolerance
-        and set(edges[0, 10 - 1]) == set(PAPER_EDGE[10])))
+        on_paper[eq] and abs(p10 - paper.TIP_PRESSURE) <= tip_tolerance
+        and set(edges[0, 10 - 1]) == set(paper.EDGE[10])))
     st["1.3"] = SKIP if not swept[1, 11 - 1] else status(bool(
-        on_paper[iso] and set(edges[1, 11 - 1]) == set(PAPER_EDGE[11])))
+        on_paper[iso] and set(edges[1, 11 - 1]) == set(paper.EDGE[11])))
     st["1.4"] = (SKIP if not (swept[0, 10 - 1] and swept[1, 11 - 1])
                  else status(bool(np.isfinite(p11) and (not np.isfinite(p10) or p11 < p10))))
 
     # 1.5 three-fold orbits
-    orbits = three_fold_orbits(topo.face_number(PAPER_FACE[eq]))
+    orbits = three_fold_orbits(topo.face_number(topo.CONTACT_FACES[eq]))
     size = max(len(o) for o in orbits)
     odiff, ospread = np.full((len(orbits), P), np.nan), np.full((len(orbits), P), np.nan)
     opairs = np.zeros((len(orbits), size), dtype=np.int64)

@@ -1,205 +1,16 @@
-"""The validate stage and its outputs: validation.nc (every number of every check, with units and
-long names), summary.md and summary.html (the verdict table and the per-pair tables, for the
-Snakemake report). The checks (`validation.checks`) return numbers; the words are
-`validation.summary`'s; this module lays them out and reads and writes the files."""
+"""The words of the workspace validation: the verdict table and the per-pair tables of every
+check (`validation.summary`), laid out as summary.md and summary.html (`validation.pages`). The
+checks (`validation.checks`) return numbers; `io.validation_formats` lays them out as
+validation.nc; `stages.validate` reads and writes the files."""
 from __future__ import annotations
 
-import os
-from collections.abc import Mapping, Sequence
-from pathlib import Path
+from collections.abc import Sequence
 
-import numpy as np
-import xarray as xr
-from numpy.typing import ArrayLike
-
-from ..io import datasets
-from ..io.config import params_from_config
-from ..physics import topology as topo
 from . import pages, summary
-from .checks import MappingResult, StaticsResult, TimestepResult, run_checks
-from .common import CONTACTS, FAIL, PASS, SKIP, CheckSettings, Result
-from .grounded import GroundedResult
-from .nominals import SweepSetup, common_levels
-from .paper import PAPER_TIP_PRESSURE, PaperResult
-from .runs import RunsResult, read_runs
+from .common import Result
 
-AXES = ("x", "y", "z")
-_CP = ("contact", "pair")                    # dimensions of the per-pair numbers
-_CPP = (*_CP, "pressure")                     # ... per level
-_CPPA = (*_CPP, "axis")                       # ... per level and axis
+TITLE = "Validation of the kinematic workspace and the demonstration runs"
 
-
-# ------------------------------------------------------------------ configuration
-
-def sweep_setup(cfg: Mapping) -> SweepSetup:
-    """The pipeline's sweep as run under the resolved configuration `cfg` (sections `sweep`,
-    `sim`, `nominal`)."""
-    s, sim = cfg["sweep"], cfg["sim"]
-    return SweepSetup(tuple(float(p) for p in s["levels"]), float(s["hold"]), float(s["settle"]),
-                      str(s["mode"]), float(sim["dt"]), int(sim["record_every"]),
-                      float(cfg["nominal"]["discard"]))
-
-
-def check_settings(cfg: Mapping) -> CheckSettings:
-    """The checks' settings from the `validate` section of the resolved configuration `cfg`."""
-    return CheckSettings(**{k: tuple(v) if isinstance(v, list) else v for k, v in cfg["validate"].items()})
-
-
-# ------------------------------------------------------------------------ dataset
-
-def _paper_vars(r: PaperResult) -> dict:
-    return {
-        "migration": datasets.var(_CP, r.migration, "m", "in-plane distance of the nominal CoG from the "
-                                  f"unactuated CoG at {r.ranking_pressure:g} MPa", pressure_MPa=r.ranking_pressure),
-        "tip_pressure": datasets.var(_CP, r.tip_pressure, "MPa", "least pressure at which the CoG projection "
-                                     "leaves the support triangle (NaN: never)"),
-        "tip_edge": datasets.var((*_CP, "end"), r.tip_edge, "1",
-                                 "nodes of the edge the CoG projection crosses first (0: none)"),
-        "paper_tip_pressure": datasets.var((), PAPER_TIP_PRESSURE, "MPa", "paper's pressure at which #10 rolls "
-                                           "the robot off (9,10,12) (III.C)", tolerance_MPa=r.tip_tolerance),
-        "orbit_pairs": datasets.var(("orbit", "member"), r.orbit_pairs, "1", "pairs of each 3-fold orbit of (9,10,12)"),
-        "orbit_difference": datasets.var(("orbit", "pressure"), r.orbit_difference, "m",
-                                         "largest difference between the orbit members' CoG, each seen from the "
-                                         "corner its rotation carries the reference vertex to",
-                                         goal_m=r.orbit_tolerance),
-        "orbit_magnitude_spread": datasets.var(("orbit", "pressure"), r.orbit_magnitude_spread, "m",
-                                               "spread of the orbit members' in-plane CoG distance from the centroid"),
-    }
-
-
-def _statics_vars(r: StaticsResult) -> dict:
-    return {"statics_cog": datasets.var((*_CP, "statics_pressure", "axis"), r.cog, "m",
-                                        "CoG of the free-mode static equilibrium in the support frame"),
-            "statics_difference": datasets.var((*_CP, "statics_pressure"), r.difference, "m",
-                                               "distance between the nominal CoG and the static-equilibrium CoG",
-                                               goal_m=r.tolerance)}
-
-
-def _mapping_vars(r: MappingResult) -> dict:
-    dims = ("sample_face", "pair", "pressure")
-    return {
-        "sample_face_type": (("sample_face",), np.array([str(topo.FACE_TYPES[f - 1]) for f in r.faces]),
-                             {"long_name": "kind of the sample face"}),
-        "direct_cog": datasets.var((*dims, "axis"), r.cog, "m", "nominal CoG of a direct simulation standing "
-                                   "on the sample face, in its support frame"),
-        "mapping_difference": datasets.var(dims, r.difference, "m", "distance between the mapped and the "
-                                           "directly simulated nominal CoG", goal_m=r.tolerance),
-        "mapping_support_difference": datasets.var(dims, r.support_difference, "m", "largest corner distance "
-                                                   "between the mapped and the directly simulated support "
-                                                   "triangle", goal_m=r.tolerance)}
-
-
-def _grounded_vars(r: GroundedResult) -> dict:
-    v = datasets.var
-    return {
-        "grounded_cog": v(_CPPA, r.cog, "m", "nominal CoG in the grounded mode, support frame (NaN once the "
-                          "robot rolled)"),
-        "grounded_shift": v(_CPPA, r.shift, "m", "grounded minus free nominal CoG, support frame (NaN once "
-                            "the robot rolled)", goal_m=r.tolerance),
-        "grounded_margin_change": v(_CPP, r.margin_change, "m", "grounded minus free margin of the CoG "
-                                    "projection (NaN once rolled)"),
-        "grounded_rolled": v(_CPP, r.rolled.astype(np.int8), "1", "1 if the grounded robot has left its "
-                             "contact face by the end of the level"),
-        "grounded_face": v(_CPP, r.end_face, "1", "face of the three lowest nodes at the end of the level "
-                           "(0: none)"),
-        "grounded_roll_pressure": v(_CP, r.roll_pressure, "MPa", "level at which the grounded robot first "
-                                    "left its face (NaN: never)"),
-        "grounded_roll_face": v(_CP, r.roll_face, "1", "face the grounded robot rolled onto (0: none)"),
-        "free_roll_pressure": v(_CP, r.free_roll_pressure, "MPa", "first level at which the free nominal "
-                                "CoG projection is outside the triangle"),
-        "free_roll_face": v(_CP, r.free_roll_face, "1", "face across the edge the free CoG projection crosses"),
-        "grounded_settle": v((), r.settle, "s", "time on the ground at zero pressure before the first level"),
-    }
-
-
-def _timestep_vars(r: TimestepResult) -> dict:
-    return {"half_dt_cog": datasets.var(_CPPA, r.cog, "m", "nominal CoG at half the time step, support frame",
-                                        dt_s=r.dt / 2),
-            "timestep_difference": datasets.var(_CPP, r.difference, "m", "distance between the nominal CoG "
-                                                "at dt and at dt/2", goal_m=r.tolerance)}
-
-
-def _runs_vars(r: RunsResult) -> dict:
-    if not r.runs:
-        return {}
-    return {"run_outcome": (("run",), np.array(r.outcome, dtype=str),
-                            {"long_name": "how the demonstration run ended (arrived, stuck, no_contact, "
-                                          "step_limit, off_terrain, sim_error)"}),
-            "run_arrived": datasets.var(("run",), r.arrived.astype(np.int8), "1",
-                                        "1 if the demonstration run arrived, else 0"),
-            "run_rolls": datasets.var(("run",), r.rolls, "1", "rolls of the demonstration run"),
-            "run_distance_to_goal": datasets.var(("run",), r.distance, "m", "horizontal distance of the final "
-                                                 "CoG from the goal (NaN: a run over given edges)")}
-
-
-# result type -> (its variables, the variables where NaN means 'not computed')
-_VARIABLES = {
-    PaperResult: (_paper_vars, ("migration", "tip_pressure", "orbit_difference", "orbit_magnitude_spread")),
-    StaticsResult: (_statics_vars, ("statics_cog", "statics_difference")),
-    MappingResult: (_mapping_vars, ("direct_cog", "mapping_difference", "mapping_support_difference")),
-    GroundedResult: (_grounded_vars, ("grounded_cog", "grounded_shift", "grounded_margin_change",
-                                      "grounded_roll_pressure", "free_roll_pressure")),
-    TimestepResult: (_timestep_vars, ("half_dt_cog", "timestep_difference")),
-    RunsResult: (_runs_vars, ("run_distance_to_goal",)),
-}
-
-
-def variables(result: Result) -> tuple[dict, tuple[str, ...]]:
-    """One check's numbers as netCDF variable specs, name -> (dims, values, attrs with units and
-    long_name), and the names of those that may hold NaN (not computed); nothing for a check
-    that raised."""
-    for kind, (make, allow_nan) in _VARIABLES.items():
-        if isinstance(result, kind):
-            return make(result), allow_nan
-    return {}, ()
-
-
-def to_dataset(results: Sequence[Result], levels: ArrayLike, faces: Sequence[int],
-               statics_pressures: Sequence[float]) -> tuple[xr.Dataset, list[str]]:
-    """All checks' numbers and verdicts as one dataset, and the names of the variables that may
-    hold NaN. levels (P,) MPa, the sample faces (F,) of check 3 and the pressures (S,) MPa of
-    check 2 are coordinates. Verdicts are on the dimension `check`: status (string), passed
-    (1/0/-1) and the texts of `summary.verdicts`."""
-    rows = [row for r in results for row in summary.verdicts(r)]
-    data, allow = {}, []
-    for r in results:
-        more, nan = variables(r)
-        data.update(more)
-        allow += list(nan)
-    data["passed"] = datasets.var(("check",), np.array([1 if r.status == PASS else 0 if r.status == FAIL else -1
-                                                        for r in rows], np.int8), "1",
-                                  "1: passed, 0: failed, -1: not evaluated")
-    for key in ("statement", "measured", "reference", "status"):
-        data[key] = (("check",), np.array([getattr(r, key) for r in rows], dtype=str),
-                     {"long_name": {"statement": "what is checked", "measured": "measured value, with units",
-                                    "reference": "the paper's value or the goal",
-                                    "status": f"{PASS}, {FAIL} or {SKIP}"}[key]})
-    coords = {
-        "check": ("check", np.array([r.id for r in rows], dtype=str), {"long_name": "check number"}),
-        "contact": ("contact", np.array(CONTACTS), {"long_name": "contact case"}),
-        "pair": ("pair", np.arange(1, topo.N_PAIRS + 1), {"units": "1", "long_name": "actuator pair number"}),
-        "pressure": ("pressure", np.asarray(levels, float), {"units": "MPa", "long_name": "muscle pressure"}),
-        "statics_pressure": ("statics_pressure", np.asarray(statics_pressures, float),
-                             {"units": "MPa", "long_name": "pressure of the statics check"}),
-        "sample_face": ("sample_face", np.asarray(faces, np.int64),
-                        {"units": "1", "long_name": "face number of the mapping check"}),
-        "axis": ("axis", np.array(AXES), {"long_name": "support-frame axis"}),
-        "end": ("end", np.array([1, 2]), {"units": "1", "long_name": "edge end"}),
-    }
-    run_results = [r for r in results if isinstance(r, RunsResult)]
-    if run_results:
-        coords["run"] = ("run", np.array(run_results[0].runs, dtype=str),
-                         {"long_name": "demonstration run (results/locomotion/{run}.nc)"})
-    if "orbit_pairs" in data:
-        n_orb, size = data["orbit_pairs"][1].shape
-        coords["orbit"] = ("orbit", np.arange(1, n_orb + 1), {"units": "1", "long_name": "3-fold orbit number"})
-        coords["member"] = ("member", np.arange(1, size + 1), {"units": "1", "long_name": "orbit member"})
-    used = {d for v in data.values() for d in v[0]}
-    ds = xr.Dataset(data, coords={k: v for k, v in coords.items() if k in used})
-    return ds, [a for a in allow if a in ds]
-
-
-# ------------------------------------------------------------------------ summary
 
 def summary_tables(results: Sequence[Result]) -> list[summary.Table]:
     """The verdict table of every check, then the checks' extra tables: (title, header, rows)."""
@@ -209,62 +20,12 @@ def summary_tables(results: Sequence[Result]) -> list[summary.Table]:
     return tables
 
 
-TITLE = "Validation of the kinematic workspace and the demonstration runs"
-
-
-def summary_markdown(results: Sequence[Result], note: str = "") -> str:
-    """The summary as Markdown: the verdict table and the per-pair tables."""
-    return pages.markdown(TITLE, [_counts(results), note], summary_tables(results))
-
-
-def summary_html(results: Sequence[Result], note: str = "") -> str:
-    """The summary as a self-contained HTML page (for the Snakemake report)."""
-    return pages.html_page(TITLE, [_counts(results), note], summary_tables(results))
-
-
-def _counts(results: Sequence[Result]) -> str:
+def counts(results: Sequence[Result]) -> str:
+    """'n of m checks passed, ...' over every verdict of `results` (`pages.counts`)."""
     return pages.counts([s for r in results for s in r.status.values()])
 
 
-# -------------------------------------------------------------------------- stage
-
-def _log(result: Result) -> None:
+def log(result: Result) -> None:
+    """Print each verdict of `result` as it is known (the job's log)."""
     for row in summary.verdicts(result):
         print(f"  {row.id} {row.status}: {row.measured}", flush=True)
-
-
-def run_stage(cfg: Mapping, nominal_paths: Sequence[str | os.PathLike],
-              workspace_path: str | os.PathLike | None, nc_path: str | os.PathLike,
-              md_path: str | os.PathLike, html_path: str | os.PathLike | None = None,
-              run_paths: Sequence[str | os.PathLike] = ()) -> list[Path]:
-    """The validate stage, files to files: read the pipeline's nominal CoG files
-    (results/nominal/{contact}.nc), workspace (results/workspace.nc) and demonstration runs
-    (results/locomotion/{run}.nc, `run_paths`; none: check 6 is not evaluated), run every check with the
-    resolved configuration `cfg` (sections params, sim, sweep, nominal, validate), write
-    validation.nc (every number, with units), the Markdown summary and, if `html_path` is given,
-    the HTML summary for the report. Failed checks do not raise. Returns the paths written."""
-    nominals, prov = {}, {}
-    for p in nominal_paths:
-        ds = datasets.read(p)
-        nominals[str(ds.attrs["contact"])] = ds
-        prov.update(datasets.provenance_config(p))
-    workspace = datasets.read(workspace_path) if workspace_path else None
-    if workspace_path:
-        prov.update(datasets.provenance_config(workspace_path))
-    prov.update(cfg)
-    setup, settings = sweep_setup(cfg), check_settings(cfg)
-    results = run_checks(params_from_config(cfg), setup, nominals, workspace, settings, on_result=_log,
-                         runs=read_runs(run_paths))
-    ds, allow = to_dataset(results, common_levels(nominals), settings.faces, settings.statics_pressures)
-    note = ("Every number, with units: validation.nc. Sweeps: "
-            f"{', '.join(f'{p:g}' for p in setup.levels)} MPa held {setup.hold:g} s, "
-            f"{setup.mode} mode, dt {setup.dt:g} s, nominal = mean after the first "
-            f"{setup.discard:g} s of each level.")
-    paths = [datasets.write(ds, nc_path, prov, "Validation of the workspace against the paper, statics, "
-                            "symmetry, the grounded mode and a halved time step, and of the "
-                            "demonstration runs", stage="validate",
-                            allow_nan=allow),
-             datasets.write_text(md_path, summary_markdown(results, note))]
-    if html_path:
-        paths.append(datasets.write_text(html_path, summary_html(results, note)))
-    return paths

@@ -2,15 +2,14 @@
 
 A run that does not arrive (outcome `stuck`, `no_contact`, `step_limit`, `off_terrain`,
 `sim_error`) is a failed check, not a stopped workflow: the run's file is the evidence of what
-went wrong. `not_arrived` reads the outcomes of run files for the Snakefile's `onsuccess`
-warning. Numbers and statuses only; `validation.summary` words them.
+went wrong (`io.run_formats.not_arrived` reads the outcomes of run files for the Snakefile's
+`onsuccess`warning. Numbers and statuses only; `validation.summary` words them; `io.run_formats.read_runs`
+reads the files.
 """
 from __future__ import annotations
 
-import os
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -62,48 +61,4 @@ def check_runs(runs: Mapping[str, xr.Dataset]) -> RunsResult:
                       distance=distance)
 
 
-def run_name(path: str | os.PathLike) -> str:
-    """The run a file results/locomotion/{run}.nc holds: its stem."""
-    return Path(path).stem
-
-
-def read_runs(paths: Iterable[str | os.PathLike]) -> dict[str, xr.Dataset]:
-    """The run files, name -> dataset (read into memory, the files closed)."""
-    from ..io import datasets
-    out = {}
-    for p in paths:
-        ds = datasets.read(p)  # a corrupted or missing file is named in the error
-        out[str(ds.attrs.get("run") or run_name(p))] = ds
-    return out
-
-
-def not_arrived(paths: Iterable[str | os.PathLike]) -> list[tuple[str, str, str]]:
-    """(run, outcome, message) of every existing run file among `paths` whose run did not
-    arrive; files that do not exist are left out (a workflow that did not make them). Reads
-    the global attributes only, with netCDF4: the Snakefile's `onsuccess` imports no xarray."""
-    import netCDF4
-    out = []
-    for p in paths:
-        if not Path(p).is_file():
-            continue
-        with netCDF4.Dataset(p) as ds:
-            attrs = {k: ds.getncattr(k) for k in ds.ncattrs()}
-        outcome, message = str(attrs.get("outcome", "unknown")), str(attrs.get("message", ""))
-        if outcome != ARRIVED:
-            out.append((str(attrs.get("run") or run_name(p)), outcome, message))
-    return out
-
-
-def warning(paths: Iterable[str | os.PathLike]) -> str:
-    """The end-of-workflow warning naming the runs among `paths` that did not arrive ('' if every
-    existing run arrived)."""
-    bad = not_arrived(paths)
-    if not bad:
-        return ""
-    lines = [f"WARNING: {len(bad)} demonstration run(s) did not arrive (validation check 6 FAILS; "
-             f"see results/validation/summary.md):"]
-    lines += [f"  {name}: {outcome} ({message})" for name, outcome, message in bad]
-    return "\n".join(lines)
-
-
-__all__ = ["ARRIVED", "RunsResult", "check_runs", "read_runs", "not_arrived", "warning", "run_name"]
+__all__ = ["ARRIVED", "RunsResult", "check_runs"]

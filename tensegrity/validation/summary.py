@@ -13,7 +13,8 @@ from ..physics import topology as topo
 from .checks import MappingResult, StaticsResult, TimestepResult
 from .common import CONTACTS, PASS, SKIP, CheckError, Result
 from .grounded import GroundedResult
-from .paper import PAPER_TIP_PRESSURE, PAPER_VOLTAGE, PaperResult
+from .. import paper
+from .paper import PaperResult
 from .runs import RunsResult
 
 Table = tuple[str, list[str], list[list[str]]]   # title, header, rows
@@ -96,7 +97,7 @@ def _paper(r: PaperResult) -> list[Verdict]:
     st = r.status["1.2"]
     out.append(Verdict("1.2", "Standing on (9,10,12), #10 moves the CoG projection out over edge 10-12",
                        "#10 not swept " + on[eq] if st == SKIP else tip_text(0, 10),
-                       f"{PAPER_TIP_PRESSURE} MPa over edge 10-12 (III.C), within {r.tip_tolerance:g} MPa", st))
+                       f"{paper.TIP_PRESSURE} MPa over edge 10-12 (III.C), within {r.tip_tolerance:g} MPa", st))
     st = r.status["1.3"]
     out.append(Verdict("1.3", "Standing on (10,11,12), #11 moves the CoG projection out over edge 10-11",
                        "#11 not swept " + on[iso] if st == SKIP else tip_text(1, 11),
@@ -110,8 +111,8 @@ def _paper(r: PaperResult) -> list[Verdict]:
         ratio = f" (ratio {p11 / p10:.2f})" if np.isfinite(p10) and np.isfinite(p11) else ""
         meas = f"#11 {fmt(p11)}, #10 {fmt(p10)}{ratio}"
     out.append(Verdict("1.4", "#11 on (10,11,12) needs a lower pressure than #10 on (9,10,12)", meas,
-                       f"lower: the prototype needed {PAPER_VOLTAGE[11]:g} V against {PAPER_VOLTAGE[10]:g} V "
-                       f"(ratio {PAPER_VOLTAGE[11] / PAPER_VOLTAGE[10]:.2f}, IV.B)", st))
+                       f"lower: the prototype needed {paper.VOLTAGE[11]:g} V against {paper.VOLTAGE[10]:g} V "
+                       f"(ratio {paper.VOLTAGE[11] / paper.VOLTAGE[10]:.2f}, IV.B)", st))
 
     st = r.status["1.5"]
     odiff = r.orbit_difference

@@ -11,19 +11,17 @@
 """
 from __future__ import annotations
 
-import os
 from collections.abc import Mapping, Sequence
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
-from ..io import datasets
-from ..io.config import params_from_config
 from ..physics import frames, statics, topology as topo
 from ..physics.params import Params
 from ..workspace import two_pair as tp
-from . import pages
+from ..workspace.two_pair import TwoPairSetup
 from .common import CONTACTS, INFO, SKIP, status
 from .summary import Verdict, label, mm
 
@@ -46,11 +44,11 @@ def check_statics(params: Params, contacts: Mapping[str, xr.Dataset], combos: np
     return diff, SKIP if not np.isfinite(diff).any() else status(bool(np.nanmax(diff) <= tol))
 
 
-def check_direct(cfg: Mapping, ws: xr.Dataset, faces: Sequence[int], combos: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, str]:
+def check_direct(params: Params, setup: TwoPairSetup, ws: xr.Dataset, faces: Sequence[int], combos: np.ndarray,
+                 tol: float) -> tuple[np.ndarray, np.ndarray, str]:
     """(b): per check face (F,) and combination (K,) the largest CoG difference m of the mapped
     grid from a direct simulation along the same staircase, and along the other order (the
-    path dependence); NaN where the dataset holds no numbers."""
-    s, params = cfg["two_pair"], params_from_config(cfg)
+    path dependence), both with the staircase of `setup`; NaN where the dataset holds no numbers."""
     same, other = np.full((len(faces), len(combos)), np.nan), np.full((len(faces), len(combos)), np.nan)
     rows = np.array([tp.combo_index(a, b) for a, b in combos], int)
     for fi, f in enumerate(faces):
@@ -60,7 +58,7 @@ def check_direct(cfg: Mapping, ws: xr.Dataset, faces: Sequence[int], combos: np.
         if not ok.size:
             continue
         order = np.concatenate([path[ok], path[ok][:, ::-1]])
-        r = tp.sweep(params, f, order, s["levels"], s["hold"], s["discard"], cfg["sim"]["dt"], s["record_every"])
+        r = tp.sweep(params, f, order, setup)
         cog = r["cog"][:, topo.FACE_REFERENCE[f - 1]]
         for n, k in enumerate(ok):
             first = cog[n] if path[k, 0] < path[k, 1] else cog[n].swapaxes(0, 1)
@@ -70,17 +68,17 @@ def check_direct(cfg: Mapping, ws: xr.Dataset, faces: Sequence[int], combos: np.
     return same, other, SKIP if not np.isfinite(same).any() else status(bool(np.nanmax(same) <= tol))
 
 
-def superposition(contacts: Mapping[str, xr.Dataset], single: xr.Dataset) -> dict[str, np.ndarray]:
+def superposition(contacts: Mapping[str, xr.Dataset], single: xr.Dataset, strut_length: float) -> dict[str, np.ndarray]:
     """(c): per contact (C,), combination (66,) and grid point (P, P): the in-plane shift of
     the CoG from the unactuated one measured (m) and predicted by adding the two single pairs'
     shifts (results/workspace.nc, NaN at levels it lacks); the equal-pressure tip (MPa) of each
-    combination and the least single-pair tip of the face (MPa)."""
+    combination and the least single-pair tip of the face (MPa). strut_length m: the robot's S."""
     P = next(iter(contacts.values())).sizes["level_a"]
     out = {k: np.full((len(CONTACTS), len(tp.COMBOS), P, P), np.nan) for k in ("measured", "predicted", "error")}
     out["tip"] = np.full((len(CONTACTS), len(tp.COMBOS)), np.nan)
     out["single_tip"] = np.full(len(CONTACTS), np.nan)
     out["single_pair"] = np.zeros(len(CONTACTS), int)
-    S = datasets.strut_length(single)
+    S = strut_length
     for ci, contact in enumerate(CONTACTS):
         ds = contacts.get(contact)
         if ds is None:
@@ -141,53 +139,34 @@ def _verdicts(tol: float, faces, combos, a, a_st, same, other, b_st, sup) -> lis
 TITLE = "Validation of the two-pair workspace"
 
 
-def run_stage(cfg: Mapping, contact_paths: Sequence[str | os.PathLike], two_pair_path: str | os.PathLike,
-              workspace_path: str | os.PathLike, nc_path: str | os.PathLike, md_path: str | os.PathLike,
-              html_path: str | os.PathLike | None = None) -> list[Path]:
-    """Run (a)-(c) and write the numbers (netCDF), the verdicts (Markdown, HTML). A failed
-    check does not raise."""
-    s = cfg["two_pair"]
-    tol, faces = float(s["tolerance"]), [int(f) for f in s["check_faces"]]
-    combos = np.array(s["check_combos"], int).reshape(-1, 2)
-    contacts = {str(ds.attrs["contact"]): ds for ds in (datasets.read(p) for p in contact_paths)}
-    ws, single = datasets.read(two_pair_path), datasets.read(workspace_path)
-    a, a_st = check_statics(params_from_config(cfg), contacts, combos, tol)
-    same, other, b_st = check_direct(cfg, ws, faces, combos, tol)
-    sup = superposition(contacts, single)
-    rows = _verdicts(tol, faces, combos, a, a_st, same, other, b_st, sup)
-    for r in rows:
-        print(f"  {r.id} {r.status}: {r.measured}", flush=True)
-    var = datasets.var
-    P = sup["error"].shape[-1]
-    ds = xr.Dataset({
-        "statics_difference": var(("contact", "check", "point"), a, "m", "nominal minus static-equilibrium CoG distance (a)"),
-        "direct_difference": var(("face", "check"), same, "m", "largest CoG distance of the mapped grid from a direct simulation along the same staircase (b)"),
-        "path_difference": var(("face", "check"), other, "m", "largest CoG distance of the mapped grid from a direct simulation along the other staircase order (b2)"),
-        "check_pairs": var(("check", "member"), combos, "1", "actuator pairs of the check combinations"),
-        "superposition_error": var(("contact", "combo", "level_a", "level_b"), sup["error"], "m", "in-plane distance of the summed single-pair shifts from the measured two-pair CoG shift (c)"),
-        "measured_shift": var(("contact", "combo", "level_a", "level_b"), sup["measured"], "m", "in-plane CoG shift from the unactuated robot, two pairs"),
-        "tip_pressure": var(("contact", "combo"), sup["tip"], "MPa", "least equal pressure of both pairs at which the CoG leaves the triangle"),
-        "single_tip_pressure": var(("contact",), sup["single_tip"], "MPa", "least tipping pressure of any single pair"),
-        "pressure_a": var(("level_a",), next(iter(contacts.values()))["pressure_a"].values, "MPa", "muscle pressure of the first pair"),
-        "verdict": (("verdict",), np.array([f"{r.id}: {r.status}: {r.measured}" for r in rows]), {"long_name": "verdicts"})},
-        coords={"contact": ("contact", list(CONTACTS), {"long_name": "contact case"}),
-                "face": ("face", faces, {"units": "1", "long_name": "face number"}),
-                "check": ("check", np.arange(1, len(combos) + 1), {"units": "1", "long_name": "check combination"}),
-                "member": ("member", [1, 2], {"units": "1", "long_name": "member of the combination"}),
-                "point": ("point", [1, 2, 3], {"units": "1", "long_name": "grid corner: (top, top), (low, top), (top, low)"}),
-                "combo": ("combo", np.arange(1, len(tp.COMBOS) + 1), {"units": "1", "long_name": "combination number"}),
-                "level_a": ("level_a", np.arange(1, P + 1), {"units": "1", "long_name": "level index of the first pair"}),
-                "level_b": ("level_b", np.arange(1, P + 1), {"units": "1", "long_name": "level index of the second pair"})})
-    allow = ["statics_difference", "direct_difference", "path_difference", "superposition_error", "measured_shift",
-             "tip_pressure", "single_tip_pressure"]
-    prov = {}
-    for p in [*contact_paths, two_pair_path, workspace_path]:
-        prov.update(datasets.provenance_config(p))
-    note = (f"Levels {', '.join(f'{x:g}' for x in s['levels'])} MPa held "
-            f"{s['hold']:g} s (nominal: mean after {s['discard']:g} s), free mode. Every number: two_pair.nc.")
-    lead = [pages.counts([r.status for r in rows]), note]
-    out = [datasets.write(ds, nc_path, prov | dict(cfg), "Validation of the two-pair workspace", stage="validate_two_pair", allow_nan=allow),
-           datasets.write_text(md_path, pages.markdown(TITLE, lead, [pages.verdict_table(rows)]))]
-    if html_path:
-        out.append(datasets.write_text(html_path, pages.html_page(TITLE, lead, [pages.verdict_table(rows)])))
-    return out
+@dataclass(frozen=True)
+class TwoPairCheck:
+    """The numbers of checks (a)-(c) and their verdict rows: statics (C, K, 3) m, direct and
+    path (F, K) m, superposition (`superposition`), the check combinations (K, 2), faces (F,),
+    levels (P,) MPa and the tolerance m."""
+    rows: list[Verdict]
+    statics: np.ndarray
+    direct: np.ndarray
+    path: np.ndarray
+    superposition: dict[str, np.ndarray]
+    combos: np.ndarray
+    faces: list[int]
+    levels: np.ndarray
+    tolerance: float
+
+
+def validate(params: Params, setup: TwoPairSetup, contacts: Mapping[str, xr.Dataset], ws: xr.Dataset,
+             single: xr.Dataset, strut_length: float, combos: ArrayLike, faces: Sequence[int],
+             tolerance: float) -> TwoPairCheck:
+    """(a)-(c) on the two-pair contact datasets (contact -> results/two_pair/{contact}.nc), the
+    20-face dataset `ws` (results/workspace_two_pair.nc) and the single-pair workspace `single`
+    (results/workspace.nc) of a robot of strut length S m, for the check `combos` (K, 2) on the
+    check `faces`, goal `tolerance` m. A failed check does not raise."""
+    combos = np.asarray(combos, int).reshape(-1, 2)
+    faces = [int(f) for f in faces]
+    a, a_st = check_statics(params, contacts, combos, tolerance)
+    same, other, b_st = check_direct(params, setup, ws, faces, combos, tolerance)
+    sup = superposition(contacts, single, strut_length)
+    rows = _verdicts(tolerance, faces, combos, a, a_st, same, other, b_st, sup)
+    return TwoPairCheck(rows, a, same, other, sup, combos, faces,
+                        next(iter(contacts.values()))["pressure_a"].values, tolerance)

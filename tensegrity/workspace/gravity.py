@@ -97,44 +97,71 @@ def place(params: Params, face: int, terrain: Terrain, position: ArrayLike, head
     return d.stand_on(params, face, terrain, batch, position=position, yaw_deg=h0 - heading)
 
 
-def _check(ramp_rate: float, max_pressure: float, grid_step: float, interval: float, dt: float) -> None:
-    check_pressures(max_pressure, "gravity.max_pressure")
-    for name, v in (("ramp_rate", ramp_rate), ("max_pressure", max_pressure), ("grid_step", grid_step),
-                    ("interval", interval)):
-        if not (np.isfinite(v) and v > 0):
-            raise ValueError(f"gravity.{name} must be a positive number, got {v!r}")
-    step = ramp_rate * interval
-    if abs(grid_step / step - round(grid_step / step)) > 1e-6:
-        raise ValueError(f"gravity.grid_step {grid_step} MPa is not a whole number of ramp "
-                         f"increments ({step:g} MPa = ramp_rate x interval)")
-    if abs(interval / dt - round(interval / dt)) > 1e-6:
-        raise ValueError(f"gravity.interval {interval} s is not a whole number of time steps of {dt} s")
+@dataclass(frozen=True)
+class GravitySetup:
+    """The ramp of the gravity-aware workspace, as the controller ramps a roll: `settle` s at
+    rest, then ramp_rate MPa/s in steps held `interval` s up to max_pressure MPa, held for
+    hold_time s once a support node lifts by lift_tolerance m; the struts damped by
+    strut_damping 1/s (the rolling simulations' robot); grid_step MPa, the pressure grid of the
+    results; dt s, the time step. Config `locomotion` (ramp, hold, damping), `gravity` and `sim`;
+    the defaults are the schema's (pinned by tests/io/test_settings.py)."""
+    ramp_rate: float = 1.0
+    interval: float = 0.02
+    lift_tolerance: float = 0.001
+    hold_time: float = HOLD
+    strut_damping: float = 1.0
+    max_pressure: float = 5.0
+    settle: float = 0.5
+    grid_step: float = 0.2
+    dt: float = 1e-4
+
+    def __post_init__(self):
+        check_pressures(self.max_pressure, "gravity.max_pressure")
+        for name in ("ramp_rate", "max_pressure", "grid_step", "interval", "lift_tolerance", "dt"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v > 0):
+                raise ValueError(f"gravity setting {name} must be a positive number, got {v!r}")
+        for name in ("settle", "strut_damping", "hold_time"):  # 0: none
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v >= 0):
+                raise ValueError(f"gravity setting {name} must be >= 0, got {v!r}")
+        step = self.ramp_rate * self.interval
+        if abs(self.grid_step / step - round(self.grid_step / step)) > 1e-6:
+            raise ValueError(f"gravity.grid_step {self.grid_step} MPa is not a whole number of ramp "
+                             f"increments ({step:g} MPa = ramp_rate x interval)")
+        if abs(self.interval / self.dt - round(self.interval / self.dt)) > 1e-6:
+            raise ValueError(f"gravity interval {self.interval} s is not a whole number of time steps of {self.dt} s")
+
+    def rolling(self, params: Params) -> Params:
+        """`params` with the struts damped as in the rolling simulations (strut_damping 1/s)."""
+        return params.replace(strut_damping=float(self.strut_damping))
+
+    def levels(self, hold: float = HOLD) -> tuple[np.ndarray, int]:
+        """`ramp_levels` of this ramp."""
+        return ramp_levels(self.ramp_rate, self.max_pressure, self.settle, self.interval, hold)
 
 
 def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, slopes: ArrayLike,
-        headings: ArrayLike, ramp_rate: float = 1.0, max_pressure: float = 5.0, settle: float = 0.5,
-        grid_step: float = 0.2, interval: float = 0.02, dt: float = 1e-4, flat_once: bool = True,
-        lift_tolerance: float = 0.001, hold_time: float = HOLD) -> GravitySweep:
+        headings: ArrayLike, setup: GravitySetup, flat_once: bool = True) -> GravitySweep:
     """The gravity-aware workspace of `face`: each pair of `pairs` on each slope (deg) and
     heading (deg), `settle` s at rest, then the pressure ramped from 0 at ramp_rate MPa/s in
     steps held `interval` s, up to max_pressure MPa (held HOLD s) or until the robot rolls (its
     CoG projection FALLING m past an edge, or another face resting on the ground), holding it
-    as the controller does once a support node lifts (`ramp`). All robots in one batch; with
-    `flat_once` a zero slope runs one heading and copies it to the others (on flat ground the
-    heading is a turn of the whole scene)."""
+    as the controller does once a support node lifts (`ramp`); all of `setup`. All robots in one
+    batch; with `flat_once` a zero slope runs one heading and copies it to the others (on flat
+    ground the heading is a turn of the whole scene)."""
     face = topo.face_number(face)
     pairs = np.array([topo.check_pair(p) for p in np.atleast_1d(pairs)])
     slopes, headings = np.atleast_1d(np.asarray(slopes, float)), np.atleast_1d(np.asarray(headings, float))
-    _check(ramp_rate, max_pressure, grid_step, interval, dt)
+    params = setup.rolling(params)
     terrain, centres = slope_field(slopes)
     cases = [(i, j) for i in range(slopes.size) for j in range(headings.size)
              if not (flat_once and slopes[i] == 0 and j > 0)]
     N = pairs.size
     state = d.State.concat([place(params, face, terrain, centres[i], headings[j], N) for i, j in cases])
-    level, n_settle = ramp_levels(ramp_rate, max_pressure, settle, interval)
-    rec, gone = ramp(params, terrain, face, state, np.tile(pairs, len(cases)), level, n_settle,
-                     interval, dt, lift_tolerance, hold_time, copies=N)
-    return _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_step, rec, gone)
+    level, n_settle = setup.levels()
+    rec, gone = ramp(params, terrain, face, state, np.tile(pairs, len(cases)), level, n_settle, setup, copies=N)
+    return _collect(face, pairs, slopes, headings, cases, setup.max_pressure, n_settle, setup.grid_step, rec, gone)
 
 
 def ramp_levels(ramp_rate: float, max_pressure: float, settle: float, interval: float,
@@ -150,10 +177,10 @@ def ramp_levels(ramp_rate: float, max_pressure: float, settle: float, interval: 
 
 
 def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: np.ndarray,
-         level: np.ndarray, n_settle: int, interval: float, dt: float = 1e-4,
-         lift_tolerance: float = 0.001, hold_time: float = HOLD, copies: int = 1) -> tuple[dict, np.ndarray]:
+         level: np.ndarray, n_settle: int, setup: GravitySetup, copies: int = 1) -> tuple[dict, np.ndarray]:
     """Drive robot b of `state` (resting on `face`) with pair pair_of[b] through the pressures
-    `level` (L,) MPa, one per `interval` s (the first n_settle at zero). As the controller does
+    `level` (L,) MPa, one per setup.interval s (the first n_settle at zero), time step setup.dt
+    s, `params` as given (`GravitySetup.rolling` is the caller's). As the controller does
     (`locomotion.control.roll`), when a support node has lifted by lift_tolerance m (from its
     clearance at the end of the settling) the pressure is held for hold_time s before the ramp
     goes on: near the tipping point the robot creeps over the edge at a constant pressure,
@@ -167,6 +194,8 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
     first robot of each run only and then copied to the others, with its records. The same
     numbers as simulating every copy (a robot's results do not depend on its batch); the
     gravity-aware workspace settles a twelfth of its robots."""
+    interval, dt = setup.interval, setup.dt
+    lift_tolerance, hold_time = setup.lift_tolerance, setup.hold_time
     R, L = state.batch, level.size
     copies = int(copies) if n_settle > 0 else 1
     if copies > 1 and (R % copies or np.any(level[:n_settle] != 0)):

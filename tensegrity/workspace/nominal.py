@@ -56,3 +56,13 @@ def mask_after_roll(levels: Sequence[float] | np.ndarray, k: int, tip: float, *a
     for a in arrays:
         a[k:] = np.nan
     return float(tip) if tip <= levels[k] else float(levels[k])
+
+
+def levels_stood(cog: np.ndarray, rolled: ArrayLike | None = None) -> int:
+    """Number of levels before a grounded robot rolled off its face: the leading levels whose
+    nominal CoG (P, 3) m is finite and, if given, whose `rolled` (P,) flag is 0 (all P in the
+    free mode)."""
+    stood = np.isfinite(cog).all(axis=-1)
+    if rolled is not None:
+        stood &= np.asarray(rolled) == 0
+    return int(np.argmin(stood)) if not stood.all() else len(stood)

@@ -7,14 +7,13 @@ the rigid robot posed on a plane of that slope), read off the gravity-aware work
 grid (`gravity.GravitySweep`), and checked by direct simulation: bisection between the last grid
 slope that works and the next one (or the friction angle, beyond which the robot slides).
 Headings are the uphill direction in the face's support frame, deg (see `gravity`). `look` is
-the free workspace lookup: an object with `predict(face, nodes, actions)` (as
-`locomotion.lookup.predict` on a Workspace) and `pairs(face)`; this layer does not import it.
+the free workspace (`lookup.Workspace`; with measured two-pair curves, their combinations are
+tried too: `Workspace.actions`).
 """
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -26,18 +25,9 @@ from ..physics.actuation import Schedule
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from . import gravity as gv
+from .lookup import Workspace, predict
 
 KINDS = ("stand", "uphill", "downhill")
-
-
-class Lookup(Protocol):
-    """The free workspace as read here: `predict` as `locomotion.lookup.predict` on a
-    Workspace (a Prediction with pressure (n,), margin (A, n), projection_2d, support) and the
-    actions available on a face (single pairs; measured two-pair combinations if any)."""
-
-    def predict(self, face: int, nodes: np.ndarray, actions: Sequence[Sequence[int]]) -> Any: ...
-
-    def actions(self, face: int) -> list[tuple[int, ...]]: ...
 
 
 @dataclass(frozen=True)
@@ -79,14 +69,14 @@ def pose(params: Params, face: int, slope: float, heading: float) -> np.ndarray:
     return d.nodes(s.x, s.q, params.strut_length)[0]
 
 
-def _free_ok(look: Lookup, params: Params, face: int, slope: float, heading: float,
+def _free_ok(look: Workspace, params: Params, face: int, slope: float, heading: float,
              max_pressure: float, wanted: tuple[bool, bool] = (True, True)) -> tuple[bool, bool, bool]:
     """(stand, uphill, downhill) possible at this slope and heading by the free workspace.
     wanted: whether uphill and downhill are asked for; one not asked for is reported False
     without its search (the landing check of a downhill roll)."""
     nodes = pose(params, face, slope, heading)
     acts = look.actions(face)
-    pr = look.predict(face, nodes, acts)
+    pr = predict(look, face, nodes, acts)
     ok_p = pr.pressure <= max_pressure + 1e-9
     stand = bool(pr.margin[0, 0] > 0)
     if not stand:
@@ -108,13 +98,13 @@ def _free_ok(look: Lookup, params: Params, face: int, slope: float, heading: flo
     return stand, up, down
 
 
-def _lands(look: Lookup, face: int, nodes: np.ndarray, edge: Sequence[int],
+def _lands(look: Workspace, face: int, nodes: np.ndarray, edge: Sequence[int],
            max_pressure: float) -> bool:
     """Whether the robot posed `nodes` on `face`, rolled rigidly over `edge`
     (`contact.roll_over`), stands on the landing face, or some pair holds it there (a positive
     margin at some pressure up to max_pressure), by the free workspace."""
     to, after = ct.roll_over(nodes, face, edge)
-    pr = look.predict(to, after, look.actions(to))
+    pr = predict(look, to, after, look.actions(to))
     return bool(np.any(pr.margin[:, pr.pressure <= max_pressure + 1e-9] > 0))
 
 
@@ -125,7 +115,7 @@ def _last(ok: np.ndarray, slopes: np.ndarray) -> float:
     return float(slopes[n - 1]) if n else float("nan")
 
 
-def predict_free(look: Lookup, params: Params, face: int, headings: np.ndarray,
+def predict_free(look: Workspace, params: Params, face: int, headings: np.ndarray,
                  max_pressure: float, step: float = 1.0) -> np.ndarray:
     """Limits (3, H) deg by the free workspace: slopes scanned every `step` deg up to the
     friction angle, or until each limit has failed once; NaN if the free workspace has no pair
@@ -144,7 +134,7 @@ def predict_free(look: Lookup, params: Params, face: int, headings: np.ndarray,
     return out
 
 
-def grid_ok(sw: gv.GravitySweep, look: Lookup, params: Params, max_pressure: float) -> tuple[np.ndarray, np.ndarray]:
+def grid_ok(sw: gv.GravitySweep, look: Workspace, params: Params, max_pressure: float) -> tuple[np.ndarray, np.ndarray]:
     """(3, S, H) whether stand / uphill / downhill worked on the gravity-aware grid, and the
     pair (3, S, H) that rolled at the least pressure (0: none)."""
     S, H = sw.stood.shape
@@ -190,19 +180,18 @@ def stands(params: Params, faces: Sequence[int], slopes: ArrayLike, headings: Ar
                      for b, f in enumerate(faces)])
 
 
-def _sim_ok(look: Lookup, params: Params, kind: int, face: int, slopes: np.ndarray, headings: np.ndarray,
-            pairs: np.ndarray, cfg: dict) -> tuple[np.ndarray, np.ndarray, list]:
+def _sim_ok(look: Workspace, params: Params, kind: int, face: int, slopes: np.ndarray, headings: np.ndarray,
+            pairs: np.ndarray, setup: gv.GravitySetup) -> tuple[np.ndarray, np.ndarray, list]:
     """Direct simulation of limit `kind` (1 uphill, 2 downhill; 0 stand) at slopes[j] and
     headings[j] with pairs[j]: (ok (J,), tip pressure (J,) MPa, failure reason per robot)."""
     J = len(slopes)
     if kind == 0:
-        ok = stands(params, [face] * J, slopes, headings, cfg["settle"] + 0.5, cfg["dt"])
+        ok = stands(params, [face] * J, slopes, headings, setup.settle + 0.5, setup.dt)
         return ok, np.full(J, np.nan), ["geometry"] * J
     terrain, centres = gv.slope_field(slopes)
     state = d.State.concat([gv.place(params, face, terrain, centres[j], headings[j]) for j in range(J)])
-    level, n_settle = gv.ramp_levels(cfg["ramp_rate"], cfg["max_pressure"], cfg["settle"], cfg["interval"])
-    rec, gone = gv.ramp(params, terrain, face, state, np.asarray(pairs), level, n_settle, cfg["interval"],
-                        cfg["dt"], cfg["lift_tolerance"], cfg["hold_time"])
+    level, n_settle = setup.levels()
+    rec, gone = gv.ramp(params, terrain, face, state, np.asarray(pairs), level, n_settle, setup)
     ok, tips, why, land = np.zeros(J, bool), np.full(J, np.nan), ["pressure range"] * J, []
     for j in range(J):
         if gone[j] <= n_settle:
@@ -221,18 +210,20 @@ def _sim_ok(look: Lookup, params: Params, kind: int, face: int, slopes: np.ndarr
                 land.append((j, to, float(gv.heading_of(after, to)), e))
     if land:
         held = stands(params, [t for _, t, _, _ in land], [slopes[j] for j, *_ in land],
-                      [h for _, _, h, _ in land], cfg["settle"] + 0.5, cfg["dt"])
+                      [h for _, _, h, _ in land], setup.settle + 0.5, setup.dt)
         for (j, _, _, e), h in zip(land, held):
             if not h and not _lands(look, face, pose(params, face, slopes[j], headings[j]), e,
-                                    cfg["max_pressure"]):
+                                    setup.max_pressure):
                 ok[j], why[j] = False, "landing"
     return ok, tips, why
 
 
-def limits(look: Lookup, params: Params, sweeps: Mapping[str, gv.GravitySweep], cfg: dict) -> SlopeLimits:
-    """The slope limits of every contact case of `sweeps` (see the module docstring). cfg:
-    ramp_rate MPa/s, interval s, settle s, max_pressure MPa, dt s, iterations (bisection
-    steps) and free_step (deg, the free workspace's slope scan)."""
+def limits(look: Workspace, params: Params, sweeps: Mapping[str, gv.GravitySweep], setup: gv.GravitySetup,
+           iterations: int = 3, free_step: float = 1.0) -> SlopeLimits:
+    """The slope limits of every contact case of `sweeps` (see the module docstring), simulated
+    with the ramp of `setup` (the gravity-aware workspace's), `iterations` bisection steps, the
+    free workspace's slopes scanned in steps of `free_step` deg."""
+    params = setup.rolling(params)
     contacts = tuple(sweeps)
     first = next(iter(sweeps.values()))
     H, C = first.headings.size, len(contacts)
@@ -243,8 +234,8 @@ def limits(look: Lookup, params: Params, sweeps: Mapping[str, gv.GravitySweep], 
     cap = friction_angle(params)
     for c, contact in enumerate(contacts):
         sw = sweeps[contact]
-        free[:, c] = predict_free(look, params, sw.face, sw.headings, cfg["max_pressure"], cfg["free_step"])
-        ok, best = grid_ok(sw, look, params, cfg["max_pressure"])
+        free[:, c] = predict_free(look, params, sw.face, sw.headings, setup.max_pressure, free_step)
+        ok, best = grid_ok(sw, look, params, setup.max_pressure)
         for kind in range(3):
             n_ok = [int(np.flatnonzero(~ok[kind, :, j])[0]) if (~ok[kind, :, j]).any() else sw.slopes.size
                     for j in range(H)]
@@ -255,9 +246,9 @@ def limits(look: Lookup, params: Params, sweeps: Mapping[str, gv.GravitySweep], 
             p = np.array([best[kind, n_ok[j] - 1, j] for j in js])
             tip = np.full(len(js), np.nan)
             reason = ["friction" if h >= cap else ("geometry" if kind == 0 else "pressure range") for h in hi]
-            for _ in range(int(cfg["iterations"]) if js else 0):
+            for _ in range(int(iterations) if js else 0):
                 mid = 0.5 * (lo + hi)
-                good, t, r = _sim_ok(look, params, kind, sw.face, mid, sw.headings[js], p, cfg)
+                good, t, r = _sim_ok(look, params, kind, sw.face, mid, sw.headings[js], p, setup)
                 lo, hi = np.where(good, mid, lo), np.where(good, hi, mid)
                 tip = np.where(good, t, tip)
                 reason = [reason[i] if good[i] else r[i] for i in range(len(js))]
@@ -265,7 +256,7 @@ def limits(look: Lookup, params: Params, sweeps: Mapping[str, gv.GravitySweep], 
             why[kind, c, js] = reason
     stand_lim = sim[0]
     for kind in (1, 2):  # a roll needs the robot to stand first
-        at_stand = sim[kind] >= stand_lim - 0.5 * (first.slopes.max() / 2 ** cfg["iterations"] + 1e-9)
+        at_stand = sim[kind] >= stand_lim - 0.5 * (first.slopes.max() / 2 ** iterations + 1e-9)
         why[kind] = np.where(at_stand & (why[kind] != "friction"), "geometry", why[kind])
     why[np.isnan(sim)] = "pressure range"
     return SlopeLimits(KINDS, contacts, first.headings, free, grid, sim, pair, pres, why.astype(str))

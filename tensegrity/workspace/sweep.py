@@ -18,6 +18,20 @@ MODES = ("free", "grounded")
 
 
 @dataclass(frozen=True)
+class SweepSetup:
+    """The staircase of a sweep: levels (P,) MPa, each held `hold` s after `settle` s at zero
+    pressure, in `mode` ('free' or 'grounded', `setup`), simulated with time step dt s and
+    recorded every record_every steps. The defaults are the schema's `sweep` and `sim` defaults
+    (pinned by tests/io/test_settings.py)."""
+    levels: tuple[float, ...] = (0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 2.8, 3.2, 3.6, 4.0, 4.4, 4.8)
+    hold: float = 1.0
+    settle: float = 0.0
+    mode: str = "free"
+    dt: float = 1e-4
+    record_every: int = 10
+
+
+@dataclass(frozen=True)
 class Sweep:
     """One staircase per pair. t (T,) s; pressure_cmd (B, T) MPa; cog (B, T, 3) m and
     support (B, T, 3, 3) m in the support frame of the deformed contact face; nodes (B, T, 12, 3)
@@ -45,14 +59,14 @@ def setup(params: Params, mode: str) -> tuple[Params, Terrain]:
     return (params.replace(gravity=0.0), Terrain.none()) if mode == "free" else (params, Terrain.flat())
 
 
-def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, levels: ArrayLike, hold: float,
-        settle: float = 0.0, mode: str = "free", dt: float = 1e-4, record_every: int = 10) -> Sweep:
-    """Stand the robot on `face`, apply the staircase `levels` (MPa, each held `hold` s after
-    `settle` s at zero) to each pair in `pairs` (one robot each, batched)."""
+def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, sweep: SweepSetup) -> Sweep:
+    """Stand the robot on `face`, apply the staircase of `sweep` to each pair in `pairs` (one
+    robot each, batched)."""
     face = topo.face_number(face)
     pairs = np.array([topo.check_pair(p) for p in np.atleast_1d(pairs)])
-    levels = np.asarray(levels, dtype=float)
-    prm, terrain = setup(params, mode)
+    levels = np.asarray(sweep.levels, dtype=float)
+    hold, settle, dt, record_every = sweep.hold, sweep.settle, sweep.dt, sweep.record_every
+    prm, terrain = setup(params, sweep.mode)
     state = d.stand_on(prm, face, terrain, batch=len(pairs))
     sched = Schedule.staircase(pairs, levels, hold, settle)
     _, tr = d.simulate(prm, state, sched, terrain, dt, record_every)

@@ -11,6 +11,7 @@ pair of the source to the second of the target: the grid is transposed then.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from itertools import combinations
 
 import numpy as np
@@ -26,6 +27,31 @@ from .mapping import CANONICAL
 
 COMBOS = np.array(list(combinations(range(1, topo.N_PAIRS + 1), 2)))  # (66, 2), 1-based, sorted
 _INDEX = {tuple(c): k for k, c in enumerate(COMBOS.tolist())}
+
+
+@dataclass(frozen=True)
+class TwoPairSetup:
+    """The two-pair staircase: levels (P,) MPa of each pair, each grid point held `hold` s and
+    averaged after its first `discard` s, samples every record_every time steps of dt s. The
+    defaults are the schema's `two_pair` and `sim` defaults (pinned by tests/io/test_settings.py)."""
+    levels: tuple[float, ...] = (0.8, 1.6, 2.4, 3.2, 4.0, 4.8)
+    hold: float = 1.0
+    discard: float = 0.2
+    record_every: int = 50
+    dt: float = 1e-4
+
+    def __post_init__(self):
+        lv = self.levels
+        bad = [i for i in range(1, len(lv)) if lv[i] <= lv[i - 1]]
+        if bad:
+            raise ValueError(f"two_pair.levels[{bad[0]}]: {lv[bad[0]]} is not greater than {lv[bad[0] - 1]} "
+                             "(MPa, strictly increasing)")
+        if not 0 <= self.discard < self.hold:
+            raise ValueError(f"two_pair.discard: {self.discard} s is not in [0, two_pair.hold = {self.hold} s)")
+        n = self.hold / (self.record_every * self.dt)
+        if abs(n - round(n)) > 1e-6:
+            raise ValueError(f"two_pair.hold: {self.hold} s is not a whole number of recording intervals "
+                             f"(two_pair.record_every x sim.dt = {self.record_every * self.dt:g} s)")
 
 
 def combo_index(a: int, b: int) -> int:
@@ -71,20 +97,20 @@ def schedule(combos: ArrayLike, levels: ArrayLike, hold: float) -> Schedule:
     return Schedule(np.full(len(order), float(hold)), p)
 
 
-def sweep(params: Params, face: int, combos: ArrayLike, levels: ArrayLike, hold: float,
-          discard: float, dt: float = 1e-4, record_every: int = 50) -> dict[str, np.ndarray]:
-    """Free-mode staircase of every combination (n, 2) standing on `face`, one batched run;
-    each grid point's nominal CoG is the mean after the first `discard` s of its hold (paper
-    III.A). Returns cog and cog_std (n, 3, P, P, 3) m, support (n, 3, P, P, 3, 3) m: in the
+def sweep(params: Params, face: int, combos: ArrayLike, setup: TwoPairSetup) -> dict[str, np.ndarray]:
+    """Free-mode staircase of `setup` of every combination (n, 2) standing on `face`, one
+    batched run; each grid point's nominal CoG is the mean after the first `discard` s of its
+    hold (paper III.A). Returns cog and cog_std (n, 3, P, P, 3) m, support (n, 3, P, P, 3, 3) m: in the
     support frame of the deformed face whose +y points to corner k (axis 1; corner k = the
     reference corner is the face's own support frame, docs/design.md §2, the others are what a
     map of the stabiliser that moves the reference corner needs, `map_face`; NaN for corners
     no such map needs), and margin (n, P, P) m."""
     from ..physics import dynamics as d  # the simulator (numba) only here: mapping, fitting
-    from .sweep import setup              # and drawing the two-pair workspace do not load it
-    combos, levels = np.asarray(combos, int).reshape(-1, 2), np.asarray(levels, float)
+    from .sweep import setup as mode_setup  # and drawing the two-pair workspace do not load it
+    combos, levels = np.asarray(combos, int).reshape(-1, 2), np.asarray(setup.levels, float)
+    hold, discard, dt, record_every = setup.hold, setup.discard, setup.dt, setup.record_every
     P, n = levels.size, len(combos)
-    prm, terrain = setup(params, "free")
+    prm, terrain = mode_setup(params, "free")
     sched = schedule(combos, levels, hold)
     _, tr = d.simulate(prm, d.stand_on(prm, face, terrain, batch=n), sched, terrain, dt, record_every)
     seg = np.searchsorted(np.cumsum(sched.durations), tr.t - 0.5 * dt * record_every)
@@ -106,6 +132,30 @@ def sweep(params: Params, face: int, combos: ArrayLike, levels: ArrayLike, hold:
     ref = topo.FACE_REFERENCE[face - 1]
     out["margin"] = margins(out["cog"][:, ref], out["support"][:, ref])
     return out
+
+
+def combos_of(pairs: Sequence[int]) -> np.ndarray:
+    """The combinations (n, 2) of two distinct pairs among `pairs` (1-based)."""
+    return COMBOS[np.isin(COMBOS, np.asarray(pairs, int)).all(axis=1)]
+
+
+def contact_workspace(face: int, reps: ArrayLike, res: Mapping[str, np.ndarray],
+                      levels: ArrayLike) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]:
+    """The two-pair workspace of every combination on the canonical `face` from the sweep `res`
+    (`sweep`) of the representatives `reps` (R, 2) at `levels` (P,) MPa: the arrays of
+    `map_face` (cog, support, staircase) with the margin, the tipping pressure, its edge and the
+    tipping boundary of each (`tips`); which combinations were swept (66,) and their CoG
+    spread (66, P, P, 3) m (NaN: mapped)."""
+    cog, support, path = map_face(face, face, reps, res["cog"], res["support"])
+    ws = {"cog": cog, "support": support, "staircase": path, "margin": margins(cog, support)}
+    t = [tips(levels, cog[c], support[c], ws["margin"][c], face) for c in range(len(COMBOS))]
+    ws |= {"tip_pressure": np.array([x[0] for x in t]), "tip_edge": np.array([x[1] for x in t], np.int64),
+           "tip_boundary": np.array([x[2] for x in t])}
+    rows = np.array([combo_index(*c) for c in np.asarray(reps, int)])
+    swept = np.isin(np.arange(len(COMBOS)), rows)
+    std = np.full(cog.shape, np.nan)
+    std[rows] = res["cog_std"][:, topo.FACE_REFERENCE[face - 1]]
+    return ws, swept, std
 
 
 def map_face(src: int, dst: int, reps: ArrayLike, cog: np.ndarray, support: np.ndarray,

@@ -8,7 +8,7 @@ import jsonschema
 import pytest
 import yaml
 
-from tensegrity.io import config
+from tensegrity.io import config, datasets
 from tensegrity.io.config import ConfigError
 from tensegrity.physics.params import Params
 
@@ -168,12 +168,12 @@ def test_the_snakefile_rereads_every_config_file_strictly():
 @pytest.mark.parametrize("dt, interval, ok", [(1e-4, 0.02, True), (5e-5, 0.02, True), (3e-5, 0.02, False),
                                               (1e-4, 0.00015, False), (1e-4, 0.0001, True), (2e-4, 0.0001, False)])
 def test_locomotion_interval_must_be_whole_time_steps(dt, interval, ok):
-    """Caught before any job runs, as locomotion.control.RollSettings would in the job."""
-    from tensegrity.locomotion.control import RollSettings
+    """Caught before any job runs, as locomotion.settings.RollSettings would in the job."""
+    from tensegrity.io.settings import build
+    from tensegrity.locomotion.settings import RollSettings
     over = {"sim": {"dt": dt}, "locomotion": {"interval": interval}}
     if ok:
-        cfg = config.validate(over)
-        RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
+        build(RollSettings, config.validate(over))
         return
     with pytest.raises(ConfigError, match=r"^config key locomotion\.interval: .* is not a whole number of time "
                                           r"steps sim\.dt"):
@@ -287,12 +287,12 @@ def test_params_from_config():
 
 def test_to_json_is_sorted_and_round_trips():
     cfg = config.load()
-    s = config.to_json(cfg)
+    s = datasets.to_json(cfg)
     assert json.loads(s) == cfg
-    assert s == config.to_json(json.loads(s))
+    assert s == datasets.to_json(json.loads(s))
     assert list(json.loads(s)) == sorted(cfg)
     assert s.index('"fit"') < s.index('"params"') < s.index('"sweep"')
     # `hold: 1` and `hold: 1.0` resolve to the same provenance
-    assert config.to_json(config.load(overrides={"sweep": {"hold": 1}})) == s
+    assert datasets.to_json(config.load(overrides={"sweep": {"hold": 1}})) == s
     with pytest.raises(ValueError):
-        config.to_json({"x": float("nan")})
+        datasets.to_json({"x": float("nan")})

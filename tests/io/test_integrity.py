@@ -81,7 +81,7 @@ def small_workspace(tmp_path, cfg, levels=(1.2, 2.4)):
     margin[:, 9] = 0.05
     ws = {"cog": cog, "support": sup, "margin": margin,
           "tip_pressure": np.full((topo.N_FACES, topo.N_PAIRS), np.nan)}
-    ds = formats.workspace_dataset(np.asarray(levels), ws)
+    ds = formats.workspace_dataset(np.asarray(levels), ws, 0.5)
     return datasets.write(ds, tmp_path / "workspace.nc", cfg, "Workspace", stage="map",
                           allow_nan=formats.WORKSPACE_ALLOW_NAN)
 
@@ -101,7 +101,7 @@ def curves_json(tmp_path, levels=(1.2, 2.4)):
 def test_workspace_loads_and_query_answers(tmp_path, cfg):
     ws = small_workspace(tmp_path, cfg)
     assert formats.read_workspace(ws).levels.tolist() == [1.2, 2.4]
-    ans = query.query(query.load_curves(curves_json(tmp_path)), datasets.read(ws), 8, 10, 1.8)
+    ans = query.query(formats.read_curves(curves_json(tmp_path)), formats.read_workspace(ws), 8, 10, 1.8)
     assert np.isfinite(ans.margin)
 
 
@@ -148,8 +148,6 @@ def test_workspace_contract_checked_on_load(tmp_path, cfg, damage, message):
     with pytest.raises(ValueError, match=message) as e:
         formats.read_workspace(bad)
     assert "bad.nc" in str(e.value)
-    with pytest.raises(ValueError, match=message):
-        query.query(query.load_curves(curves_json(tmp_path)), datasets.read(bad), 8, 10, 1.8)
 
 
 @pytest.mark.parametrize("damage, message", [
@@ -165,19 +163,20 @@ def test_curves_contract_checked_on_load(tmp_path, damage, message):
     damage(doc["contacts"]["equilateral"]["pairs"]["10"]["y"])
     p.write_text(json.dumps(doc))
     with pytest.raises(ValueError, match=message) as e:
-        query.load_curves(p)
+        formats.read_curves(p)
     assert "curves.json" in str(e.value)
     p.write_bytes(b"{\"contacts\": {\x00\xff")
     with pytest.raises(ValueError, match="curves.json.*not valid JSON"):
-        query.load_curves(p)
+        formats.read_curves(p)
 
 
 def test_query_outside_the_workspace_pairs_is_refused(tmp_path, cfg):
-    ws = datasets.read(small_workspace(tmp_path, cfg))
-    doc = query.load_curves(curves_json(tmp_path))
+    path = small_workspace(tmp_path, cfg)
+    ws = formats.read_workspace(path)
+    doc = formats.read_curves(curves_json(tmp_path))
     doc["contacts"]["equilateral"]["pairs"]["9"] = doc["contacts"]["equilateral"]["pairs"]["10"]
     with pytest.raises(ValueError, match="workspace.nc.*no support triangle for pair #9"):
-        query.query(doc, ws, 8, 9, 1.8)
+        query.query(doc, ws, 8, 9, 1.8, wsname=str(path))
 
 
 # ------------------------------------------------------------- temporaries of killed writers

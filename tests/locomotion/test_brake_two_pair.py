@@ -153,7 +153,7 @@ def test_escape_from_a_stuck_face(ws):
     pairs together as well and rolls it off."""
     low = lo.Workspace.from_arrays(LEVELS[:2], ws.cog[:, :, :2], ws.support[:, :, :2])
     stuck = lo.roll_to(low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(
-        max_attempts=2, combine=False, max_rolls=1))
+        max_attempts=2, combine=False, max_rolls=1, escape_attempts=0))
     assert stuck.outcome == "stuck" and stuck.rolls == 0
     run = lo.roll_to(low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(
         max_attempts=2, combine=False, max_rolls=1, escape_attempts=4))

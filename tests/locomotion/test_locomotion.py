@@ -17,7 +17,8 @@ from tensegrity.physics import dynamics as d
 from tensegrity.physics import frames, topology as topo
 from tensegrity import cli
 from tensegrity import locomotion as lo
-from tensegrity.io import formats, run_formats
+from tensegrity.io import formats
+from tensegrity.io.formats import run as run_formats
 from tensegrity.workspace import mapping
 from tensegrity.physics import statics
 from tensegrity.physics.params import Params
@@ -179,7 +180,14 @@ def test_settings_are_checked():
         lo.RollSettings(interval=0.00015)
     with pytest.raises(ValueError, match="max_rolls"):
         lo.RollSettings(max_rolls=2.5)
-    assert lo.RollSettings.from_config({"max_rolls": 7, "goal_distance": 2.0}, 5e-5).max_rolls == 7
+    from tensegrity.io.settings import build
+    from tensegrity.stages.config import stage_config
+    from tensegrity.io import config
+    cfg = stage_config(config.validate({"locomotion": {"max_rolls": 7}, "sim": {"dt": 5e-5}}), "locomotion_runs")
+    s = build(lo.RollSettings, cfg)
+    assert s.max_rolls == 7 and s.dt == 5e-5
+    with pytest.raises(KeyError, match="locomotion.max_rolls"):  # never a silent default
+        build(lo.RollSettings, {"locomotion": {}, "sim": {"dt": 1e-4}})
 
 
 # ------------------------------------------------------------------------- rolling (slower)
@@ -205,7 +213,7 @@ def test_paper_experiment(paper):
 
 def test_run_dataset_round_trip(paper, tmp_path):
     terrain = Terrain.flat()
-    path = datasets.write(run_formats.run_dataset(paper, terrain, "paper"), tmp_path / "paper.nc", {},
+    path = datasets.write(run_formats.run_dataset(paper, terrain, DAMPED, "paper"), tmp_path / "paper.nc", {},
                           "paper run", allow_nan=run_formats.RUN_ALLOW_NAN)
     ds = datasets.read(path)
     assert list(ds["faces"].values) == [EQUI, ISO, NEXT]
@@ -215,17 +223,18 @@ def test_run_dataset_round_trip(paper, tmp_path):
     assert ds["nodes"].shape == (len(paper.record.t), 12, 3)
     back = run_formats.terrain_from_dataset(ds)
     assert back.kind == "plane" and back.height(1.0, 2.0) == terrain.height(1.0, 2.0)
+    assert datasets.strut_radius(ds) == DAMPED.strut_radius and datasets.strut_length(ds) == DAMPED.strut_length
 
 
 
 def test_locomotion_run_stage_writes_the_paper_run(paper, ws_path, tmp_path, capsys):
-    """stages.locomotion_run (the workflow's rule): the workspace file in, the run dataset
-    out, with the stage's configuration merged over the workspace's provenance."""
-    from tensegrity import stages
+    """stages.locomotion.locomotion_runs (the workflow's rule): the workspace file in, the run
+    dataset out, with the stage's configuration keys merged over the workspace's provenance."""
     from tensegrity.io import config
-    cfg = config.load()
-    cfg = {k: cfg[k] for k in ("params", "sim", "locomotion")}
-    out = stages.locomotion_run(cfg, "paper", ws_path, tmp_path / "paper.nc")
+    from tensegrity.stages.config import stage_config
+    from tensegrity.stages.locomotion import locomotion_runs
+    cfg = stage_config(config.load(), "locomotion_runs")
+    out, = locomotion_runs(cfg, ["paper"], ws_path, [tmp_path / "paper.nc"])
     ds = datasets.read(out)
     assert ds.attrs["outcome"] == "arrived" and ds.attrs["run"] == "paper"
     assert list(ds["faces"].values) == [EQUI, ISO, NEXT]
@@ -233,7 +242,7 @@ def test_locomotion_run_stage_writes_the_paper_run(paper, ws_path, tmp_path, cap
     assert datasets.provenance_config(ds)["locomotion"]["goal_distance"] == cfg["locomotion"]["goal_distance"]
     assert "run paper: arrived" in capsys.readouterr().out
     with pytest.raises(ValueError, match="unknown locomotion run"):
-        stages.locomotion_run(cfg, "moon", ws_path, tmp_path / "moon.nc")
+        locomotion_runs(cfg, ["moon"], ws_path, [tmp_path / "moon.nc"])
 
 @pytest.fixture(scope="module")
 def flat_run(ws):
@@ -390,7 +399,7 @@ def test_state_figures_show_the_projection_inside_and_outside(tmp_path):
 
 def test_path_figure_and_animation_of_a_run(paper, tmp_path):
     from tensegrity.render import runs as rr
-    ds = run_formats.run_dataset(paper, Terrain.flat(), "paper")
+    ds = run_formats.run_dataset(paper, Terrain.flat(), DAMPED, "paper")
     terrain, t = run_formats.terrain_from_dataset(ds), ds["time"].values
     step_end = np.searchsorted(t, ds["t_end"].values)  # each step's last sample
     assert np.array_equal(t[step_end], ds["t_end"].values)

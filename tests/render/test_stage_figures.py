@@ -1,12 +1,13 @@
-"""The figure stages (tensegrity.stages.render_cloud, render_workspace, _path_figure) on small
+"""The figure stages (tensegrity.stages.render.cog_cloud, workspace_figure, stages.locomotion._path_figure) on small
 synthetic datasets: what each figure is judged against is drawn, and a grounded robot that
 rolled off its face (NaN from that level on) is drawn up to the roll."""
 import numpy as np
 import pytest
 import xarray as xr
 
-from tensegrity import figure_stages, stages
-from tensegrity.io import datasets, formats, run_formats
+from tensegrity.stages import fit as fit_stage, locomotion as loco_stage, render as render_stage
+from tensegrity.io import datasets, formats
+from tensegrity.io.formats import run as run_formats
 from tensegrity.io.config import defaults
 from tensegrity.physics import frames, topology as topo
 from tensegrity.physics.terrain import Terrain
@@ -43,7 +44,7 @@ def _nominal(roll_at: int | None = None) -> xr.Dataset:
     return formats.nominal_dataset([9, 10], LEVELS, cog, std, sup, margin, tip, rolled,
                                    {"contact": "equilateral", "face": FACE,
                                     "face_nodes": topo.FACES[FACE - 1] + 1,
-                                    "mode": "free" if roll_at is None else "grounded"})
+                                    "mode": "free" if roll_at is None else "grounded"}, S)
 
 
 def _write(ds, tmp_path, name):
@@ -52,7 +53,7 @@ def _write(ds, tmp_path, name):
 
 
 def _curves(tmp_path, nominal_path):
-    return stages.run_fit(defaults(), nominal_path, tmp_path / "curves.nc")
+    return fit_stage.curves(defaults(), nominal_path, tmp_path / "curves.nc")
 
 
 def test_fig7_rings_lie_on_the_dashed_deformed_triangle_at_the_tipping_pressure(tmp_path):
@@ -60,7 +61,7 @@ def test_fig7_rings_lie_on_the_dashed_deformed_triangle_at_the_tipping_pressure(
     tp = float(nm["tip_pressure"].sel(pair=10))
     assert np.isfinite(tp) and np.isnan(float(nm["tip_pressure"].sel(pair=9)))
     npath = _write(nm, tmp_path, "nominal.nc")
-    out = stages.render_workspace(_curves(tmp_path, npath), npath, tmp_path / "fig7.png")
+    out = render_stage.workspace_figure({}, _curves(tmp_path, npath), npath, tmp_path / "fig7.png")
     assert out["tips"] == [10] and list(out["tip_supports"]) == [10]
     assert "tip support #10" in out["actors"] and "tip #10" in out["actors"]
     assert any("dashed" in e for e in out["legend"])  # the legend says what a ring is judged on
@@ -84,7 +85,7 @@ def test_fig7_nominal_render_draws_rings_and_a_legend_that_fits(tmp_path, monkey
     npath = _write(_nominal(), tmp_path, "nominal.nc")
     real, seen = paper.fig_workspace, {}
     monkeypatch.setattr(paper, "fig_workspace", lambda *a, **kw: seen.update(real(*a, **kw)) or seen)
-    stages.render_dataset(npath, tmp_path / "n.png")
+    render_stage.render_dataset(npath, tmp_path / "n.png")
     assert seen["tips"] == [10]
     assert abs(frames.margin_2d(seen["tip_points"][10], seen["tip_supports"][10])) < 0.05
     assert len(seen["legend"]) == 4  # two pairs, the ring, the dashed triangle
@@ -102,16 +103,16 @@ def test_grounded_roll_fig6_and_fig7_draw_the_levels_before_it(tmp_path, monkeyp
                         "pressure_cmd": (("time",), np.repeat(LEVELS, per))},
                        attrs={"pair": 10, "face": FACE})
     real_read = datasets.read
-    monkeypatch.setattr(stages.datasets, "read",
+    monkeypatch.setattr(render_stage.datasets, "read",
                         lambda p: sweep if str(p).endswith("sweep.nc") else real_read(p))
-    out = stages.render_cloud(tmp_path / "sweep.nc", npath, tmp_path / "fig6.png", max_pressure=4.8)
+    out = render_stage.cog_cloud({}, tmp_path / "sweep.nc", npath, tmp_path / "fig6.png", max_pressure=4.8)
     assert out["labels"] == [f"{p:g} MPa" for p in LEVELS[:roll_at]]
     assert out["samples"] == roll_at * per
     assert "rolled off at 2.4 MPa" in out["title"]
-    out = stages.render_cloud(tmp_path / "sweep.nc", npath, tmp_path / "fig6b.png", max_pressure=1.2)
+    out = render_stage.cog_cloud({}, tmp_path / "sweep.nc", npath, tmp_path / "fig6b.png", max_pressure=1.2)
     assert out["nominal"] == 3 and "rolled" not in out["title"]  # the roll is not in view
-    monkeypatch.setattr(stages.datasets, "read", real_read)
-    out = stages.render_workspace(_curves(tmp_path, npath), npath, tmp_path / "fig7.png")
+    monkeypatch.setattr(render_stage.datasets, "read", real_read)
+    out = render_stage.workspace_figure({}, _curves(tmp_path, npath), npath, tmp_path / "fig7.png")
     assert out["tips"] == []  # the robot rolled off before its CoG left the triangle
     assert "#9, #10 rolled off at 2.4 MPa" in out["title"]
     assert (tmp_path / "fig7.png").exists()
@@ -130,5 +131,5 @@ def test_path_titles_name_the_ground(tmp_path, monkeypatch, terrain, words):
     monkeypatch.setattr(runs, "fig_path", lambda *a, **kw: seen.update(title=a[3]) or seen)
     ds = ds.assign(time=("time", [0.0, 1.0]), t_end=("step", [1.0]), next_face=("step", [8]),
                    goal=("axis", [1.0, 0.0, 0.0]), nodes=(("time", "node", "axis"), np.zeros((2, 12, 3))))
-    out = figure_stages._path_figure(ds, tmp_path / "p.png", "top")
+    out = loco_stage._path_figure(ds, tmp_path / "p.png", "top")
     assert words in out["title"]

@@ -11,7 +11,7 @@ BOX = {"a": {"low": 0.0, "high": 1.0, "units": "m"}}
 
 
 def _study(method, n):
-    return spec.validate({"parameters": {"cable_stiffness": {"low": 500.0, "high": 1500.0, "units": "N/m"},
+    return study_config.validate({"parameters": {"cable_stiffness": {"low": 500.0, "high": 1500.0, "units": "N/m"},
                                          "muscle_gain": {"low": 400.0, "high": 800.0, "units": "N/(MPa m)"}},
                           "design": {"method": method, "n": n, "seed": 2}})
 

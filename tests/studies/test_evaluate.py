@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from tensegrity.io.config import load
-from tensegrity.locomotion.control import RollSettings
+from tensegrity.io.settings import build
+from tensegrity.locomotion.settings import RollSettings
 from tensegrity.physics import frames, statics, topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.studies import evaluate as ev
@@ -14,11 +15,12 @@ from tensegrity.workspace import sweep as sw
 LEVELS, HOLD, DISCARD = [1.2, 2.4], 0.4, 0.2
 DESIGNS = [Params(), Params(cable_stiffness=1300.0, cable_pretension=30.0), Params(strut_length=0.45, strut_mass=0.25)]
 PAIRS = [9, 10, 11, 12]
+SETUP = sw.SweepSetup(levels=tuple(LEVELS), hold=HOLD)
 
 
 @pytest.fixture(scope="module")
 def ws():
-    return ev.workspace(DESIGNS, ["equilateral", "isosceles"], PAIRS, LEVELS, HOLD, DISCARD)
+    return ev.workspace(DESIGNS, ["equilateral", "isosceles"], PAIRS, SETUP, DISCARD)
 
 
 def test_a_batch_of_designs_is_each_design_swept_alone(ws):
@@ -26,7 +28,7 @@ def test_a_batch_of_designs_is_each_design_swept_alone(ws):
     exactly the pipeline's sweep (workspace.sweep.run) and nominal CoG of each design alone."""
     for i, prm in enumerate(DESIGNS):
         for c, face in enumerate(ws.faces):
-            r = sw.run(prm, int(face), PAIRS, LEVELS, HOLD)
+            r = sw.run(prm, int(face), PAIRS, SETUP)
             for b in range(len(PAIRS)):
                 cog, _, sup, margin = nom.nominal(r.t, r.level, r.cog[b], r.support[b], len(LEVELS), HOLD, DISCARD)
                 np.testing.assert_allclose(ws.cog[i, c, b], cog, rtol=0, atol=1e-12)
@@ -63,9 +65,8 @@ def test_the_pairs_of_a_three_fold_orbit_move_the_cog_equally(ws):
 def test_the_roll_sequence_of_a_batch_is_that_of_each_robot_alone():
     """lockstep with per-robot Params: the batched rolls equal the single runs; the default
     robot tips over 10-12 near the calibrated 4.2 MPa and #11 needs less (paper IV.B)."""
-    cfg = load()
-    s = RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
-    base = Params(strut_damping=1.0)
+    s = build(RollSettings, load())
+    base = Params()  # the rolls damp the struts by s.strut_damping (RollSettings.rolling)
     designs = [base, base.replace(cable_stiffness=1200.0)]
     both = ev.roll_sequence(designs, s, 6.0)
     alone = ev.roll_sequence(designs[1:], s, 6.0)[0]

@@ -35,7 +35,7 @@ def _with(**kw):
 ])
 def test_a_bad_study_names_its_key(study, key):
     with pytest.raises(ConfigError) as e:
-        spec.validate(study)
+        study_config.validate(study)
     assert key in str(e.value)
 
 
@@ -44,11 +44,11 @@ def test_a_box_with_an_impossible_corner_is_refused():
     st = _with(parameters={"cable_stiffness": {"low": 300.0, "high": 1200.0, "units": "N/m"},
                            "cable_pretension": {"low": 20.0, "high": 60.0, "units": "N"}})
     with pytest.raises(ConfigError, match="study key parameters: the corner .* is not a valid robot"):
-        spec.validate(st)
+        study_config.validate(st)
 
 
 def test_grid_is_the_full_factorial_and_chunks_cover_it_once():
-    st = spec.validate(_with(chunk_size=4))
+    st = study_config.validate(_with(chunk_size=4))
     X = spec.design_matrix(st)
     assert X.shape == (9, 2) == (spec.n_designs(st), 2)
     assert sorted(map(tuple, X)) == sorted((k, t) for k in (800, 1000, 1200) for t in (15, 20, 25))
@@ -59,12 +59,12 @@ def test_grid_is_the_full_factorial_and_chunks_cover_it_once():
 
 @pytest.mark.parametrize("method, n, size", [("lhs", 10, 10), ("sobol", 8, 8), ("saltelli", 8, 32), ("morris", 5, 15)])
 def test_samples_are_seeded_inside_the_box(method, n, size):
-    st = spec.validate(_with(design={"method": method, "n": n, "seed": 4}))
+    st = study_config.validate(_with(design={"method": method, "n": n, "seed": 4}))
     X = spec.design_matrix(st)
     assert X.shape == (size, 2) == (spec.n_designs(st), 2)
     assert np.all(X >= [800, 15]) and np.all(X <= [1200, 25])
     np.testing.assert_array_equal(X, spec.design_matrix(st))          # same study, same designs
-    other = spec.validate(_with(design={"method": method, "n": n, "seed": 5}))
+    other = study_config.validate(_with(design={"method": method, "n": n, "seed": 5}))
     assert not np.array_equal(X, spec.design_matrix(other))
     if method == "lhs":  # one sample in each of the n strata of every parameter
         for j, (lo, hi) in enumerate([(800, 1200), (15, 25)]):
@@ -73,7 +73,7 @@ def test_samples_are_seeded_inside_the_box(method, n, size):
 
 def test_design_params_set_only_the_varied_parameters():
     from tensegrity.physics.params import Params
-    st = spec.validate(BASE)
+    st = study_config.validate(BASE)
     p = spec.design_params(Params(strut_mass=0.3), st, np.array([[900.0, 18.0]]))[0]
     assert (p.cable_stiffness, p.cable_pretension, p.strut_mass) == (900.0, 18.0, 0.3)
     assert p.cable_rest_length == pytest.approx(0.5 * np.sqrt(6) / 4 - 18.0 / 900.0)
@@ -81,10 +81,10 @@ def test_design_params_set_only_the_varied_parameters():
 
 @pytest.mark.parametrize("name", ["stiffness_pretension", "robustness"])
 def test_the_example_studies_are_valid(name):
-    st = spec.load(name, root=ROOT)
+    st = study_config.load(name, root=ROOT)
     assert st["name"] == name and spec.n_designs(st) >= 64
 
 
 def test_an_unknown_study_name_lists_the_known_ones():
     with pytest.raises(ConfigError, match="known studies: .*stiffness_pretension"):
-        spec.load("no_such_study", root=ROOT)
+        study_config.load("no_such_study", root=ROOT)

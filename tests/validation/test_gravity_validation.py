@@ -3,7 +3,7 @@ the workspace's pressure, and the verdicts follow the numbers."""
 import numpy as np
 import pytest
 
-from tensegrity.locomotion.control import RollSettings
+from tensegrity.locomotion.settings import RollSettings
 from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.validation import gravity as vg, pages
@@ -17,7 +17,7 @@ ISO = topo.face_number(topo.CONTACT_FACES["isosceles"])  # (10,11,12)
 @pytest.fixture(scope="module")
 def sweep():
     """#11 ramped on (10,11,12) on flat ground: it rolls over 10-11 (the paper's second roll)."""
-    return gv.run(Params(), ISO, [11], [0.0], [0.0], max_pressure=2.6)
+    return gv.run(Params(), ISO, [11], [0.0], [0.0], gv.GravitySetup(max_pressure=2.6, strut_damping=0.0))
 
 
 def test_a_grounded_roll_tips_where_the_gravity_workspace_says(sweep):
@@ -67,8 +67,8 @@ def test_near_the_tipping_point_the_ramp_holds_as_the_roll_does():
     constant pressure. A steady ramp (no hold) overshoots the roll's tipping pressure; with the
     controller's hold on lift the workspace matches the grounded roll (check G.1)."""
     params, equi = Params(strut_damping=1.0), topo.face_number(topo.CONTACT_FACES["equilateral"])
-    steady = gv.run(params, equi, [10], [15.0], [90.0], max_pressure=1.0, hold_time=0.0)
-    held = gv.run(params, equi, [10], [15.0], [90.0], max_pressure=1.0)
+    steady = gv.run(params, equi, [10], [15.0], [90.0], gv.GravitySetup(max_pressure=1.0, hold_time=0.0))
+    held = gv.run(params, equi, [10], [15.0], [90.0], gv.GravitySetup(max_pressure=1.0))
     rc = vg.check_rolls(params, {"equilateral": held}, [15.0], RollSettings(), 1.0)
     assert held.tip_pressure[0, 0, 0] < steady.tip_pressure[0, 0, 0] - 0.05
     assert rc.difference[0] < 0.1 < abs(rc.roll_tip[0] - steady.tip_pressure[0, 0, 0]), (

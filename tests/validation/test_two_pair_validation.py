@@ -3,8 +3,8 @@ simulated nominal and fails on a displaced one; the verdict tables carry every r
 import numpy as np
 import pytest
 
-from tensegrity.io import two_pair_formats as tpf
-from tensegrity.io.config import defaults, params_from_config
+from tensegrity.io.formats import two_pair as tpf
+from tensegrity.physics.params import Params
 from tensegrity.validation import pages, two_pair as v
 from tensegrity.validation.common import FAIL, PASS
 from tensegrity.workspace import two_pair as tp
@@ -14,17 +14,12 @@ ISO, LEVELS = 20, [2.4, 4.8]
 
 @pytest.fixture(scope="module")
 def contact():
-    params = params_from_config(defaults())
+    params = Params()
     reps = np.array([[10, 11]])
-    r = tp.sweep(params, ISO, reps, LEVELS, 1.0, 0.2)
-    cog, support, path = tp.map_face(ISO, ISO, reps, r["cog"], r["support"])
-    m = tp.margins(cog, support)
-    t = [tp.tips(LEVELS, cog[c], support[c], m[c], ISO) for c in range(66)]
-    ws = {"cog": cog, "support": support, "staircase": path, "margin": m,
-          "tip_pressure": np.array([x[0] for x in t]), "tip_edge": np.array([x[1] for x in t]),
-          "tip_boundary": np.array([x[2] for x in t])}
-    ds = tpf.contact_dataset(LEVELS, tp.COMBOS, ws, np.zeros(66), np.full(cog.shape, np.nan),
-                             {"contact": "isosceles", "face": ISO})
+    r = tp.sweep(params, ISO, reps, tp.TwoPairSetup(levels=tuple(LEVELS)))
+    ws, swept, std = tp.contact_workspace(ISO, reps, r, LEVELS)
+    ds = tpf.contact_dataset(LEVELS, tp.COMBOS, ws, swept, std, {"contact": "isosceles", "face": ISO},
+                             params.strut_length)
     return params, ds
 
 

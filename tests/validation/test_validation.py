@@ -8,7 +8,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from tensegrity import stages
+from tensegrity.io import settings
+from tensegrity.io.formats import run as run_formats
+from tensegrity.stages import nominal as nominal_stage, sweep as sweep_stage, validate as validate_stage
+from tensegrity.stages.config import stage_config
 from tensegrity.io import config
 from tensegrity.io import datasets
 from tensegrity.physics import frames, topology as topo
@@ -16,9 +19,9 @@ from tensegrity.workspace import mapping
 from tensegrity.physics import statics
 from tensegrity.validation import checks, grounded, paper, summary
 from tensegrity.validation import runs as demo_runs
-from tensegrity.validation import report as validation_report
 from tensegrity.validation.common import FAIL, PASS, SKIP, CheckError, CheckSettings
-from tensegrity.validation.nominals import SweepSetup, full_nominal, simulate_nominal
+from tensegrity.validation.nominals import full_nominal, simulate_nominal
+from tensegrity.workspace.sweep import SweepSetup
 from tensegrity.physics.params import Params
 
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
@@ -26,6 +29,7 @@ ISO = topo.face_number(topo.CONTACT_FACES["isosceles"])  # (10,11,12)
 
 P = Params()
 FREE = Params(gravity=0.0)
+DISCARD = 0.2  # s, the pipeline's nominal average (config nominal.discard)
 REPO = Path(__file__).resolve().parents[2]
 
 
@@ -146,7 +150,7 @@ def test_orbit_compares_each_member_from_its_own_corner(static_nominals):
 def free_run():
     """A short free-mode staircase of #10 and #4 on (9,10,12), averaged as the pipeline does."""
     setup = SweepSetup(levels=(1.2, 2.4), hold=1.0)
-    return setup, simulate_nominal(FREE, EQUI, [10, 4], setup)
+    return setup, simulate_nominal(FREE, EQUI, [10, 4], setup, DISCARD)
 
 
 def test_statics_check_passes_on_the_dynamic_nominal_and_fails_when_perturbed(free_run):
@@ -180,7 +184,7 @@ def small_workspace():
     setup = SweepSetup(levels=(2.4,), hold=0.5)
     full = {}
     for face in (EQUI, ISO):
-        run = simulate_nominal(FREE, face, [10, 11], setup)
+        run = simulate_nominal(FREE, face, [10, 11], setup, DISCARD)
         c, s = np.full((12, 1, 3), np.nan), np.full((12, 1, 3, 3), np.nan)
         c[[9, 10]], s[[9, 10]] = run.cog, run.support
         full[str(topo.FACE_TYPES[face - 1])] = (c, s)
@@ -195,7 +199,7 @@ def small_workspace():
 
 def test_mapping_check_passes_for_the_symmetry_map(small_workspace):
     setup, ws, _ = small_workspace
-    chk = checks.check_mapping(FREE, ws, [1, 7, 9, 18], setup, 1e-4)
+    chk = checks.check_mapping(FREE, ws, [1, 7, 9, 18], setup, DISCARD, 1e-4)
     assert status(chk, "3") == PASS, summary.verdicts(chk)
     d = chk.difference
     assert np.isfinite(d).sum() == 4 * 2 and np.nanmax(d) < 1e-9  # free dynamics are equivariant
@@ -207,18 +211,18 @@ def test_mapping_check_fails_for_a_wrong_map_or_a_small_sample(small_workspace):
     bad = ws.copy(deep=True)
     c, s = full["equilateral"]
     bad["cog"][0], bad["support"][0] = c, s
-    chk = checks.check_mapping(FREE, bad, [1, 7, 9, 18], setup, 1e-4)
+    chk = checks.check_mapping(FREE, bad, [1, 7, 9, 18], setup, DISCARD, 1e-4)
     assert status(chk, "3") == FAIL and np.nanmax(chk.difference[0]) > 1e-3
     # the right CoG but the triangle's corners in the wrong order
     bad = ws.copy(deep=True)
     bad["support"][6] = ws["support"].values[6][..., [1, 2, 0], :]  # face 7, (6,10,11)
-    chk = checks.check_mapping(FREE, bad, [1, 7, 9, 18], setup, 1e-4)
+    chk = checks.check_mapping(FREE, bad, [1, 7, 9, 18], setup, DISCARD, 1e-4)
     assert status(chk, "3") == FAIL and np.nanmax(chk.difference) < 1e-9
     assert np.nanmax(chk.support_difference[1]) > 1e-2
-    chk = checks.check_mapping(FREE, ws, [1, 9], setup, 1e-4)  # one face of each kind is too few
+    chk = checks.check_mapping(FREE, ws, [1, 9], setup, DISCARD, 1e-4)  # one face of each kind is too few
     assert status(chk, "3") == FAIL and np.nanmax(chk.difference) < 1e-9
     assert chk.kinds == {"equilateral": 1, "isosceles": 1} and chk.faces_with_data == 2
-    chk = checks.check_mapping(FREE, ws.assign_coords(pressure=[2.0]), [1, 9], setup, 1e-4)
+    chk = checks.check_mapping(FREE, ws.assign_coords(pressure=[2.0]), [1, 9], setup, DISCARD, 1e-4)
     assert status(chk, "3") == SKIP and measured(chk, "3") == "the workspace was swept at other levels"
 
 
@@ -264,9 +268,9 @@ def test_grounded_check_reports_where_the_robot_rolled():
     """A step to 2.4 MPa on #10 rolls the grounded robot onto (10,11,12) although the free CoG
     stays 19 mm inside: 4.2 fails, with the roll in the numbers; #1 stands and moves little."""
     setup = SweepSetup(levels=(2.4,), hold=1.0)
-    run = simulate_nominal(FREE, EQUI, [10, 1], setup)
+    run = simulate_nominal(FREE, EQUI, [10, 1], setup, DISCARD)
     nominals = {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}
-    chk = grounded.check_grounded(P, nominals, setup, settle=0.5, tolerance=5e-3)
+    chk = grounded.check_grounded(P, nominals, setup, DISCARD, settle=0.5, tolerance=5e-3)
     assert status(chk, "4.2") == FAIL and "#10 rolls at 2.4 MPa onto (10,11,12)" in measured(chk, "4.2")
     assert status(chk, "4.1") == PASS
     assert chk.rolled[0, 9, 0] and not chk.rolled[0, 0, 0]
@@ -275,19 +279,19 @@ def test_grounded_check_reports_where_the_robot_rolled():
     table = summary.tables(chk)[0][2]
     assert [row[:2] for row in table] == [["(9,10,12)", "#1"], ["(9,10,12)", "#10"]]
     assert table[1][2:] == ["n/a", "n/a", "n/a", "-", "2.4 -> (10,11,12)"]
-    assert status(grounded.check_grounded(P, nominals, setup, settle=0.5, tolerance=1e-5), "4.1") == FAIL
+    assert status(grounded.check_grounded(P, nominals, setup, DISCARD, settle=0.5, tolerance=1e-5), "4.1") == FAIL
 
 
 # ------------------------------------------------------------------ 5. time step
 
 def test_timestep_check_passes_and_fails_when_perturbed():
     setup = SweepSetup(levels=(2.4,), hold=0.5)
-    run = simulate_nominal(FREE, EQUI, [10], setup)
-    ok = checks.check_timestep(FREE, {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}, setup, 1e-4)
+    run = simulate_nominal(FREE, EQUI, [10], setup, DISCARD)
+    ok = checks.check_timestep(FREE, {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}, setup, DISCARD, 1e-4)
     assert status(ok, "5") == PASS and np.nanmax(ok.difference) < 5e-5
     cog = run.cog + [3e-4, 0, 0]
     bad = {"equilateral": nominal_dataset("equilateral", EQUI, run.pairs, setup.levels, cog, run.support)}
-    chk = checks.check_timestep(FREE, bad, setup, 1e-4)
+    chk = checks.check_timestep(FREE, bad, setup, DISCARD, 1e-4)
     assert status(chk, "5") == FAIL and measured(chk, "5").startswith("largest 0.3 mm (#10 at 2.4 MPa")
 
 
@@ -298,9 +302,9 @@ def test_checks_without_a_complete_pair_are_not_evaluated():
     cog[0, 0, 0] = np.nan
     nominals = {"equilateral": nominal_dataset("equilateral", EQUI, [10], [2.4], cog, np.tile(tri, (1, 1, 1, 1)))}
     setup = SweepSetup(levels=(2.4,), hold=0.5)
-    chk = checks.check_timestep(FREE, nominals, setup)
+    chk = checks.check_timestep(FREE, nominals, setup, DISCARD)
     assert status(chk, "5") == SKIP and measured(chk, "5") == "no sweep"
-    chk = grounded.check_grounded(P, nominals, setup)
+    chk = grounded.check_grounded(P, nominals, setup, DISCARD)
     assert chk.status == {"4.1": SKIP, "4.2": SKIP} and not chk.faces
     chk = checks.check_statics(P, nominals, [2.4])
     assert status(chk, "2") == SKIP and measured(chk, "2") == "no pair swept at every level"
@@ -316,11 +320,12 @@ def tiny_stage(tmp_path_factory):
                                  "validate": {"statics_pressures": [2.4]}})
     noms = []
     for contact in ("equilateral", "isosceles"):
-        sweeps = stages.run_sweep(cfg, contact, tmp / "sweeps" / contact)
-        noms.append(stages.run_nominal(cfg, sweeps, tmp / "nominal" / f"{contact}.nc"))
-    ws = stages.run_map(cfg, noms, tmp / "workspace.nc")
+        sweeps = sweep_stage.sweep(stage_config(cfg, "sweep"), contact, tmp / "sweeps" / contact)
+        noms.append(nominal_stage.nominal(stage_config(cfg, "nominal"), sweeps, tmp / "nominal" / f"{contact}.nc"))
+    ws = nominal_stage.workspace({}, noms, tmp / "workspace.nc")
     out = tmp / "validation"
-    paths = validation_report.run_stage(cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html")
+    cfg = stage_config(cfg, "validate")
+    paths = validate_stage.validate(cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html")
     return cfg, noms, ws, out, paths
 
 
@@ -358,13 +363,14 @@ def test_a_check_that_raises_is_shown_as_failed(tiny_stage, monkeypatch):
     monkeypatch.setattr(grounded, "check_grounded", boom)
     monkeypatch.setattr(checks, "check_timestep", boom)
     nominals = {ds.attrs["contact"]: ds for ds in map(datasets.read, noms)}
-    results = checks.run_checks(config.params_from_config(cfg), validation_report.sweep_setup(cfg), nominals,
-                                datasets.read(ws), validation_report.check_settings(cfg))
+    results = checks.run_checks(settings.params(cfg), settings.build(SweepSetup, cfg), DISCARD, nominals,
+                                datasets.read(ws), settings.build(CheckSettings, cfg))
     assert isinstance(results[1], CheckError) and results[1].status == {"2": FAIL}
     rows = {r.id: r for res in results for r in summary.verdicts(res)}
     assert rows["2"].status == FAIL and rows["2"].measured == "error: RuntimeError: solver diverged"
     assert rows["1.2"].status in (PASS, FAIL)
-    ds, _ = validation_report.to_dataset(results, [2.0, 2.4], [1, 7, 9, 18], [2.4])
+    from tensegrity.io.formats.validation import workspace_validation_dataset
+    ds, _ = workspace_validation_dataset(results, [2.0, 2.4], [1, 7, 9, 18], [2.4])
     assert list(ds["check"].values) == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4", "5", "6"]
     assert "statics_difference" not in ds and "tip_pressure" in ds
 
@@ -382,9 +388,9 @@ def test_runs_check_fails_for_a_run_that_did_not_arrive(tmp_path):
     good = run_file(tmp_path / "flat.nc", "flat", "arrived")
     bad = run_file(tmp_path / "slope_up.nc", "slope_up", "no_contact", goal=(1.0, 0.0, 0.0), final=(-0.5, 0.0, 0.1))
     edges = run_file(tmp_path / "paper.nc", "paper", "arrived", goal=(np.nan,) * 3)
-    res = demo_runs.check_runs(demo_runs.read_runs([edges, good]))
+    res = demo_runs.check_runs(run_formats.read_runs([edges, good]))
     assert res.status == {"6": PASS} and np.isnan(res.distance[0]) and res.distance[1] == pytest.approx(0.1414, abs=1e-4)
-    res = demo_runs.check_runs(demo_runs.read_runs([edges, good, bad]))
+    res = demo_runs.check_runs(run_formats.read_runs([edges, good, bad]))
     assert res.status == {"6": FAIL} and list(res.arrived) == [True, True, False]
     row, = summary.verdicts(res)
     assert row.status == FAIL and "slope_up no_contact (3 rolls, 1.50 m from the goal): no_contact because" in row.measured
@@ -392,9 +398,9 @@ def test_runs_check_fails_for_a_run_that_did_not_arrive(tmp_path):
     assert [r[:2] for r in rows] == [["paper", "arrived"], ["flat", "arrived"], ["slope_up", "no_contact"]]
     assert demo_runs.check_runs({}).status == {"6": SKIP}
     # the end-of-workflow warning names the runs that did not arrive, and only those
-    text = demo_runs.warning([edges, good, bad, tmp_path / "missing.nc"])
+    text = validate_stage.runs_warning([edges, good, bad, tmp_path / "missing.nc"])
     assert "slope_up: no_contact (no_contact because)" in text and "flat" not in text
-    assert demo_runs.warning([edges, good]) == ""
+    assert validate_stage.runs_warning([edges, good]) == ""
 
 
 def test_stage_fails_check_6_in_every_output(tiny_stage, tmp_path):
@@ -402,8 +408,8 @@ def test_stage_fails_check_6_in_every_output(tiny_stage, tmp_path):
     runs = [run_file(tmp_path / "paper.nc", "paper", "arrived", goal=(np.nan,) * 3),
             run_file(tmp_path / "slope_up.nc", "slope_up", "no_contact")]
     out = tmp_path / "validation"
-    validation_report.run_stage(cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html",
-                                run_paths=runs)
+    validate_stage.validate(cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html",
+                            run_paths=runs)
     ds = datasets.read(out / "validation.nc")
     st = dict(zip(ds["check"].values, ds["status"].values))
     assert st["6"] == FAIL
@@ -412,13 +418,6 @@ def test_stage_fails_check_6_in_every_output(tiny_stage, tmp_path):
     assert ds["run_distance_to_goal"].attrs["units"] == "m" and ds["run_rolls"].attrs["long_name"]
     assert re.search(r"^\| 6 \| .* \| FAIL \|$", (out / "summary.md").read_text(), re.M)
     assert "slope_up no_contact" in (out / "summary.html").read_text()
-
-
-def test_setup_and_settings_defaults_are_the_schema_defaults():
-    """SweepSetup and CheckSettings repeat the schema's defaults: they must not drift."""
-    cfg = config.defaults()
-    assert validation_report.sweep_setup(cfg) == SweepSetup(levels=tuple(cfg["sweep"]["levels"]))
-    assert validation_report.check_settings(cfg) == CheckSettings()
 
 
 def test_the_rule_puts_the_summary_in_the_report():

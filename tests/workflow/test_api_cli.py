@@ -8,14 +8,20 @@ import numpy as np
 import pytest
 
 import tensegrity
-from tensegrity import cli, cli_args, stages
+from tensegrity import cli
+from tensegrity.cli import args as cli_args
 from tensegrity.io import config
 from tensegrity.io import datasets
 
 
-def test_public_names_resolve():
-    for name in tensegrity.__all__:
-        assert getattr(tensegrity, name) is not None
+def test_public_names_resolve_to_their_modules():
+    """Every name of the public API is the object of the module `_API` names (lazy import)."""
+    import importlib
+    for name, (module, attr) in tensegrity._API.items():
+        assert getattr(tensegrity, name) is getattr(importlib.import_module(f"tensegrity.{module}"), attr), name
+    assert set(tensegrity.__all__) == {"__version__", "load_workspace", *tensegrity._API}
+    with pytest.raises(AttributeError, match="no attribute 'roll'"):
+        tensegrity.roll
 
 
 def test_a_curve_evaluates_without_scipy(tmp_path):
@@ -27,19 +33,45 @@ def test_a_curve_evaluates_without_scipy(tmp_path):
     assert float(out.stdout) == pytest.approx(2.0 * 1.0 ** 2 + 0.1 * 1.0 + 0.3)
 
 
+SMALL = ["--set", "sweep.pairs=[9, 10, 11]", "--set", "sweep.levels=[1.2, 2.4, 3.6, 4.8]",
+         "--set", "sweep.hold=0.3", "--set", "nominal.discard=0.1"]
+
+
 @pytest.fixture(scope="module")
 def small_results(tmp_path_factory):
-    """A small pipeline run (3 pairs, 4 levels) through the stage functions."""
+    """A small pipeline run (3 pairs, 4 levels) through `tensegrity stage`, the rules' functions."""
     d = tmp_path_factory.mktemp("res")
-    cfg = config.load(overrides={"sweep": {"pairs": [9, 10, 11], "levels": [1.2, 2.4, 3.6, 4.8],
-                                           "hold": 0.3}, "nominal": {"discard": 0.1}})
+
+    def stage(*argv):
+        assert cli.main(["stage", *argv, *SMALL]) == 0
     for c in ("equilateral", "isosceles"):
-        paths = stages.run_sweep(cfg, c, d / "sweeps" / c)
-        stages.run_nominal(cfg, paths, d / "nominal" / f"{c}.nc")
-        stages.run_fit(cfg, d / "nominal" / f"{c}.nc", d / "curves" / f"{c}.nc")
-    stages.curves_json([d / "curves" / f"{c}.nc" for c in ("equilateral", "isosceles")], d / "curves.json")
-    stages.run_map({}, [d / "nominal" / f"{c}.nc" for c in ("equilateral", "isosceles")], d / "workspace.nc")
+        stage("sweep", f"contact={c}", f"out_dir={d / 'sweeps' / c}")
+        stage("nominal", *(f"sweep_paths={p}" for p in sorted((d / "sweeps" / c).glob("*.nc"))),
+              f"out_path={d / 'nominal' / f'{c}.nc'}")
+        stage("curves", f"nominal_path={d / 'nominal' / f'{c}.nc'}", f"out_path={d / 'curves' / f'{c}.nc'}")
+    stage("curves_json", *(f"curve_paths={d / 'curves' / f'{c}.nc'}" for c in ("equilateral", "isosceles")),
+          f"out_path={d / 'curves.json'}")
+    stage("workspace", *(f"nominal_paths={d / 'nominal' / f'{c}.nc'}" for c in ("equilateral", "isosceles")),
+          f"out_path={d / 'workspace.nc'}")
     return d
+
+
+def test_stage_names_a_missing_or_unknown_argument(small_results, capsys):
+    assert cli.main(["stage", "curves", "nominal_path=x.nc"]) == cli.EXIT_INPUT
+    assert "missing argument(s) out_path" in capsys.readouterr().err
+    assert cli.main(["stage", "curves", "nominal=x.nc", "out_path=y.nc"]) == cli.EXIT_INPUT
+    assert "'nominal=x.nc' is not ARG=VALUE with ARG one of nominal_path, out_path" in capsys.readouterr().err
+    assert cli.main(["stage", "slope_limit"]) == 0  # alone: the stage's arguments
+    assert "gravity_path=... workspace_path=..." in capsys.readouterr().out
+
+
+def test_stage_files_carry_the_keys_their_stage_reads(small_results):
+    """The provenance of a file made by `tensegrity stage` is the rule's: the stage's keys merged
+    over its inputs' (the curves: fit.*, nominal.discard, the sweep's keys; no validate section)."""
+    cfg = datasets.provenance_config(small_results / "curves" / "equilateral.nc")
+    assert set(cfg) == {"params", "sim", "sweep", "nominal", "fit"}
+    assert set(cfg["sim"]) == {"dt", "record_every"} and set(cfg["nominal"]) == {"discard"}
+    assert cfg["sweep"]["levels"] == [1.2, 2.4, 3.6, 4.8] and "contacts" not in cfg["sweep"]
 
 
 def test_query_matches_the_nominal_cog_at_a_swept_level(small_results, capsys):
@@ -58,10 +90,11 @@ def test_query_matches_the_nominal_cog_at_a_swept_level(small_results, capsys):
 def test_query_on_a_mapped_face_agrees_with_the_workspace(small_results):
     curves = tensegrity.load_curves(small_results / "curves.json")
     ws = datasets.read(small_results / "workspace.nc")
+    lookup = tensegrity.load_workspace(small_results / "workspace.nc")
     face = 7  # (6,10,11), reached by a reflection
     pair = int(ws["pair"].values[np.isfinite(ws["cog"].sel(face=face, pressure=3.6)[:, 0]).values][0])
-    ans = tensegrity.query_workspace(curves, ws, face, pair, 3.6)
-    canon = tensegrity.query_workspace(curves, ws, 8, ans.source_pair, 3.6)  # (9,10,12)
+    ans = tensegrity.query_workspace(curves, lookup, face, pair, 3.6)
+    canon = tensegrity.query_workspace(curves, lookup, 8, ans.source_pair, 3.6)  # (9,10,12)
     np.testing.assert_allclose(np.abs(ans.cog), np.abs(canon.cog), atol=1e-12)  # x may flip
     cv = datasets.read(small_results / "curves" / "equilateral.nc")["cv_rmse"].sel(pair=ans.source_pair).values
     err = np.abs(ans.cog - ws["cog"].sel(face=face, pair=pair, pressure=3.6).values)
@@ -175,14 +208,18 @@ def test_render_draws_the_reference_support_of_the_datasets_strut_length(tmp_pat
     ds = formats.nominal_dataset([10], [1.0, 2.0], np.full((n, P, 3), 0.1), np.zeros((n, P, 3)),
                                  np.zeros((n, P, 3, 3)), np.full((n, P), 0.05), np.array([np.nan]),
                                  np.zeros((n, P), np.int8),
-                                 {"contact": "equilateral", "face": 8, "face_nodes": [9, 12, 10], "mode": "free"})
-    path = datasets.write(ds, tmp_path / "n.nc", {"params": {"strut_length": 0.8}}, "test", stage="nominal",
-                          allow_nan=formats.NOMINAL_ALLOW_NAN)
+                                 {"contact": "equilateral", "face": 8, "face_nodes": [9, 12, 10], "mode": "free"}, 0.8)
+    path = datasets.write(ds, tmp_path / "n.nc", {}, "test", stage="nominal", allow_nan=formats.NOMINAL_ALLOW_NAN)
     seen = {}
     monkeypatch.setattr(paper, "fig_workspace", lambda lines, support, out, **kw: seen.update(support=support))
-    stages.render_dataset(path, tmp_path / "n.png")
+    from tensegrity.stages.render import render_dataset
+    render_dataset(path, tmp_path / "n.png")
     np.testing.assert_allclose(seen["support"], frames.rest_frame(8, 0.8)[1])
     assert not np.allclose(seen["support"], frames.rest_frame(8, 0.5)[1])
+    # a file written before the geometry was stored in it: the strut length of its provenance
+    old = datasets.write(ds.drop_vars(["strut_length", "rest_cog", "rest_support"]), tmp_path / "old.nc",
+                         {"params": {"strut_length": 0.7}}, "test", allow_nan=formats.NOMINAL_ALLOW_NAN)
+    assert datasets.strut_length(old) == 0.7 and datasets.strut_length(path) == 0.8
 
 
 class _Terminal(io.StringIO):
@@ -192,22 +229,25 @@ class _Terminal(io.StringIO):
 
 @pytest.mark.parametrize("terminal", [False, True])
 def test_progress_counts_simulated_seconds_on_a_terminal_only(monkeypatch, terminal):
-    """`progress.simulated` (roll, bench_locomotion) counts the simulated seconds of every
-    `dynamics.simulate` call while it is open, on a terminal; elsewhere it writes nothing."""
-    from tensegrity import progress
+    """The bar of `roll` and `simulate` (`progress.bar`, fed by the simulations' progress
+    callback, here `lockstep`'s) counts simulated seconds on a terminal; elsewhere it writes
+    nothing."""
+    from tensegrity.cli import progress
+    from tensegrity.locomotion import RollSettings
+    from tensegrity.locomotion.lockstep import lockstep
     from tensegrity.physics import dynamics as d
-    from tensegrity.physics.actuation import Schedule
     from tensegrity.physics.params import Params
     from tensegrity.physics.terrain import Terrain
     err = _Terminal() if terminal else io.StringIO()
     monkeypatch.setattr(sys, "stderr", err)
-    params, flat = Params(), Terrain.flat()
-    state = d.stand_on(params, 1, flat)
-    with progress.simulated("test") as bar:
-        for _ in range(2):
-            state, _ = d.simulate(params, state, Schedule.constant(np.zeros(12), 0.01), flat, 1e-4, 10)
+    params, flat, s = Params(), Terrain.flat(), RollSettings()
+
+    def hold_three(b, obs):
+        for _ in range(3):
+            obs = yield np.zeros(12)
+    with progress.bar(None, "test") as bar:
+        lockstep(params, flat, d.stand_on(params, 1, flat), hold_three, s, bar.update)
         if terminal:  # a disabled bar counts nothing
-            assert bar.n == pytest.approx(0.02)
-    assert d.simulate.__name__ == "simulate"  # put back
-    assert ("test: 0.0 s simulated" in err.getvalue()) == terminal
+            assert bar.n == pytest.approx(3 * s.interval)
+    assert ("test: 0.1 s simulated" in err.getvalue()) == terminal
     assert (err.getvalue() == "") != terminal

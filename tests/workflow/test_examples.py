@@ -178,8 +178,8 @@ def test_example_runs(request, workflow_copy, doc, lang, text, line):
         allowed = (0, 1) if " roll " in f" {cmd} " and "Traceback" not in out else (0,)
         assert code in allowed, f"{doc}:{line}: {cmd}\n{out[-3000:]}"
         if _is_run(cmd):  # a run that did not arrive is named at the end (and fails check 6)
-            from tensegrity.validation import runs as demo_runs
-            bad = demo_runs.not_arrived(sorted((cwd / "results" / "locomotion").glob("*.nc")))
+            from tensegrity.io.formats.run import not_arrived
+            bad = not_arrived(sorted((cwd / "results" / "locomotion").glob("*.nc")))
             for name, outcome, _ in bad:
                 assert f"  {name}: {outcome} (" in out, f"{doc}:{line}: {name} did not arrive, unnamed"
             if (cwd / "results" / "validation" / "summary.md").exists():

@@ -36,7 +36,7 @@ def study_run(tmp_path_factory):
 
 
 def test_the_study_writes_its_designs_analysis_and_figures(study_run):
-    st = spec.load(STUDY)
+    st = study_config.load(STUDY)
     ds = datasets.read(study_run / OUT / "designs.nc")
     assert ds.sizes["design"] == spec.n_designs(st) == 8
     X = spec.design_matrix(st)

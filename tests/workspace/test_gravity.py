@@ -4,8 +4,8 @@ its tipping pressure, and the unactuated robot's standing limit is the geometric
 import numpy as np
 import pytest
 
-from tensegrity import gravity_stages
-from tensegrity.io import config, gravity_formats as gf
+from tensegrity.io import config
+from tensegrity.io.formats import gravity as gf
 from tensegrity.physics import dynamics as d, frames, topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
@@ -15,12 +15,17 @@ from tensegrity.workspace import slope_limit as sl
 pytestmark = pytest.mark.unit
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])   # (9,10,12)
 P = Params()
+G = gv.GravitySetup(strut_damping=0.0)  # the ramp of the undamped robot P
+
+
+def ramp(**kw) -> gv.GravitySetup:
+    return gv.GravitySetup(**{"strut_damping": 0.0, **kw})
 
 
 @pytest.fixture(scope="module")
 def flat():
     """#10 and #11 on (9,10,12) on flat ground, three headings, each simulated."""
-    return gv.run(P, EQUI, [10, 11], [0.0], [0.0, 100.0, 230.0], max_pressure=4.4, flat_once=False)
+    return gv.run(P, EQUI, [10, 11], [0.0], [0.0, 100.0, 230.0], ramp(max_pressure=4.4), flat_once=False)
 
 
 def test_heading_turns_the_robot_as_asked():
@@ -45,7 +50,7 @@ def test_the_zero_slope_strip_is_flat_ground(flat):
     earlier than the free workspace's 4.2 MPa (gravity sags the robot toward the edge)."""
     state = gv.place(P, EQUI, Terrain.flat(), (0.0, 0.0), 0.0)
     level, n = gv.ramp_levels(1.0, 4.4, 0.5, 0.02)
-    rec, gone = gv.ramp(P, Terrain.flat(), EQUI, state, np.array([10]), level, n, 0.02)
+    rec, gone = gv.ramp(P, Terrain.flat(), EQUI, state, np.array([10]), level, n, G)
     tip, _ = gv.tip(rec["pressure"][0], n, rec["margin"][0], gone[0])
     assert tip == pytest.approx(flat.tip_pressure[0, 0, 0], abs=0.01)
     assert 3.6 < tip < 4.1
@@ -55,7 +60,7 @@ def test_tipping_pressure_falls_as_the_slope_runs_down_toward_the_edge():
     rest = frames.rest_frame(EQUI, P.strut_length)[1]
     out = sl.direction(rest, EQUI, (10, 12))
     uphill = np.degrees(np.arctan2(-out[1], -out[0])) % 360  # downhill points across 10-12
-    sw = gv.run(P, EQUI, [10], [0.0, 4.0, 8.0, 12.0], [uphill], max_pressure=4.4)
+    sw = gv.run(P, EQUI, [10], [0.0, 4.0, 8.0, 12.0], [uphill], ramp(max_pressure=4.4))
     tip = sw.tip_pressure[:, 0, 0]
     assert np.all(np.diff(tip) < -0.2), tip
     assert (sw.tip_edge[:, 0, 0] == [10, 12]).all()
@@ -89,19 +94,19 @@ def test_the_standing_limit_tends_to_the_geometric_one_as_the_cables_stiffen():
 
 
 def test_the_dataset_round_trips_and_the_config_names_bad_keys(flat):
-    ds = gf.gravity_dataset({"equilateral": flat}, {})
+    ds = gf.gravity_dataset({"equilateral": flat}, G)
     back = gf.sweeps_from_dataset(ds)["equilateral"]
     np.testing.assert_array_equal(back.tip_pressure, flat.tip_pressure)
     np.testing.assert_array_equal(back.tip_edge, flat.tip_edge)
     assert all(ds[v].attrs["units"] and ds[v].attrs["long_name"] for v in ds.data_vars)
-    # the cross-key checks stop the configuration (before any job) and the stage alike
+    assert ds.attrs["max_pressure_setting"] == G.max_pressure
+    # the cross-key checks stop the configuration before any job; the settings check themselves
     for bad, key in (({"grid_step": 0.25}, "gravity.grid_step"), ({"validate_slopes": [7]}, "gravity.validate_slopes"),
                      ({"slopes": [15, 0], "validate_slopes": [0]}, "gravity.slopes")):
         with pytest.raises(config.ConfigError, match=key):
             config.validate({"gravity": bad})
-        cfg = config.merge(config.defaults(), {"gravity": bad})
-        with pytest.raises(ValueError, match=key):
-            gravity_stages.settings(cfg)
+    with pytest.raises(ValueError, match="gravity.grid_step"):
+        gv.GravitySetup(grid_step=0.25)
     for bad in ({"slopes": [0, 80]}, {"headings": [360]}, {"max_pressure": 12}, {"colour": 1}):
         with pytest.raises(config.ConfigError, match="gravity"):
             config.validate({"gravity": bad})
@@ -115,8 +120,8 @@ def test_a_settling_shared_by_copies_gives_the_same_numbers():
     state = d.State.concat([gv.place(P, EQUI, terrain, centres[i], 30.0, 3) for i in range(2)])
     level, n = gv.ramp_levels(1.0, 1.0, 0.2, 0.02)
     pairs = np.tile([10, 11, 4], 2)
-    one = gv.ramp(P, terrain, EQUI, state, pairs, level, n, 0.02)
-    shared = gv.ramp(P, terrain, EQUI, state, pairs, level, n, 0.02, copies=3)
+    one = gv.ramp(P, terrain, EQUI, state, pairs, level, n, G)
+    shared = gv.ramp(P, terrain, EQUI, state, pairs, level, n, G, copies=3)
     assert (one[1] <= n).tolist() == [False] * 3 + [True] * 3
     np.testing.assert_array_equal(one[1], shared[1])
     for k in one[0]:

@@ -45,7 +45,7 @@ def canonical():
     """Free-mode staircase on both canonical faces (short holds)."""
     out = {}
     for kind, face in topo.CONTACT_FACES.items():
-        res = sweep.run(Params(), face, PAIRS, LEVELS, hold=0.6)
+        res = sweep.run(Params(), face, PAIRS, sweep.SweepSetup(levels=tuple(LEVELS), hold=0.6))
         out[kind] = [nominal.nominal(res.t, res.level, res.cog[b], res.support[b], 2, 0.6, 0.2)
                      for b in range(len(PAIRS))]
     return out
@@ -62,7 +62,7 @@ def test_mapped_workspace_equals_a_direct_simulation_on_that_face(canonical, fac
     mapped_cog, mapped_sup = mapping.map_face(face, cog, sup)
     pair_src = mapping.face_map(face)[0]
     pairs = [p + 1 for p in range(12) if pair_src[p] + 1 in PAIRS]
-    direct = sweep.run(Params(), face, pairs, LEVELS, hold=0.6)
+    direct = sweep.run(Params(), face, pairs, sweep.SweepSetup(levels=tuple(LEVELS), hold=0.6))
     for b, pair in enumerate(pairs):
         c, _, s, _ = nominal.nominal(direct.t, direct.level, direct.cog[b], direct.support[b], 2, 0.6, 0.2)
         assert np.abs(c - mapped_cog[pair - 1]).max() < 1e-4  # m

@@ -3,8 +3,7 @@ statics, the reader contract, the fitted surfaces' evaluator, bad configuration.
 import numpy as np
 import pytest
 
-from tensegrity import two_pair_stages
-from tensegrity.io import two_pair_formats as tpf
+from tensegrity.io.formats import two_pair as tpf
 from tensegrity.io.config import ConfigError, defaults, merge, params_from_config, validate
 from tensegrity.physics import statics
 from tensegrity.workspace import two_pair as tp
@@ -12,6 +11,7 @@ from tensegrity.workspace import two_pair as tp
 EQ, ISO = 8, 20
 LEVELS = [2.4, 4.8]
 HOLD, DISCARD = 1.0, 0.2
+SETUP = tp.TwoPairSetup(levels=tuple(LEVELS), hold=HOLD, discard=DISCARD)
 
 
 @pytest.fixture(scope="module")
@@ -23,7 +23,7 @@ def params():
 def iso(params):
     """The whole isosceles canonical face from its orbit representatives (cheap grid)."""
     reps = tp.representatives(ISO)
-    r = tp.sweep(params, ISO, reps, LEVELS, HOLD, DISCARD)
+    r = tp.sweep(params, ISO, reps, SETUP)
     return reps, r, tp.map_face(ISO, ISO, reps, r["cog"], r["support"])
 
 
@@ -48,7 +48,7 @@ def test_mapped_combinations_equal_direct_sweeps(params, iso):
     mapped = [k for k, c in enumerate(tp.COMBOS.tolist()) if tuple(c) not in swept]  # by the mirror
     for face, rows in ((ISO, mapped[:2]), (12, [tp.combo_index(10, 11)])):  # face 12: another face
         order = ws["staircase"][face - 1, rows]
-        d = tp.sweep(params, face, order, LEVELS, HOLD, DISCARD)["cog"][:, 2]
+        d = tp.sweep(params, face, order, SETUP)["cog"][:, 2]
         swap = order[:, 0] > order[:, 1]
         d[swap] = d[swap].swapaxes(1, 2)
         np.testing.assert_allclose(d, ws["cog"][face - 1, rows], atol=1e-9)
@@ -57,11 +57,11 @@ def test_mapped_combinations_equal_direct_sweeps(params, iso):
 def test_equilateral_rotation_maps_exactly(params):
     """A 3-fold rotation moves the reference corner: the data of the other corners' frames."""
     reps = np.array([[9, 10]])
-    r = tp.sweep(params, EQ, reps, LEVELS, HOLD, DISCARD)
+    r = tp.sweep(params, EQ, reps, SETUP)
     cog, _, path = tp.map_face(EQ, EQ, reps, r["cog"], r["support"])
     got = np.flatnonzero(np.isfinite(cog[:, 0, 0, 0]))
     assert len(got) == 3  # the orbit of #9+#10 under the rotations
-    d = tp.sweep(params, EQ, path[got], LEVELS, HOLD, DISCARD)["cog"][:, 0]
+    d = tp.sweep(params, EQ, path[got], SETUP)["cog"][:, 0]
     swap = path[got, 0] > path[got, 1]
     d[swap] = d[swap].swapaxes(1, 2)
     np.testing.assert_allclose(d, cog[got], atol=1e-9)
@@ -118,7 +118,7 @@ def test_schema_names_the_bad_key(section, key):
 def test_stage_check_names_the_bad_key(tmp_path, section, key):
     with pytest.raises(ConfigError, match=key.replace(".", r"\.")):  # before any job
         validate({"two_pair": section})
-    cfg = merge(defaults(), {"two_pair": section})
-    with pytest.raises(ValueError, match=key.replace(".", r"\.")):
-        two_pair_stages.run_two_pair(cfg, "isosceles", tmp_path / "x.nc")
+    s = {**defaults()["two_pair"], **section}
+    with pytest.raises(ValueError, match=key.replace(".", r"\.")):  # and the setup itself, before any work
+        tp.TwoPairSetup(levels=tuple(s["levels"]), hold=s["hold"], discard=s["discard"], record_every=s["record_every"])
     assert not (tmp_path / "x.nc").exists()

@@ -11,8 +11,9 @@ rule fit:
         json="results/curves/curves.json",
         two_pair="results/curves/two_pair.json",
     params:
-        cfg=stage_config(config, "fit"),
-        two_pair_cfg=stage_config(config, "two_pair_curves"),
+        cfg=cfg("curves"),
+        json_cfg=cfg("curves_json"),
+        two_pair_cfg=cfg("two_pair_surfaces"),
     log:
         "results/logs/fit.log",
     benchmark:

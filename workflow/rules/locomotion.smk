@@ -1,11 +1,5 @@
-# Rolling locomotion (paper III.C-D, IV): demonstration runs planned from the
-# workspace and rolled in the grounded simulation, then Fig. 8-10, paths and an animation.
-# Rules call tensegrity.stages (locomotion_runs and the figure stages).
-
-LOCO = config["locomotion"]
-LOCO_RUNS = LOCO["runs"]
-PATH_RUNS = [r for r in LOCO_RUNS if r != "paper"]
-SLOPE_RUN = "slope_down" if "slope_down" in LOCO_RUNS or "slope_up" not in LOCO_RUNS else "slope_up"
+# Rolling locomotion (paper III.C-D, IV): demonstration runs planned from the workspace and
+# rolled in the grounded simulation, then Fig. 8-10, paths and an animation.
 # Only the configured runs are run: Figs. 8-10 need `paper` and a slope run, the GIF its run
 # (config/README.md); `runs: []` leaves out the locomotion stage.
 STATE_FIGURES = "paper" in LOCO_RUNS and SLOPE_RUN in LOCO_RUNS
@@ -25,7 +19,7 @@ if LOCO_RUNS:
         output:
             expand("results/locomotion/{run}.nc", run=LOCO_RUNS),
         params:
-            cfg=stage_config(config, "locomotion_run"),
+            cfg=cfg("locomotion_runs"),
             runs=LOCO_RUNS,  # in the order of the outputs
         log:
             "results/logs/locomotion/runs.log",
@@ -65,8 +59,7 @@ if LOCO_FIGURES:
             gif=[report(f"results/figures/rolling_{LOCO['animation_run']}.gif",
                         caption="../report/animation.rst", category="Locomotion")] if ANIMATION else [],
         params:
-            fps=LOCO["animation_fps"],
-            speed=LOCO["animation_speed"],
+            animation_cfg=cfg("animation"),
         log:
             "results/logs/locomotion/figures.log",
         benchmark:

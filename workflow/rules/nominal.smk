@@ -8,8 +8,8 @@ rule nominal:
         nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
         workspace="results/workspace.nc",
     params:
-        cfg=stage_config(config, "nominal"),
-        map_cfg=stage_config(config, "map"),
+        cfg=cfg("nominal"),
+        map_cfg=cfg("workspace"),
     log:
         "results/logs/nominal.log",
     priority: 45  # feeds the locomotion runs

@@ -1,7 +1,3 @@
-FIG6_PAIR = 10 if 10 in PAIRS else PAIRS[0]
-FIG6_CONTACT = "equilateral" if "equilateral" in CONTACTS else CONTACTS[0]
-
-
 rule render:
     """Fig. 1 (the robot, numbered), Fig. 4 (actuator pairs), Fig. 5 (support frame); Fig. 6:
     the CoG point cloud and nominal CoGs of one pair on the equilateral face; Fig. 7: the
@@ -24,9 +20,8 @@ rule render:
         two_pair=[report(f"results/figures/two_pair_{contact}.png", caption="../report/two_pair.rst",
                          category="Figures", subcategory=contact) for contact in CONTACTS],
     params:
-        cfg=stage_config(config, "render_robot"),
+        cfg=cfg("robot_figures"),
         fig6_nominal=f"results/nominal/{FIG6_CONTACT}.nc",
-        max_pressure=2.4,
     log:
         "results/logs/render.log",
     benchmark:

@@ -1,14 +1,15 @@
 # Design studies (config/studies/<name>.yaml, docs/datasets.md "Design studies"): chosen with
 # --config study=<name> and built by the target `study`; never part of `all`. One job per chunk of
 # designs (one batched simulation each); a chunk file that exists is never recomputed.
-from tensegrity.io.config import params_from_config
+from tensegrity.io.settings import params as params_of
+from tensegrity.io import study_config
 from tensegrity.studies import spec as study_spec
 
 STUDY = config.get("study") or ""
 STUDY_LIMIT = int(config.get("study_limit") or 0)
 if STUDY:
     # a bad study stops here, before any job runs, naming the file and the key
-    STUDY_SPEC = study_spec.load(STUDY, base=params_from_config(config), dt=config["sim"]["dt"])
+    STUDY_SPEC = study_config.load(STUDY, base=params_of(config), dt=config["sim"]["dt"])
     STUDY_DIR = f"results/studies/{STUDY}"
     STUDY_CHUNKS = expand(f"{STUDY_DIR}/chunks/chunk{{chunk:04d}}.nc",
                           chunk=range(study_spec.n_chunks(STUDY_SPEC, STUDY_LIMIT)))
@@ -30,7 +31,7 @@ if STUDY:
         output:
             f"{STUDY_DIR}/chunks/chunk{{chunk}}.nc",
         params:
-            cfg=stage_config(config, "study"),
+            cfg=cfg("study_chunk"),
             study=study_spec.chunk_study(STUDY_SPEC),
             limit=STUDY_LIMIT,
         log:
@@ -53,7 +54,7 @@ if STUDY:
         output:
             f"{STUDY_DIR}/designs.nc",
         params:
-            cfg=stage_config(config, "study"),
+            cfg=cfg("study_merge"),
             study=study_spec.chunk_study(STUDY_SPEC),
         log:
             f"results/logs/studies/{STUDY}/merge.log",
@@ -69,7 +70,7 @@ if STUDY:
             nc=f"{STUDY_DIR}/analysis.nc",
             figures=[report(f, category="Design study", caption="../report/study.rst") for f in STUDY_FIGURES],
         params:
-            cfg=stage_config(config, "study"),
+            cfg=cfg("study_analyse"),
             study={k: v for k, v in STUDY_SPEC.items() if k != "resources"},
         log:
             f"results/logs/studies/{STUDY}/analyse.log",

@@ -4,7 +4,7 @@ rule sweep:
     output:
         [expand(f"results/sweeps/{contact}/pair{{pair:02d}}.nc", pair=PAIRS) for contact in CONTACTS],
     params:
-        cfg=stage_config(config, "sweep"),
+        cfg=cfg("sweep"),
         folders={contact: f"results/sweeps/{contact}" for contact in CONTACTS},
     log:
         "results/logs/sweep.log",

@@ -1,8 +1,6 @@
-# The two-pair workspace (issue 10): pairs of actuator pairs over a 2-D pressure grid, swept once
-# per stabiliser orbit on each canonical face, mapped to all 20 faces (fitted by rule `fit`,
-# checked by rule `validate`, drawn by rule `render`).
-# What the schema cannot check (levels increasing, discard < hold, hold a whole number of
-# samples) stops the run before any job, naming the key (io.config.validate, in the Snakefile).
+# The two-pair workspace: pairs of actuator pairs over a 2-D pressure grid, swept once per
+# stabiliser orbit on each canonical face, mapped to all 20 faces (fitted by rule `fit`, checked
+# by rule `validate`, drawn by rule `render`).
 
 rule two_pair:
     """Free-mode staircase over the two-pair grid on each contact face (one robot per orbit),
@@ -12,8 +10,8 @@ rule two_pair:
         contacts=expand("results/two_pair/{contact}.nc", contact=CONTACTS),
         workspace="results/workspace_two_pair.nc",
     params:
-        cfg=stage_config(config, "two_pair"),
-        map_cfg=stage_config(config, "two_pair_map"),
+        cfg=cfg("two_pair"),
+        map_cfg=cfg("two_pair_map"),
         contacts=CONTACTS,  # in the order of the outputs
     log:
         "results/logs/two_pair/sweep.log",

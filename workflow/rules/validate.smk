@@ -1,14 +1,16 @@
 rule validate:
     """Check the workspace against the paper, statics, symmetry, the grounded mode and dt/2, and
     that the demonstration runs arrived (check 6: it waits for the runs); check the two-pair
-    workspace against statics, direct simulation on other faces and superposition (one job: a
-    job costs about 1 s to start the simulator)."""
+    workspace against statics, direct simulation on other faces and superposition; check the
+    gravity-aware workspace against grounded rolls (one job: a job costs about 1 s to start the
+    simulator). Only this rule reads the checks' keys: editing one re-runs this job alone."""
     input:
         nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
         workspace="results/workspace.nc",
-        runs=expand("results/locomotion/{run}.nc", run=config["locomotion"]["runs"]),
+        runs=expand("results/locomotion/{run}.nc", run=LOCO_RUNS),
         two_pair_contacts=expand("results/two_pair/{contact}.nc", contact=CONTACTS),
         two_pair="results/workspace_two_pair.nc",
+        gravity="results/workspace_gravity.nc",
     output:
         nc="results/validation/validation.nc",
         md="results/validation/summary.md",
@@ -18,9 +20,14 @@ rule validate:
         two_pair_md="results/validation/two_pair.md",
         two_pair_html=report("results/validation/two_pair.html", caption="../report/two_pair_validation.rst",
                              category="Validation"),
+        gravity_nc="results/validation/gravity.nc",
+        gravity_md="results/validation/gravity.md",
+        gravity_html=report("results/validation/gravity.html", caption="../report/gravity_validation.rst",
+                            category="Validation"),
     params:
-        cfg=stage_config(config, "validate"),
-        two_pair_cfg=stage_config(config, "validate_two_pair"),
+        cfg=cfg("validate"),
+        two_pair_cfg=cfg("validate_two_pair"),
+        gravity_cfg=cfg("validate_gravity"),
     log:
         "results/logs/validate.log",
     benchmark:

@@ -1,4 +1,5 @@
-from tensegrity import stages, study_stages
+from tensegrity import stages
+from tensegrity.stages import study
 
 with stages.job(snakemake.log[0]):
-    study_stages.merge_chunks(snakemake.params.cfg, snakemake.params.study, snakemake.input, snakemake.output[0])
+    study.study_merge(snakemake.params.cfg, snakemake.params.study, snakemake.input, snakemake.output[0])

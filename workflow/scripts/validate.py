@@ -1,11 +1,10 @@
-from tensegrity import stages, two_pair_stages
-from tensegrity.validation import report as validation_report
+from tensegrity import stages
+from tensegrity.stages import validate
 
 with stages.job(snakemake.log[0], snakemake.threads):
-    validation_report.run_stage(snakemake.params.cfg, snakemake.input.nominal, snakemake.input.workspace,
-                                snakemake.output.nc, snakemake.output.md, snakemake.output.html,
-                                run_paths=snakemake.input.runs)
-    two_pair_stages.validate_two_pair(snakemake.params.two_pair_cfg, snakemake.input.two_pair_contacts,
-                                      snakemake.input.two_pair, snakemake.input.workspace,
-                                      snakemake.output.two_pair_nc, snakemake.output.two_pair_md,
-                                      snakemake.output.two_pair_html)
+    i, o = snakemake.input, snakemake.output
+    validate.validate(snakemake.params.cfg, i.nominal, i.workspace, o.nc, o.md, o.html, run_paths=i.runs)
+    validate.validate_two_pair(snakemake.params.two_pair_cfg, i.two_pair_contacts, i.two_pair, i.workspace,
+                               o.two_pair_nc, o.two_pair_md, o.two_pair_html)
+    validate.validate_gravity(snakemake.params.gravity_cfg, i.gravity, i.nominal, o.gravity_nc, o.gravity_md,
+                              o.gravity_html)

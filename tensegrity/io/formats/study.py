@@ -2,6 +2,7 @@
 (results/studies/<name>/chunks/chunkNNNN.nc), all designs (designs.nc, the chunks concatenated
 along `design`) and the analysis (analysis.nc). Built from arrays; written by `io.datasets.write`.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -9,21 +10,13 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import xarray as xr
 
-from ..io import datasets
-from ..io.formats import coords
-from .evaluate import RollOutcome, StudyWorkspace
-from .spec import UNITS
+from ...studies.evaluate import STATEMENTS, RollOutcome, StudyWorkspace, design_outputs
+from ...studies.spec import UNITS
+from .. import datasets
+from .common import coords
 
-STATEMENTS = ("1.1", "1.2", "1.3", "1.4", "1.5")
-STATEMENT_CODE = {"pass": 1, "fail": 0, "not evaluated": -1}
 ALLOW_NAN = ["tip_pressure", "best_tip_pressure", "objective", "roll_tip_pressure"]
 var = datasets.var
-
-
-def reference_margin(levels: np.ndarray, margin: np.ndarray, pressure: float) -> np.ndarray:
-    """Margin (...) m linearly interpolated at `pressure` MPa from margin (..., L) at levels (L,)."""
-    flat = margin.reshape(-1, margin.shape[-1])
-    return np.array([np.interp(pressure, levels, m) for m in flat]).reshape(margin.shape[:-1])
 
 
 def design_coords(study: Mapping, rows: np.ndarray, X: np.ndarray) -> dict:
@@ -49,11 +42,8 @@ def chunk_dataset(study: Mapping, rows: np.ndarray, X: np.ndarray, ws: StudyWork
         c["contact"] = ("contact", list(contacts), {"long_name": "contact case"})
         c["end"] = ("end", [1, 2], {"units": "1", "long_name": "end of an edge"})
         c["statement"] = ("statement", list(STATEMENTS), {"long_name": "statement of the paper (validation check 1)"})
-        mref = reference_margin(ws.levels, ws.margin, ref)
-        tip = np.where(np.isfinite(paper["tip_pressure"]), paper["tip_pressure"], np.inf)
-        best = tip.reshape(len(rows), -1).min(axis=1)
-        best = np.where(np.isfinite(best), best, np.nan)
-        min_margin = mref.reshape(len(rows), -1).min(axis=1)
+        out = design_outputs(ws, paper["tip_pressure"], ref)
+        mref, min_margin, best = out["reference_margin"], out["min_margin"], out["best_tip_pressure"]
         v.update(
             cog=var(("design", "contact", "pair", "pressure", "axis"), ws.cog, "m", "nominal centre of gravity in the support frame"),
             margin=var(("design", "contact", "pair", "pressure"), ws.margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
@@ -63,7 +53,7 @@ def chunk_dataset(study: Mapping, rows: np.ndarray, X: np.ndarray, ws: StudyWork
             reference_margin=var(("design", "contact", "pair"), mref, "m", "margin at the reference pressure"),
             min_margin=var(("design",), min_margin, "m", "smallest margin of any pair and contact at the reference pressure"),
             best_tip_pressure=var(("design",), best, "MPa", "lowest tipping pressure of any pair and contact (NaN: none tips)"),
-            objective=var(("design",), np.where(min_margin > 0, best, np.nan), "MPa",
+            objective=var(("design",), out["objective"], "MPa",
                           "lowest tipping pressure of the best pair, where every pair stands at the reference pressure (NaN: not standing)"),
             paper_statement=var(("design", "statement"), np.asarray(paper["status"], np.int8), "1",
                           "whether the paper's statement holds", flag_values=np.array([-1, 0, 1], np.int8),
@@ -88,3 +78,23 @@ def merge(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
     for k in ("config", "history", "title", "source", "Conventions"):
         out.attrs.pop(k, None)
     return out
+
+
+def analysis_dataset(study: Mapping, method: str, indices: Mapping[str, Mapping[str, np.ndarray]],
+                     best: np.ndarray | None, designs: xr.Dataset, attrs: dict) -> xr.Dataset:
+    """analysis.nc: the sensitivity indices (output, parameter) of `method` (SALib) of each
+    analysed output, and, if `best` (indices of the designs, best first), the best designs for
+    the objective of `designs` (designs.nc); `attrs` as given."""
+    names, outputs = list(study["parameters"]), list(indices)
+    coords = {"parameter": ("parameter", names, {"long_name": "varied parameter"}),
+              "output": ("output", outputs, {"long_name": "per-design output analysed"})}
+    v = {}
+    for n in next(iter(indices.values())) if indices else ():
+        v[n] = var(("output", "parameter"), np.array([indices[o][n] for o in outputs]), "1",
+                   f"{method} sensitivity index {n} (SALib; NaN: the study was not run in full)")
+    if best is not None:
+        coords["rank"] = ("rank", np.arange(1, best.size + 1), {"units": "1", "long_name": "rank for the objective (1: best)"})
+        v["best_design"] = var(("rank",), designs["design"].values[best], "1",
+                               "designs with the lowest tipping pressure of the best pair, all pairs standing at the reference pressure")
+        v["best_objective"] = var(("rank",), designs["objective"].values[best], "MPa", "objective of the best designs")
+    return xr.Dataset(v, coords=coords, attrs=attrs)

@@ -12,15 +12,15 @@ in pressure units would be taken for an atmospheric vertical axis by the CF chec
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ..physics import topology as topo
-from . import datasets
-from .formats import coords
+from ...physics import topology as topo
+from .. import datasets
+from .common import coords, rest_vars
 
 CONTACT_FILE = "{contact}.nc"
 ALLOW_NAN = ["cog", "cog_std", "support", "margin", "tip_pressure", "tip_boundary"]
@@ -58,26 +58,41 @@ def _level_vars(levels: ArrayLike, combos: ArrayLike) -> dict:
 
 
 def contact_dataset(levels: ArrayLike, combos: ArrayLike, ws: Mapping[str, np.ndarray], swept: ArrayLike,
-                    cog_std: np.ndarray, attrs: dict) -> xr.Dataset:
+                    cog_std: np.ndarray, attrs: dict, strut_length: float) -> xr.Dataset:
     """results/two_pair/{contact}.nc: the 66 combinations on one canonical face. ws as
     `workspace.two_pair.map_workspace` gives for one face (cog (66, P, P, 3), ...); swept (66,)
     1 where the combination was simulated (else mapped by the face's stabiliser); cog_std
-    (66, P, P, 3) m the oscillation spread of the swept ones (NaN for the mapped)."""
+    (66, P, P, 3) m the oscillation spread of the swept ones (NaN for the mapped); the robot's
+    strut length and rest state on the face (`formats.rest_vars`)."""
     var = datasets.var
     data = _grid_vars(("combo",), ws) | _level_vars(levels, combos)
     data["swept"] = var(("combo",), np.asarray(swept, np.int8), "1", "1: simulated, 0: mapped from a simulated combination by the face's stabiliser")
     data["cog_std"] = var(("combo", *_GRID, "axis"), cog_std, "m", "standard deviation of the CoG over the grid point's hold (oscillation; NaN: mapped)")
+    data |= rest_vars(strut_length, int(attrs["face"]))
     return xr.Dataset(data, coords=_coords(levels), attrs=attrs)
 
 
-def workspace_dataset(levels: ArrayLike, combos: ArrayLike, ws: Mapping[str, np.ndarray], attrs: dict) -> xr.Dataset:
-    """results/workspace_two_pair.nc: `workspace.two_pair.map_workspace` on all 20 faces."""
+def workspace_dataset(levels: ArrayLike, combos: ArrayLike, ws: Mapping[str, np.ndarray], attrs: dict,
+                      strut_length: float) -> xr.Dataset:
+    """results/workspace_two_pair.nc: `workspace.two_pair.map_workspace` on all 20 faces, with
+    the robot's strut length and rest state on every face (`formats.rest_vars`)."""
     var = datasets.var
     data = _grid_vars(("face", "combo"), ws) | _level_vars(levels, combos)
     data["face_nodes"] = var(("face", "corner"), topo.FACES + 1, "1", "node numbers of the face's corners (support-frame corner order)")
     data["reference_corner"] = var(("face",), topo.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)")
+    data |= rest_vars(strut_length, np.arange(1, topo.N_FACES + 1))
     c = _coords(levels) | {"face": ("face", np.arange(1, topo.N_FACES + 1), {"units": "1", "long_name": "face number"})}
     return xr.Dataset(data, coords=c, attrs=attrs)
+
+
+def read_contacts(paths: Sequence[str | os.PathLike]) -> tuple[np.ndarray, dict[str, xr.Dataset]]:
+    """The two-pair contact files (results/two_pair/{contact}.nc): their common levels (P,) MPa
+    and the datasets by contact case; ValueError if none is given or their levels differ."""
+    src = {str(ds.attrs["contact"]): ds for ds in (datasets.read(p) for p in paths)}
+    levels = [ds["pressure_a"].values for ds in src.values()]
+    if not levels or any(not np.array_equal(lv, levels[0]) for lv in levels):
+        raise ValueError("the two-pair contact files were swept at different levels (or none is given)")
+    return levels[0], src
 
 
 def read_two_pair(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

@@ -30,7 +30,8 @@ class Workspace:
     support frame (NaN where a pair was not swept); rest_cog (20, 3) m and rest_support
     (20, 3, 3) m: the unactuated symmetric robot in the same frames (the 0 MPa point).
     Optional measured two-pair curves (`with_two_pair`): combos (C, 2) 1-based pairs ascending,
-    combo_cog (20, C, P, 3) m and combo_support (20, C, P, 3, 3) m, both pairs at each level."""
+    combo_cog (20, C, P, 3) m and combo_support (20, C, P, 3, 3) m, both pairs at each level.
+    strut_length m: the robot's S (NaN: not known)."""
     levels: np.ndarray
     cog: np.ndarray
     support: np.ndarray
@@ -39,6 +40,7 @@ class Workspace:
     combos: np.ndarray | None = None
     combo_cog: np.ndarray | None = None
     combo_support: np.ndarray | None = None
+    strut_length: float = float("nan")
 
     def __post_init__(self):
         lv = np.asarray(self.levels, float)
@@ -67,7 +69,8 @@ class Workspace:
         (`frames.rest_frame`)."""
         rest = [frames.rest_frame(f, strut_length) for f in range(1, topo.N_FACES + 1)]
         return cls(np.asarray(levels, float), np.asarray(cog, float), np.asarray(support, float),
-                   np.stack([r[0] for r in rest]), np.stack([r[1] for r in rest]))
+                   np.stack([r[0] for r in rest]), np.stack([r[1] for r in rest]),
+                   strut_length=float(strut_length))
 
     def with_two_pair(self, combos: ArrayLike, levels: ArrayLike, cog: ArrayLike,
                       support: ArrayLike) -> "Workspace":
@@ -139,6 +142,13 @@ class Workspace:
         """1-based pairs with a complete curve on 1-based `face`."""
         ok = np.all(np.isfinite(self.cog[face - 1]), axis=(1, 2))
         return np.flatnonzero(ok) + 1
+
+    def actions(self, face: int) -> list[tuple[int, ...]]:
+        """The actions measured on 1-based `face`: the swept single pairs, then the two-pair
+        combinations with a measured curve there (`measured`)."""
+        singles = [(int(p),) for p in self.pairs(face)]
+        combos = [] if self.combos is None else [tuple(int(q) for q in c) for c in self.combos]
+        return singles + [c for c in combos if self.measured(face, c) is not None]
 
     def curve(self, face: int, actions: Iterable[Action]) -> tuple[np.ndarray, np.ndarray]:
         """CoG (A, P+1, 3) m and support (A, P+1, 3, 3) m in the support frame of 1-based

@@ -7,21 +7,22 @@ read back into the package's arrays:
 """
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
 import xarray as xr
 
-from ..physics import topology as topo
-from . import datasets
-from .formats import coords
+from ...physics import topology as topo
+from .. import datasets
+from .common import coords
 
 if TYPE_CHECKING:
-    from ..workspace.gravity import GravitySweep
-    from ..workspace.slope_limit import SlopeLimits
+    from ...workspace.gravity import GravitySetup, GravitySweep
+    from ...workspace.slope_limit import SlopeLimits
 
-__all__ = ["GRAVITY_ALLOW_NAN", "gravity_dataset", "sweeps_from_dataset", "SLOPE_LIMIT_ALLOW_NAN",
+__all__ = ["GRAVITY_ALLOW_NAN", "gravity_dataset", "sweeps_from_dataset", "read_gravity", "SLOPE_LIMIT_ALLOW_NAN",
            "slope_limit_dataset"]
 
 GRAVITY_ALLOW_NAN = ["tip_pressure", "cog", "support", "projection", "margin"]
@@ -35,10 +36,15 @@ def _case_coords(contacts, slopes, headings) -> dict:
                         {"units": "degree", "long_name": "uphill direction in the contact face's support frame, from +x toward +y"})}
 
 
-def gravity_dataset(sweeps: Mapping[str, GravitySweep], attrs: dict) -> xr.Dataset:
+_SETTINGS = ("ramp_rate", "interval", "lift_tolerance", "hold_time", "settle", "max_pressure")
+
+
+def gravity_dataset(sweeps: Mapping[str, GravitySweep], setup: GravitySetup) -> xr.Dataset:
     """The gravity-aware workspace of the contact cases `sweeps` (contact -> GravitySweep, all on
-    the same pairs, slopes, headings and pressure grid) with `attrs` (the settings)."""
+    the same pairs, slopes, headings and pressure grid) made with `setup` (attributes
+    `<name>_setting` of its ramp)."""
     var = datasets.var
+    attrs = {f"{k}_setting": float(getattr(setup, k)) for k in _SETTINGS}
     first = next(iter(sweeps.values()))
     for c, s in sweeps.items():
         for k in ("pairs", "slopes", "headings", "pressure"):
@@ -73,7 +79,7 @@ def gravity_dataset(sweeps: Mapping[str, GravitySweep], attrs: dict) -> xr.Datas
 
 def sweeps_from_dataset(ds: xr.Dataset) -> dict[str, GravitySweep]:
     """contact -> GravitySweep of a results/workspace_gravity.nc dataset."""
-    from ..workspace.gravity import GravitySweep
+    from ...workspace.gravity import GravitySweep
     out = {}
     for c, contact in enumerate(ds["contact"].values.astype(str)):
         v = {k: ds[k].values[c] for k in ("stood", "rolled", "tip_pressure", "tip_edge", "cog",
@@ -83,6 +89,11 @@ def sweeps_from_dataset(ds: xr.Dataset) -> dict[str, GravitySweep]:
                                     v["stood"].astype(bool), v["rolled"].astype(bool), v["tip_pressure"],
                                     v["tip_edge"], v["cog"], v["support"], v["projection"][..., :2], v["margin"])
     return out
+
+
+def read_gravity(path: str | os.PathLike) -> dict[str, GravitySweep]:
+    """contact -> GravitySweep of the file results/workspace_gravity.nc at `path`."""
+    return sweeps_from_dataset(datasets.read(path))
 
 
 SLOPE_LIMIT_ALLOW_NAN = ["predicted_free", "predicted_gravity", "simulated", "pressure"]

@@ -1,4 +1,5 @@
-"""The `tensegrity` command: simulate, query the workspace, plan a roll, render, run a stage.
+"""The `tensegrity` command: simulate, query the workspace, plan a roll, roll, render, run a stage
+or a design study, show or check the configuration.
 
 Exit codes: 0 success; 2 bad command-line usage; 3 invalid input (bad config, value, face,
 pair, pressure or file); 4 the simulation failed (non-finite, exploded, off the terrain);
@@ -10,80 +11,47 @@ import argparse
 import json
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
-from . import cli_args, progress
+from . import args as cli_args
+from . import progress
 
 EXIT_USAGE, EXIT_INPUT, EXIT_SIM = 2, 3, 4
+START = "9,10,12"  # the paper's start face (paper.START_FACE), as the command line writes it
 
 
-def _load_cfg(args):
-    from .io import config
+def _load_cfg(args: argparse.Namespace) -> dict:
+    from ..io import config
     return config.load(args.config, overrides=args.set or None)
+
+
+def _stage_cfg(args: argparse.Namespace, stage: str) -> dict:
+    """The keys of the resolved configuration that `stage` reads, as its rule passes them."""
+    from ..stages.config import stage_config
+    return stage_config(_load_cfg(args), stage)
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     """One actuation on one robot -> a netCDF with the CoG, nodes and pressures."""
-    import xarray as xr
-    from .io import datasets
-    from .physics import dynamics as d
-    from .physics import frames, topology as topo
-    from .workspace import sweep
-    from .physics.actuation import Schedule
-    from .io.config import params_from_config
-    cfg = _load_cfg(args)
-    params, terrain = sweep.setup(params_from_config(cfg), args.mode)
-    if args.terrain is not None:
-        if args.mode == "free":
-            raise ValueError("--terrain needs --mode grounded (the free mode has no ground)")
-        terrain = args.terrain
-    face = topo.face_number(args.face)
-    pairs = [topo.check_pair(p) for p in args.pair]
-    dt, every = cfg["sim"]["dt"], cfg["sim"]["record_every"]
-    state = d.stand_on(params, face, terrain)
-    chunk = dt * every * max(1, round(0.05 / (dt * every)))
-    n = max(1, round(args.duration / chunk))
-    ramp_n = round(args.ramp / chunk)
-    xs, qs, ts, ps = [], [], [], []
-    with progress.bar(n * chunk, "simulate") as bar:
-        for k in range(n):
-            level = args.pressure * min(1.0, (k + 1) / ramp_n) if ramp_n else args.pressure
-            pres = np.zeros(12)
-            pres[np.array(pairs) - 1] = level
-            state, tr = d.simulate(params, state, Schedule.constant(pres, chunk), terrain, dt, every)
-            xs.append(tr.x[0]), qs.append(tr.q[0]), ts.append(tr.t), ps.append(tr.pressure[0])
-            bar.update(chunk)
-    x, q = np.concatenate(xs), np.concatenate(qs)
-    nodes = d.nodes(x, q, params.strut_length)
-    cog, sup = frames.in_support_frame(nodes, face)
-    var = datasets.var
-    ds = xr.Dataset(
-        {"cog": var(("time", "axis"), cog, "m", "centre of gravity in the start face's support frame"),
-         "cog_world": var(("time", "axis"), d.cog(x), "m", "centre of gravity, world frame"),
-         "support": var(("time", "corner", "axis"), sup, "m", "start face corners in its support frame"),
-         "nodes": var(("time", "node", "axis"), nodes, "m", "node positions, world frame"),
-         "pressure_cmd": var(("time", "pair"), np.concatenate(ps), "MPa", "pair pressures commanded")},
-        coords={"time": ("time", np.concatenate(ts), {"units": "s", "long_name": "time"}),
-                "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "axis"}),
-                "corner": ("corner", [1, 2, 3], {"units": "1", "long_name": "support triangle corner"}),
-                "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"}),
-                "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "actuator pair number"})},
-        attrs={"face": face, "face_nodes": topo.FACES[face - 1] + 1, "mode": args.mode,
-               "pairs": pairs, "pressure_mpa": args.pressure, "ramp_s": args.ramp})
-    datasets.write(ds, args.out, cfg, f"Simulation of pairs {pairs} at {args.pressure} MPa on "
-                   f"{topo.face_label(face)}", stage="simulate")
-    print(f"wrote {args.out}: {len(ts) and ds.sizes['time']} samples, final CoG (support frame) "
-          f"{np.round(cog[-1] * 1000, 2).tolist()} mm")
+    from ..io import datasets
+    from ..stages.simulate import simulate
+    with progress.bar(args.duration, "simulate") as bar:
+        path = simulate(_stage_cfg(args, "simulate"), args.face, args.pair, args.pressure, args.duration,
+                        args.out, ramp=args.ramp, mode=args.mode, terrain=args.terrain, progress=bar.update)
+    ds = datasets.read(path)
+    print(f"wrote {path}: {ds.sizes['time']} samples, final CoG (support frame) "
+          f"{np.round(ds['cog'].values[-1] * 1000, 2).tolist()} mm")
     return 0
 
 
 def cmd_query(args: argparse.Namespace) -> int:
     """Nominal CoG and margin for a face, pair and pressure from the fitted curves."""
-    from .io import datasets
-    from .workspace import query
-    ans = query.query(query.load_curves(args.curves), datasets.read(args.workspace),
-                      args.face, args.pair, args.pressure)
+    from ..io import formats
+    from ..workspace import query
+    ans = query.query(formats.read_curves(args.curves), formats.read_workspace(args.workspace),
+                      args.face, args.pair, args.pressure, wsname=args.workspace)
     out = {"face": ans.face, "pair": ans.pair, "pressure_mpa": ans.pressure,
            "cog_m": ans.cog.round(7).tolist(), "margin_m": round(ans.margin, 7),
            "stands": ans.margin > 0, "support_m": ans.support.round(7).tolist(),
@@ -98,21 +66,17 @@ def cmd_query(args: argparse.Namespace) -> int:
 
 
 def cmd_stage(args: argparse.Namespace) -> int:
-    """Run one workflow stage with the same function the Snakemake rule calls."""
-    from . import stages
-    # the config sections the stage depends on, as the Snakemake rule passes them (provenance)
-    cfg = stages.stage_config(_load_cfg(args), args.stage)
-    if args.stage == "sweep":
-        if args.contact is None:
-            raise ValueError("--contact is required for the sweep stage")
-        for p in stages.run_sweep(cfg, args.contact, args.out):
-            print(p)
-    elif args.stage == "nominal":
-        print(stages.run_nominal(cfg, args.inputs, args.out))
-    elif args.stage == "fit":
-        print(stages.run_fit(cfg, args.inputs[0], args.out))
-    elif args.stage == "map":
-        print(stages.run_map(cfg, args.inputs, args.out))
+    """Run one stage of the workflow with the function its Snakemake rule calls, the
+    configuration keys its rule passes (so the files' provenance is the same) and the files
+    named by ARG=PATH (a parameter of the stage function; repeat it for a list). `tensegrity
+    stage NAME` alone lists the stage's arguments."""
+    from .stage import call, describe
+    if not args.arguments:
+        print(describe(args.stage))
+        return 0
+    out = call(args.stage, _stage_cfg(args, args.stage), args.arguments)
+    for p in out if isinstance(out, list) else [out]:
+        print(p if isinstance(p, (str, Path)) else json.dumps(p, default=str))
     return 0
 
 
@@ -120,7 +84,7 @@ def cmd_config(args: argparse.Namespace) -> int:
     """`config show`: the resolved, validated configuration (defaults filled in) as YAML;
     `config check FILE`: validate a file, naming every bad key (exit 3)."""
     import yaml
-    from .io import config
+    from ..io import config
     if args.action == "check":
         if not args.file:
             raise ValueError("config check needs a FILE")
@@ -135,34 +99,46 @@ def cmd_config(args: argparse.Namespace) -> int:
 def cmd_render(args: argparse.Namespace) -> int:
     """Render a dataset of the toolkit (sweep, nominal, workspace, locomotion run, simulation)
     to a PNG, off-screen."""
-    from . import stages
-    what = stages.render_dataset(args.dataset, args.out, args.face)
+    from ..stages.render import render_dataset
+    what = render_dataset(args.dataset, args.out, args.face)
     print(f"wrote {args.out}: {what}")
     return 0
 
 
-def _locomotion_setup(args):
-    """Configuration, start face, terrain, parameters, settings and workspace of plan and roll."""
-    from .io.formats import read_workspace
-    from .locomotion.control import RollSettings
-    from .locomotion.demos import locomotion_params
-    from .physics.topology import face_number
-    cfg = _load_cfg(args)
-    face = face_number(args.face)
-    settings = RollSettings.from_config(cfg["locomotion"], cfg["sim"]["dt"])
-    ws = read_workspace(args.workspace)
-    if args.two_pair:  # measured two-pair curves instead of superposed ones
-        from .io.two_pair_formats import read_two_pair
-        ws = ws.with_two_pair(*read_two_pair(args.two_pair))
-    return cfg, face, args.terrain, locomotion_params(cfg), settings, ws
+def _two_pair_file(args: argparse.Namespace) -> str | None:
+    """The two-pair workspace of plan and roll: --two-pair FILE, none with --two-pair none, else
+    workspace_two_pair.nc beside the workspace file if it exists (the pipeline's runs use it)."""
+    if args.two_pair == "none":
+        return None
+    if args.two_pair:
+        return args.two_pair
+    beside = Path(args.workspace).with_name("workspace_two_pair.nc")
+    return str(beside) if beside.is_file() else None
+
+
+def _locomotion_setup(args: argparse.Namespace):
+    """Configuration keys, start face, terrain, parameters, settings and workspace of plan and
+    roll: those of the pipeline's demonstration runs (stage `locomotion_runs`)."""
+    from ..io import formats, settings
+    from ..locomotion.settings import RollSettings
+    from ..physics.topology import face_number
+    cfg = _stage_cfg(args, "locomotion_runs")
+    two_pair = _two_pair_file(args)
+    ws = formats.read_workspace(args.workspace, two_pair)
+    print(f"workspace {args.workspace}; two pairs: "
+          + (f"measured curves of {two_pair}" if two_pair else "superposed single-pair curves"
+             + (" (--two-pair none)" if args.two_pair == "none"
+                else f" ({Path(args.workspace).with_name('workspace_two_pair.nc')} not found)")), flush=True)
+    return cfg, face_number(args.face), args.terrain, settings.params(cfg), settings.build(RollSettings, cfg), ws
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
     """Choose the pair(s) and pressure that roll the robot toward a target, from the workspace."""
-    from .locomotion.control import settle
-    from .locomotion.plan import plan
-    from .physics import contact as ct, dynamics as d
-    cfg, face, terrain, params, s, ws = _locomotion_setup(args)
+    from ..locomotion.control import settle
+    from ..locomotion.plan import plan
+    from ..physics import contact as ct, dynamics as d
+    _, face, terrain, params, s, ws = _locomotion_setup(args)
+    params = s.rolling(params)
     state, _ = settle(params, d.stand_on(params, face, terrain, yaw_deg=args.yaw), terrain, s)
     nodes = d.nodes(state.x, state.q, params.strut_length)[0]
     here = ct.face_from_gaps(ct.clearance(nodes, terrain, float(params.strut_radius)), s.contact_tolerance)
@@ -174,29 +150,33 @@ def cmd_plan(args: argparse.Namespace) -> int:
 
 def cmd_roll(args: argparse.Namespace) -> int:
     """Roll the robot toward a goal in the dynamic simulator; exit 1 if it did not arrive."""
-    from .io import datasets
-    from .io.run_formats import RUN_ALLOW_NAN, run_dataset
-    from .locomotion.outcome import describe
-    from .locomotion.runs import roll_to
+    from ..io import datasets
+    from ..io.formats.run import RUN_ALLOW_NAN, run_dataset
+    from ..locomotion.outcome import describe
+    from ..locomotion.runs import roll_to
+    from ..stages import provenance
     cfg, face, terrain, params, s, ws = _locomotion_setup(args)
-    with progress.simulated("roll"):
-        run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw)
+    with progress.bar(None, "roll") as bar:
+        run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw,
+                      progress=bar.update)
     print(describe(run, "roll"))
     if args.out:
-        datasets.write(run_dataset(run, terrain, "roll"), args.out, cfg,
-                       f"Rolling locomotion run: {run.outcome}", stage="locomotion",
-                       allow_nan=RUN_ALLOW_NAN)
+        datasets.write(run_dataset(run, terrain, s.rolling(params), "roll"), args.out,
+                       provenance(cfg, args.workspace), f"Rolling locomotion run: {run.outcome}",
+                       stage="locomotion", allow_nan=RUN_ALLOW_NAN)
     return 0 if run.outcome == "arrived" else 1
 
 
 def cmd_study(args: argparse.Namespace) -> int:
     """Run a design study (config/studies/NAME.yaml or a YAML path) without Snakemake: every chunk
     not yet written, the merge and the analysis, into results/studies/NAME (docs/datasets.md)."""
-    from . import study_stages
-    return study_stages.cmd_study(_load_cfg(args), args.study, args.out, args.limit)
+    from .study import run
+    return run(_load_cfg(args), args.study, args.out, args.limit)
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of every command."""
+    from ..stages.config import STAGES
     ap = argparse.ArgumentParser(prog="tensegrity", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -204,10 +184,11 @@ def build_parser() -> argparse.ArgumentParser:
     common.add_argument("--config", help="config YAML (default: config/config.yaml)")
     common.add_argument("--set", action="append", metavar="KEY=VALUE",
                         help="override a config key, e.g. --set params.cable_damping=1 (repeatable)")
+    face_help = f"start face: 1..20 or 'a,b,c' (default {START})"
 
     p = sub.add_parser("simulate", parents=[common], help="simulate one actuation, write a netCDF",
                        description=cmd_simulate.__doc__)
-    p.add_argument("--face", type=cli_args.face, default=(9, 10, 12), help="start face: 1..20 or 'a,b,c' (default 9,10,12)")
+    p.add_argument("--face", type=cli_args.face, default=cli_args.face(START), help=face_help)
     p.add_argument("--pair", type=int, nargs="+", required=True, help="actuator pair(s) 1..12")
     p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
     p.add_argument("--duration", type=cli_args.positive("--duration"), default=2.0, help="simulated time, s (default 2)")
@@ -229,15 +210,14 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("render", help="render a dataset to a PNG", description=cmd_render.__doc__)
     p.add_argument("dataset", help="a netCDF written by the workflow or by `tensegrity simulate`")
     p.add_argument("--out", required=True, help="output PNG path")
-    p.add_argument("--face", type=cli_args.face, help="face to show, for the workspace (default 9,10,12)")
+    p.add_argument("--face", type=cli_args.face, help=f"face to show, for the workspace (default {START})")
     p.set_defaults(func=cmd_render)
 
     p = sub.add_parser("stage", parents=[common], help="run one workflow stage outside Snakemake",
                        description=cmd_stage.__doc__)
-    p.add_argument("stage", choices=["sweep", "nominal", "fit", "map"])
-    p.add_argument("--contact", choices=["equilateral", "isosceles"], help="contact case (sweep)")
-    p.add_argument("--inputs", nargs="*", default=[], help="input files (nominal, fit, map)")
-    p.add_argument("--out", required=True, help="output file (directory for sweep)")
+    p.add_argument("stage", choices=sorted(STAGES), metavar="NAME", help=", ".join(sorted(STAGES)))
+    p.add_argument("arguments", nargs="*", metavar="ARG=VALUE",
+                   help="a parameter of the stage function, e.g. out_path=results/workspace.nc")
     p.set_defaults(func=cmd_stage)
 
     p = sub.add_parser("config", parents=[common], help="show the resolved configuration or check a file",
@@ -258,9 +238,10 @@ def build_parser() -> argparse.ArgumentParser:
                                  ("roll", cmd_roll, "roll the robot toward a goal in the dynamic simulator")):
         p = sub.add_parser(name, parents=[common], help=helptext, description=func.__doc__)
         p.add_argument("--workspace", default="results/workspace.nc", help="workspace file (default results/workspace.nc)")
-        p.add_argument("--two-pair", help="two-pair workspace file (results/workspace_two_pair.nc): "
-                       "combinations from it, not superposed (default: superposed)")
-        p.add_argument("--face", type=cli_args.face, default=(9, 10, 12), help="start face: 1..20 or 'a,b,c' (default 9,10,12)")
+        p.add_argument("--two-pair", help="two-pair workspace file: combinations from its measured curves "
+                       "(default: workspace_two_pair.nc beside --workspace if it exists, as the pipeline's runs "
+                       "use it; 'none': superposed single-pair curves)")
+        p.add_argument("--face", type=cli_args.face, default=cli_args.face(START), help=face_help)
         p.add_argument("--terrain", type=cli_args.terrain, default="flat",
                        help="flat (default), slope:ANGLE[:AZIMUTH] or random:SEED[:AMPLITUDE]")
         p.add_argument("--yaw", type=float, default=0.0, help="turn of the robot about the terrain normal, deg")
@@ -276,9 +257,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command of `argv` (default sys.argv[1:]); returns the exit code."""
     ap = build_parser()
     args = ap.parse_args(cli_args.join_negative_values(sys.argv[1:] if argv is None else list(argv)))
-    from .physics.dynamics import SimulationError
+    from ..physics.dynamics import SimulationError
     try:
         return args.func(args)
     except SimulationError as e:
@@ -287,7 +269,3 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (ValueError, OSError, KeyError) as e:  # bad value, missing or unreadable file
         print(f"tensegrity {args.command}: {e}", file=sys.stderr)
         return EXIT_INPUT
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -4,27 +4,33 @@ readers the figures use (`terrain_from_dataset`, `run_sample`).
 """
 from __future__ import annotations
 
+import os
+from collections.abc import Iterable
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 import xarray as xr
 
-from ..physics import topology as topo
-from ..physics.terrain import Terrain
-from . import datasets
+from ...physics.terrain import Terrain
+from .. import datasets
+from ..datasets import strut_radius
 
 if TYPE_CHECKING:  # imported where used: importing io.run_formats loads no simulator (numba)
-    from ..locomotion.outcome import Run
+    from ...locomotion.outcome import Run
+    from ...physics.params import Params
 
-__all__ = ["RUN_ALLOW_NAN", "run_dataset", "terrain_from_dataset", "run_sample"]
+__all__ = ["RUN_ALLOW_NAN", "run_dataset", "terrain_from_dataset", "run_sample", "run_name", "read_runs",
+           "not_arrived"]
 
 RUN_ALLOW_NAN = ("planned_pressure", "tip_pressure", "goal")  # NaN: no roll predicted / none / no goal
 
 
-def run_dataset(run: Run, terrain: Terrain, name: str = "") -> xr.Dataset:
+def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "") -> xr.Dataset:
     """A run as an xarray Dataset (docs/design.md §5, results/locomotion/{run}.nc): samples
-    (time), steps (step, with the chosen pair(s) and pressures), the faces visited (visit) and
-    the terrain, with units and long names. Nothing time-dependent (no wall time) is stored.
+    (time), steps (step, with the chosen pair(s) and pressures), the faces visited (visit), the
+    terrain and the robot's strut length and radius (of `params`), with units and long names.
+    Nothing time-dependent (no wall time) is stored.
     Write it with `datasets.write(..., allow_nan=RUN_ALLOW_NAN)`."""
     var = datasets.var
     rec, steps = run.record, run.steps
@@ -66,7 +72,8 @@ def run_dataset(run: Run, terrain: Terrain, name: str = "") -> xr.Dataset:
          "goal": var(("axis",), run.goal, "m", "goal, world frame (NaN: a run over given edges)"),
          "start": var(("axis",), run.start, "m", "centre of gravity at the start, world frame"),
          "terrain_heights": var(("tx", "ty"), terrain.heights, "m",
-                                "height field of the terrain (kind heightfield)")},
+                                "height field of the terrain (kind heightfield)"),
+         **datasets.geometry_vars(float(params.strut_length), float(params.strut_radius))},
         coords={"time": ("time", rec.t, {"units": "s", "long_name": "time"}),
                 "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"}),
                 "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "actuator pair number"}),
@@ -90,33 +97,47 @@ def terrain_from_dataset(ds: xr.Dataset) -> Terrain:
 
 
 def run_sample(ds: xr.Dataset, terrain: Terrain, step: int, which: str) -> tuple[int, np.ndarray]:
-    """Index and nodes (12, 3) m of a sample of step `step` (1-based) of a run: 'stable' (the
-    pressure at half the tipping pressure, the robot still on its face) or 'rolling' (pivoting
-    on an edge of its face, the first sample with the CoG projection 25 mm outside, else the
-    furthest)."""
-    from ..physics import contact as ct
-    best = None
-    radius = float(datasets.provenance_config(ds)["params"]["strut_radius"])
+    """Index and nodes (12, 3) m of a sample of step `step` (1-based) of a run dataset:
+    'stable' or 'rolling' (`locomotion.outcome.sample`); ValueError naming the run if the step
+    never leaves its face."""
+    from ...locomotion.outcome import sample
     t = ds["time"].values
     k0 = int(np.searchsorted(t, ds["t_start"].values[step - 1]))
     k1 = int(np.searchsorted(t, ds["t_end"].values[step - 1]))
-    face = int(ds["face"].values[step - 1])
-    nodes = ds["nodes"].values
-    pres = ds["pressure"].values.max(axis=1)
-    tip = float(ds["tip_pressure"].values[step - 1])
-    for k in range(k0, k1):
-        if which == "stable" and np.isfinite(tip) and pres[k] >= 0.5 * tip:
-            return k, nodes[k]
-        if which == "rolling":
-            touching = ct.clearance(nodes[k], terrain, radius)[topo.FACES[face - 1]] < 0.002
-            m = ct.judge(nodes[k], face).margin
-            if touching.sum() == 2 and m < 0:
-                if m < -0.025:
-                    return k, nodes[k]
-                if best is None or m < best[0]:
-                    best = (m, k)
-    if which == "stable":
-        return k0, nodes[k0]
-    if best is not None:
-        return best[1], nodes[best[1]]
-    raise ValueError(f"step {step} of run {ds.attrs.get('run')!r} never leaves its face")
+    try:
+        k = sample(ds["nodes"].values, ds["pressure"].values.max(axis=1), k0, k1, int(ds["face"].values[step - 1]),
+                   float(ds["tip_pressure"].values[step - 1]), terrain, strut_radius(ds), which)
+    except ValueError:
+        raise ValueError(f"step {step} of run {ds.attrs.get('run')!r} never leaves its face") from None
+    return k, ds["nodes"].values[k]
+
+
+def run_name(path: str | os.PathLike) -> str:
+    """The run a file results/locomotion/{run}.nc holds: its stem."""
+    return Path(path).stem
+
+
+def read_runs(paths: Iterable[str | os.PathLike]) -> dict[str, xr.Dataset]:
+    """The run files, name -> dataset (read into memory, the files closed)."""
+    out = {}
+    for p in paths:
+        ds = datasets.read(p)  # a corrupted or missing file is named in the error
+        out[str(ds.attrs.get("run") or run_name(p))] = ds
+    return out
+
+
+def not_arrived(paths: Iterable[str | os.PathLike]) -> list[tuple[str, str, str]]:
+    """(run, outcome, message) of every existing run file among `paths` whose run did not
+    arrive; files that do not exist are left out (a workflow that did not make them). Reads
+    the global attributes only, with netCDF4."""
+    import netCDF4
+    out = []
+    for p in paths:
+        if not Path(p).is_file():
+            continue
+        with netCDF4.Dataset(p) as ds:
+            attrs = {k: ds.getncattr(k) for k in ds.ncattrs()}
+        outcome, message = str(attrs.get("outcome", "unknown")), str(attrs.get("message", ""))
+        if outcome != "arrived":
+            out.append((str(attrs.get("run") or run_name(p)), outcome, message))
+    return out

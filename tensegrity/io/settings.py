@@ -1,0 +1,68 @@
+"""Typed settings from the resolved configuration, built once at the seam (`stages`, `cli`):
+`build(SweepSetup, cfg)` and so on for every settings class of the domain. `KEYS` maps each
+class's fields to their configuration keys; it is the one table of that mapping, and
+tests/io/test_settings.py holds every class's defaults to the schema's through it.
+
+`cfg` is a resolved configuration, or the keys of it a stage reads (`stages.config.stage_config`):
+a field whose key is missing is a KeyError naming the key, never a silent default.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import fields
+from typing import Any, TypeVar
+
+from ..locomotion.demos import Scenarios
+from ..locomotion.settings import RollSettings
+from ..physics.params import Params
+from ..validation.common import CheckSettings
+from ..workspace.gravity import GravitySetup
+from ..workspace.sweep import SweepSetup
+from ..workspace.two_pair import TwoPairSetup
+from .config import params_from_config
+
+__all__ = ["KEYS", "build", "params"]
+
+T = TypeVar("T")
+
+
+def _section(section: str, cls: type, **other: str) -> dict[str, str]:
+    """Every field of `cls` from `section`, but those named in `other` (field -> key)."""
+    return {f.name: other.get(f.name, f"{section}.{f.name}") for f in fields(cls)}
+
+
+KEYS: dict[type, dict[str, str]] = {
+    SweepSetup: _section("sweep", SweepSetup, dt="sim.dt", record_every="sim.record_every"),
+    TwoPairSetup: _section("two_pair", TwoPairSetup, dt="sim.dt"),
+    GravitySetup: _section("gravity", GravitySetup, dt="sim.dt", **{
+        k: f"locomotion.{k}" for k in ("ramp_rate", "interval", "lift_tolerance", "hold_time", "strut_damping")}),
+    RollSettings: _section("locomotion", RollSettings, dt="sim.dt"),
+    Scenarios: _section("locomotion", Scenarios),
+    CheckSettings: _section("validate", CheckSettings),
+}
+
+
+def value(cfg: Mapping, key: str) -> Any:
+    """The value of config key `key` ('section.name') in `cfg`; KeyError naming it if absent."""
+    section, _, name = key.partition(".")
+    try:
+        return cfg[section][name]
+    except (KeyError, TypeError):
+        raise KeyError(f"config key {key} is needed here but was not given") from None
+
+
+def build(cls: type[T], cfg: Mapping) -> T:
+    """An instance of the settings class `cls` (a key of `KEYS`) from `cfg`; lists become
+    tuples. KeyError naming a missing key; the class's own checks raise ValueError."""
+    kw = {}
+    for name, key in KEYS[cls].items():
+        v = value(cfg, key)
+        kw[name] = tuple(v) if isinstance(v, list) else v
+    return cls(**kw)
+
+
+def params(cfg: Mapping) -> Params:
+    """The robot's `Params` from the `params` section of `cfg` (`io.config.params_from_config`)."""
+    if "params" not in cfg:
+        raise KeyError("config section params is needed here but was not given")
+    return params_from_config({"params": cfg["params"]})

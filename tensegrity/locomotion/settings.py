@@ -1,0 +1,100 @@
+"""How rolls are driven and judged: `RollSettings` (config section `locomotion`, documented in
+config/README.md; the defaults are the schema's, pinned by tests/io/test_settings.py).
+
+A module of its own, below `control` and `lockstep`, which both read it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from ..physics.params import Params
+
+__all__ = ["RollSettings"]
+
+_FLAGS = ("combine", "min_alignment", "brake", "escape_attempts", "lookahead")  # may be 0 or False
+_COUNTS = ("max_attempts", "max_rolls", "escape_attempts", "lookahead")
+
+
+@dataclass(frozen=True)
+class RollSettings:
+    """ramp_rate MPa/s; interval s (pressure step and check period); lift_tolerance m;
+    hold_time s; release_margin m; release_time s; catch_time s; settle_speed m/s; settle_time s;
+    contact_tolerance m; combine; min_alignment; max_attempts; max_rolls; arrive_tolerance m;
+    brake; brake_margin m; brake_rate MPa/s; brake_tilt deg; brake_release_time s;
+    escape_attempts; lookahead; lookahead_tilt deg; strut_damping 1/s; dt s (the simulator's
+    time step, config sim.dt).
+
+    A roll (see `control.roll`) ramps the pressure at ramp_rate; a support node lifted by more
+    than lift_tolerance holds it (at most hold_time s, then the ramp goes on; where the brake
+    does not act, not held again while a node stays lifted); once the unactuated robot would
+    fall over the pivot edge by release_margin (`contact.past_edge`) the pressure ramps down
+    over release_time, and once it has landed on the next face over catch_time (held while it
+    tips back); it has settled when its CoG moves slower than settle_speed on a face
+    (contact_tolerance) for three checks, or after settle_time. With brake, a run holds the
+    robot on each face where the workspace puts its CoG projection less than brake_margin
+    inside, with the pair `brake.hold` chooses, changed at most at brake_rate and handed over to
+    a roll as its pressure nears the plan's; only where the ground under the face is an even
+    incline of at least brake_tilt (`brake.Brake.active`), and there a roll's pressure falls
+    over brake_release_time instead of release_time. When all max_attempts candidates fail,
+    escape_attempts more actions are tried in the order of `brake.escape` before the run ends
+    "stuck". Where the ground under the face is an even incline of at least lookahead_tilt (on
+    uneven ground, once the planned roll has failed), a run toward a goal first simulates up to
+    lookahead actions and tries the max_attempts best that do not tumble (`lookahead.rank`); on
+    such an incline a goal across the slope is reached by a switchback (`lookahead.switchback`).
+    Every rolling simulation damps the struts by strut_damping (`rolling`), whatever the
+    `Params` given: the robot of the pipeline's runs and of `roll_to` is the same."""
+    ramp_rate: float = 1.0
+    interval: float = 0.02
+    lift_tolerance: float = 0.001
+    hold_time: float = 1.0
+    release_margin: float = 0.005
+    release_time: float = 0.4
+    catch_time: float = 1.5
+    settle_speed: float = 0.03
+    settle_time: float = 6.0
+    contact_tolerance: float = 0.01
+    combine: bool = True
+    min_alignment: float = 0.0
+    max_attempts: int = 3
+    lookahead: int = 30
+    lookahead_tilt: float = 17.0
+    max_rolls: int = 80
+    arrive_tolerance: float = 0.3
+    brake: bool = True
+    brake_margin: float = 0.035
+    brake_rate: float = 6.0
+    brake_tilt: float = 8.0
+    brake_release_time: float = 1.5
+    escape_attempts: int = 8
+    strut_damping: float = 1.0
+    dt: float = 1e-4
+
+    def __post_init__(self):
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.name in _FLAGS:
+                continue
+            if f.name == "strut_damping":
+                if isinstance(v, bool) or not (np.isfinite(v) and v >= 0):
+                    raise ValueError(f"locomotion setting strut_damping must be >= 0, got {np.asarray(v).tolist()!r}")
+                continue
+            if isinstance(v, bool) or not (np.isfinite(v) and v > 0):
+                raise ValueError(f"locomotion setting {f.name} must be a positive number, got {np.asarray(v).tolist()!r}")
+        for name in _COUNTS:
+            v = getattr(self, name)
+            if isinstance(v, bool) or not np.isfinite(v) or v < 0 or float(v) != int(v):
+                raise ValueError(f"locomotion setting {name} must be a whole number, got {np.asarray(v).tolist()!r}")
+            object.__setattr__(self, name, int(v))
+        if not (np.isfinite(self.min_alignment) and -1.0 <= self.min_alignment < 1.0):
+            raise ValueError(f"locomotion setting min_alignment must be in [-1, 1), got {np.asarray(self.min_alignment).tolist()!r}")
+        if abs(self.interval / self.dt - round(self.interval / self.dt)) > 1e-6:
+            raise ValueError(f"locomotion interval {self.interval} s is not a whole number of "
+                             f"time steps of {self.dt} s")
+
+    def rolling(self, params: Params) -> Params:
+        """`params` as every rolling simulation runs them: struts damped by strut_damping 1/s."""
+        if np.all(np.asarray(params.strut_damping) == self.strut_damping):
+            return params
+        return params.replace(strut_damping=float(self.strut_damping))
