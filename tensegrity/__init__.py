@@ -35,7 +35,7 @@ except PackageNotFoundError:  # run from a source tree that was never installed
 _API = {
     "Params": ("physics.params", "Params"),
     "Terrain": ("physics.terrain", "Terrain"),
-    "Schedule": ("physics.actuation", "Schedule"),
+    "Schedule": ("physics.schedule", "Schedule"),
     "State": ("physics.dynamics", "State"),
     "SimulationError": ("physics.dynamics", "SimulationError"),
     "stand_on": ("physics.dynamics", "stand_on"),

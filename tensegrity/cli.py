@@ -30,7 +30,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from .physics import dynamics as d
     from .physics import frames, topology as topo
     from .workspace import sweep
-    from .physics.actuation import Schedule
+    from .physics.schedule import Schedule
     from .io.config import params_from_config
     cfg = _load_cfg(args)
     params, terrain = sweep.setup(params_from_config(cfg), args.mode)

@@ -10,8 +10,8 @@ from numpy.typing import ArrayLike
 
 from . import frames, topology as topo
 from . import kernel
-from .actuation import Schedule, check_pressures
 from .params import Params
+from .schedule import Schedule, check_pressures
 from .terrain import Terrain
 
 

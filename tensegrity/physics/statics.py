@@ -15,8 +15,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from . import frames, topology as topo
-from .actuation import check_pressures
 from .params import Params
+from .schedule import check_pressures
 
 _NODE_STRUT, _NODE_SIGN = topo.NODE_STRUT, topo.NODE_SIGN  # node = centre + sign (S/2) c
 

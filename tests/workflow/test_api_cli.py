@@ -196,7 +196,7 @@ def test_progress_counts_simulated_seconds_on_a_terminal_only(monkeypatch, termi
     `dynamics.simulate` call while it is open, on a terminal; elsewhere it writes nothing."""
     from tensegrity import progress
     from tensegrity.physics import dynamics as d
-    from tensegrity.physics.actuation import Schedule
+    from tensegrity.physics.schedule import Schedule
     from tensegrity.physics.params import Params
     from tensegrity.physics.terrain import Terrain
     err = _Terminal() if terminal else io.StringIO()

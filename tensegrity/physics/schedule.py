@@ -1,4 +1,4 @@
-"""Actuation schedules: pair pressures (MPa) held over time segments."""
+"""Pressure schedules: pair pressures (MPa) held over time segments, and their check."""
 from __future__ import annotations
 
 from dataclasses import dataclass
