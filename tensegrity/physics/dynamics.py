@@ -1,5 +1,5 @@
 """State of a batch of robots, initial states, the step function and the simulation driver
-(docs/design.md §3). The time loop itself is compiled in `kernel.py`."""
+(docs/design.md §3). The time loop itself is compiled in `kernel/`."""
 from __future__ import annotations
 
 from collections.abc import Sequence

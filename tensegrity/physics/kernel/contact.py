@@ -1,5 +1,5 @@
-"""The ground contact stage of the compiled kernel (`kernel.py`; paper's contact model C1-C4),
-laid out as `kernel_stages` (lane index last, branch-free lane loops): `terrain_contact` and
+"""The ground contact stage of the compiled kernel (`kernel/__init__.py`; paper's contact model C1-C4),
+laid out as `kernel.stages` (lane index last, branch-free lane loops): `terrain_contact` and
 `_stick_force` are scalar per-robot rules, `ground_node` one node of one lane, `ground_forces`
 every node of a group of lanes.
 """
@@ -9,8 +9,8 @@ import math
 
 import numba as nb
 
-from .kernel_stages import CN, CT, EXACT, INLINE, KN, KT, MU, R
-from .terrain import KINDS
+from ..terrain import KINDS
+from .stages import CN, CT, EXACT, INLINE, KN, KT, MU, R
 
 NO_TERRAIN, PLANE, HEIGHTFIELD = KINDS["none"], KINDS["plane"], KINDS["heightfield"]
 

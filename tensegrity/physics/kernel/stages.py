@@ -1,9 +1,9 @@
-"""The stages of one time step of the compiled kernel (`kernel.py`), each on a group of L robots
+"""The stages of one time step of the compiled kernel (`kernel/__init__.py`), each on a group of L robots
 side by side: every array has the lane (robot) index as its last, contiguous axis, e.g. strut
 centres X (6, 3, L). Each stage loops over struts, nodes or cables outside and over lanes inside;
 the lane loops have no branches (selects instead of `if`), so that LLVM turns them into SIMD
 instructions, one robot per lane. The per-robot rules (`_cable_tension`, `_rotate`) are scalar
-functions called inside the lane loops. The ground contact stage is in `kernel_contact`.
+functions called inside the lane loops. The ground contact stage is in `kernel.contact`.
 
 Per-lane constants are the rows of C (NC, L) named below. Booleans are stored as 0.0 / 1.0.
 The last argument of a stage, `lanes`, is a tuple of L zeros: its length is a compile-time
@@ -16,7 +16,7 @@ import math
 import numba as nb
 import numpy as np
 
-from . import topology as topo
+from .. import topology as topo
 
 # No division-by-zero checks (error_model="numpy"); fused multiply-add and reciprocals are
 # allowed, but not reassociation (with it, a robot's bits would depend on the lane count) nor
@@ -24,7 +24,7 @@ from . import topology as topo
 JIT = dict(cache=True, error_model="numpy", fastmath={"contract", "nsz", "arcp"})
 INLINE = dict(forceinline=True, **JIT)
 # The contact rules and `normalise` without fused multiply-add: there LLVM's choice of which
-# product of a*b - c*d to fuse depends on the code around, and a robot alone (kernel_robot) would
+# product of a*b - c*d to fuse depends on the code around, and a robot alone (kernel.robot) would
 # differ from the same robot in a group in the last bit. Elsewhere the choice has been the same in both layouts
 # (tests/physics/test_kernel_lanes); the flags travel with the instructions into the caller.
 EXACT = dict(INLINE, fastmath={"nsz", "arcp"})

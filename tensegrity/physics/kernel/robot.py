@@ -1,5 +1,5 @@
 """One robot alone, in SIMD lanes of its own: its struts, nodes and cables side by side (a batch
-of one or two robots, `kernel.advance`). The stages of `kernel_stages` are written for a group of
+of one or two robots, `kernel.advance`). The stages of `kernel.stages` are written for a group of
 robots, one per lane; a lone robot would leave all lanes but one empty. Here the same per-item
 functions (`ks.rotations`, `ks.node`, `ks.cable_force`, `kc.ground_node`, `ks.strut`) run with the
 item as the lane: strut i in lane i of 8 (lanes 6, 7: padding), node STRUT_A[i] in lane i and
@@ -20,9 +20,9 @@ import numpy as np
 from numba.core import types
 from numba.extending import intrinsic
 
-from . import kernel_contact as kc
-from . import kernel_stages as ks
-from .kernel_stages import DT_I, DT_M, GRAV, HL, INLINE, NC, R
+from . import contact as kc
+from . import stages as ks
+from .stages import DT_I, DT_M, GRAV, HL, INLINE, NC, R
 
 SHAPES = ((1, 3, 8), (1, 3, 8), (1, 3, 8), (1, 4, 8), (1, 3, 3, 8), (1, 3, 16), (1, 3, 16),
           (1, 3, 16), (1, 3, 16), (1, 16), (16,), (4, 3, 24), (3, 24), (4, 3, 16), (3, 16),
@@ -30,7 +30,7 @@ SHAPES = ((1, 3, 8), (1, 3, 8), (1, 3, 8), (1, 4, 8), (1, 3, 3, 8), (1, 3, 16), 
 
 NODE_LANE = np.empty(12, np.int64)  # node -> its lane
 NODE_LANE[ks.STRUT_A], NODE_LANE[ks.STRUT_B] = np.arange(6), 8 + np.arange(6)
-STRUT_LANES = (0,) * 8  # the struts' lanes (kernel_stages' lane markers)
+STRUT_LANES = (0,) * 8  # the struts' lanes (kernel.stages' lane markers)
 PAD = np.ones(16)  # 1.0 in the lanes that hold no node
 PAD[NODE_LANE] = 0.0
 END = NODE_LANE[ks.CABLE_NODES]  # (24, 2): the lanes of a cable's two nodes

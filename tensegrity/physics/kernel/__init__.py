@@ -3,9 +3,9 @@ strut dynamics (eq. 3-4) integrated by semi-implicit Euler (design.md section 3)
 
 One call advances every robot of a batch by `n_rec * every` steps of dt, writing the strut
 centres and quaternions after each block of `every` steps. The time loop never returns to
-Python. Robots run in groups of LANES side by side, one per SIMD lane (`kernel_stages`: a step
+Python. Robots run in groups of LANES side by side, one per SIMD lane (`kernel.stages`: a step
 is `node_states`, `cable_forces`, `ground_forces`, `integrate`), the groups in parallel threads;
-batches under WIDE_FROM robots run one robot per thread instead, in the layout of `kernel_robot`
+batches under WIDE_FROM robots run one robot per thread instead, in the layout of `kernel.robot`
 (its struts, nodes and cables side by side). The working arrays live on the stack
 (`compiling.stack_array`). A batch that is not a multiple of LANES fills the last group with
 copies of its last robot, whose results are dropped. Status per robot (`dynamics.simulate`
@@ -19,12 +19,12 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from . import kernel_contact as kc
-from . import kernel_robot as kr
-from . import kernel_stages as ks
-from . import topology as topo
+from .. import topology as topo
+from ..params import IDX
+from . import contact as kc
+from . import robot as kr
+from . import stages as ks
 from .compiling import callees_first, jit, stack_array
-from .params import IDX
 
 OK, NON_FINITE, TOO_FAST, OFF_TERRAIN = 0, 1, 2, 3  # status codes (values fixed: see dynamics)
 NO_TERRAIN = kc.NO_TERRAIN
@@ -50,16 +50,16 @@ _SHAPES = ((6, 3), (6, 3), (6, 3), (6, 4), (12, 3), (12,), (12, 3), (12, 3), (12
            (24, 4), (ks.NC,), (24,), (3,))
 _W = [stack_array(*s, LANES) for s in _SHAPES]
 _1 = [stack_array(*s, 1) for s in _SHAPES]
-_WIDE, _ONE = (0,) * LANES, (0,)  # lane markers (kernel_stages)
+_WIDE, _ONE = (0,) * LANES, (0,)  # lane markers (kernel.stages)
 (_wX, _wV, _wW, _wQ, _wAN, _wST, _wP, _wU, _wG, _wRm, _wT, _wC, _wact, _wlane) = _W
 (_1X, _1V, _1W, _1Q, _1AN, _1ST, _1P, _1U, _1G, _1Rm, _1T, _1C, _1act, _1lane) = _1
 (_rX, _rV, _rW, _rQ, _rRm, _rP, _rU, _rG, _rAN, _rST, _ron, _rE, _rTF, _rTN, _rFN, _rC, _ract,
- _rfast) = [stack_array(*s) for s in kr.SHAPES]  # one robot alone (kernel_robot)
+ _rfast) = [stack_array(*s) for s in kr.SHAPES]  # one robot alone (kernel.robot)
 
 
 @jit(**ks.INLINE)
 def _constants(prm, b, dt, C, act, pres, l):
-    """Lane l of C (NC, L) and act (24, L) N/m (eq. 1) for robot b (kernel_stages names the
+    """Lane l of C (NC, L) and act (24, L) N/m (eq. 1) for robot b (kernel.stages names the
     rows). Returns True if its cable law is linear (a_exp = 1)."""
     S, r, m = prm[b, _STRUT_LENGTH], prm[b, _STRUT_RADIUS], prm[b, _STRUT_MASS]
     It, Ia = m * (S * S / 12.0 + r * r / 4.0), m * r * r / 2.0  # thin tube inertia, kg m^2
@@ -202,7 +202,7 @@ def _group_wide(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, 
 @jit(**ks.JIT)
 def _group_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x,
                out_q, status, fail_step):
-    """`_run` for robot b alone, stepped in the layout of `kernel_robot` (the group layout of
+    """`_run` for robot b alone, stepped in the layout of `kernel.robot` (the group layout of
     one lane loads, records and retires it)."""
     work = (_1X(), _1V(), _1W(), _1Q(), _1AN(), _1ST(), _1P(), _1U(), _1G(), _1Rm(), _1T(),
             _1C(), _1act(), _1lane())
