@@ -13,10 +13,10 @@ from __future__ import annotations
 
 import math
 
-import numba as nb
 import numpy as np
 
 from .. import topology as topo
+from .compiling import jit
 
 # No division-by-zero checks (error_model="numpy"); fused multiply-add and reciprocals are
 # allowed, but not reassociation (with it, a robot's bits would depend on the lane count) nor
@@ -48,7 +48,7 @@ NODE_CABLE_SIGN = np.where(topo.CABLES[NODE_CABLES, 0] == np.arange(12)[:, None]
 NC = 19
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def rotations(Q, Rm, lanes):
     """Rm (S, 3, 3, L) <- the rotation matrices (columns = body axes in world) of the
     quaternions Q (S, 4, L)."""
@@ -66,7 +66,7 @@ def rotations(Q, Rm, lanes):
             Rm[i, 2, 2, l] = 1 - 2 * (qx * qx + qy * qy)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def node(P, U, n, m, X, V, W, Rm, i, l, sg):
     """P[n, :, m], U[n, :, m] <- position m and velocity m/s of the strut end at sg m (+-half
     the length) along the axis of strut X[i, :, l], V, W, Rm."""
@@ -77,7 +77,7 @@ def node(P, U, n, m, X, V, W, Rm, i, l, sg):
         U[n, k, m] = V[i, k, l] + sg * (Rm[i, k, 0, l] * w1 - Rm[i, k, 1, l] * w0)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def node_states(X, V, Q, W, C, Rm, P, U, lanes):
     """Rotation matrices Rm (6, 3, 3, L) of the quaternions Q (6, 4, L) (`rotations`); node
     positions P (12, 3, L) m and velocities U (12, 3, L) m/s (`node`) from the strut centres
@@ -89,7 +89,7 @@ def node_states(X, V, Q, W, C, Rm, P, U, lanes):
             node(P, U, n, l, X, V, W, Rm, i, l, NODE_SIGN[n] * C[HL, l])
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def _cable_tension(ln, ldot, K, Lr, a_exp, La, Bc, Lmin, act, linear):
     """Cable tension (N) by eq. 2 at length ln m and rate ldot m/s, with the muscle of eq. 1
     (act = Kg*P N/m; La = Lr**a_exp; `linear` if a_exp == 1), never negative (NaN passes)."""
@@ -99,7 +99,7 @@ def _cable_tension(ln, ldot, K, Lr, a_exp, La, Bc, Lmin, act, linear):
     return 0.0 if f <= 0.0 else f
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def cable_force(dx, dy, dz, dux, duy, duz, C, l, a, linear):
     """Tension (N) by `_cable_tension` of a cable from node 1 to node 2 = node 1 + d (m), the
     velocity of node 2 relative to node 1 du (m/s), and its force (N) on node 1, with the
@@ -113,7 +113,7 @@ def cable_force(dx, dy, dz, dux, duy, duz, C, l, a, linear):
     return f, f * ex, f * ey, f * ez
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def _cable(j, l, P, U, C, act, T, linear):
     """`cable_forces` for cable j of lane l."""
     n1, n2 = CABLE_NODES[j, 0], CABLE_NODES[j, 1]
@@ -123,7 +123,7 @@ def _cable(j, l, P, U, C, act, T, linear):
         C, l, act[j, l], linear)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def cable_forces(P, U, C, act, linear, T, lanes):
     """Cable tensions and forces T (24, 4, L) by `_cable_tension` (act (24, L) N/m; `linear` if
     every lane has a_exp = 1): T[:, 0] tension N, T[:, 1:] its force on the cable's first node."""
@@ -136,7 +136,7 @@ def cable_forces(P, U, C, act, linear, T, lanes):
                 _cable(j, l, P, U, C, act, T, False)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def cable_sum(T, n, k, l):
     """Component k (N) of the force of node n's four cables (T of `cable_forces`) in lane l,
     summed in cable order."""
@@ -146,7 +146,7 @@ def cable_sum(T, n, k, l):
     return s
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def _rotate(Q, i, l, w0, w1, w2, dt):
     """Q[i, :, l] <- Q[i, :, l] * exp(w dt / 2), the exponential by its Taylor series
     (|w| dt / 2 << 1). The factor is a unit quaternion, so |Q| drifts by round-off only."""
@@ -161,7 +161,7 @@ def _rotate(Q, i, l, w0, w1, w2, dt):
     Q[i, 3, l] = qw * ez + qx * ey - qy * ex + qz * c
 
 
-@nb.njit(**EXACT)
+@jit(**EXACT)
 def normalise(Q, i, l):
     """Q[i, :, l] <- the unit quaternion Q[i, :, l] / |Q[i, :, l]| (`_rotate` keeps |Q| = 1 up
     to round-off only)."""
@@ -170,13 +170,13 @@ def normalise(Q, i, l):
         Q[i, k, l] *= iq
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def _node_force(T, G, n, k, l):
     """Component k of the force (N) on node n in lane l: its cables (`cable_sum`) + contact G."""
     return cable_sum(T, n, k, l) + G[n, k, l]
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def strut(i, l, X, V, Q, W, Rm, C, dt, fax, fay, faz, fbx, fby, fbz):
     """Semi-implicit Euler step of strut X[i, :, l], V, Q, W (rotation Rm) with the forces fa
     on its first and fb on its second node (N): V (m/s) from the forces, gravity and damping
@@ -204,13 +204,13 @@ def strut(i, l, X, V, Q, W, Rm, C, dt, fax, fay, faz, fbx, fby, fbz):
     return V[i, 0, l] ** 2 + V[i, 1, l] ** 2 + V[i, 2, l] ** 2 + hl * hl * (w0 * w0 + w1 * w1)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def faster(sp, fastest):
     """The larger of two squared speeds, NaN if sp is NaN."""
     return sp if (sp > fastest) | (sp != sp) else fastest
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def integrate(X, V, Q, W, T, G, Rm, C, dt, fastest, lanes):
     """`strut` for every strut, with its node forces: cables T and contact G. fastest (L,) <-
     the largest squared end speed over the struts of a lane (`faster`)."""
