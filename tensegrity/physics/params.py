@@ -10,11 +10,13 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-# Column order of the packed (B, NP) parameter array read by the kernel.
-NAMES = ("strut_length", "strut_radius", "strut_mass", "cable_exponent", "cable_stiffness",
-         "cable_rest_length", "cable_damping", "muscle_min_length", "muscle_gain", "gravity",
-         "ground_stiffness", "ground_damping", "friction", "friction_stiffness",
-         "friction_damping", "strut_damping", "max_speed")
+from . import actuator
+
+# Column order of the packed (B, NP) parameter array read by the kernel: the struts, the
+# actuator's fields side by side (actuator.NAMES), gravity and the ground contact.
+NAMES = (("strut_length", "strut_radius", "strut_mass") + actuator.NAMES
+         + ("gravity", "ground_stiffness", "ground_damping", "friction", "friction_stiffness",
+            "friction_damping", "strut_damping", "max_speed"))
 POSITIVE = ("strut_length", "strut_radius", "strut_mass", "cable_exponent", "cable_stiffness",
             "cable_rest_length", "muscle_min_length", "ground_stiffness", "friction_stiffness",
             "max_speed")

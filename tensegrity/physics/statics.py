@@ -4,8 +4,9 @@ Free mode (no gravity, no ground; docs/design.md §3, paper III.A-B). The six st
 bodies, each given by its centre x (3,) m and an unnormalised direction d (3,), c = d / |d|, with
 nodes x + (S/2) c and x - (S/2) c (eq. 4). The energy is the sum over the 24 cables of the integral
 of the clamped tension of eq. 2 with the muscle of eq. 1 at zero velocity. For cable_exponent
-a = 1 it is U = 0.5 (K + Kg P) max(0, l - l*)^2 with l* = (K L + Kg P Lmin) / (K + Kg P).
-This module never calls `kernel` or `dynamics.simulate`.
+a = 1 it is U = 0.5 (K + Kg P) max(0, l - l*)^2 with l* = (K L + Kg P Lmin) / (K + Kg P)
+(`actuator.spring`, the NumPy form of the law). This module never calls `kernel` or
+`dynamics.simulate`.
 """
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import frames, topology as topo
+from . import actuator, frames, topology as topo
 from .params import Params
 from .schedule import check_pressures
 
@@ -30,7 +31,8 @@ def _scalar(params: Params, name: str) -> float:
 
 def cable_law(params: Params, pressure: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Per-cable stiffness k = K + Kg P (24,) N/m and slack length l* (24,) m (a = 1), for pair
-    pressures (12,) MPa: the tension is k max(0, l - l*), eq. 2 with eq. 1 at zero velocity."""
+    pressures (12,) MPa: the tension is k max(0, l - l*), eq. 2 with eq. 1 at zero velocity
+    (S1, `actuator.spring`)."""
     if _scalar(params, "cable_exponent") != 1.0:
         raise NotImplementedError("statics is implemented for cable_exponent = 1 only")
     p = check_pressures(pressure)
@@ -38,9 +40,7 @@ def cable_law(params: Params, pressure: ArrayLike) -> tuple[np.ndarray, np.ndarr
         raise ValueError(f"pressure must have shape ({topo.N_PAIRS},) MPa, got {p.shape}")
     K, L = _scalar(params, "cable_stiffness"), _scalar(params, "cable_rest_length")
     Lmin, Kg = _scalar(params, "muscle_min_length"), _scalar(params, "muscle_gain")
-    act = Kg * p[topo.CABLE_PAIR]
-    k = K + act
-    return k, (K * L + act * Lmin) / k
+    return actuator.spring(K, L, Lmin, actuator.activations(Kg, p))
 
 
 def strut_nodes(centres: np.ndarray, directions: np.ndarray, strut_length: float) -> np.ndarray:

@@ -15,9 +15,11 @@ from numba.core.dispatcher import Dispatcher
 from numba.extending import intrinsic
 
 # The files compiled into the kernel's functions besides their own: the other files of the
-# kernel folder. numba's stamp covers only a function's own file: a cached function would
-# link the stale cached code of a changed callee in another file.
+# kernel folder and the actuator's law (physics/actuator.py). numba's stamp covers only a
+# function's own file: a cached function would link the stale cached code of a changed callee
+# in another file.
 WATCHED = sorted(p for p in Path(__file__).parent.glob("*.py") if p.name != "__init__.py")
+WATCHED.append(Path(__file__).parents[1] / "actuator.py")
 
 
 def _watching(locator):

@@ -2,8 +2,9 @@
 side by side: every array has the lane (robot) index as its last, contiguous axis, e.g. strut
 centres X (6, 3, L). Each stage loops over struts, nodes or cables outside and over lanes inside;
 the lane loops have no branches (selects instead of `if`), so that LLVM turns them into SIMD
-instructions, one robot per lane. The per-robot rules (`_cable_tension`, `_rotate`) are scalar
-functions called inside the lane loops. The ground contact stage is in `kernel.contact`.
+instructions, one robot per lane. The per-robot rules (`cable_tension`, the actuator's law;
+`_rotate`) are scalar functions called inside the lane loops. The ground contact stage is in
+`kernel.contact`.
 
 Per-lane constants are the rows of C (NC, L) named below. Booleans are stored as 0.0 / 1.0.
 The last argument of a stage, `lanes`, is a tuple of L zeros: its length is a compile-time
@@ -15,7 +16,7 @@ import math
 
 import numpy as np
 
-from .. import topology as topo
+from .. import actuator, topology as topo
 from .compiling import jit
 
 # No division-by-zero checks (error_model="numpy"); fused multiply-add and reciprocals are
@@ -40,12 +41,20 @@ STRUT_B = np.ascontiguousarray(topo.STRUTS[:, 1].astype(np.int64))
 NODE_CABLES = np.array([np.flatnonzero((topo.CABLES == n).any(1)) for n in range(12)], np.int64)
 NODE_CABLE_SIGN = np.where(topo.CABLES[NODE_CABLES, 0] == np.arange(12)[:, None], 1.0, -1.0)
 
-# Rows of the per-lane constants C (NC, L): half strut length m; cable K N/m, L m, exponent a,
-# L**a, B N s/m, Lmin m (eq. 1-2); contact r m, k_n N/m, c_n N s/m, mu, k_t N/m, c_t N s/m
-# (C1-C4); dt/m, dt/I_t, (I_a - I_t)/I_t, strut damping 1/s, g m/s^2 (eq. 3-4); max speed^2.
-(HL, K, LR, A_EXP, LA, BC, LMIN, R, KN, CN, MU, KT, CT, DT_M, DT_I, GYRO, DS, GRAV,
- VMAX2) = range(19)
-NC = 19
+# Rows of the per-lane constants C (NC, L): half strut length m; from row LAW on, the actuator's
+# (actuator.ROWS: cable K N/m, L m, exponent a, L**a, B N s/m, Lmin m, eq. 1-2); contact r m,
+# k_n N/m, c_n N s/m, mu, k_t N/m, c_t N s/m (C1-C4); dt/m, dt/I_t, (I_a - I_t)/I_t, strut
+# damping 1/s, g m/s^2 (eq. 3-4); max speed^2.
+HL, LAW = 0, 1
+_AFTER_LAW = LAW + len(actuator.ROWS)
+(R, KN, CN, MU, KT, CT, DT_M, DT_I, GYRO, DS, GRAV, VMAX2) = range(_AFTER_LAW, _AFTER_LAW + 12)
+NC = VMAX2 + 1
+
+# The actuator's law (eq. 1-2), written once in `actuator`, compiled here with the kernel's flags
+# and inlined where it is called: its constants, a cable's muscle, and the cable tension.
+law_constants = jit(**INLINE)(actuator.pack)
+law_activation = jit(**INLINE)(actuator.activation)
+cable_tension = jit(**INLINE)(actuator.tension)
 
 
 @jit(**INLINE)
@@ -90,26 +99,15 @@ def node_states(X, V, Q, W, C, Rm, P, U, lanes):
 
 
 @jit(**INLINE)
-def _cable_tension(ln, ldot, K, Lr, a_exp, La, Bc, Lmin, act, linear):
-    """Cable tension (N) by eq. 2 at length ln m and rate ldot m/s, with the muscle of eq. 1
-    (act = Kg*P N/m; La = Lr**a_exp; `linear` if a_exp == 1), never negative (NaN passes)."""
-    f = K * (ln - Lr) if linear else K * (ln ** a_exp - La)
-    f += Bc * ldot
-    f += (act if (act > 0.0) & (ln > Lmin) else 0.0) * (ln - Lmin)
-    return 0.0 if f <= 0.0 else f
-
-
-@jit(**INLINE)
 def cable_force(dx, dy, dz, dux, duy, duz, C, l, a, linear):
-    """Tension (N) by `_cable_tension` of a cable from node 1 to node 2 = node 1 + d (m), the
+    """Tension (N) by `cable_tension` of a cable from node 1 to node 2 = node 1 + d (m), the
     velocity of node 2 relative to node 1 du (m/s), and its force (N) on node 1, with the
     constants of lane l of C and the muscle a (N/m)."""
     ln = math.sqrt(dx * dx + dy * dy + dz * dz)
     il = 1.0 / ln  # one division, not three: the divider is the stage's bottleneck
     ex, ey, ez = dx * il, dy * il, dz * il
     ldot = ex * dux + ey * duy + ez * duz
-    f = _cable_tension(ln, ldot, C[K, l], C[LR, l], C[A_EXP, l], C[LA, l], C[BC, l], C[LMIN, l],
-                       a, linear)
+    f = cable_tension(ln, ldot, a, linear, C, LAW, l)
     return f, f * ex, f * ey, f * ez
 
 
@@ -125,8 +123,8 @@ def _cable(j, l, P, U, C, act, T, linear):
 
 @jit(**INLINE)
 def cable_forces(P, U, C, act, linear, T, lanes):
-    """Cable tensions and forces T (24, 4, L) by `_cable_tension` (act (24, L) N/m; `linear` if
-    every lane has a_exp = 1): T[:, 0] tension N, T[:, 1:] its force on the cable's first node."""
+    """Cable tensions and forces T (24, 4, L) by `cable_tension` (act (24, L) N/m; `linear` if
+    `law_constants` returned True in every lane): T[:, 0] tension N, T[:, 1:] its force on the cable's first node."""
     for j in range(24):
         if linear:  # a constant inside each lane loop
             for l in range(len(lanes)):

@@ -1,0 +1,136 @@
+"""Twins: a rule that the compiled kernel runs and its NumPy twin, pinned against each other on
+random inputs (seeded). The actuator law, eq. 1-2 (physics/actuator.py): the scalar rule as the
+kernel compiles it against `actuator.tensions`."""
+import numpy as np
+import pytest
+
+from tensegrity.physics import actuator, kernel
+from tensegrity.physics import topology as topo
+from tensegrity.physics.kernel import stages as ks
+from tensegrity.physics.params import IDX, NAMES, Params
+from tensegrity.physics.schedule import MAX_PRESSURE
+
+# The compiled rule may fuse a multiply-add where NumPy rounds twice: tensions agree to a few ulp
+# of the largest term (K l or Kg P l, up to ~5e3 N, ulp ~1e-12 N).
+ATOL, RTOL = 1e-11, 1e-14
+
+
+def random_cables(rng, n, exponent=1.0):
+    """n robots of 24 cables, every parameter drawn per robot: law parameters (len(NAMES), n, 1)
+    in actuator.NAMES order, lengths (n, 24) m from far below Lmin to taut, rates (n, 24) m/s and
+    pair pressures (n, 12) MPa: a third 0, a third up to 3, a third high (up to MAX_PRESSURE)."""
+    L = rng.uniform(0.2, 0.35, n)
+    values = np.stack([np.full(n, exponent) if np.isscalar(exponent) else exponent,
+                       rng.uniform(200.0, 3000.0, n), L, rng.uniform(0.0, 5.0, n),
+                       L * rng.uniform(0.3, 0.9, n), rng.uniform(100.0, 1000.0, n)])[..., None]
+    ln = rng.uniform(0.02, 0.5, (n, 24))
+    ldot = rng.normal(0.0, 0.5, (n, 24))
+    third = rng.integers(0, 3, (n, 12))
+    p = np.where(third == 0, 0.0, np.where(third == 1, rng.uniform(0.0, 3.0, (n, 12)),
+                                           rng.uniform(3.0, MAX_PRESSURE, (n, 12))))
+    p[0] = MAX_PRESSURE
+    return values, ln, ldot, p
+
+
+def compiled(values, ln, ldot, p, linear=None):
+    """The kernel's compiled rule, cable by cable: the constants by `ks.law_constants` from a
+    packed parameter row, the muscle by `ks.law_activation`, the tension by `ks.cable_tension`
+    (its fast path where the constants say linear, unless `linear` is given)."""
+    prm = np.ascontiguousarray(values[..., 0].T)  # (n, 6): robot b's law from column 0
+    C, out = np.zeros((len(actuator.ROWS), 1)), np.empty(ln.shape)
+    for b in range(ln.shape[0]):
+        lin = ks.law_constants(prm, b, 0, C, 0, 0)
+        for j in range(24):
+            act = ks.law_activation(prm, b, 0, p[b, topo.CABLE_PAIR[j]])
+            out[b, j] = ks.cable_tension(ln[b, j], ldot[b, j], act, lin if linear is None else linear,
+                                         C, 0, 0)
+    return out
+
+
+def twin(values, ln, ldot, p):
+    """The NumPy twin of `compiled`."""
+    return actuator.tensions(ln, ldot, actuator.activations(values[5], p), actuator.constants(values))
+
+
+@pytest.mark.parametrize("exponent", [1.0, 1.3, "random"])
+def test_compiled_cable_law_equals_its_numpy_twin(exponent):
+    rng = np.random.default_rng(7)
+    n = 100
+    values, ln, ldot, p = random_cables(rng, n, rng.uniform(0.5, 2.0, n) if exponent == "random"
+                                        else exponent)
+    f, f_np = compiled(values, ln, ldot, p), twin(values, ln, ldot, p)
+    np.testing.assert_allclose(f, f_np, rtol=RTOL, atol=ATOL)
+    # the draws reach every branch: slack, muscle off below Lmin, pressure 0 and high
+    Lmin, act = values[4], actuator.activations(values[5], p)
+    assert 0.2 < np.mean(f_np == 0.0) < 0.8
+    assert np.any((ln < Lmin) & (act > 0)) and np.any((act == 0) & (f_np > 0))
+    assert p.max() == MAX_PRESSURE and np.mean(p > 3.0) > 0.2
+    # the clamp: a slack cable pulls with exactly 0.0 (not -0.0) in both; never negative
+    assert np.all(f[f_np == 0.0] == 0.0) and not np.signbit(f).any() and not np.signbit(f_np).any()
+    # below Lmin the muscle adds nothing: the same tension at zero pressure
+    below = ln <= Lmin
+    np.testing.assert_array_equal(f_np[below], twin(values, ln, ldot, 0.0 * p)[below])
+    np.testing.assert_array_equal(f[below], compiled(values, ln, ldot, 0.0 * p)[below])
+
+
+def test_compiled_general_path_equals_the_fast_path_at_exponent_one():
+    """A robot with a = 1 in a group with another a runs the power path: the same tensions."""
+    values, ln, ldot, p = random_cables(np.random.default_rng(8), 20)
+    np.testing.assert_allclose(compiled(values, ln, ldot, p, linear=False),
+                               compiled(values, ln, ldot, p), rtol=RTOL, atol=ATOL)
+
+
+def test_nan_passes_both_twins():
+    values, ln, ldot, p = random_cables(np.random.default_rng(9), 2)
+    ln[0, 3] = ldot[1, 5] = np.nan
+    for f in (compiled(values, ln, ldot, p), twin(values, ln, ldot, p)):
+        assert np.isnan(f[0, 3]) and np.isnan(f[1, 5]) and np.isfinite(f).sum() == 2 * 24 - 2
+
+
+@pytest.mark.parametrize("exponent", [1.0, 1.3])
+def test_kernel_cable_stage_equals_the_numpy_law(exponent):
+    """kernel.tensions (the compiled cable stage, parameters packed from Params) on random node
+    positions and velocities, against the NumPy law at the lengths and rates computed here."""
+    rng = np.random.default_rng(10)
+    B = 12
+    params = Params(cable_exponent=exponent, cable_stiffness=rng.uniform(500, 2000, B),
+                    muscle_gain=rng.uniform(200, 900, B), cable_damping=rng.uniform(0, 5, B))
+    P = topo.reference_nodes(params.strut_length) * rng.uniform(0.6, 1.4, (B, 1, 1))
+    P = P + rng.normal(0, 0.02, P.shape)
+    U = rng.normal(0, 0.3, P.shape)
+    pres = rng.choice([0.0, 0.5, 2.0, MAX_PRESSURE], (B, 12))
+    prm = params.pack(B)
+    T = kernel.tensions(P, U, prm, pres)[0]
+    e = P[:, topo.CABLES[:, 1]] - P[:, topo.CABLES[:, 0]]
+    ln = np.linalg.norm(e, axis=-1)
+    ldot = np.sum(e * (U[:, topo.CABLES[:, 1]] - U[:, topo.CABLES[:, 0]]), -1) / ln
+    values = prm[:, IDX[actuator.NAMES[0]]:IDX[actuator.NAMES[0]] + len(actuator.NAMES)].T[..., None]
+    np.testing.assert_allclose(T, twin(values, ln, ldot, pres), rtol=1e-12, atol=1e-10)
+    assert 0 < np.mean(T == 0.0) < 0.9
+
+
+def test_the_actuator_packs_its_fields_side_by_side():
+    c = IDX[actuator.NAMES[0]]
+    assert NAMES[c:c + len(actuator.NAMES)] == actuator.NAMES
+    values = np.array([[1.0, 1.3], [1000.0, 800.0], [0.28, 0.3], [2.0, 0.0], [0.2, 0.1],
+                       [589.0, 300.0]])
+    C = np.zeros((len(actuator.ROWS), 2))
+    prm = np.ascontiguousarray(values.T)
+    assert [ks.law_constants(prm, b, 0, C, 0, b) for b in range(2)] == [True, False]
+    np.testing.assert_allclose(C, actuator.constants(values), rtol=1e-15, atol=0)
+
+
+def test_spring_is_the_law_at_rest_above_lmin():
+    """(S1), what statics and dynamics.energy use: k max(0, l - l*) = eq. 1-2 at a = 1, dl/dt = 0
+    and l > Lmin."""
+    values, ln, _, p = random_cables(np.random.default_rng(11), 50)
+    K, L, Lmin = values[1], values[2], values[4]
+    act = actuator.activations(values[5], p)
+    k, lstar = actuator.spring(K, L, Lmin, act)
+    above = ln > Lmin
+    f = twin(values, ln, 0.0 * ln, p)
+    np.testing.assert_allclose((k * np.maximum(0.0, ln - lstar))[above], f[above], rtol=1e-12,
+                               atol=1e-10)
+    # l* is the mean of L and Lmin weighted by K and Kg P (to round-off)
+    assert np.all(lstar >= np.minimum(L, Lmin) * (1 - 1e-15))
+    assert np.all(lstar <= np.maximum(L, Lmin) * (1 + 1e-15))
