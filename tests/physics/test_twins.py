@@ -1,14 +1,18 @@
 """Twins: a rule that the compiled kernel runs and its NumPy twin, pinned against each other on
 random inputs (seeded). The actuator law, eq. 1-2 (physics/actuator.py): the scalar rule as the
-kernel compiles it against `actuator.tensions`."""
+kernel compiles it against `actuator.tensions`. The terrain query: `Terrain.height_and_normal`
+against the kernel's `terrain_contact`, also exactly on cell edges, corners and diagonals."""
 import numpy as np
 import pytest
 
 from tensegrity.physics import actuator, kernel
+from tensegrity.physics import dynamics as d
 from tensegrity.physics import topology as topo
+from tensegrity.physics.kernel import contact as kc
 from tensegrity.physics.kernel import stages as ks
 from tensegrity.physics.params import IDX, NAMES, Params
-from tensegrity.physics.schedule import MAX_PRESSURE
+from tensegrity.physics.schedule import MAX_PRESSURE, Schedule
+from tensegrity.physics.terrain import Terrain
 
 # The compiled rule may fuse a multiply-add where NumPy rounds twice: tensions agree to a few ulp
 # of the largest term (K l or Kg P l, up to ~5e3 N, ulp ~1e-12 N).
@@ -134,3 +138,105 @@ def test_spring_is_the_law_at_rest_above_lmin():
     # l* is the mean of L and Lmin weighted by K and Kg P (to round-off)
     assert np.all(lstar >= np.minimum(L, Lmin) * (1 - 1e-15))
     assert np.all(lstar <= np.maximum(L, Lmin) * (1 + 1e-15))
+
+
+# --------------------------------------------------------------- the terrain query
+# Terrain.height_and_normal (NumPy) against kernel/contact.py terrain_contact (compiled), which
+# returns the normal and the signed distance of p to the plane of the triangle under it.
+
+def _fields():
+    """Height fields: the spec's random field (0.25 m cells), a steep non-square field of 1/8 m
+    cells, and one whose spacing and origin are not binary fractions."""
+    rng = np.random.default_rng(12)
+    return [Terrain.random(seed=3),
+            Terrain(kind="heightfield", origin=(-0.75, 1.25), spacing=0.125,
+                    heights=rng.normal(0.0, 0.05, (9, 13))),
+            Terrain(kind="heightfield", origin=(-1.1, 0.35), spacing=0.3,
+                    heights=rng.normal(0.0, 0.08, (12, 7)))]
+
+
+def field_points(rng, terrain, n=3000):
+    """Points (x, y) m on a height field, by kind: drawn at random in the field, exactly on cell
+    edges (either direction), on cell corners, on cell diagonals (s + t = 1), and off the field
+    (on its far edge lines, or just outside)."""
+    (x0, y0), h = terrain.origin, terrain.spacing
+    nx, ny = terrain.heights.shape
+    i, j = rng.integers(0, nx - 1, n), rng.integers(0, ny - 1, n)
+    s = rng.integers(0, 1024, n) / 1024  # binary fractions: exact on a binary grid
+    at = lambda u, v: (x0 + u * h, y0 + v * h)  # noqa: E731
+    return {"random": at(rng.uniform(0, nx - 1, n), rng.uniform(0, ny - 1, n)),
+            "edge": at(np.where(s < 0.5, i, i + s), np.where(s < 0.5, j + 2 * s, j)),
+            "corner": at(i, j), "diagonal": at(i + s, j + 1 - s),
+            "off": at(np.r_[np.full(n // 2, nx - 1.0), rng.uniform(-1.0, -1e-9, n // 2)],
+                      rng.uniform(0, ny - 1, 2 * (n // 2)))}
+
+
+def compiled_query(terrain, x, y, z):
+    """kernel.contact.terrain_contact at the points (x, y, z) m: normals (n, 3), signed
+    distances (n,) m, ok (n,)."""
+    kind, meta, hz = terrain.packed()
+    out = [kc.terrain_contact(a, b, c, kind, meta, hz) for a, b, c in zip(x, y, z)]
+    return (np.array([o[:3] for o in out]), np.array([o[3] for o in out]),
+            np.array([o[4] for o in out]))
+
+
+@pytest.mark.parametrize("field", range(3))
+def test_numpy_height_field_query_equals_the_kernels(field):
+    terrain = _fields()[field]
+    for kind, (x, y) in field_points(np.random.default_rng(13 + field), terrain).items():
+        h, n = terrain.height_and_normal(x, y)
+        nk, dist, ok = compiled_query(terrain, x, y, np.where(np.isfinite(h), h, 0.0))
+        np.testing.assert_array_equal(ok, np.isfinite(h), err_msg=kind)
+        assert np.all(np.isnan(n[~ok])), kind
+        if kind == "off":
+            assert not ok.any()
+            continue
+        # the NumPy height is on the kernel's triangle, and the normals are the same
+        np.testing.assert_allclose(dist / nk[:, 2], 0.0, rtol=0, atol=1e-15, err_msg=kind)
+        np.testing.assert_allclose(n, nk, rtol=0, atol=1e-12, err_msg=kind)
+        np.testing.assert_array_equal(terrain.normal_at(x, y), n)
+        np.testing.assert_array_equal(terrain.height(x, y), h)
+
+
+def test_the_normal_is_the_triangles_on_both_sides_of_a_diagonal():
+    """Just below a cell's diagonal and on it the lower triangle's normal (s + t <= 1), just
+    above it the upper triangle's, each exact."""
+    terrain = _fields()[1]
+    (x0, y0), hs = terrain.origin, terrain.spacing
+    z = terrain.heights
+    low = np.array([-hs * (z[3, 4] - z[2, 4]), -hs * (z[2, 5] - z[2, 4]), hs * hs])
+    up = np.array([hs * (z[2, 5] - z[3, 5]), hs * (z[3, 4] - z[3, 5]), hs * hs])
+    x, y = x0 + hs * np.array([2.25, 2.25, 2.25]), y0 + hs * (4.75 + np.array([-1e-9, 0.0, 1e-9]))
+    n = terrain.normal_at(x, y)
+    np.testing.assert_allclose(n, [low / np.linalg.norm(low)] * 2 + [up / np.linalg.norm(up)],
+                               rtol=0, atol=1e-15)
+    assert np.degrees(np.arccos(n[1] @ n[2])) > 1.0  # a real kink
+
+
+@pytest.mark.parametrize("terrain", [Terrain.flat(), Terrain.flat(0.2), Terrain.slope(12.0, 30.0),
+                                     Terrain(normal=[0.1, -0.2, 1.0], offset=0.3)])
+def test_numpy_plane_query_equals_the_kernels(terrain):
+    rng = np.random.default_rng(14)
+    x, y = rng.uniform(-3.0, 3.0, (2, 2000))
+    x[:10], y[10:20] = 0.0, 0.0  # on the axes too
+    h, n = terrain.height_and_normal(x, y)
+    nk, dist, ok = compiled_query(terrain, x, y, h)
+    assert ok.all()
+    np.testing.assert_array_equal(n, nk)  # the plane's normal, both
+    np.testing.assert_allclose(dist / nk[:, 2], 0.0, rtol=0, atol=1e-15)
+
+
+def test_no_terrain_is_no_ground_in_both():
+    """Terrain.none(): NumPy has no ground under any point (height -inf, normal up) and the
+    kernel skips the contact stage: a robot falls freely through z = 0, its CoG with -g."""
+    terrain = Terrain.none()
+    x, y = np.random.default_rng(15).uniform(-5.0, 5.0, (2, 100))
+    h, n = terrain.height_and_normal(x, y)
+    assert np.all(h == -np.inf) and np.all(n == [0.0, 0.0, 1.0])
+    assert terrain.packed()[0] == kernel.NO_TERRAIN
+    params = Params()
+    s = d.stand_on(params, 8, terrain)
+    T = 0.5
+    s1, _ = d.simulate(params, s, Schedule.constant(np.zeros(12), T), terrain)
+    assert d.nodes(s1.x, s1.q, params.strut_length)[..., 2].max() < 0.0  # all of it under z = 0
+    np.testing.assert_allclose(s1.v[..., 2].mean(), -params.gravity * T, rtol=1e-9)
