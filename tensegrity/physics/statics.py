@@ -138,13 +138,14 @@ def equilibrium(params: Params, pressure: ArrayLike, start: np.ndarray | None = 
 def support_cog(nodes: np.ndarray, face: int | Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
     """CoG (mean of the 12 nodes = mean of the strut centres) (3,) m and the face's corners
     (3, 3) m, both in the supporting-triangle frame of `face` (1..20 or three node numbers),
-    docs/design.md §2. Corners are in the order of geometry.FACES."""
+    docs/design.md §2. Corners are in the order of topology.FACES. The same as
+    `frames.in_support_frame`, which new code calls."""
     return frames.in_support_frame(nodes, face)
 
 
 def static_workspace(params: Params, face: int | Sequence[int], pair: int,
                      pressures: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Static CoG (n, 3) m in the support frame of `face` and margin (n,) m (geometry.margin_2d
+    """Static CoG (n, 3) m in the support frame of `face` and margin (n,) m (frames.margin_2d
     of its in-plane coordinates against the deformed triangle, positive inside) for pressures
     (n,) MPa applied to the 1-based `pair` alone. Each level starts from the previous solution."""
     pair = topo.check_pair(pair)
@@ -155,6 +156,6 @@ def static_workspace(params: Params, face: int | Sequence[int], pair: int,
         p = np.zeros(topo.N_PAIRS)
         p[pair - 1] = lev
         nodes = equilibrium(params, p, start=nodes)
-        cogs[i], tri = support_cog(nodes, face)
+        cogs[i], tri = frames.in_support_frame(nodes, face)
         margins[i] = frames.margin_2d(cogs[i, :2], tri[:, :2])
     return cogs, margins
