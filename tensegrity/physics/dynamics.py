@@ -256,8 +256,9 @@ def energy(params: Params, state: State, pressure: ArrayLike) -> np.ndarray:
     ln = np.linalg.norm(P[:, topo.CABLES[:, 1]] - P[:, topo.CABLES[:, 0]], axis=-1)
     pres = np.broadcast_to(check_pressures(pressure), (B, topo.N_PAIRS))
     # the law at rest (S1): a spring k whose clamped tension starts at l* (eq. 1-2); U by (S2)
+    act = actuator.activations(prm["muscle_gain"], pres)
     k, lstar = actuator.spring(prm["cable_stiffness"], prm["cable_rest_length"],
-                               prm["muscle_min_length"], actuator.activations(prm["muscle_gain"], pres))
+                               prm["muscle_min_length"], act)
     cable = 0.5 * (k * np.maximum(0.0, ln - lstar) ** 2).sum(-1)
     grav = (m * prm["gravity"] * state.x[..., 2]).sum(-1)
     return kin + cable + grav

@@ -13,9 +13,10 @@ def test_rest_length_gives_the_pretension_in_the_symmetric_state():
     assert rest_length(S, T0, K) == S * math.sqrt(6) / 4 - T0 / K == Params().cable_rest_length
     assert isinstance(rest_length(S, T0, K), float)
     L = rest_length(np.array([0.5, 0.6]), T0, np.array([1000.0, 1200.0]))
-    np.testing.assert_array_equal(L, [0.5 * math.sqrt(6) / 4 - 20 / 1000, 0.6 * math.sqrt(6) / 4 - 20 / 1200])
-    np.testing.assert_array_equal(Params(strut_length=np.array([0.5, 0.6]),
-                                         cable_stiffness=np.array([1000.0, 1200.0])).cable_rest_length, L)
+    np.testing.assert_array_equal(L, [0.5 * math.sqrt(6) / 4 - 20 / 1000,
+                                      0.6 * math.sqrt(6) / 4 - 20 / 1200])
+    batch = Params(strut_length=np.array([0.5, 0.6]), cable_stiffness=np.array([1000.0, 1200.0]))
+    np.testing.assert_array_equal(batch.cable_rest_length, L)
 
 
 def test_replace_recomputes_the_rest_length_unless_given():

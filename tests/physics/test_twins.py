@@ -20,8 +20,8 @@ ATOL, RTOL = 1e-11, 1e-14
 
 
 def random_cables(rng, n, exponent=1.0):
-    """n robots of 24 cables, every parameter drawn per robot: law parameters (len(NAMES), n, 1)
-    in actuator.NAMES order, lengths (n, 24) m from far below Lmin to taut, rates (n, 24) m/s and
+    """n robots of 24 cables, every parameter drawn per robot: law parameters
+    (len(actuator.NAMES), n, 1) in that order, lengths (n, 24) m from far below Lmin to taut, rates (n, 24) m/s and
     pair pressures (n, 12) MPa: a third 0, a third up to 3, a third high (up to MAX_PRESSURE)."""
     L = rng.uniform(0.2, 0.35, n)
     values = np.stack([np.full(n, exponent) if np.isscalar(exponent) else exponent,
@@ -46,14 +46,15 @@ def compiled(values, ln, ldot, p, linear=None):
         lin = ks.law_constants(prm, b, 0, C, 0, 0)
         for j in range(24):
             act = ks.law_activation(prm, b, 0, p[b, topo.CABLE_PAIR[j]])
-            out[b, j] = ks.cable_tension(ln[b, j], ldot[b, j], act, lin if linear is None else linear,
-                                         C, 0, 0)
+            out[b, j] = ks.cable_tension(ln[b, j], ldot[b, j], act,
+                                         lin if linear is None else linear, C, 0, 0)
     return out
 
 
 def twin(values, ln, ldot, p):
     """The NumPy twin of `compiled`."""
-    return actuator.tensions(ln, ldot, actuator.activations(values[5], p), actuator.constants(values))
+    act = actuator.activations(values[actuator.NAMES.index("muscle_gain")], p)
+    return actuator.tensions(ln, ldot, act, actuator.constants(values))
 
 
 @pytest.mark.parametrize("exponent", [1.0, 1.3, "random"])
@@ -65,7 +66,8 @@ def test_compiled_cable_law_equals_its_numpy_twin(exponent):
     f, f_np = compiled(values, ln, ldot, p), twin(values, ln, ldot, p)
     np.testing.assert_allclose(f, f_np, rtol=RTOL, atol=ATOL)
     # the draws reach every branch: slack, muscle off below Lmin, pressure 0 and high
-    Lmin, act = values[4], actuator.activations(values[5], p)
+    Lmin = values[actuator.NAMES.index("muscle_min_length")]
+    act = actuator.activations(values[actuator.NAMES.index("muscle_gain")], p)
     assert 0.2 < np.mean(f_np == 0.0) < 0.8
     assert np.any((ln < Lmin) & (act > 0)) and np.any((act == 0) & (f_np > 0))
     assert p.max() == MAX_PRESSURE and np.mean(p > 3.0) > 0.2
@@ -108,7 +110,9 @@ def test_kernel_cable_stage_equals_the_numpy_law(exponent):
     e = P[:, topo.CABLES[:, 1]] - P[:, topo.CABLES[:, 0]]
     ln = np.linalg.norm(e, axis=-1)
     ldot = np.sum(e * (U[:, topo.CABLES[:, 1]] - U[:, topo.CABLES[:, 0]]), -1) / ln
-    values = prm[:, IDX[actuator.NAMES[0]]:IDX[actuator.NAMES[0]] + len(actuator.NAMES)].T[..., None]
+    c = IDX[actuator.NAMES[0]]
+    values = prm[:, c:c + len(actuator.NAMES)].T[..., None]
+    # lengths and rates are computed differently (one reciprocal there): a looser tolerance
     np.testing.assert_allclose(T, twin(values, ln, ldot, pres), rtol=1e-12, atol=1e-10)
     assert 0 < np.mean(T == 0.0) < 0.9
 
@@ -128,8 +132,9 @@ def test_spring_is_the_law_at_rest_above_lmin():
     """(S1), what statics and dynamics.energy use: k max(0, l - l*) = eq. 1-2 at a = 1, dl/dt = 0
     and l > Lmin."""
     values, ln, _, p = random_cables(np.random.default_rng(11), 50)
-    K, L, Lmin = values[1], values[2], values[4]
-    act = actuator.activations(values[5], p)
+    K, L, Lmin, Kg = (values[actuator.NAMES.index(k)] for k in (
+        "cable_stiffness", "cable_rest_length", "muscle_min_length", "muscle_gain"))
+    act = actuator.activations(Kg, p)
     k, lstar = actuator.spring(K, L, Lmin, act)
     above = ln > Lmin
     f = twin(values, ln, 0.0 * ln, p)

@@ -1,7 +1,8 @@
-"""The ground contact stage of the compiled kernel (`kernel/__init__.py`; paper's contact model C1-C4),
-laid out as `kernel.stages` (lane index last, branch-free lane loops): `terrain_contact` and
-`_stick_force` are scalar per-robot rules, `ground_node` one node of one lane, `ground_forces`
-every node of a group of lanes.
+"""The ground contact stage of the compiled kernel (`kernel/__init__.py`; the paper's contact
+model C1-C4), laid out as `kernel.stages` (lane index last, branch-free lane loops):
+`terrain_contact` and `_stick_force` are scalar per-robot rules, `ground_node` one node of one
+lane, `ground_forces` every node of a group of lanes. `Terrain.height_and_normal` is the NumPy
+twin of `terrain_contact` (tests/physics/test_twins.py).
 """
 from __future__ import annotations
 

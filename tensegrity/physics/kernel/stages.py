@@ -1,5 +1,5 @@
-"""The stages of one time step of the compiled kernel (`kernel/__init__.py`), each on a group of L robots
-side by side: every array has the lane (robot) index as its last, contiguous axis, e.g. strut
+"""The stages of one time step of the compiled kernel (`kernel/__init__.py`), each on a group of L
+robots side by side: every array has the lane (robot) index as its last, contiguous axis, e.g. strut
 centres X (6, 3, L). Each stage loops over struts, nodes or cables outside and over lanes inside;
 the lane loops have no branches (selects instead of `if`), so that LLVM turns them into SIMD
 instructions, one robot per lane. The per-robot rules (`cable_tension`, the actuator's law;
@@ -124,7 +124,8 @@ def _cable(j, l, P, U, C, act, T, linear):
 @jit(**INLINE)
 def cable_forces(P, U, C, act, linear, T, lanes):
     """Cable tensions and forces T (24, 4, L) by `cable_tension` (act (24, L) N/m; `linear` if
-    `law_constants` returned True in every lane): T[:, 0] tension N, T[:, 1:] its force on the cable's first node."""
+    `law_constants` returned True in every lane): T[:, 0] tension N, T[:, 1:] its force on the
+    cable's first node."""
     for j in range(24):
         if linear:  # a constant inside each lane loop
             for l in range(len(lanes)):
