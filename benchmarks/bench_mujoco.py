@@ -128,7 +128,7 @@ def run_ours(params, state, pressure: np.ndarray, terrain, nstep: int
     """`dynamics.simulate` of the batch for nstep steps. Returns the wall time (s) and the node
     positions (B, T, 12, 3) m every EVERY steps."""
     from tensegrity.physics import dynamics as d
-    from tensegrity.physics.actuation import Schedule
+    from tensegrity.physics.schedule import Schedule
     t0 = time.perf_counter()
     _, tr = d.simulate(params, state, Schedule.constant(pressure, nstep * DT), terrain, DT, EVERY)
     return time.perf_counter() - t0, tr.nodes(params.strut_length)

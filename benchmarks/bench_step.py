@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 from tensegrity.physics import dynamics as d
-from tensegrity.physics.actuation import Schedule
+from tensegrity.physics.schedule import Schedule
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 

@@ -12,7 +12,7 @@ from tensegrity.physics import dynamics as d
 from tensegrity.physics import topology as topo
 from tensegrity.workspace import nominal
 from tensegrity.workspace import sweep
-from tensegrity.physics.actuation import Schedule
+from tensegrity.physics.schedule import Schedule
 from tensegrity.physics import frames
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain

@@ -5,7 +5,7 @@ import pytest
 
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import frames, topology as topo
-from tensegrity.physics.actuation import Schedule
+from tensegrity.physics.schedule import Schedule
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 

@@ -18,7 +18,7 @@ import numpy as np
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import topology as topo
-from ..physics.actuation import MAX_PRESSURE
+from ..physics.schedule import MAX_PRESSURE
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from .brake import Brake

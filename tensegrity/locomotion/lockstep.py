@@ -18,7 +18,7 @@ import numpy as np
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import topology as topo
-from ..physics.actuation import Schedule
+from ..physics.schedule import Schedule
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from .settings import RollSettings

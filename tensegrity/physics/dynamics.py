@@ -1,5 +1,5 @@
 """State of a batch of robots, initial states, the step function and the simulation driver
-(docs/design.md §3). The time loop itself is compiled in `kernel.py`."""
+(docs/design.md §3). The time loop itself is compiled in `kernel/`."""
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -8,10 +8,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import frames, topology as topo
+from . import actuator, frames, topology as topo
 from . import kernel
-from .actuation import Schedule, check_pressures
 from .params import Params
+from .schedule import Schedule, check_pressures
 from .terrain import Terrain
 
 
@@ -254,10 +254,12 @@ def energy(params: Params, state: State, pressure: ArrayLike) -> np.ndarray:
            + 0.5 * Ia * state.w[..., 2] ** 2).sum(-1)
     P = nodes(state.x, state.q, params.strut_length)
     ln = np.linalg.norm(P[:, topo.CABLES[:, 1]] - P[:, topo.CABLES[:, 0]], axis=-1)
-    act = prm["muscle_gain"] * np.broadcast_to(check_pressures(pressure), (B, topo.N_PAIRS))[:, topo.CABLE_PAIR]
-    K, L, Lmin = prm["cable_stiffness"], prm["cable_rest_length"], prm["muscle_min_length"]
-    lstar = (K * L + act * Lmin) / (K + act)  # where the clamped tension starts (eq. 2)
-    cable = 0.5 * ((K + act) * np.maximum(0.0, ln - lstar) ** 2).sum(-1)
+    pres = np.broadcast_to(check_pressures(pressure), (B, topo.N_PAIRS))
+    # the law at rest (S1): a spring k whose clamped tension starts at l* (eq. 1-2); U by (S2)
+    act = actuator.activations(prm["muscle_gain"], pres)
+    k, lstar = actuator.spring(prm["cable_stiffness"], prm["cable_rest_length"],
+                               prm["muscle_min_length"], act)
+    cable = 0.5 * (k * np.maximum(0.0, ln - lstar) ** 2).sum(-1)
     grav = (m * prm["gravity"] * state.x[..., 2]).sum(-1)
     return kin + cable + grav
 

@@ -4,8 +4,9 @@ Free mode (no gravity, no ground; docs/design.md §3, paper III.A-B). The six st
 bodies, each given by its centre x (3,) m and an unnormalised direction d (3,), c = d / |d|, with
 nodes x + (S/2) c and x - (S/2) c (eq. 4). The energy is the sum over the 24 cables of the integral
 of the clamped tension of eq. 2 with the muscle of eq. 1 at zero velocity. For cable_exponent
-a = 1 it is U = 0.5 (K + Kg P) max(0, l - l*)^2 with l* = (K L + Kg P Lmin) / (K + Kg P).
-This module never calls `kernel` or `dynamics.simulate`.
+a = 1 it is U = 0.5 (K + Kg P) max(0, l - l*)^2 with l* = (K L + Kg P Lmin) / (K + Kg P)
+(`actuator.spring`, the NumPy form of the law). This module never calls `kernel` or
+`dynamics.simulate`.
 """
 from __future__ import annotations
 
@@ -14,9 +15,9 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import frames, topology as topo
-from .actuation import check_pressures
+from . import actuator, frames, topology as topo
 from .params import Params
+from .schedule import check_pressures
 
 _NODE_STRUT, _NODE_SIGN = topo.NODE_STRUT, topo.NODE_SIGN  # node = centre + sign (S/2) c
 
@@ -30,7 +31,8 @@ def _scalar(params: Params, name: str) -> float:
 
 def cable_law(params: Params, pressure: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Per-cable stiffness k = K + Kg P (24,) N/m and slack length l* (24,) m (a = 1), for pair
-    pressures (12,) MPa: the tension is k max(0, l - l*), eq. 2 with eq. 1 at zero velocity."""
+    pressures (12,) MPa: the tension is k max(0, l - l*), eq. 2 with eq. 1 at zero velocity
+    (S1, `actuator.spring`)."""
     if _scalar(params, "cable_exponent") != 1.0:
         raise NotImplementedError("statics is implemented for cable_exponent = 1 only")
     p = check_pressures(pressure)
@@ -38,9 +40,7 @@ def cable_law(params: Params, pressure: ArrayLike) -> tuple[np.ndarray, np.ndarr
         raise ValueError(f"pressure must have shape ({topo.N_PAIRS},) MPa, got {p.shape}")
     K, L = _scalar(params, "cable_stiffness"), _scalar(params, "cable_rest_length")
     Lmin, Kg = _scalar(params, "muscle_min_length"), _scalar(params, "muscle_gain")
-    act = Kg * p[topo.CABLE_PAIR]
-    k = K + act
-    return k, (K * L + act * Lmin) / k
+    return actuator.spring(K, L, Lmin, actuator.activations(Kg, p))
 
 
 def strut_nodes(centres: np.ndarray, directions: np.ndarray, strut_length: float) -> np.ndarray:
@@ -138,13 +138,14 @@ def equilibrium(params: Params, pressure: ArrayLike, start: np.ndarray | None = 
 def support_cog(nodes: np.ndarray, face: int | Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
     """CoG (mean of the 12 nodes = mean of the strut centres) (3,) m and the face's corners
     (3, 3) m, both in the supporting-triangle frame of `face` (1..20 or three node numbers),
-    docs/design.md §2. Corners are in the order of geometry.FACES."""
+    docs/design.md §2. Corners are in the order of topology.FACES. The same as
+    `frames.in_support_frame`, which new code calls."""
     return frames.in_support_frame(nodes, face)
 
 
 def static_workspace(params: Params, face: int | Sequence[int], pair: int,
                      pressures: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Static CoG (n, 3) m in the support frame of `face` and margin (n,) m (geometry.margin_2d
+    """Static CoG (n, 3) m in the support frame of `face` and margin (n,) m (frames.margin_2d
     of its in-plane coordinates against the deformed triangle, positive inside) for pressures
     (n,) MPa applied to the 1-based `pair` alone. Each level starts from the previous solution."""
     pair = topo.check_pair(pair)
@@ -155,6 +156,6 @@ def static_workspace(params: Params, face: int | Sequence[int], pair: int,
         p = np.zeros(topo.N_PAIRS)
         p[pair - 1] = lev
         nodes = equilibrium(params, p, start=nodes)
-        cogs[i], tri = support_cog(nodes, face)
+        cogs[i], tri = frames.in_support_frame(nodes, face)
         margins[i] = frames.margin_2d(cogs[i, :2], tri[:, :2])
     return cogs, margins

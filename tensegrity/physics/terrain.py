@@ -1,5 +1,9 @@
 """Terrains made of triangles: none (free mode), a plane (flat or a constant slope), or a
-regular height field split into two triangles per cell (uneven ground)."""
+regular height field split into two triangles per cell (uneven ground).
+
+The NumPy query here (`height`, `height_and_normal`) and the kernel's (kernel/contact.py
+`terrain_contact`) find the same triangle by the same rule and give its exact normal
+(tests/physics/test_twins.py pins them)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -15,7 +19,10 @@ SPEC_HELP = "flat | none | slope:ANGLE[:AZIMUTH] (deg) | random:SEED[:AMPLITUDE]
 @dataclass(frozen=True)
 class Terrain:
     """kind: 'none' | 'plane' | 'heightfield'. A plane is n . p = offset (n unit, up).
-    A height field has heights (nx+1, ny+1) m at x = x0 + i*spacing, y = y0 + j*spacing."""
+    A height field has heights (nx+1, ny+1) m at x = x0 + i*spacing, y = y0 + j*spacing. Cell
+    (i, j) holds the point at (s, t) = ((x - x0)/spacing - i, (y - y0)/spacing - j) in [0, 1)^2;
+    its lower triangle, corners (i, j), (i+1, j), (i, j+1), holds s + t <= 1 (its edges and
+    diagonal included), the upper triangle, corner (i+1, j+1), the rest."""
     kind: str = "plane"
     normal: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
     offset: float = 0.0
@@ -66,6 +73,19 @@ class Terrain:
         z *= amplitude / max(z.std(), 1e-12)
         return cls(kind="heightfield", origin=(-size / 2, -size / 2), spacing=spacing, heights=z)
 
+    def _cell(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The height-field cell under world points (x, y): inside the field (bool), (s, t) in
+        the cell, `low` (the lower triangle: s + t <= 1, class docstring), and the corner
+        heights z00, z10, z01, z11 (m); the values off the field are meaningless."""
+        z = self.heights
+        u, v = (x - self.origin[0]) / self.spacing, (y - self.origin[1]) / self.spacing
+        i, j = np.floor(u).astype(int), np.floor(v).astype(int)
+        ok = (i >= 0) & (j >= 0) & (i < z.shape[0] - 1) & (j < z.shape[1] - 1)
+        i, j = np.minimum(np.maximum(i, 0), z.shape[0] - 2), np.minimum(np.maximum(j, 0), z.shape[1] - 2)
+        s, t = u - i, v - j
+        k, ny, zf = i * z.shape[1] + j, z.shape[1], z.ravel()  # the cell's corners, each read once
+        return ok, s, t, s + t <= 1, zf[k], zf[k + ny], zf[k + 1], zf[k + ny + 1]
+
     def height(self, x: ArrayLike, y: ArrayLike) -> np.ndarray:
         """Terrain height (m) under world points (x, y); NaN off a height field."""
         x, y = np.asarray(x, float), np.asarray(y, float)
@@ -74,15 +94,11 @@ class Terrain:
         if self.kind == "plane":
             n = self.normal
             return (self.offset - n[0] * x - n[1] * y) / n[2]
-        z = self.heights
-        u, v = (x - self.origin[0]) / self.spacing, (y - self.origin[1]) / self.spacing
-        i, j = np.floor(u).astype(int), np.floor(v).astype(int)
-        ok = (i >= 0) & (j >= 0) & (i < z.shape[0] - 1) & (j < z.shape[1] - 1)
-        i, j = np.minimum(np.maximum(i, 0), z.shape[0] - 2), np.minimum(np.maximum(j, 0), z.shape[1] - 2)
-        s, t = u - i, v - j
-        low = s + t <= 1
-        k, ny, zf = i * z.shape[1] + j, z.shape[1], z.ravel()  # the cell's corners, each read once
-        z00, z10, z01, z11 = zf[k], zf[k + ny], zf[k + 1], zf[k + ny + 1]
+        return self._height(*self._cell(x, y))
+
+    @staticmethod
+    def _height(ok, s, t, low, z00, z10, z01, z11) -> np.ndarray:
+        """`height` in the cells of `_cell`: the plane of the triangle through its corners."""
         h_low = z00 + s * (z10 - z00) + t * (z01 - z00)
         h_up = z11 + (1 - s) * (z01 - z11) + (1 - t) * (z10 - z11)
         return np.where(ok, np.where(low, h_low, h_up), np.nan)
@@ -94,21 +110,33 @@ class Terrain:
     def height_and_normal(self, x: ArrayLike, y: ArrayLike,
                           height: bool = True) -> tuple[np.ndarray | None, np.ndarray]:
         """`height` (m; None if not asked for) and `normal_at` (..., 3) under world points
-        (x, y), the same numbers: on a height field one query of the heights serves both (the
-        normal is their central difference), which halves the cost for a few points."""
+        (x, y), from one query of the cells: on a height field the exact normal of the triangle
+        that `height` interpolates in, computed as kernel/contact.py `terrain_contact` does (NaN
+        off the field)."""
         x, y = np.asarray(x, float), np.asarray(y, float)
         if self.kind != "heightfield":
             n = np.broadcast_to(self.normal, np.broadcast(x, y).shape + (3,)).copy()
             return (self.height(x, y) if height else None), n
-        e = 1e-6 * self.spacing
-        x, y = np.broadcast_arrays(x, y)
-        if height:  # one query
-            h = self.height(np.stack([x + e, x - e, x, x, x]), np.stack([y, y, y + e, y - e, y]))
-        else:
-            h = self.height(np.stack([x + e, x - e, x, x]), np.stack([y, y, y + e, y - e]))
-        hx, hy = (h[0] - h[1]) / (2 * e), (h[2] - h[3]) / (2 * e)
-        n = np.stack([-hx, -hy, np.ones_like(hx)], axis=-1)
-        return (h[4] if height else None), n / np.linalg.norm(n, axis=-1, keepdims=True)
+        cell = self._cell(x, y)
+        ok, _, _, low, z00, z10, z01, z11 = cell
+        h = self.spacing
+        z0 = np.where(low, z00, z11)  # the corner of the triangle's right angle
+        ax = np.where(low, -h * (z10 - z0), h * (z01 - z0))
+        ay = np.where(low, -h * (z01 - z0), h * (z10 - z0))
+        az = h * h
+        nn = np.sqrt(ax * ax + ay * ay + az * az)
+        n = np.stack([ax / nn, ay / nn, np.broadcast_to(az / nn, nn.shape)], axis=-1)
+        n[~ok] = np.nan
+        return (self._height(*cell) if height else None), n
+
+    def describe(self) -> str:
+        """The terrain in words (figure titles): "a 10 deg slope" (a tilted plane), "flat
+        ground", "uneven terrain (height field)" or "no ground"."""
+        if self.kind == "plane":
+            slope = float(np.degrees(np.arccos(min(1.0, abs(float(self.normal[2]))))))
+            return f"a {slope:.3g} deg slope" if slope > 0.05 else "flat ground"
+        return {"heightfield": "uneven terrain (height field)",
+                "none": "no ground"}.get(self.kind, f"{self.kind} ground")
 
     def incline(self, x: ArrayLike, y: ArrayLike, even: float = 1.0) -> float:
         """Tilt from the horizontal, deg, of the ground under the points (x, y) m, where it is one

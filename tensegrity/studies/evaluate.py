@@ -18,7 +18,7 @@ from ..locomotion.settings import RollSettings
 from ..locomotion.lockstep import lockstep
 from ..physics import dynamics as d
 from ..physics import frames, topology as topo
-from ..physics.actuation import Schedule
+from ..physics.schedule import Schedule
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace import sweep as sw

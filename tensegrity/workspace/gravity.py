@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import frames, topology as topo
-from ..physics.actuation import Schedule, check_pressures
+from ..physics.schedule import Schedule, check_pressures
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 

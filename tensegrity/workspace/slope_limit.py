@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import frames, topology as topo
-from ..physics.actuation import Schedule
+from ..physics.schedule import Schedule
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from . import gravity as gv

@@ -9,7 +9,7 @@ from numpy.typing import ArrayLike
 
 from ..physics import dynamics as d
 from ..physics import frames, topology as topo
-from ..physics.actuation import Schedule
+from ..physics.schedule import Schedule
 from ..physics.contact import clearance, resting_face
 from ..physics.params import Params
 from ..physics.terrain import Terrain

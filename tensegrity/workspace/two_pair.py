@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 
 from ..physics import frames, topology as topo
 from ..physics import symmetry as sym
-from ..physics.actuation import Schedule, check_pressures
+from ..physics.schedule import Schedule, check_pressures
 from ..physics.params import Params
 from . import nominal as nom
 from .fit import cv_select

@@ -9,7 +9,7 @@ from tensegrity.physics import topology as topo
 from tensegrity.physics import kernel
 from tensegrity.physics import statics
 from tensegrity.physics import symmetry as sym
-from tensegrity.physics.actuation import Schedule
+from tensegrity.physics.schedule import Schedule
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 

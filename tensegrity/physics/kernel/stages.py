@@ -1,9 +1,10 @@
-"""The stages of one time step of the compiled kernel (`kernel.py`), each on a group of L robots
-side by side: every array has the lane (robot) index as its last, contiguous axis, e.g. strut
+"""The stages of one time step of the compiled kernel (`kernel/__init__.py`), each on a group of L
+robots side by side: every array has the lane (robot) index as its last, contiguous axis, e.g. strut
 centres X (6, 3, L). Each stage loops over struts, nodes or cables outside and over lanes inside;
 the lane loops have no branches (selects instead of `if`), so that LLVM turns them into SIMD
-instructions, one robot per lane. The per-robot rules (`_cable_tension`, `_rotate`) are scalar
-functions called inside the lane loops. The ground contact stage is in `kernel_contact`.
+instructions, one robot per lane. The per-robot rules (`cable_tension`, the actuator's law;
+`_rotate`) are scalar functions called inside the lane loops. The ground contact stage is in
+`kernel.contact`.
 
 Per-lane constants are the rows of C (NC, L) named below. Booleans are stored as 0.0 / 1.0.
 The last argument of a stage, `lanes`, is a tuple of L zeros: its length is a compile-time
@@ -13,10 +14,10 @@ from __future__ import annotations
 
 import math
 
-import numba as nb
 import numpy as np
 
-from . import topology as topo
+from .. import actuator, topology as topo
+from .compiling import jit
 
 # No division-by-zero checks (error_model="numpy"); fused multiply-add and reciprocals are
 # allowed, but not reassociation (with it, a robot's bits would depend on the lane count) nor
@@ -24,7 +25,7 @@ from . import topology as topo
 JIT = dict(cache=True, error_model="numpy", fastmath={"contract", "nsz", "arcp"})
 INLINE = dict(forceinline=True, **JIT)
 # The contact rules and `normalise` without fused multiply-add: there LLVM's choice of which
-# product of a*b - c*d to fuse depends on the code around, and a robot alone (kernel_robot) would
+# product of a*b - c*d to fuse depends on the code around, and a robot alone (kernel.robot) would
 # differ from the same robot in a group in the last bit. Elsewhere the choice has been the same in both layouts
 # (tests/physics/test_kernel_lanes); the flags travel with the instructions into the caller.
 EXACT = dict(INLINE, fastmath={"nsz", "arcp"})
@@ -40,15 +41,23 @@ STRUT_B = np.ascontiguousarray(topo.STRUTS[:, 1].astype(np.int64))
 NODE_CABLES = np.array([np.flatnonzero((topo.CABLES == n).any(1)) for n in range(12)], np.int64)
 NODE_CABLE_SIGN = np.where(topo.CABLES[NODE_CABLES, 0] == np.arange(12)[:, None], 1.0, -1.0)
 
-# Rows of the per-lane constants C (NC, L): half strut length m; cable K N/m, L m, exponent a,
-# L**a, B N s/m, Lmin m (eq. 1-2); contact r m, k_n N/m, c_n N s/m, mu, k_t N/m, c_t N s/m
-# (C1-C4); dt/m, dt/I_t, (I_a - I_t)/I_t, strut damping 1/s, g m/s^2 (eq. 3-4); max speed^2.
-(HL, K, LR, A_EXP, LA, BC, LMIN, R, KN, CN, MU, KT, CT, DT_M, DT_I, GYRO, DS, GRAV,
- VMAX2) = range(19)
-NC = 19
+# Rows of the per-lane constants C (NC, L): half strut length m; from row LAW on, the actuator's
+# (actuator.ROWS: cable K N/m, L m, exponent a, L**a, B N s/m, Lmin m, eq. 1-2); contact r m,
+# k_n N/m, c_n N s/m, mu, k_t N/m, c_t N s/m (C1-C4); dt/m, dt/I_t, (I_a - I_t)/I_t, strut
+# damping 1/s, g m/s^2 (eq. 3-4); max speed^2.
+HL, LAW = 0, 1
+_AFTER_LAW = LAW + len(actuator.ROWS)
+(R, KN, CN, MU, KT, CT, DT_M, DT_I, GYRO, DS, GRAV, VMAX2) = range(_AFTER_LAW, _AFTER_LAW + 12)
+NC = VMAX2 + 1
+
+# The actuator's law (eq. 1-2), written once in `actuator`, compiled here with the kernel's flags
+# and inlined where it is called: its constants, a cable's muscle, and the cable tension.
+law_constants = jit(**INLINE)(actuator.pack)
+law_activation = jit(**INLINE)(actuator.activation)
+cable_tension = jit(**INLINE)(actuator.tension)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def rotations(Q, Rm, lanes):
     """Rm (S, 3, 3, L) <- the rotation matrices (columns = body axes in world) of the
     quaternions Q (S, 4, L)."""
@@ -66,7 +75,7 @@ def rotations(Q, Rm, lanes):
             Rm[i, 2, 2, l] = 1 - 2 * (qx * qx + qy * qy)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def node(P, U, n, m, X, V, W, Rm, i, l, sg):
     """P[n, :, m], U[n, :, m] <- position m and velocity m/s of the strut end at sg m (+-half
     the length) along the axis of strut X[i, :, l], V, W, Rm."""
@@ -77,7 +86,7 @@ def node(P, U, n, m, X, V, W, Rm, i, l, sg):
         U[n, k, m] = V[i, k, l] + sg * (Rm[i, k, 0, l] * w1 - Rm[i, k, 1, l] * w0)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def node_states(X, V, Q, W, C, Rm, P, U, lanes):
     """Rotation matrices Rm (6, 3, 3, L) of the quaternions Q (6, 4, L) (`rotations`); node
     positions P (12, 3, L) m and velocities U (12, 3, L) m/s (`node`) from the strut centres
@@ -89,31 +98,20 @@ def node_states(X, V, Q, W, C, Rm, P, U, lanes):
             node(P, U, n, l, X, V, W, Rm, i, l, NODE_SIGN[n] * C[HL, l])
 
 
-@nb.njit(**INLINE)
-def _cable_tension(ln, ldot, K, Lr, a_exp, La, Bc, Lmin, act, linear):
-    """Cable tension (N) by eq. 2 at length ln m and rate ldot m/s, with the muscle of eq. 1
-    (act = Kg*P N/m; La = Lr**a_exp; `linear` if a_exp == 1), never negative (NaN passes)."""
-    f = K * (ln - Lr) if linear else K * (ln ** a_exp - La)
-    f += Bc * ldot
-    f += (act if (act > 0.0) & (ln > Lmin) else 0.0) * (ln - Lmin)
-    return 0.0 if f <= 0.0 else f
-
-
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def cable_force(dx, dy, dz, dux, duy, duz, C, l, a, linear):
-    """Tension (N) by `_cable_tension` of a cable from node 1 to node 2 = node 1 + d (m), the
+    """Tension (N) by `cable_tension` of a cable from node 1 to node 2 = node 1 + d (m), the
     velocity of node 2 relative to node 1 du (m/s), and its force (N) on node 1, with the
     constants of lane l of C and the muscle a (N/m)."""
     ln = math.sqrt(dx * dx + dy * dy + dz * dz)
     il = 1.0 / ln  # one division, not three: the divider is the stage's bottleneck
     ex, ey, ez = dx * il, dy * il, dz * il
     ldot = ex * dux + ey * duy + ez * duz
-    f = _cable_tension(ln, ldot, C[K, l], C[LR, l], C[A_EXP, l], C[LA, l], C[BC, l], C[LMIN, l],
-                       a, linear)
+    f = cable_tension(ln, ldot, a, linear, C, LAW, l)
     return f, f * ex, f * ey, f * ez
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def _cable(j, l, P, U, C, act, T, linear):
     """`cable_forces` for cable j of lane l."""
     n1, n2 = CABLE_NODES[j, 0], CABLE_NODES[j, 1]
@@ -123,10 +121,11 @@ def _cable(j, l, P, U, C, act, T, linear):
         C, l, act[j, l], linear)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def cable_forces(P, U, C, act, linear, T, lanes):
-    """Cable tensions and forces T (24, 4, L) by `_cable_tension` (act (24, L) N/m; `linear` if
-    every lane has a_exp = 1): T[:, 0] tension N, T[:, 1:] its force on the cable's first node."""
+    """Cable tensions and forces T (24, 4, L) by `cable_tension` (act (24, L) N/m; `linear` if
+    `law_constants` returned True in every lane): T[:, 0] tension N, T[:, 1:] its force on the
+    cable's first node."""
     for j in range(24):
         if linear:  # a constant inside each lane loop
             for l in range(len(lanes)):
@@ -136,7 +135,7 @@ def cable_forces(P, U, C, act, linear, T, lanes):
                 _cable(j, l, P, U, C, act, T, False)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def cable_sum(T, n, k, l):
     """Component k (N) of the force of node n's four cables (T of `cable_forces`) in lane l,
     summed in cable order."""
@@ -146,7 +145,7 @@ def cable_sum(T, n, k, l):
     return s
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def _rotate(Q, i, l, w0, w1, w2, dt):
     """Q[i, :, l] <- Q[i, :, l] * exp(w dt / 2), the exponential by its Taylor series
     (|w| dt / 2 << 1). The factor is a unit quaternion, so |Q| drifts by round-off only."""
@@ -161,7 +160,7 @@ def _rotate(Q, i, l, w0, w1, w2, dt):
     Q[i, 3, l] = qw * ez + qx * ey - qy * ex + qz * c
 
 
-@nb.njit(**EXACT)
+@jit(**EXACT)
 def normalise(Q, i, l):
     """Q[i, :, l] <- the unit quaternion Q[i, :, l] / |Q[i, :, l]| (`_rotate` keeps |Q| = 1 up
     to round-off only)."""
@@ -170,13 +169,13 @@ def normalise(Q, i, l):
         Q[i, k, l] *= iq
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def _node_force(T, G, n, k, l):
     """Component k of the force (N) on node n in lane l: its cables (`cable_sum`) + contact G."""
     return cable_sum(T, n, k, l) + G[n, k, l]
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def strut(i, l, X, V, Q, W, Rm, C, dt, fax, fay, faz, fbx, fby, fbz):
     """Semi-implicit Euler step of strut X[i, :, l], V, Q, W (rotation Rm) with the forces fa
     on its first and fb on its second node (N): V (m/s) from the forces, gravity and damping
@@ -204,13 +203,13 @@ def strut(i, l, X, V, Q, W, Rm, C, dt, fax, fay, faz, fbx, fby, fbz):
     return V[i, 0, l] ** 2 + V[i, 1, l] ** 2 + V[i, 2, l] ** 2 + hl * hl * (w0 * w0 + w1 * w1)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def faster(sp, fastest):
     """The larger of two squared speeds, NaN if sp is NaN."""
     return sp if (sp > fastest) | (sp != sp) else fastest
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def integrate(X, V, Q, W, T, G, Rm, C, dt, fastest, lanes):
     """`strut` for every strut, with its node forces: cables T and contact G. fastest (L,) <-
     the largest squared end speed over the struts of a lane (`faster`)."""

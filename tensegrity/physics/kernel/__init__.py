@@ -3,9 +3,9 @@ strut dynamics (eq. 3-4) integrated by semi-implicit Euler (design.md section 3)
 
 One call advances every robot of a batch by `n_rec * every` steps of dt, writing the strut
 centres and quaternions after each block of `every` steps. The time loop never returns to
-Python. Robots run in groups of LANES side by side, one per SIMD lane (`kernel_stages`: a step
+Python. Robots run in groups of LANES side by side, one per SIMD lane (`kernel.stages`: a step
 is `node_states`, `cable_forces`, `ground_forces`, `integrate`), the groups in parallel threads;
-batches under WIDE_FROM robots run one robot per thread instead, in the layout of `kernel_robot`
+batches under WIDE_FROM robots run one robot per thread instead, in the layout of `kernel.robot`
 (its struts, nodes and cables side by side). The working arrays live on the stack
 (`compiling.stack_array`). A batch that is not a multiple of LANES fills the last group with
 copies of its last robot, whose results are dropped. Status per robot (`dynamics.simulate`
@@ -19,12 +19,12 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from . import kernel_contact as kc
-from . import kernel_robot as kr
-from . import kernel_stages as ks
-from . import topology as topo
+from .. import actuator, topology as topo
+from ..params import IDX
+from . import contact as kc
+from . import robot as kr
+from . import stages as ks
 from .compiling import callees_first, jit, stack_array
-from .params import IDX
 
 OK, NON_FINITE, TOO_FAST, OFF_TERRAIN = 0, 1, 2, 3  # status codes (values fixed: see dynamics)
 NO_TERRAIN = kc.NO_TERRAIN
@@ -32,11 +32,9 @@ LANES = 8  # robots per group: one AVX-512 register of float64
 WIDE_FROM = 3  # smaller batches run one robot per group (and per thread): faster for 1 or 2
 CABLE_PAIR = np.ascontiguousarray(topo.CABLE_PAIR.astype(np.int64))
 
-# Columns of the packed parameter array prm (B, NP) (params.NAMES).
-(_STRUT_LENGTH, _STRUT_RADIUS, _STRUT_MASS, _CABLE_EXPONENT, _CABLE_STIFFNESS, _CABLE_REST_LENGTH,
- _CABLE_DAMPING, _MUSCLE_MIN_LENGTH, _MUSCLE_GAIN, _GRAVITY) = (IDX[k] for k in (
-    "strut_length", "strut_radius", "strut_mass", "cable_exponent", "cable_stiffness",
-    "cable_rest_length", "cable_damping", "muscle_min_length", "muscle_gain", "gravity"))
+# Columns of the packed parameter array prm (B, NP) (params.NAMES); the actuator's from _LAW on.
+_STRUT_LENGTH, _STRUT_RADIUS, _STRUT_MASS, _LAW, _GRAVITY = (IDX[k] for k in (
+    "strut_length", "strut_radius", "strut_mass", actuator.NAMES[0], "gravity"))
 (_GROUND_STIFFNESS, _GROUND_DAMPING, _FRICTION, _FRICTION_STIFFNESS, _FRICTION_DAMPING,
  _STRUT_DAMPING, _MAX_SPEED) = (IDX[k] for k in (
     "ground_stiffness", "ground_damping", "friction", "friction_stiffness", "friction_damping",
@@ -50,24 +48,22 @@ _SHAPES = ((6, 3), (6, 3), (6, 3), (6, 4), (12, 3), (12,), (12, 3), (12, 3), (12
            (24, 4), (ks.NC,), (24,), (3,))
 _W = [stack_array(*s, LANES) for s in _SHAPES]
 _1 = [stack_array(*s, 1) for s in _SHAPES]
-_WIDE, _ONE = (0,) * LANES, (0,)  # lane markers (kernel_stages)
+_WIDE, _ONE = (0,) * LANES, (0,)  # lane markers (kernel.stages)
 (_wX, _wV, _wW, _wQ, _wAN, _wST, _wP, _wU, _wG, _wRm, _wT, _wC, _wact, _wlane) = _W
 (_1X, _1V, _1W, _1Q, _1AN, _1ST, _1P, _1U, _1G, _1Rm, _1T, _1C, _1act, _1lane) = _1
 (_rX, _rV, _rW, _rQ, _rRm, _rP, _rU, _rG, _rAN, _rST, _ron, _rE, _rTF, _rTN, _rFN, _rC, _ract,
- _rfast) = [stack_array(*s) for s in kr.SHAPES]  # one robot alone (kernel_robot)
+ _rfast) = [stack_array(*s) for s in kr.SHAPES]  # one robot alone (kernel.robot)
 
 
 @jit(**ks.INLINE)
 def _constants(prm, b, dt, C, act, pres, l):
-    """Lane l of C (NC, L) and act (24, L) N/m (eq. 1) for robot b (kernel_stages names the
-    rows). Returns True if its cable law is linear (a_exp = 1)."""
+    """Lane l of C (NC, L) and the muscles act (24, L) N/m (eq. 1) for robot b (kernel.stages
+    names the rows; the actuator's by `actuator.pack` and `activation`). Returns True if its
+    cable law is linear (`actuator.pack`)."""
     S, r, m = prm[b, _STRUT_LENGTH], prm[b, _STRUT_RADIUS], prm[b, _STRUT_MASS]
     It, Ia = m * (S * S / 12.0 + r * r / 4.0), m * r * r / 2.0  # thin tube inertia, kg m^2
-    a_exp = prm[b, _CABLE_EXPONENT]
-    C[ks.HL, l], C[ks.K, l] = 0.5 * S, prm[b, _CABLE_STIFFNESS]
-    C[ks.LR, l] = prm[b, _CABLE_REST_LENGTH]
-    C[ks.A_EXP, l], C[ks.LA, l] = a_exp, prm[b, _CABLE_REST_LENGTH] ** a_exp
-    C[ks.BC, l], C[ks.LMIN, l] = prm[b, _CABLE_DAMPING], prm[b, _MUSCLE_MIN_LENGTH]
+    C[ks.HL, l] = 0.5 * S
+    linear = ks.law_constants(prm, b, _LAW, C, ks.LAW, l)
     C[ks.R, l], C[ks.KN, l], C[ks.CN, l] = r, prm[b, _GROUND_STIFFNESS], prm[b, _GROUND_DAMPING]
     C[ks.MU, l], C[ks.KT, l], C[ks.CT, l] = (prm[b, _FRICTION], prm[b, _FRICTION_STIFFNESS],
                                              prm[b, _FRICTION_DAMPING])
@@ -75,8 +71,8 @@ def _constants(prm, b, dt, C, act, pres, l):
     C[ks.DS, l], C[ks.GRAV, l] = prm[b, _STRUT_DAMPING], prm[b, _GRAVITY]
     C[ks.VMAX2, l] = prm[b, _MAX_SPEED] ** 2
     for j in range(24):
-        act[j, l] = prm[b, _MUSCLE_GAIN] * pres[b, CABLE_PAIR[j]]
-    return a_exp == 1.0
+        act[j, l] = ks.law_activation(prm, b, _LAW, pres[b, CABLE_PAIR[j]])
+    return linear
 
 
 @jit(**ks.JIT)  # not inlined: rare, and it would crowd the step loop
@@ -202,7 +198,7 @@ def _group_wide(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, 
 @jit(**ks.JIT)
 def _group_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x,
                out_q, status, fail_step):
-    """`_run` for robot b alone, stepped in the layout of `kernel_robot` (the group layout of
+    """`_run` for robot b alone, stepped in the layout of `kernel.robot` (the group layout of
     one lane loads, records and retires it)."""
     work = (_1X(), _1V(), _1W(), _1Q(), _1AN(), _1ST(), _1P(), _1U(), _1G(), _1Rm(), _1T(),
             _1C(), _1act(), _1lane())

@@ -1,5 +1,5 @@
 """One robot alone, in SIMD lanes of its own: its struts, nodes and cables side by side (a batch
-of one or two robots, `kernel.advance`). The stages of `kernel_stages` are written for a group of
+of one or two robots, `kernel.advance`). The stages of `kernel.stages` are written for a group of
 robots, one per lane; a lone robot would leave all lanes but one empty. Here the same per-item
 functions (`ks.rotations`, `ks.node`, `ks.cable_force`, `kc.ground_node`, `ks.strut`) run with the
 item as the lane: strut i in lane i of 8 (lanes 6, 7: padding), node STRUT_A[i] in lane i and
@@ -15,14 +15,14 @@ C (NC, 24) (the robot's, in every lane), act (24,); end speeds (8,).
 from __future__ import annotations
 
 import llvmlite.ir as llir
-import numba as nb
 import numpy as np
 from numba.core import types
 from numba.extending import intrinsic
 
-from . import kernel_contact as kc
-from . import kernel_stages as ks
-from .kernel_stages import DT_I, DT_M, GRAV, HL, INLINE, NC, R
+from . import contact as kc
+from . import stages as ks
+from .compiling import jit
+from .stages import DT_I, DT_M, GRAV, HL, INLINE, NC, R
 
 SHAPES = ((1, 3, 8), (1, 3, 8), (1, 3, 8), (1, 4, 8), (1, 3, 3, 8), (1, 3, 16), (1, 3, 16),
           (1, 3, 16), (1, 3, 16), (1, 16), (16,), (4, 3, 24), (3, 24), (4, 3, 16), (3, 16),
@@ -30,7 +30,7 @@ SHAPES = ((1, 3, 8), (1, 3, 8), (1, 3, 8), (1, 4, 8), (1, 3, 3, 8), (1, 3, 16), 
 
 NODE_LANE = np.empty(12, np.int64)  # node -> its lane
 NODE_LANE[ks.STRUT_A], NODE_LANE[ks.STRUT_B] = np.arange(6), 8 + np.arange(6)
-STRUT_LANES = (0,) * 8  # the struts' lanes (kernel_stages' lane markers)
+STRUT_LANES = (0,) * 8  # the struts' lanes (kernel.stages' lane markers)
 PAD = np.ones(16)  # 1.0 in the lanes that hold no node
 PAD[NODE_LANE] = 0.0
 END = NODE_LANE[ks.CABLE_NODES]  # (24, 2): the lanes of a cable's two nodes
@@ -71,7 +71,7 @@ _END1, _END2 = take(END[:, 0], 16, 3), take(END[:, 1], 16, 3)
 _SLOT0, _SLOT1, _SLOT2, _SLOT3 = (take(SLOT[c], 24, 3) for c in range(4))
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def _cable(j, E, C, act, TF, linear):
     TF[0, j], TF[1, j], TF[2, j] = ks.cable_force(
         E[1, 0, j] - E[0, 0, j], E[1, 1, j] - E[0, 1, j], E[1, 2, j] - E[0, 2, j],
@@ -79,7 +79,7 @@ def _cable(j, E, C, act, TF, linear):
         C, j, act[j], linear)[1:]
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def _cables(P, U, E, C, act, linear, TF, TN, FN):
     """FN (3, 16) <- the force (N) of each node's four cables (`ks.cable_force`), summed in
     cable order as `ks.cable_sum`."""
@@ -105,7 +105,7 @@ def _cables(P, U, E, C, act, linear, TF, TN, FN):
             FN[k, m] = s
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def _ground(P, U, G, AN, ST, C, on, kind, meta, hz):
     """`kc.ground_forces` for the nodes of the robot, for the terrain kind (a constant). False
     if a node has no terrain under it: then, as there, the nodes after it (in node order) are
@@ -132,7 +132,7 @@ def _ground(P, U, G, AN, ST, C, on, kind, meta, hz):
     return ok_all
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def step(S, linear, kind, meta, hz, dt):
     """One time step of dt s of the robot in S (the arrays of SHAPES). Returns the largest
     squared end speed of its struts (`ks.faster`), or -1.0 if a node has no terrain under it;
@@ -159,7 +159,7 @@ def step(S, linear, kind, meta, hz, dt):
     return fastest
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def load(S, X1, V1, W1, Q1, AN1, ST1, C1, act1):
     """S <- the robot in lane 0 of the group layout (kernel._run's arrays), its constants in
     every lane; G = 0. The padding struts (lanes 6, 7) rest at the origin, massless: forces and
@@ -189,7 +189,7 @@ def load(S, X1, V1, W1, Q1, AN1, ST1, C1, act1):
         act[j] = act1[j, 0]
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def store(S, X1, V1, W1, Q1, AN1, ST1):
     """The state of the robot in S -> lane 0 of the group layout (the inverse of `load`)."""
     X, V, W, Q, Rm, P, U, G, AN, ST, on, E, TF, TN, FN, C, act, fast = S

@@ -1,5 +1,5 @@
-"""How the kernel (`kernel.py`) is compiled and cached by numba: `jit` (numba's cache, watching
-every source file the kernel is compiled from), `stack_array` (working arrays on the stack) and
+"""How the kernel (`kernel/`) is compiled and cached by numba: `jit` (numba's cache, watching every
+source file the kernel is compiled from), `stack_array` (working arrays on the stack) and
 `callees_first` (cached code that runs the same machine code as freshly compiled code)."""
 from __future__ import annotations
 
@@ -14,9 +14,12 @@ from numba.core import caching, cgutils, types
 from numba.core.dispatcher import Dispatcher
 from numba.extending import intrinsic
 
-# The files compiled into kernel.py's functions besides kernel.py itself.
-WATCHED = [Path(__file__).with_name(n)
-           for n in ("kernel_stages.py", "kernel_contact.py", "kernel_robot.py", "compiling.py")]
+# The files compiled into the kernel's functions besides their own: the other files of the
+# kernel folder and the actuator's law (physics/actuator.py). numba's stamp covers only a
+# function's own file: a cached function would link the stale cached code of a changed callee
+# in another file.
+WATCHED = sorted(p for p in Path(__file__).parent.glob("*.py") if p.name != "__init__.py")
+WATCHED.append(Path(__file__).parents[1] / "actuator.py")
 
 
 def _watching(locator):
@@ -39,7 +42,8 @@ class _Cache(caching.FunctionCache):
 
 
 def jit(**options: object) -> Callable[[Callable], Dispatcher]:
-    """nb.njit(**options) (kernel_stages.JIT or INLINE), cached by `_Cache`."""
+    """nb.njit(**options) (kernel.stages.JIT, INLINE or EXACT), cached by `_Cache`: every
+    compiled function of the kernel folder."""
     def wrap(f):
         d = nb.njit(**{**options, "cache": False})(f)
         d._cache = _Cache(d.py_func)

@@ -1,4 +1,5 @@
-"""Actuation schedules: pair pressures (MPa) held over time segments."""
+"""Pressure schedules: pair pressures (MPa) held over time segments, and their check (the law
+that turns a pressure into a cable force is `actuator`)."""
 from __future__ import annotations
 
 from dataclasses import dataclass

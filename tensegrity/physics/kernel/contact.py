@@ -1,21 +1,21 @@
-"""The ground contact stage of the compiled kernel (`kernel.py`; paper's contact model C1-C4),
-laid out as `kernel_stages` (lane index last, branch-free lane loops): `terrain_contact` and
-`_stick_force` are scalar per-robot rules, `ground_node` one node of one lane, `ground_forces`
-every node of a group of lanes.
+"""The ground contact stage of the compiled kernel (`kernel/__init__.py`; the paper's contact
+model C1-C4), laid out as `kernel.stages` (lane index last, branch-free lane loops):
+`terrain_contact` and `_stick_force` are scalar per-robot rules, `ground_node` one node of one
+lane, `ground_forces` every node of a group of lanes. `Terrain.height_and_normal` is the NumPy
+twin of `terrain_contact` (tests/physics/test_twins.py).
 """
 from __future__ import annotations
 
 import math
 
-import numba as nb
-
-from .kernel_stages import CN, CT, EXACT, INLINE, KN, KT, MU, R
-from .terrain import KINDS
+from ..terrain import KINDS
+from .compiling import jit
+from .stages import CN, CT, EXACT, INLINE, KN, KT, MU, R
 
 NO_TERRAIN, PLANE, HEIGHTFIELD = KINDS["none"], KINDS["plane"], KINDS["heightfield"]
 
 
-@nb.njit(**EXACT)
+@jit(**EXACT)
 def terrain_contact(px, py, pz, kind, meta, hz):
     """Unit normal (nx, ny, nz), signed distance (m) of p to the triangle plane under it, ok flag
     (False off the edge of a HEIGHTFIELD, or if p is NaN; the other values are then meaningless).
@@ -40,7 +40,7 @@ def terrain_contact(px, py, pz, kind, meta, hz):
     return ax, ay, az, ax * (px - x0) + ay * (py - y0) + az * (pz - z0), ok
 
 
-@nb.njit(**EXACT)
+@jit(**EXACT)
 def _stick_force(ddx, ddy, ddz, utx, uty, utz, kt, ct, cap):
     """(C4) friction force (N) of the stick spring k_t (N/m) and damper c_t (N s/m) from the
     tangential displacement dd (m) and velocity ut (m/s), scaled down to |f_t| = cap (N)."""
@@ -50,7 +50,7 @@ def _stick_force(ddx, ddy, ddz, utx, uty, utz, kt, ct, cap):
     return ftx * sc, fty * sc, ftz * sc
 
 
-@nb.njit(**EXACT)
+@jit(**EXACT)
 def ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz):
     """`ground_forces` for node n of lane l."""
     px, py, pz = P[n, 0, l], P[n, 1, l], P[n, 2, l]
@@ -85,7 +85,7 @@ def ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz):
     ST[n, l] = (1.0 if touch else 0.0) if okl else ST[n, l]
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def _ground_at(n, P, U, G, AN, ST, C, on, kind, meta, hz, lanes):
     """`ground_forces` at node n, for the terrain kind (a constant: PLANE or HEIGHTFIELD). When
     the node is above the terrain in every lane (the usual case), only G and ST change."""
@@ -102,7 +102,7 @@ def _ground_at(n, P, U, G, AN, ST, C, on, kind, meta, hz, lanes):
             ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz)
 
 
-@nb.njit(**INLINE)
+@jit(**INLINE)
 def ground_forces(P, U, G, AN, ST, C, on, kind, meta, hz, lanes):
     """The contact force G (12, 3, L) N, f_n n + f_t at a node touching the terrain, else 0:
     (C1) penetration of the end sphere, (C2) penalty normal force, (C3) stick displacement from
