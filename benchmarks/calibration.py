@@ -22,7 +22,7 @@ LEVELS = np.round(np.arange(1, 13) * 0.4, 2)
 
 def free_tip(face, pairs):
     """Tip pressure (MPa) per pair from the free-mode staircase (nominal margin crossing)."""
-    res = sweep.run(Params(), face, pairs, LEVELS, 1.0)
+    res = sweep.run(Params(), face, pairs, sweep.SweepSetup(levels=tuple(LEVELS), hold=1.0))
     out = {}
     for b, pair in enumerate(pairs):
         _, _, _, margin = nominal.nominal(res.t, res.level, res.cog[b], res.support[b], len(LEVELS), 1.0, 0.2)

@@ -40,7 +40,7 @@ def free_sweep():
 
 
 _TIER = {"physics": "unit", "workspace": "unit", "locomotion": "unit", "validation": "unit",
-         "io": "unit", "studies": "unit", "render": "render", "workflow": "workflow"}
+         "io": "unit", "studies": "unit", "stages": "unit", "render": "render", "workflow": "workflow"}
 
 
 def pytest_collection_modifyitems(items):

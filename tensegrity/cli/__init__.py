@@ -123,13 +123,14 @@ def _locomotion_setup(args: argparse.Namespace):
     from ..locomotion.settings import RollSettings
     from ..physics.topology import face_number
     cfg = _stage_cfg(args, "locomotion_runs")
+    face = face_number(args.face)  # bad input first, before any file is read
     two_pair = _two_pair_file(args)
     ws = formats.read_workspace(args.workspace, two_pair)
     print(f"workspace {args.workspace}; two pairs: "
           + (f"measured curves of {two_pair}" if two_pair else "superposed single-pair curves"
              + (" (--two-pair none)" if args.two_pair == "none"
                 else f" ({Path(args.workspace).with_name('workspace_two_pair.nc')} not found)")), flush=True)
-    return cfg, face_number(args.face), args.terrain, settings.params(cfg), settings.build(RollSettings, cfg), ws
+    return cfg, face, args.terrain, settings.params(cfg), settings.build(RollSettings, cfg), ws
 
 
 def cmd_plan(args: argparse.Namespace) -> int:

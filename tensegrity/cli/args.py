@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from .physics.terrain import Terrain
+    from ..physics.terrain import Terrain
 
 
 def floats(text: str, n: int | None = None, name: str = "value") -> list[float]:
@@ -43,7 +43,7 @@ def face(text: str) -> float | tuple[int, ...]:
 
 def terrain(text: str) -> Terrain:
     """A terrain spec (physics.terrain.from_spec, the one reading for every command)."""
-    from .physics.terrain import from_spec
+    from ..physics.terrain import from_spec
     try:
         return from_spec(text)
     except ValueError as e:

@@ -74,7 +74,7 @@ STAGES: dict[str, Stage] = {
         "nominal.discard", "validate")),
     "validate_two_pair": Stage("validate:validate_two_pair", "validate", VALIDATION, (
         *_SIM, *_TWO_PAIR, "two_pair.check_combos", "two_pair.check_faces", "two_pair.tolerance")),
-    "validate_gravity": Stage("validate:validate_gravity", "validate", VALIDATION, (
+    "validate_gravity": Stage("validate:validate_gravity", "validate_gravity", VALIDATION, (
         *_SIM, *ROLL_KEYS, "gravity.max_pressure", "gravity.settle", "gravity.validate_slopes",
         "gravity.tip_tolerance")),
     "study_chunk": Stage("study:study_chunk", "study_chunk", SIMULATION, (*_SIM, *ROLL_KEYS)),

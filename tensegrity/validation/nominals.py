@@ -50,7 +50,7 @@ class NominalRun:
 
 
 def simulate_nominal(params: Params, face: int | Sequence[int], pairs: Sequence[int], setup: SweepSetup,
-                     discard: float, **override) -> NominalRun:
+                     discard: float, **override: object) -> NominalRun:
     """Run the staircase of `setup` on `pairs` (1-based, batched) standing on `face` (1..20 or
     three node numbers) and average each level after its first `discard` s as the pipeline does
     (workspace.nominal.nominal); `override` replaces fields of the setup (mode, settle s, dt s,

@@ -118,13 +118,11 @@ class GravitySetup:
     def __post_init__(self):
         check_pressures(self.max_pressure, "gravity.max_pressure")
         for name in ("ramp_rate", "max_pressure", "grid_step", "interval", "lift_tolerance", "dt"):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and v > 0):
-                raise ValueError(f"gravity setting {name} must be a positive number, got {v!r}")
+            if not (np.isfinite(getattr(self, name)) and getattr(self, name) > 0):
+                raise ValueError(f"gravity setting {name} must be a positive number, got {getattr(self, name)!r}")
         for name in ("settle", "strut_damping", "hold_time"):  # 0: none
-            v = getattr(self, name)
-            if not (np.isfinite(v) and v >= 0):
-                raise ValueError(f"gravity setting {name} must be >= 0, got {v!r}")
+            if not (np.isfinite(getattr(self, name)) and getattr(self, name) >= 0):
+                raise ValueError(f"gravity setting {name} must be >= 0, got {getattr(self, name)!r}")
         step = self.ramp_rate * self.interval
         if abs(self.grid_step / step - round(self.grid_step / step)) > 1e-6:
             raise ValueError(f"gravity.grid_step {self.grid_step} MPa is not a whole number of ramp "

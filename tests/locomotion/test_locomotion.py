@@ -186,7 +186,7 @@ def test_settings_are_checked():
     cfg = stage_config(config.validate({"locomotion": {"max_rolls": 7}, "sim": {"dt": 5e-5}}), "locomotion_runs")
     s = build(lo.RollSettings, cfg)
     assert s.max_rolls == 7 and s.dt == 5e-5
-    with pytest.raises(KeyError, match="locomotion.max_rolls"):  # never a silent default
+    with pytest.raises(KeyError, match="config key locomotion.ramp_rate is needed"):  # never a silent default
         build(lo.RollSettings, {"locomotion": {}, "sim": {"dt": 1e-4}})
 
 
@@ -327,7 +327,8 @@ def test_stuck_when_the_workspace_cannot_roll_the_robot(ws):
     """A workspace swept only to 1.6 MPa rolls nothing off (9,10,12): the run stops "stuck"
     after trying max_attempts candidates, each escalated to 1.6 MPa, and says so."""
     low = lo.Workspace.from_arrays(LEVELS[:2], ws.cog[:, :, :2], ws.support[:, :, :2])
-    run = lo.roll_to(low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(max_attempts=2, combine=False))
+    run = lo.roll_to(low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(max_attempts=2, combine=False,
+                                                                      escape_attempts=0))
     assert run.outcome == "stuck"
     assert len(run.steps) == 1 and len(run.steps[0].attempts) == 2
     assert all(a.peak_pressure == pytest.approx(1.6) and not a.rolled for a in run.steps[0].attempts)

@@ -5,6 +5,7 @@ import pytest
 
 from tensegrity.render import studies as fig
 from tensegrity.studies import analysis as an
+from tensegrity.io import study_config
 from tensegrity.studies import spec
 
 BOX = {"a": {"low": 0.0, "high": 1.0, "units": "m"}}

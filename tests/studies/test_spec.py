@@ -4,6 +4,7 @@ import pytest
 from pathlib import Path
 
 from tensegrity.io.config import ConfigError
+from tensegrity.io import study_config
 from tensegrity.studies import spec
 
 ROOT = Path(__file__).resolve().parents[2]

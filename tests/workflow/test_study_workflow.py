@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from tensegrity.io import datasets
+from tensegrity.io import study_config
 from tensegrity.studies import spec
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -80,7 +80,7 @@ def test_nominal_agrees_with_statics(params, iso):
 def test_reader_contract(tmp_path, iso):
     _, _, (cog, support, path) = iso
     ws = tp.map_workspace(LEVELS, {"isosceles": (tp.COMBOS, cog, support, path)})
-    ds = tpf.workspace_dataset(LEVELS, tp.COMBOS[::-1], {k: v[:, ::-1] for k, v in ws.items()}, {})
+    ds = tpf.workspace_dataset(LEVELS, tp.COMBOS[::-1], {k: v[:, ::-1] for k, v in ws.items()}, {}, 0.5)
     from tensegrity.io import datasets
     f = datasets.write(ds, tmp_path / "w.nc", defaults(), "test", allow_nan=[k for k in tpf.ALLOW_NAN if k != "cog_std"])
     combos, levels, c, s = tpf.read_two_pair(f)

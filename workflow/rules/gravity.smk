@@ -1,6 +1,6 @@
 # The gravity-aware workspace and the slope limit: single pairs ramped slowly on flat ground and
 # slopes until the robot rolls; the steepest slopes to stand, roll up and roll down (checked
-# against grounded rolls by rule `validate`).
+# against grounded rolls by rule `validate_gravity`, workflow/rules/validate.smk).
 
 rule gravity:
     """Gravity-aware workspace of both contact cases (one batch per contact; its figure is drawn
@@ -56,4 +56,4 @@ rule gravity_all:
     input:
         rules.gravity.output,
         rules.slope_limit.output,
-        "results/validation/gravity.md",  # made by rule `validate`
+        "results/validation/gravity.md",  # made by rule `validate_gravity`

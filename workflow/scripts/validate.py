@@ -6,5 +6,3 @@ with stages.job(snakemake.log[0], snakemake.threads):
     validate.validate(snakemake.params.cfg, i.nominal, i.workspace, o.nc, o.md, o.html, run_paths=i.runs)
     validate.validate_two_pair(snakemake.params.two_pair_cfg, i.two_pair_contacts, i.two_pair, i.workspace,
                                o.two_pair_nc, o.two_pair_md, o.two_pair_html)
-    validate.validate_gravity(snakemake.params.gravity_cfg, i.gravity, i.nominal, o.gravity_nc, o.gravity_md,
-                              o.gravity_html)
