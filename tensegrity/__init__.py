@@ -23,16 +23,12 @@ from __future__ import annotations
 import importlib
 import os
 
-from importlib.metadata import PackageNotFoundError, version as _version
 from typing import TYPE_CHECKING
+
+from .version import __version__
 
 if TYPE_CHECKING:
     from .workspace.lookup import Workspace
-
-try:
-    __version__ = _version("tensegrity")
-except PackageNotFoundError:  # run from a source tree that was never installed
-    __version__ = "0+unknown"
 
 _API = {
     "Params": ("physics.params", "Params"),

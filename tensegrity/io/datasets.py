@@ -3,8 +3,8 @@
 `write` refuses a dataset whose variables lack `units` or `long_name` or hold NaN/inf, stamps the
 global attributes of the contract (`title`, `source`, `history`, `Conventions`, `config`) and
 writes through a temporary file renamed into place, so an interrupted job never leaves a
-complete-looking file (temporaries a killed writer left behind are removed by the next write of
-the same file). Nothing time-dependent is written: the same dataset and configuration give
+complete-looking file (`tensegrity.atomic`: temporaries a killed writer left behind are removed
+by the next write of the same file). Nothing time-dependent is written: the same dataset and configuration give
 a byte-identical file, which is what lets re-runs be compared.
 
 Every numeric array variable is stored with the HDF5 Fletcher-32 checksum filter, so a file whose
@@ -14,10 +14,7 @@ instead of returning wrong numbers. Coordinate variables carry no `_FillValue` (
 from __future__ import annotations
 
 import json
-from importlib import metadata as _metadata
 import os
-import secrets
-import time
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
@@ -26,18 +23,15 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
+from .. import atomic
+from ..version import __version__
 
-try:
-    __version__ = _metadata.version("tensegrity")
-except _metadata.PackageNotFoundError:  # a source tree that was never installed
-    __version__ = "0+unknown"
 
 __all__ = ["write", "read", "provenance_config", "robot_value", "strut_length", "strut_radius", "geometry_vars",
            "CONVENTIONS", "CorruptDatasetError"]
 
 CONVENTIONS = "CF-1.10"
 _STRING_KINDS = "USO"  # unicode, bytes, object (strings as read back by xarray)
-_STALE_TMP_S = 60.0  # a temporary of the same target older than this is left by a killed writer
 
 
 class CorruptDatasetError(ValueError):
@@ -82,17 +76,8 @@ def write(ds: xr.Dataset, path: str | os.PathLike, cfg: dict, title: str, *,
     out.attrs = {**ds.attrs, "title": title, "source": f"tensegrity {__version__}",
                  "history": f"{old}\n{line}" if old else line, "Conventions": CONVENTIONS,
                  "config": to_json(cfg)}
-    path.parent.mkdir(parents=True, exist_ok=True)
-    remove_stale_temporaries(path)
-    # Same directory, so that os.replace is an atomic rename on one file system; a hidden name
-    # that no Snakemake output pattern matches.
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
-    try:
+    with atomic.replacing(path) as tmp:
         out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(out))
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
     return path
 
 
@@ -111,78 +96,10 @@ def _encoding(ds: xr.Dataset) -> dict:
     return enc
 
 
-def _temporaries(path: Path) -> list[Path]:
-    """The temporary files `write`/`write_text` create for `path`: .NAME.PID.HEX.tmp."""
-    pre = f".{path.name}."
-    out = []
-    for p in path.parent.glob(f".{_glob_escape(path.name)}.*.tmp"):
-        mid = p.name[len(pre):-len(".tmp")].split(".")
-        if len(mid) == 2 and mid[0].isdigit() and len(mid[1]) == 8 and all(c in "0123456789abcdef" for c in mid[1]):
-            out.append(p)
-    return out
-
-
-def _glob_escape(name: str) -> str:
-    """`name` with the glob metacharacters *, ?, [ quoted."""
-    return "".join(f"[{c}]" if c in "*?[" else c for c in name)
-
-
-def _pid_alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except (PermissionError, OSError):
-        return True
-    return True
-
-
-def remove_stale_temporaries(path: str | os.PathLike, min_age_s: float = _STALE_TMP_S) -> list[Path]:
-    """Remove the temporaries of `path` left by killed writers; returns those removed.
-
-    A temporary `.NAME.PID.HEX.tmp` of the same target is stale when its writer's process no
-    longer exists on this host, or when it was last modified more than `min_age_s` seconds ago
-    (another host of a shared file system, or a recycled PID). A temporary of a live writer
-    that is still being written (younger than `min_age_s`) is left alone: the two writers'
-    renames are atomic, the last one wins. (A writer on another host of a shared file system
-    whose PID does not exist here counts as dead: do not let two hosts write one file at once.)"""
-    path = Path(path)
-    removed = []
-    now = time.time()
-    for p in _temporaries(path):
-        pid = int(p.name[len(path.name) + 2:].split(".")[0])
-        try:
-            age = now - p.stat().st_mtime
-        except FileNotFoundError:
-            continue
-        if age > min_age_s or not _pid_alive(pid):
-            try:
-                p.unlink()
-                removed.append(p)
-            except FileNotFoundError:
-                pass
-    return removed
-
-
 def var(dims: Iterable[str], data: ArrayLike, units: str, long_name: str, **attrs: Any) -> tuple:
     """An xarray variable spec (dims, data, attrs) with the `units` and `long_name` every
     variable of this toolkit carries."""
     return (tuple(dims), np.asarray(data), {"units": units, "long_name": long_name, **attrs})
-
-
-def write_text(path: str | os.PathLike, text: str) -> Path:
-    """Write a text file atomically (a temporary file renamed into place); returns the path."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    remove_stale_temporaries(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
-    try:
-        tmp.write_text(text)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return path
 
 
 def read(path: str | os.PathLike) -> xr.Dataset:

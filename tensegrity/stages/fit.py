@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import atomic
 from ..io import datasets, formats
 from ..io.formats import two_pair as tpf
 from ..physics import topology as topo
@@ -49,7 +50,7 @@ def curves_json(cfg: dict, curve_paths: Iterable[str | os.PathLike], out_path: s
         contacts[ds.attrs["contact"]] = (ds.attrs["face_nodes"], ds["pair"].values,
                                          fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS}))
     doc = formats.curves_document(contacts)
-    return datasets.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))
+    return atomic.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))
 
 
 def two_pair_surfaces(cfg: dict, contact_paths: Sequence[str | os.PathLike], out_path: str | os.PathLike) -> Path:
@@ -67,4 +68,4 @@ def two_pair_surfaces(cfg: dict, contact_paths: Sequence[str | os.PathLike], out
         surf = [[tp.fit_surface(pa, pb, cog[c, ..., a], f["max_degree"], f["folds"]) for a in range(3)] for c in rows]
         contacts[contact] = (ds.attrs["face_nodes"], ds["combo_pairs"].values[rows], surf)
     doc = tpf.surfaces_document(contacts)
-    return datasets.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))
+    return atomic.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))

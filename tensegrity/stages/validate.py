@@ -9,6 +9,7 @@ import os
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
+from .. import atomic
 from ..io import datasets, settings
 from ..io.formats import gravity as gf
 from ..io.formats import run as run_formats
@@ -26,9 +27,9 @@ from . import provenance
 def _pages(md_path: str | os.PathLike, html_path: str | os.PathLike | None, title: str, lead: Sequence[str],
            tables: Sequence) -> list[Path]:
     """A validation page as Markdown and, if `html_path`, HTML (`validation.pages`)."""
-    out = [datasets.write_text(md_path, pages.markdown(title, lead, tables))]
+    out = [atomic.write_text(md_path, pages.markdown(title, lead, tables))]
     if html_path:
-        out.append(datasets.write_text(html_path, pages.html_page(title, lead, tables)))
+        out.append(atomic.write_text(html_path, pages.html_page(title, lead, tables)))
     return out
 
 

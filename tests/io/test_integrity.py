@@ -12,6 +12,7 @@ import pytest
 import xarray as xr
 
 from tensegrity import cli
+from tensegrity import atomic
 from tensegrity.io import config, datasets, formats
 from tensegrity.physics import topology as topo
 from tensegrity.workspace import query
@@ -185,11 +186,11 @@ def test_stale_temporaries_are_removed_before_writing(tmp_path, cfg):
     target = tmp_path / "pair10.nc"
     dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
                           capture_output=True, text=True).stdout.strip()   # a PID that has exited
-    killed = tmp_path / f".pair10.nc.{dead}.0123abcd.tmp"          # a writer that was killed
-    old = tmp_path / f".pair10.nc.{os.getppid()}.89abcdef.tmp"     # a live PID, but long untouched
-    young = tmp_path / f".pair10.nc.{os.getppid()}.deadbeef.tmp"   # a live writer still at work
-    other = tmp_path / f".pair11.nc.{dead}.0123abcd.tmp"           # another target's
-    unrelated = tmp_path / ".pair10.nc.notes.tmp"                  # not our naming scheme
+    killed = tmp_path / f".pair10.{dead}.0123abcd.tmp.nc"          # a writer that was killed
+    old = tmp_path / f".pair10.{os.getppid()}.89abcdef.tmp.nc"     # a live PID, but long untouched
+    young = tmp_path / f".pair10.{os.getppid()}.deadbeef.tmp.nc"   # a live writer still at work
+    other = tmp_path / f".pair11.{dead}.0123abcd.tmp.nc"           # another target's
+    unrelated = tmp_path / ".pair10.notes.tmp.nc"                  # not our naming scheme
     for p in (killed, old, young, other, unrelated):
         p.write_bytes(b"\x89HDF partial")
     past = time.time() - 3600
@@ -197,5 +198,6 @@ def test_stale_temporaries_are_removed_before_writing(tmp_path, cfg):
     datasets.write(sample(), target, cfg, "t")
     left = sorted(p.name for p in tmp_path.iterdir())
     assert left == sorted([target.name, young.name, other.name, unrelated.name])
-    datasets.write_text(tmp_path / "pair11.nc", "x")  # write_text cleans its target's too
+    atomic.write_text(tmp_path / "pair11.nc", "x")  # the text writer cleans its target's too
+    assert atomic.temporary(target).name.startswith(".pair10.") and atomic.temporary(target).suffix == ".nc"
     assert not other.exists()
