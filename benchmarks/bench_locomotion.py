@@ -15,7 +15,8 @@ machine). A summary table closes the output. All runs of a scenario are one batc
 (`locomotion.roll_many`); each equals its single run.
 
 Usage: python benchmarks/bench_locomotion.py [--workspace results/workspace.nc]
-       [--two-pair results/workspace_two_pair.nc | none] [--directions 8] [--distance 2.0]
+       [--two-pair results/workspace_two_pair.nc | none] [--directions 8] [--heading-seed S]
+       [--distance 2.0]
        [--only flat terrain slope] [--amplitudes 0.03 0.05] [--seeds 1 2 3]
        [--slopes 10 15 20 24] [--strut-damping 1.0] [--set brake=true escape_attempts=0 ...]
        [--steps]
@@ -151,6 +152,9 @@ def main() -> None:
                     help="two-pair workspace, as the pipeline's demonstration runs plan with (default, if "
                     "the file exists); 'none' or a missing file: combinations are superposed")
     ap.add_argument("--directions", "--runs", type=int, default=8, help="number of goal directions")
+    ap.add_argument("--heading-seed", type=int, default=None,
+                    help="draw the goal directions at random, uniform in [0, 360) deg, from this seed "
+                    "(default: evenly spaced from 0 deg)")
     ap.add_argument("--distance", type=float, default=2.0, help="goal distance, m")
     ap.add_argument("--only", nargs="+", choices=["flat", "terrain", "slope"],
                     default=["flat", "terrain", "slope"])
@@ -185,7 +189,8 @@ def main() -> None:
     ws = workspace(a.workspace, a.two_pair)
     if a.strut_damping is not None:
         settings = dataclasses.replace(settings, strut_damping=a.strut_damping)
-    headings = np.arange(a.directions) * 360.0 / a.directions
+    headings = (np.arange(a.directions) * 360.0 / a.directions if a.heading_seed is None else
+                np.sort(np.random.default_rng(a.heading_seed).uniform(0.0, 360.0, a.directions)))
     goals = a.distance * np.stack([np.cos(np.radians(headings)), np.sin(np.radians(headings))], axis=1)
     print(f"{a.directions} goals {a.distance} m away at {', '.join(f'{h:.0f}' for h in headings)} deg "
           f"from +x (uphill on slopes); start on (9,10,12) at the origin; ramp {settings.ramp_rate} "

@@ -260,7 +260,8 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command of `argv` (default sys.argv[1:]); returns the exit code."""
     ap = build_parser()
-    args = ap.parse_args(cli_args.join_negative_values(sys.argv[1:] if argv is None else list(argv)))
+    argv = cli_args.join_negative_values(sys.argv[1:] if argv is None else list(argv))
+    args = ap.parse_args(cli_args.stage_arguments_first(argv))
     from ..physics.dynamics import SimulationError
     try:
         return args.func(args)

@@ -98,3 +98,22 @@ def heading(text: str) -> list[float]:
     if len(vals) != 2:
         raise argparse.ArgumentTypeError(f"--direction: give a heading in deg or x,y, got {text!r}")
     return vals
+
+
+def stage_arguments_first(argv: list[str], valued: tuple[str, ...] = ("--config", "--set")) -> list[str]:
+    """`stage NAME --config F a=1 b=2` -> `stage NAME a=1 b=2 --config F`: argparse takes the
+    stage's ARG=VALUE list only before the options, so they are moved there (the value of an
+    option in `valued` stays with it)."""
+    if len(argv) < 2 or argv[0] != "stage":
+        return argv
+    args, opts, rest = [], [], argv[2:]
+    i = 0
+    while i < len(rest):
+        tok = rest[i]
+        if tok in valued and i + 1 < len(rest):
+            opts += rest[i:i + 2]
+            i += 2
+            continue
+        (opts if tok.startswith("-") else args).append(tok)
+        i += 1
+    return argv[:2] + args + opts
