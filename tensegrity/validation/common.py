@@ -13,8 +13,7 @@ from ..physics import frames, topology as topo
 
 PASS, FAIL, SKIP = "pass", "fail", "not evaluated"
 INFO = "reported"  # a row of numbers, not a check
-CONTACTS: tuple[str, ...] = tuple(topo.CONTACT_FACES)   # ("equilateral", "isosceles")
-N_CONTACTS = len(CONTACTS)
+N_CONTACTS = len(topo.CONTACTS)
 LEVEL_TOL = 1e-9   # MPa: a pressure within this of a swept level is that level
 
 

@@ -13,7 +13,8 @@ from numpy.typing import ArrayLike
 
 from ..physics import topology as topo
 from ..physics.params import Params
-from .common import CONTACTS, N_CONTACTS, SKIP, CheckSettings, Result, status, tip
+from ..physics.topology import CONTACTS
+from .common import N_CONTACTS, SKIP, CheckSettings, Result, status, tip
 from ..workspace.sweep import SweepSetup
 from .nominals import common_levels, full_nominal, nominal_face, simulate_nominal
 

@@ -12,7 +12,8 @@ from numpy.typing import ArrayLike
 from .. import paper
 from ..physics import frames, symmetry as sym, topology as topo
 from ..physics.params import Params
-from .common import CONTACTS, LEVEL_TOL, N_CONTACTS, SKIP, CheckSettings, Result, status, tip
+from ..physics.topology import CONTACTS
+from .common import LEVEL_TOL, N_CONTACTS, SKIP, CheckSettings, Result, status, tip
 from .nominals import common_levels, full_nominal, nominal_face
 
 # The paper's statements are `tensegrity.paper`'s. The pressure of the second roll is not given:
