@@ -24,6 +24,13 @@ def check_pressures(p: ArrayLike, name: str = "pressure") -> np.ndarray:
     return a
 
 
+def whole_steps(duration: float, step: float) -> bool:
+    """Whether `duration` is a whole number of `step`s (within 1e-6 of a step): an interval of
+    time steps (s), a hold of recording intervals (s), a grid of ramp increments (MPa)."""
+    n = duration / step
+    return abs(n - round(n)) <= 1e-6
+
+
 @dataclass(frozen=True)
 class Schedule:
     """Piecewise-constant pair pressures: segment k lasts durations[k] s with pressure

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import frames, topology as topo
-from ..physics.schedule import Schedule, check_pressures
+from ..physics.schedule import Schedule, check_pressures, whole_steps
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 
@@ -124,10 +124,10 @@ class GravitySetup:
             if not (np.isfinite(getattr(self, name)) and getattr(self, name) >= 0):
                 raise ValueError(f"gravity setting {name} must be >= 0, got {getattr(self, name)!r}")
         step = self.ramp_rate * self.interval
-        if abs(self.grid_step / step - round(self.grid_step / step)) > 1e-6:
+        if not whole_steps(self.grid_step, step):
             raise ValueError(f"gravity.grid_step {self.grid_step} MPa is not a whole number of ramp "
                              f"increments ({step:g} MPa = ramp_rate x interval)")
-        if abs(self.interval / self.dt - round(self.interval / self.dt)) > 1e-6:
+        if not whole_steps(self.interval, self.dt):
             raise ValueError(f"gravity interval {self.interval} s is not a whole number of time steps of {self.dt} s")
 
     def rolling(self, params: Params) -> Params:

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 
 from ..physics import frames, topology as topo
 from ..physics import symmetry as sym
-from ..physics.schedule import Schedule, check_pressures
+from ..physics.schedule import Schedule, check_pressures, whole_steps
 from ..physics.params import Params
 from . import nominal as nom
 from .fit import cv_select
@@ -48,8 +48,7 @@ class TwoPairSetup:
                              "(MPa, strictly increasing)")
         if not 0 <= self.discard < self.hold:
             raise ValueError(f"two_pair.discard: {self.discard} s is not in [0, two_pair.hold = {self.hold} s)")
-        n = self.hold / (self.record_every * self.dt)
-        if abs(n - round(n)) > 1e-6:
+        if not whole_steps(self.hold, self.record_every * self.dt):
             raise ValueError(f"two_pair.hold: {self.hold} s is not a whole number of recording intervals "
                              f"(two_pair.record_every x sim.dt = {self.record_every * self.dt:g} s)")
 
