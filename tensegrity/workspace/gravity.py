@@ -255,13 +255,16 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
     return rec, gone
 
 
-def tip(pressure: np.ndarray, n_settle: int, margin: np.ndarray, gone: int) -> tuple[float, int]:
-    """Tipping pressure (MPa, NaN: none) of one robot's ramp record (pressure, margin (T,) MPa,
-    m; dropped at sample `gone`, T: never) and the index of its first sample outside (-1: none)."""
-    if gone <= n_settle or gone >= pressure.size:
-        return float("nan"), -1
-    p, k = frames.first_crossing(pressure[n_settle:gone], margin[n_settle:gone])
-    return (p, n_settle + k) if k >= 0 else (float("nan"), -1)
+def tip(rec: dict, row: int, face: int, n_settle: int,
+        gone: int) -> tuple[float, int, tuple[int, int] | None]:
+    """`frames.crossing` of robot `row` of the ramp records `rec` (`ramp`) on `face`, from the
+    end of the settling (sample n_settle) to its drop (sample `gone`; none if it never was): the
+    tipping pressure (MPa, NaN: none), the record's sample of the first point outside (-1: none)
+    and the edge crossed there (two nodes, None: none)."""
+    w = slice(n_settle, gone) if n_settle < gone < rec["pressure"].shape[1] else slice(0, 0)
+    path = (rec[name][row, w] for name in ("pressure", "margin", "proj", "support"))
+    p, k, edge = frames.crossing(*path, face)
+    return p, (w.start + k if k >= 0 else -1), edge
 
 
 def _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_step, rec, gone) -> GravitySweep:
@@ -283,8 +286,8 @@ def _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_
             continue
         for n, row in enumerate(rows):
             pr, end = rec["pressure"][row], min(gone[row], T)
-            p_tip, kk = tip(pr, n_settle, rec["margin"][row], gone[row])
-            rolled = kk >= 0
+            p_tip, _, edge = tip(rec, row, face, n_settle, gone[row])
+            rolled = edge is not None
             # a grid value is the mean over the samples within half a step of it (the nominal
             # averaging of paper III.A along the ramp: the robot rocks on the ground by a few mm),
             # valid if the robot was not dropped before the end of the window
@@ -294,10 +297,8 @@ def _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_
             means = {k: np.einsum("pt,t...->p...", w, v[row, :end]) for k, v in rec.items() if k != "pressure"}
             for jj in js:
                 out["rolled"][i, jj, n] = rolled
-                if rolled:
-                    out["tip_pressure"][i, jj, n] = p_tip
-                    e = frames.crossed_edge(rec["proj"][row, kk], rec["support"][row, kk][:, :2])
-                    out["tip_edge"][i, jj, n] = topo.edge_nodes(face, e) if e is not None else (0, 0)
+                if rolled:  # tip_edge (0, 0): none (docs/datasets.md)
+                    out["tip_pressure"][i, jj, n], out["tip_edge"][i, jj, n] = p_tip, edge
                 for name, key in (("cog", "cog"), ("support", "support"), ("projection", "proj"),
                                   ("margin", "margin")):
                     out[name][i, jj, n, valid] = means[key][valid]

@@ -61,6 +61,17 @@ def test_first_crossing_interpolates_and_reports_the_first_sample_outside():
     assert frames.first_crossing([0.4, 0.8], [-0.01, -0.02]) == (0.4, 0)  # outside from the start
 
 
+def test_crossing_gives_the_pressure_the_sample_and_the_edge_by_its_nodes():
+    support = np.array([[0.0, 1.0], [-0.866, -0.5], [0.866, -0.5]])
+    mid = 0.5 * (support[1] + support[2])  # edge 1 joins corners 1 and 2
+    path = np.array([0.0, 0.5, 1.2])[:, None] * mid  # CoG (3, 2) m walking out across edge 1
+    margin, tri = frames.margin_2d(path, support), np.broadcast_to(support, (3, 3, 2))
+    p, k, edge = frames.crossing([1.0, 2.0, 3.0], margin, path, tri, EQUI)
+    assert (p, k) == frames.first_crossing([1.0, 2.0, 3.0], margin) and k == 2
+    assert edge == topo.edge_nodes(EQUI, 1) and edge[0] < edge[1]
+    assert frames.crossing([1.0, 2.0], margin[:2], path[:2], tri[:2], EQUI)[1:] == (-1, None)
+
+
 def test_resting_face_is_the_one_on_face_rule():
     p = topo.reference_nodes(0.5)
     for face in (EQUI, 3, 17):
