@@ -76,7 +76,7 @@ def gravity_frame(nodes: np.ndarray, face: int) -> tuple[np.ndarray, np.ndarray,
     origin, rot = frames.face_frame(nodes, face)
     cog, support = frames.in_support_frame(nodes, face, (origin, rot))
     g = np.einsum("...ij,j->...i", rot, ct.GRAVITY_DIR)  # gravity in the support frame
-    proj = cog[..., :2] - (cog[..., 2] / g[..., 2])[..., None] * g[..., :2]
+    proj = ct.project_along_gravity(cog, np.zeros(3), np.eye(3)[2], g)[..., :2]  # onto z = 0
     return cog, support, proj, frames.margin_2d(proj, support[..., :2])
 
 
