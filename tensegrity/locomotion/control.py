@@ -18,7 +18,7 @@ import numpy as np
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import topology as topo
-from ..physics.schedule import MAX_PRESSURE
+from ..physics.schedule import MAX_PRESSURE, hold_step
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from .brake import Brake
@@ -97,7 +97,7 @@ def roll_controller(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int,
     S = float(params.strut_length)
     idx = np.asarray(pairs) - 1
     level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
-    rearmed = True  # a lift holds the pressure (not while it persists after a hold ran out)
+    t_hold, rearmed = 0.0, True  # s in the hold (`schedule.hold_step`); a lift may start one
     landed, apex = None, -1
     if brake is not None and not brake.active(face0, obs.nodes):
         brake = None  # where the brake does not act (flat or rough ground): the unbraked roll
@@ -140,7 +140,10 @@ def roll_controller(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int,
                 phase = "settle"
             continue
         lifted = obs.gap[support] - base > s.lift_tolerance
-        rearmed = rearmed or not lifted.any()
+        # unbraked, a lift that persists after a hold ran out is not held again; braked, each
+        # step is held while a node is up (slopes need it)
+        holding, t_hold, rearmed, _ = hold_step(phase == "hold", t_hold, rearmed, lifted.any(),
+                                                s.interval, s.hold_time, rearm=brake is not None)
         over = False
         if lifted.sum() == 1:
             pivot = tuple(int(n) + 1 for n in support[~lifted])
@@ -152,14 +155,13 @@ def roll_controller(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int,
             if brake and over:  # brace for the landing on the face across the pivot edge
                 brake.landing(face0, pivot, obs.nodes)
             phase, t_phase = "release", 0.0
-        elif phase == "ramp" and lifted.any() and rearmed:
-            tip, phase, t_phase = level, "hold", 0.0
+        elif phase == "ramp" and holding:
+            tip, phase = level, "hold"
         elif phase == "ramp" and level >= max_pressure:
             phase, t_phase = "top", 0.0
-        elif phase == "hold" and t_phase >= s.hold_time - 1e-9:
-            if level < max_pressure:  # rocking without rolling: keep raising; unbraked, not
-                phase, tip, rearmed = "ramp", float("nan"), brake is not None  # held again until
-                # the support is down (where the brake acts, each step is held: slopes need it)
+        elif phase == "hold" and not holding:
+            if level < max_pressure:  # rocking without rolling: keep raising
+                phase, tip = "ramp", float("nan")
             else:
                 phase, t_phase = "release", 0.0  # escalated to the limit: give up
         elif phase == "top" and t_phase >= s.hold_time - 1e-9 and fade <= 1e-9:

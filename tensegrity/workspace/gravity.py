@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import frames, topology as topo
-from ..physics.schedule import Schedule, check_pressures, whole_steps
+from ..physics.schedule import Schedule, check_pressures, hold_step, whole_steps
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 
@@ -178,11 +178,12 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
          level: np.ndarray, n_settle: int, setup: GravitySetup, copies: int = 1) -> tuple[dict, np.ndarray]:
     """Drive robot b of `state` (resting on `face`) with pair pair_of[b] through the pressures
     `level` (L,) MPa, one per setup.interval s (the first n_settle at zero), time step setup.dt
-    s, `params` as given (`GravitySetup.rolling` is the caller's). As the controller does
-    (`locomotion.control.roll`), when a support node has lifted by lift_tolerance m (from its
-    clearance at the end of the settling) the pressure is held for hold_time s before the ramp
-    goes on: near the tipping point the robot creeps over the edge at a constant pressure,
-    which a steady ramp would overshoot. At most MAX_HOLD s of holds per robot. A robot is
+    s, `params` as given (`GravitySetup.rolling` is the caller's). By the controller's rule
+    (`schedule.hold_step`, as in `locomotion.control.roll`), when a support node has lifted by
+    lift_tolerance m (from its clearance at the end of the settling) the pressure is held for
+    hold_time s before the ramp goes on: near the tipping point the robot creeps over the edge
+    at a constant pressure, which a steady ramp would overshoot. As in a braked roll, a node
+    still up holds it again; at most MAX_HOLD s of holds per robot. A robot is
     dropped once it rolls (see `run`) or, at the end of the settling, does not stand. Returns
     records (pressure (R, T) MPa, cog (R, T, 3), support (R, T, 3, 3), proj (R, T, 2), margin
     (R, T); `gravity_frame`, NaN once dropped) and the sample each robot was dropped at (R,)
@@ -192,8 +193,7 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
     first robot of each run only and then copied to the others, with its records. The same
     numbers as simulating every copy (a robot's results do not depend on its batch); the
     gravity-aware workspace settles a twelfth of its robots."""
-    interval, dt = setup.interval, setup.dt
-    lift_tolerance, hold_time = setup.lift_tolerance, setup.hold_time
+    interval, dt, lift_tolerance = setup.interval, setup.dt, setup.lift_tolerance
     R, L = state.batch, level.size
     copies = int(copies) if n_settle > 0 else 1
     if copies > 1 and (R % copies or np.any(level[:n_settle] != 0)):
@@ -229,15 +229,11 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
         if t + 1 == n_settle:  # end of the settling: who stands?
             off |= (resting != face) | (margin <= 0)
             base[active] = gap[:, support]
-        # the controller's hold: begins when a node lifts while ramping, ends after hold_time
         lifted = (ka >= n_settle) & np.any(gap[:, support] - base[active] > lift_tolerance, axis=1)
-        hd = holding[active]
-        held[active[hd]] += interval
-        total[active[hd]] += interval
-        ends = hd & (held[active] >= hold_time - 1e-9)
-        begins = ~hd & lifted & (total[active] < MAX_HOLD - 1e-9)
-        holding[active[ends]], holding[active[begins]], held[active[begins]] = False, True, 0.0
-        k[active[~(hd & ~ends) & ~begins]] += 1
+        holding[active], held[active], _, total[active] = hold_step(
+            holding[active], held[active], True, lifted, interval, setup.hold_time, rearm=True,
+            spent=total[active], budget=MAX_HOLD)
+        k[active[~holding[active]]] += 1
         off |= k[active] >= L  # through the whole ramp without rolling
         if off.any():
             gone[active[off]] = np.where(k[active[off]] >= L, T, t + 1)
@@ -257,10 +253,9 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
 
 def tip(rec: dict, row: int, face: int, n_settle: int,
         gone: int) -> tuple[float, int, tuple[int, int] | None]:
-    """`frames.crossing` of robot `row` of the ramp records `rec` (`ramp`) on `face`, from the
-    end of the settling (sample n_settle) to its drop (sample `gone`; none if it never was): the
-    tipping pressure (MPa, NaN: none), the record's sample of the first point outside (-1: none)
-    and the edge crossed there (two nodes, None: none)."""
+    """`frames.crossing` of robot `row` of the records `rec` (`ramp`) on `face` between the end
+    of the settling (sample n_settle) and its drop (sample `gone`; none if never dropped): the
+    tipping pressure MPa, the record's first sample outside and the edge, or (NaN, -1, None)."""
     w = slice(n_settle, gone) if n_settle < gone < rec["pressure"].shape[1] else slice(0, 0)
     path = (rec[name][row, w] for name in ("pressure", "margin", "proj", "support"))
     p, k, edge = frames.crossing(*path, face)
@@ -280,8 +275,7 @@ def _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_
         js = range(H) if (slopes[i] == 0 and len([1 for a, _ in cases if a == i]) == 1) else [j]
         rows = np.arange(c * N, (c + 1) * N)
         stood = bool(np.all(gone[rows] > n_settle))
-        for jj in js:
-            out["stood"][i, jj] = stood
+        out["stood"][i, list(js)] = stood
         if not stood:
             continue
         for n, row in enumerate(rows):
