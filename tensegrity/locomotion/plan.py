@@ -83,7 +83,8 @@ class Plan:
         return "\n".join(self.reasons)
 
 
-def direction_of(nodes: np.ndarray, direction, goal) -> np.ndarray:
+def direction_of(nodes: np.ndarray, direction: ArrayLike | None,
+                 goal: ArrayLike | None) -> np.ndarray:
     """Horizontal unit target direction (3,), world, toward `goal` (m) or along `direction`."""
     if (direction is None) == (goal is None):
         raise ValueError("give exactly one of direction (a world vector) or goal (a world point)")
