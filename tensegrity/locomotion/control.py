@@ -80,8 +80,8 @@ def settle_controller(s: RollSettings, obs: Obs, brake: Brake | None = None) -> 
 
 
 def roll_controller(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
-              max_pressure: float, brake: Brake | None = None, expect: float = float("nan")
-              ) -> Controller:
+                    max_pressure: float, brake: Brake | None = None, expect: float = float("nan")
+                    ) -> Controller:
     """See `roll`. With a `brake` (`brake.Brake`), the braking pressures of the start face stay on
     while the pressure rises (fading out over hold_time once it is at the top without a roll;
     given the `expect`ed rolling pressure, MPa, the plan's, as the pressure rises to it: kept

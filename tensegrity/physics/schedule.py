@@ -42,11 +42,13 @@ def hold_step(holding: ArrayLike, held: ArrayLike, armed: ArrayLike, lifted: Arr
     (held again while a node is up), else not until none is; none starts once `spent` reaches
     `budget` s. Returns holding, held, armed and spent after the check."""
     holding, armed, lifted = (np.asarray(a, bool) for a in (holding, armed, lifted))
-    held, spent = np.where(holding, held + interval, held), np.where(holding, spent + interval, spent)
+    held = np.where(holding, held + interval, held)
+    spent = np.where(holding, spent + interval, spent)
     ends = holding & (held >= hold_time - 1e-9)
     armed = armed | ~lifted
     begins = ~holding & lifted & armed & (spent < budget - 1e-9)
-    return (holding & ~ends) | begins, np.where(begins, 0.0, held), np.where(ends, rearm, armed), spent
+    held, armed = np.where(begins, 0.0, held), np.where(ends, rearm, armed)
+    return (holding & ~ends) | begins, held, armed, spent
 
 
 @dataclass(frozen=True)
