@@ -32,7 +32,7 @@ import numpy as np
 from tensegrity import locomotion as lo
 from tensegrity.io import config, formats
 from tensegrity.locomotion.brake import Brake
-from tensegrity.locomotion.control import _roll_gen, _settle_gen
+from tensegrity.locomotion.control import roll_controller, settle_controller
 from tensegrity.locomotion import lookahead
 from tensegrity.io import settings as io_settings
 from tensegrity.locomotion.lockstep import lockstep
@@ -146,10 +146,11 @@ def main() -> None:
 
         def ctl(b, obs):
             brake = Brake(ws, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None
-            face, obs = yield from _settle_gen(s, obs, brake)
+            face, obs = yield from settle_controller(s, obs, brake)
             if face is None:
                 return "fell", None
-            res, ob = yield from _roll_gen(params, s, obs, actions[b % len(actions)], ws.max_pressure, brake)
+            act = actions[b % len(actions)]
+            res, ob = yield from roll_controller(params, s, obs, act, ws.max_pressure, brake)
             return face, (res, obs.nodes, ob.nodes)
 
         t0 = time.perf_counter()

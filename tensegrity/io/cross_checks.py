@@ -6,16 +6,10 @@ Each returns one message per problem, naming the key.
 """
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 
-from ..physics.params import Params
-
-
-def _whole(ratio: float) -> bool:
-    """A ratio of two durations or pressures is a whole number (the tolerance of
-    locomotion.control.RollSettings and workspace.gravity)."""
-    return abs(ratio - round(ratio)) <= 1e-6
+from ..physics.params import Params, rest_length
+from ..physics.schedule import whole_steps
 
 
 def semantic_errors(cfg: dict) -> list[str]:
@@ -31,8 +25,7 @@ def semantic_errors(cfg: dict) -> list[str]:
     if discard >= hold:
         out.append(f"config key nominal.discard: {discard} s is not less than sweep.hold = {hold} s")
     p = cfg["params"]
-    # Rest length of the symmetric state (docs/design.md §4): L = l0 - T0/K, l0 = S sqrt(6)/4.
-    rest = p["strut_length"] * math.sqrt(6) / 4 - p["cable_pretension"] / p["cable_stiffness"]
+    rest = rest_length(p["strut_length"], p["cable_pretension"], p["cable_stiffness"])
     if rest <= 0:
         out.append(f"config key params.cable_pretension: {p['cable_pretension']} N gives a cable "
                    f"rest length L = l0 - T0/K = {rest:.4g} m, which must be positive")
@@ -40,8 +33,8 @@ def semantic_errors(cfg: dict) -> list[str]:
         out.append(f"config key params.muscle_min_length: {p['muscle_min_length']} m is not below "
                    f"the cable rest length L = l0 - T0/K = {rest:.4g} m")
     dt, interval = cfg["sim"]["dt"], cfg["locomotion"]["interval"]
-    steps = interval / dt
-    if not _whole(steps):
+    if not whole_steps(interval, dt):
+        steps = interval / dt
         out.append(f"config key locomotion.interval: {interval:g} s is not a whole number of time steps "
                    f"sim.dt = {dt:g} s ({steps:.4g} steps; e.g. {max(1, round(steps)) * dt:g} s)")
     runs, contacts = cfg["locomotion"]["runs"], cfg["sweep"]["contacts"]
@@ -77,8 +70,7 @@ def section_errors(cfg: Mapping, section: str) -> list[str]:
                        f"{lv[bad[0] - 1]} (MPa, strictly increasing)")
         if s["discard"] >= s["hold"]:
             out.append(f"config key two_pair.discard: {s['discard']} s is not less than two_pair.hold = {s['hold']} s")
-        n = s["hold"] / (s["record_every"] * dt)
-        if not _whole(n):
+        if not whole_steps(s["hold"], s["record_every"] * dt):
             out.append(f"config key two_pair.hold: {s['hold']} s is not a whole number of recording intervals "
                        f"(two_pair.record_every x sim.dt = {s['record_every'] * dt:g} s)")
     elif section == "gravity":
@@ -89,7 +81,7 @@ def section_errors(cfg: Mapping, section: str) -> list[str]:
         if bad:
             out.append(f"config key gravity.validate_slopes: {bad} deg are not among gravity.slopes {list(g['slopes'])}")
         step = loc["ramp_rate"] * loc["interval"]
-        if not _whole(g["grid_step"] / step):
+        if not whole_steps(g["grid_step"], step):
             out.append(f"config key gravity.grid_step: {g['grid_step']} MPa is not a whole number of ramp "
                        f"increments ({step:g} MPa = locomotion.ramp_rate x locomotion.interval)")
     else:

@@ -14,6 +14,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from ..physics.params import Params
+from ..physics.schedule import whole_steps
 from ..studies.spec import NOT_IN_ROLLS, UNITS
 from . import config as cfgmod
 from .config import ConfigError
@@ -44,7 +45,7 @@ def _semantic(st: dict, base: Params, dt: float | None) -> list[str]:
     lv = ws["levels"]
     if any(b <= a for a, b in zip(lv, lv[1:])):
         out.append(f"study key workspace.levels: {lv} MPa are not strictly increasing")
-    if dt is not None and abs(ws["hold"] / (dt * ws["sample_every"]) - round(ws["hold"] / (dt * ws["sample_every"]))) > 1e-6:
+    if dt is not None and not whole_steps(ws["hold"], dt * ws["sample_every"]):
         out.append(f"study key workspace.hold: {ws['hold']} s is not a whole number of sampling intervals "
                    f"(workspace.sample_every = {ws['sample_every']} steps of sim.dt = {dt} s)")
     if ws["discard"] >= ws["hold"]:

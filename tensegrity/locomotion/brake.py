@@ -20,7 +20,7 @@ import numpy as np
 from ..physics import contact as ct, topology as topo
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace, predict
-from .plan import _candidates, _direction
+from .plan import candidates, direction_of
 
 __all__ = ["Brake", "hold", "escape", "on_incline"]
 
@@ -118,8 +118,8 @@ def escape(workspace: Workspace, face: int, nodes: np.ndarray, tried: set[tuple[
     acts = [a for a in _actions(workspace, face, True) if a not in tried]
     if not acts:
         return []
-    u = _direction(nodes, direction, goal)
-    cands = _candidates(workspace, face, nodes, acts, u)
+    u = direction_of(nodes, direction, goal)
+    cands = candidates(workspace, face, nodes, acts, u)
     cands.sort(key=lambda c: (not c.predicted, -round(c.alignment, 9) if c.predicted else 0.0,
                               round(c.reach, 9), len(c.pairs), c.pairs))
     return [c.pairs for c in cands]

@@ -18,14 +18,14 @@ import numpy as np
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import topology as topo
-from ..physics.schedule import MAX_PRESSURE
+from ..physics.schedule import MAX_PRESSURE, hold_step
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from .brake import Brake
 from .lockstep import Controller, Obs, Record, lockstep
 from .settings import RollSettings
 
-__all__ = ["RollResult", "roll", "settle"]
+__all__ = ["RollResult", "roll", "roll_controller", "settle", "settle_controller"]
 
 
 @dataclass(frozen=True)
@@ -59,7 +59,7 @@ def _slew(target: np.ndarray, last: np.ndarray, s: RollSettings) -> np.ndarray:
     return np.clip(target, last - step, last + step)
 
 
-def _settle_gen(s: RollSettings, obs: Obs, brake: Brake | None = None) -> Controller:
+def settle_controller(s: RollSettings, obs: Obs, brake: Brake | None = None) -> Controller:
     """Zero pressure (or the `brake` of the face it rests on, changing at most at brake_rate from
     the pressures applied before, `obs.pressure`) until settled (see RollSettings). Returns
     (face or None, last observation)."""
@@ -79,9 +79,9 @@ def _settle_gen(s: RollSettings, obs: Obs, brake: Brake | None = None) -> Contro
     return obs.face, obs
 
 
-def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
-              max_pressure: float, brake: Brake | None = None, expect: float = float("nan")
-              ) -> Controller:
+def roll_controller(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
+                    max_pressure: float, brake: Brake | None = None, expect: float = float("nan")
+                    ) -> Controller:
     """See `roll`. With a `brake` (`brake.Brake`), the braking pressures of the start face stay on
     while the pressure rises (fading out over hold_time once it is at the top without a roll;
     given the `expect`ed rolling pressure, MPa, the plan's, as the pressure rises to it: kept
@@ -97,7 +97,7 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
     S = float(params.strut_length)
     idx = np.asarray(pairs) - 1
     level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
-    rearmed = True  # a lift holds the pressure (not while it persists after a hold ran out)
+    t_hold, rearmed = 0.0, True  # s in the hold (`schedule.hold_step`); a lift may start one
     landed, apex = None, -1
     if brake is not None and not brake.active(face0, obs.nodes):
         brake = None  # where the brake does not act (flat or rough ground): the unbraked roll
@@ -140,7 +140,10 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
                 phase = "settle"
             continue
         lifted = obs.gap[support] - base > s.lift_tolerance
-        rearmed = rearmed or not lifted.any()
+        # unbraked, a lift that persists after a hold ran out is not held again; braked, each
+        # step is held while a node is up (slopes need it)
+        holding, t_hold, rearmed, _ = hold_step(phase == "hold", t_hold, rearmed, lifted.any(),
+                                                s.interval, s.hold_time, rearm=brake is not None)
         over = False
         if lifted.sum() == 1:
             pivot = tuple(int(n) + 1 for n in support[~lifted])
@@ -152,21 +155,20 @@ def _roll_gen(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
             if brake and over:  # brace for the landing on the face across the pivot edge
                 brake.landing(face0, pivot, obs.nodes)
             phase, t_phase = "release", 0.0
-        elif phase == "ramp" and lifted.any() and rearmed:
-            tip, phase, t_phase = level, "hold", 0.0
+        elif phase == "ramp" and holding:
+            tip, phase = level, "hold"
         elif phase == "ramp" and level >= max_pressure:
             phase, t_phase = "top", 0.0
-        elif phase == "hold" and t_phase >= s.hold_time - 1e-9:
-            if level < max_pressure:  # rocking without rolling: keep raising; unbraked, not
-                phase, tip, rearmed = "ramp", float("nan"), brake is not None  # held again until
-                # the support is down (where the brake acts, each step is held: slopes need it)
+        elif phase == "hold" and not holding:
+            if level < max_pressure:  # rocking without rolling: keep raising
+                phase, tip = "ramp", float("nan")
             else:
                 phase, t_phase = "release", 0.0  # escalated to the limit: give up
         elif phase == "top" and t_phase >= s.hold_time - 1e-9 and fade <= 1e-9:
             phase, t_phase = "release", 0.0
         elif obs.t - t0 > max_pressure / s.ramp_rate + 10 * s.hold_time:
             phase, t_phase = "release", 0.0  # a safety net: no attempt runs on forever
-    after, obs = yield from _settle_gen(s, obs, brake)
+    after, obs = yield from settle_controller(s, obs, brake)
     rolled = after is not None and after != face0
     return RollResult(tuple(int(q) for q in pairs), rolled, face0, after,
                       tip if rolled else float("nan"), peak, t0, obs.t, cog0,
@@ -180,7 +182,7 @@ def settle(params: Params, state: d.State, terrain: Terrain,
     s = settings or RollSettings()
     if state.batch != 1:
         raise ValueError(f"settle drives one robot; the state holds {state.batch}")
-    (face, _), st, _ = lockstep(params, terrain, state, lambda b, o: _settle_gen(s, o), s)[0]
+    (face, _), st, _ = lockstep(params, terrain, state, lambda b, o: settle_controller(s, o), s)[0]
     return st, face
 
 
@@ -189,8 +191,8 @@ def roll(params: Params, state: d.State, terrain: Terrain, pairs: int | Sequence
     """One roll in the dynamic simulator (paper III.C step 4) of one robot resting on a face:
     drive 1-based `pairs` together from 0 toward `max_pressure` MPa at ramp_rate. When a support
     node lifts the pressure is held (at most hold_time s, then the ramp resumes: escalation,
-    held again only by a lift after the support was down again; braked rolls, see `_roll_gen`,
-    hold at every step while a node is lifted);
+    held again only by a lift after the support was down again; braked rolls, see
+    `roll_controller`, hold at every step while a node is lifted);
     once the unactuated robot would fall over the pivot edge (`contact.past_edge`), or it has
     landed on another face, the pressure is released, slowly once it has landed (held while it
     tips back); then it settles. If nothing lifts by max_pressure (held hold_time s), it is
@@ -203,6 +205,6 @@ def roll(params: Params, state: d.State, terrain: Terrain, pairs: int | Sequence
         raise ValueError(f"max_pressure {np.asarray(max_pressure).tolist()!r} MPa must be in (0, {MAX_PRESSURE}]")
     if state.batch != 1:
         raise ValueError(f"roll drives one robot; the state holds {state.batch}")
-    (res, _), st, rec = lockstep(params, terrain, state, lambda b, o: _roll_gen(
+    (res, _), st, rec = lockstep(params, terrain, state, lambda b, o: roll_controller(
         params, s, o, pairs, max_pressure), s)[0]
     return replace(res, state=st, record=rec)

@@ -3,7 +3,7 @@
 On a steep even slope which roll lands under control is a matter of the landing's dynamics,
 which neither workspace predicts (benchmarks/bench_slope_reach.py: on 20 deg a third of the rolls
 that move the robot tumble). `foresee` simulates candidate rolls from the robot's current state
-with the run's own controller (`control._roll_gen`, a copy of its brake), all in one batch, so
+with the run's own controller (`control.roll_controller`, a copy of its brake), all in one batch, so
 each result is the roll the run would make; `rank` orders them for a goal; `choose` does both
 for a run's step. `switchback` routes a run to a goal across a steep slope: straight uphill
 first (the robot climbs in a two-roll gait, but loses height on most rolls across), then down.
@@ -19,7 +19,7 @@ from ..physics import dynamics as d
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from .brake import Brake, escape
-from .control import RollResult, _roll_gen
+from .control import RollResult, roll_controller
 from .settings import RollSettings
 from .lockstep import Obs, lockstep
 from ..workspace.lookup import Workspace
@@ -55,7 +55,7 @@ def foresee(params: Params, terrain: Terrain, s: RollSettings, obs: Obs,
 
     def make(b: int, ob: Obs):
         ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy())
-        return _roll_gen(params, s, ob, tuple(acts[b]), max_pressure, copy.deepcopy(brake),
+        return roll_controller(params, s, ob, tuple(acts[b]), max_pressure, copy.deepcopy(brake),
                          expect.get(tuple(acts[b]), float("nan")))
     return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
 

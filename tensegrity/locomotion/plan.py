@@ -21,7 +21,7 @@ from ..physics import frames, topology as topo
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Face, Workspace, predict
 
-__all__ = ["Candidate", "Plan", "plan"]
+__all__ = ["Candidate", "Plan", "candidates", "direction_of", "plan"]
 
 
 @dataclass(frozen=True)
@@ -83,7 +83,8 @@ class Plan:
         return "\n".join(self.reasons)
 
 
-def _direction(nodes: np.ndarray, direction, goal) -> np.ndarray:
+def direction_of(nodes: np.ndarray, direction: ArrayLike | None,
+                 goal: ArrayLike | None) -> np.ndarray:
     """Horizontal unit target direction (3,), world, toward `goal` (m) or along `direction`."""
     if (direction is None) == (goal is None):
         raise ValueError("give exactly one of direction (a world vector) or goal (a world point)")
@@ -104,7 +105,7 @@ def _direction(nodes: np.ndarray, direction, goal) -> np.ndarray:
     return np.array([v[0] / n, v[1] / n, 0.0])
 
 
-def _candidates(workspace: Workspace, f: int, nodes: np.ndarray, actions: list[tuple[int, ...]],
+def candidates(workspace: Workspace, f: int, nodes: np.ndarray, actions: list[tuple[int, ...]],
                 u: np.ndarray) -> list[Candidate]:
     """One Candidate per action on 1-based face f, for target direction u (3,)."""
     pred = predict(workspace, f, nodes, actions)
@@ -147,14 +148,14 @@ def plan(workspace: Workspace, face: Face, nodes: ArrayLike, *,
     singles = [(int(q),) for q in workspace.pairs(f)]
     if not singles:
         raise ValueError(f"the workspace has no curve for face {topo.face_label(f)}")
-    u = _direction(p, direction, goal)
+    u = direction_of(p, direction, goal)
     avoid = {topo.face_number(a) for a in avoid}
-    cands = _candidates(workspace, f, p, singles, u)
+    cands = candidates(workspace, f, p, singles, u)
     good = [c for c in cands if c.predicted and c.next_face not in avoid
             and c.alignment > min_alignment]
     combined = False
     if not good and combine and len(singles) > 1:
-        cands += _candidates(workspace, f, p, list(itertools.combinations(
+        cands += candidates(workspace, f, p, list(itertools.combinations(
             [s[0] for s in singles], 2)), u)
         combined = True
 

@@ -23,7 +23,7 @@ from ..physics import dynamics as d
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
-from .control import RollResult, _roll_gen, _settle_gen
+from .control import RollResult, roll_controller, settle_controller
 from .settings import RollSettings
 from . import lookahead
 from .brake import Brake, escape, on_incline
@@ -48,7 +48,7 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
     brk = Brake(workspace, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None
     turn = None  # the turning point of a switchback up a steep incline (lookahead.switchback)
     try:
-        face, obs = yield from _settle_gen(s, obs, brk)
+        face, obs = yield from settle_controller(s, obs, brk)
         if goal is not None and direction is None and s.lookahead and face is not None \
                 and on_incline(terrain, face, obs.nodes, s.lookahead_tilt):
             turn = lookahead.switchback(terrain, obs.nodes.mean(axis=0), goal)
@@ -99,8 +99,8 @@ def _drive(workspace: Workspace, params: Params, terrain: Terrain, s: RollSettin
                                                    brk, target, visited[:-1], incline=True)
             while todo:
                 act = todo.pop(0)
-                res, obs = yield from _roll_gen(params, s, obs, act, workspace.max_pressure, brk,
-                                                expect.get(act, float("nan")))
+                res, obs = yield from roll_controller(params, s, obs, act, workspace.max_pressure,
+                                                      brk, expect.get(act, float("nan")))
                 tries.append(res)
                 if res.face_after is None or res.rolled:
                     break

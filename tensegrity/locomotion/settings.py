@@ -10,6 +10,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..physics.params import Params
+from ..physics.schedule import whole_steps
 
 __all__ = ["RollSettings"]
 
@@ -89,7 +90,7 @@ class RollSettings:
             object.__setattr__(self, name, int(v))
         if not (np.isfinite(self.min_alignment) and -1.0 <= self.min_alignment < 1.0):
             raise ValueError(f"locomotion setting min_alignment must be in [-1, 1), got {np.asarray(self.min_alignment).tolist()!r}")
-        if abs(self.interval / self.dt - round(self.interval / self.dt)) > 1e-6:
+        if not whole_steps(self.interval, self.dt):
             raise ValueError(f"locomotion interval {self.interval} s is not a whole number of "
                              f"time steps of {self.dt} s")
 

@@ -103,15 +103,14 @@ def face_from_gaps(gap: ArrayLike, tol: float) -> int:
 
 def project_along_gravity(point: ArrayLike, plane_point: ArrayLike, plane_normal: ArrayLike,
                           gravity: ArrayLike = GRAVITY_DIR) -> np.ndarray:
-    """Point (..., 3) m moved along the gravity direction onto the plane through plane_point
-    (..., 3) m with normal plane_normal (..., 3) (paper Fig. 10)."""
-    gdir = np.asarray(gravity, float) / np.linalg.norm(gravity)
-    n = np.asarray(plane_normal, float)
-    along = np.sum(n * gdir, axis=-1, keepdims=True)
-    if np.any(np.abs(along) < 1e-9):
+    """Point (..., 3) m moved along `gravity` (..., 3), a vector of any length, onto the plane
+    through plane_point (..., 3) m with unit normal plane_normal (..., 3) (paper Fig. 10)."""
+    g, n = np.asarray(gravity, float), np.asarray(plane_normal, float)
+    along = np.sum(n * g, axis=-1, keepdims=True)
+    if np.any(np.abs(along) < 1e-9 * np.linalg.norm(g, axis=-1, keepdims=True)):
         raise ValueError("support plane is parallel to gravity: no projection")
     s = np.sum(n * (np.asarray(plane_point, float) - point), axis=-1, keepdims=True) / along
-    return point + s * gdir
+    return point + s * g
 
 
 def edge_outward(tri: ArrayLike) -> np.ndarray:

@@ -3,8 +3,8 @@
 One definition each: rotations about an axis and onto a direction (`turn`, `align`), the
 support frame of a face on given nodes (`face_frame`), the CoG and support triangle in it
 (`in_support_frame`, `rest_frame` for the unactuated robot), the signed margin of a CoG
-projection (`margin_2d`), the edge it has crossed (`crossed_edge`) and the least pressure at
-which a margin turns negative (`first_crossing`).
+projection (`margin_2d`), the edge it has crossed (`crossed_edge`), the least pressure at
+which a margin turns negative (`first_crossing`) and both along a path (`crossing`).
 """
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .topology import FACE_REFERENCE, FACES, N_FACES, face_number, reference_nodes
+from .topology import FACE_REFERENCE, FACES, N_FACES, edge_nodes, face_number, reference_nodes
 
 _NEXT = [1, 2, 0]  # corner k+1 (mod 3): edge k joins corners k and k+1
 
@@ -145,3 +145,17 @@ def first_crossing(pressure: ArrayLike, margin: ArrayLike) -> tuple[float, int]:
         return float(pressure[0]), 0
     p0, p1, m0, m1 = pressure[k - 1], pressure[k], margin[k - 1], margin[k]
     return float(p0 + (p1 - p0) * m0 / (m0 - m1)), k
+
+
+def crossing(pressure: ArrayLike, margin: ArrayLike, point: ArrayLike, support: ArrayLike,
+             face: int) -> tuple[float, int, tuple[int, int] | None]:
+    """Where a path on `face` (1..20) leaves the triangle: pressure (n,) MPa, margin (n,) m of
+    the CoG (projection) point (n, >=2) m against support (n, 3, >=2) m in the face's support
+    frame. Returns the least pressure at which the margin turns negative, interpolated (MPa,
+    NaN: never; `first_crossing`), the index of the first sample outside (-1: none) and the edge
+    crossed there (two 1-based nodes, smaller first; `crossed_edge`), None if none is."""
+    p, k = first_crossing(pressure, margin)
+    if k < 0:
+        return p, k, None
+    e = crossed_edge(np.asarray(point)[k, :2], np.asarray(support)[k, :, :2])
+    return p, k, None if e is None else edge_nodes(face, e)

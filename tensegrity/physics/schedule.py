@@ -1,5 +1,5 @@
 """Pressure schedules: pair pressures (MPa) held over time segments, and their check (the law
-that turns a pressure into a cable force is `actuator`)."""
+that turns a pressure into a cable force is `actuator`); the hold of a ramp (`hold_step`)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -22,6 +22,33 @@ def check_pressures(p: ArrayLike, name: str = "pressure") -> np.ndarray:
     if np.any(bad):
         raise ValueError(f"{name}: {float(a[bad].ravel()[0])!r} MPa is outside 0..{MAX_PRESSURE} MPa")
     return a
+
+
+def whole_steps(duration: float, step: float) -> bool:
+    """Whether `duration` is a whole number of `step`s (within 1e-6 of a step): an interval of
+    time steps (s), a hold of recording intervals (s), a grid of ramp increments (MPa)."""
+    n = duration / step
+    return abs(n - round(n)) <= 1e-6
+
+
+def hold_step(holding: ArrayLike, held: ArrayLike, armed: ArrayLike, lifted: ArrayLike,
+              interval: float, hold_time: float, rearm: bool, spent: ArrayLike = 0.0,
+              budget: float = np.inf) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The hold of a pressure ramp (`locomotion.control.roll`, `workspace.gravity.ramp`), one
+    check of robots (...) after an `interval` s: a support node lifted (`lifted`, bool) starts a
+    hold of the pressure if `armed`; it ends hold_time s later, and the ramp goes on. holding
+    (...) bool, the pressure was held over the interval; held (...) s, for how long before it;
+    spent (...) s, all holds before it. A hold that ran out leaves the robot armed if `rearm`
+    (held again while a node is up), else not until none is; none starts once `spent` reaches
+    `budget` s. Returns holding, held, armed and spent after the check."""
+    holding, armed, lifted = (np.asarray(a, bool) for a in (holding, armed, lifted))
+    held = np.where(holding, held + interval, held)
+    spent = np.where(holding, spent + interval, spent)
+    ends = holding & (held >= hold_time - 1e-9)
+    armed = armed | ~lifted
+    begins = ~holding & lifted & armed & (spent < budget - 1e-9)
+    held, armed = np.where(begins, 0.0, held), np.where(ends, rearm, armed)
+    return (holding & ~ends) | begins, held, armed, spent
 
 
 @dataclass(frozen=True)

@@ -42,6 +42,7 @@ PAIRS = np.array([
     [(9, 10), (6, 10)], [(10, 11), (4, 11)], [(10, 12), (4, 12)]]) - 1
 
 CONTACT_FACES = {"equilateral": (9, 10, 12), "isosceles": (10, 11, 12)}  # the canonical faces
+CONTACTS: tuple[str, ...] = tuple(CONTACT_FACES)  # the contact cases, in this order
 
 
 def _cable_index(a: int, b: int) -> int:

@@ -170,7 +170,7 @@ def _dashed(a: np.ndarray, b: np.ndarray, dash: float) -> np.ndarray:
     return np.stack([a + t[:-1:2, None] * (b - a), a + t[1::2, None] * (b - a)], axis=1)
 
 
-def _thin(c: np.ndarray, step: float) -> np.ndarray:
+def drop_close_points(c: np.ndarray, step: float) -> np.ndarray:
     """The points (m, 2+) of a curve, without those closer than `step` to the last kept one
     (the end is always kept): wide VTK lines of sub-pixel segments draw stripes."""
     keep = [0]
@@ -234,7 +234,7 @@ def fig_workspace(cog_paths: dict, support: np.ndarray, path: str | Path, title:
         plot2d.support_2d(pl, t, view, 4 if not pre else 3, pre + "triangle")
         px = (view[1] - view[0]) / (0.7 * WINDOW[0] if not pre else 0.3 * WINDOW[0])  # mm/px
         for v, c in curves.items():
-            c = _thin(c, 1.5 * px)
+            c = drop_close_points(c, 1.5 * px)
             xy = np.column_stack([c[:, :2], np.full(len(c), 0.01 * v)])
             pl.add_lines(xy if len(xy) > 1 else np.vstack([xy, xy]), color=PAIR_COLOURS[v - 1],
                          width=width, connected=True, name=f"{pre}curve #{v}")

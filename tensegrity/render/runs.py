@@ -55,7 +55,7 @@ def _area(cog: np.ndarray, goal: np.ndarray | None) -> tuple[np.ndarray, float]:
     return centre, 0.5 * float(np.max(pts.max(axis=0) - pts.min(axis=0))) + 0.6
 
 
-def _thin(points: np.ndarray, tol: float) -> np.ndarray:
+def rdp_indices(points: np.ndarray, tol: float) -> np.ndarray:
     """Indices (k,) of the rows of points (n, 3) m that draw the polyline within `tol` m of
     every row (Ramer-Douglas-Peucker; the first and last rows are kept). All rows if any is
     not finite."""
@@ -140,7 +140,7 @@ def fig_path(nodes: np.ndarray, terrain: Terrain, path: str | Path, title: str, 
     add_terrain(pl, terrain, centre, ground, coloured=True)
     lift = 0.02
     track = cog + [0, 0, lift] if view == "3d" else np.column_stack([cog[:, :2], np.full(len(cog), 1.0)])
-    drawn = track[_thin(track, TRACK_TOLERANCE)]
+    drawn = track[rdp_indices(track, TRACK_TOLERANCE)]
     pl.add_mesh(pv.lines_from_points(drawn).tube(radius=0.007), color=PATH, name="cog track")
     contacts = 0
     for k, (i, f) in enumerate(zip(step_end, faces)):

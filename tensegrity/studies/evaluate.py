@@ -128,11 +128,11 @@ def _sequence(prm: Params, s: RollSettings, obs, max_pressure: float, shared: di
     robot of the batch is, so that the batch (and its per-robot Params) never shrinks."""
     tips, faces, error = np.full(2, np.nan), np.zeros(2, np.int64), ""
     try:
-        _, obs = yield from control._settle_gen(s, obs)
+        _, obs = yield from control.settle_controller(s, obs)
         for i, (pair, target) in enumerate(PAPER_SEQUENCE):
             if obs.face is None:
                 break
-            res, obs = yield from control._roll_gen(prm, s, obs, pair, max_pressure)
+            res, obs = yield from control.roll_controller(prm, s, obs, pair, max_pressure)
             tips[i], faces[i] = res.tip_pressure, res.face_after or 0
             if faces[i] != topo.face_number(target):
                 break

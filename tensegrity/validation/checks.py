@@ -27,8 +27,9 @@ import xarray as xr
 
 from ..physics import statics, topology as topo
 from ..physics.params import Params
+from ..physics.topology import CONTACTS
 from . import grounded, paper, runs as demo_runs
-from .common import CONTACTS, FAIL, LEVEL_TOL, N_CONTACTS, SKIP, CheckError, CheckSettings, Result, status
+from .common import FAIL, LEVEL_TOL, N_CONTACTS, SKIP, CheckError, CheckSettings, Result, status
 from ..workspace.sweep import SweepSetup
 from .nominals import common_levels, full_nominal, nominal_face, simulate_nominal
 

@@ -1,20 +1,16 @@
 """What every validation check shares: the verdict statuses, the settings of the checks (the
-configuration's `validate` section as a dataclass), the result every check derives from, and the
-tipping pressure and crossed edge of one pair's nominal path. Numbers and statuses only: the words
-are written by `validation.summary`, the datasets by `validation.report`."""
+configuration's `validate` section as a dataclass) and the result every check derives from.
+Numbers and statuses only: the words are written by `validation.summary`, the datasets by
+`validation.report`."""
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-from numpy.typing import ArrayLike
-
-from ..physics import frames, topology as topo
+from ..physics import topology as topo
 
 PASS, FAIL, SKIP = "pass", "fail", "not evaluated"
 INFO = "reported"  # a row of numbers, not a check
-CONTACTS: tuple[str, ...] = tuple(topo.CONTACT_FACES)   # ("equilateral", "isosceles")
-N_CONTACTS = len(CONTACTS)
+N_CONTACTS = len(topo.CONTACTS)
 LEVEL_TOL = 1e-9   # MPa: a pressure within this of a swept level is that level
 
 
@@ -53,16 +49,3 @@ class CheckError(Result):
     name: str
     number: str
     error: str
-
-
-def tip(levels: ArrayLike, cog: np.ndarray, support: np.ndarray, margin: ArrayLike,
-        face: int) -> tuple[float, tuple[int, int] | None]:
-    """Least pressure (MPa, interpolated; NaN: never) at which the CoG projection leaves the
-    triangle (`frames.first_crossing`), and the edge (two 1-based node numbers, smaller first) it
-    crosses at the first level outside (`frames.crossed_edge`), None if it never leaves.
-    levels (P,) MPa; cog (P, 3) m, support (P, 3, 3) m, margin (P,) m of one pair in the
-    support frame of `face` (1..20)."""
-    pressure, k = frames.first_crossing(levels, margin)
-    if k < 0:
-        return pressure, None
-    return pressure, topo.edge_nodes(face, frames.crossed_edge(cog[k, :2], support[k, :, :2]))

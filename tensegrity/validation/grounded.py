@@ -11,9 +11,10 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ..physics import topology as topo
+from ..physics import frames, topology as topo
 from ..physics.params import Params
-from .common import CONTACTS, N_CONTACTS, SKIP, CheckSettings, Result, status, tip
+from ..physics.topology import CONTACTS
+from .common import N_CONTACTS, SKIP, CheckSettings, Result, status
 from ..workspace.sweep import SweepSetup
 from .nominals import common_levels, full_nominal, nominal_face, simulate_nominal
 
@@ -62,7 +63,7 @@ def compare_grounded(levels: ArrayLike, face: int, free_cog: np.ndarray, free_su
         r = np.flatnonzero(rolled[b])
         if r.size:
             roll_p[b], roll_f[b] = levels[r[0]], end_face[b, r[0]]
-        _, edge = tip(levels, free_cog[b], free_support[b], free_margin[b], face)
+        _, _, edge = frames.crossing(levels, free_margin[b], free_cog[b], free_support[b], face)
         out = np.flatnonzero(free_margin[b] < 0)
         if out.size:
             free_p[b], free_f[b] = levels[out[0]], topo.neighbour(face, edge)

@@ -12,7 +12,8 @@ from numpy.typing import ArrayLike
 from .. import paper
 from ..physics import frames, symmetry as sym, topology as topo
 from ..physics.params import Params
-from .common import CONTACTS, LEVEL_TOL, N_CONTACTS, SKIP, CheckSettings, Result, status, tip
+from ..physics.topology import CONTACTS
+from .common import LEVEL_TOL, N_CONTACTS, SKIP, CheckSettings, Result, status
 from .nominals import common_levels, full_nominal, nominal_face
 
 # The paper's statements are `tensegrity.paper`'s. The pressure of the second roll is not given:
@@ -134,7 +135,7 @@ def check_paper(nominals: Mapping[str, xr.Dataset], strut_length: float = Params
         cog, sup, mar = arrays[contact] = full_nominal(ds)
         swept[c] = np.isfinite(mar).all(axis=1)
         for p in np.flatnonzero(swept[c]):
-            tipp[c, p], e = tip(levels, cog[p], sup[p], mar[p], face)
+            tipp[c, p], _, e = frames.crossing(levels, mar[p], cog[p], sup[p], face)
             edges[c, p] = e or (0, 0)
         try:
             mig[c] = migration(levels, cog, frames.rest_frame(face, strut_length)[0], ranking_pressure)

@@ -10,8 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..physics import topology as topo
+from ..physics.topology import CONTACTS
 from .checks import MappingResult, StaticsResult, TimestepResult
-from .common import CONTACTS, PASS, SKIP, CheckError, Result
+from .common import PASS, SKIP, CheckError, Result
 from .grounded import GroundedResult
 from .. import paper
 from .paper import PaperResult

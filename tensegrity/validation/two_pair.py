@@ -20,9 +20,10 @@ from numpy.typing import ArrayLike
 
 from ..physics import frames, statics, topology as topo
 from ..physics.params import Params
+from ..physics.topology import CONTACTS
 from ..workspace import two_pair as tp
 from ..workspace.two_pair import TwoPairSetup
-from .common import CONTACTS, INFO, SKIP, status
+from .common import INFO, SKIP, status
 from .summary import Verdict, label, mm
 
 def check_statics(params: Params, contacts: Mapping[str, xr.Dataset], combos: np.ndarray, tol: float) -> tuple[np.ndarray, str]:

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import frames, topology as topo
-from ..physics.schedule import Schedule, check_pressures
+from ..physics.schedule import Schedule, check_pressures, hold_step, whole_steps
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 
@@ -76,7 +76,7 @@ def gravity_frame(nodes: np.ndarray, face: int) -> tuple[np.ndarray, np.ndarray,
     origin, rot = frames.face_frame(nodes, face)
     cog, support = frames.in_support_frame(nodes, face, (origin, rot))
     g = np.einsum("...ij,j->...i", rot, ct.GRAVITY_DIR)  # gravity in the support frame
-    proj = cog[..., :2] - (cog[..., 2] / g[..., 2])[..., None] * g[..., :2]
+    proj = ct.project_along_gravity(cog, np.zeros(3), np.eye(3)[2], g)[..., :2]  # onto z = 0
     return cog, support, proj, frames.margin_2d(proj, support[..., :2])
 
 
@@ -124,10 +124,10 @@ class GravitySetup:
             if not (np.isfinite(getattr(self, name)) and getattr(self, name) >= 0):
                 raise ValueError(f"gravity setting {name} must be >= 0, got {getattr(self, name)!r}")
         step = self.ramp_rate * self.interval
-        if abs(self.grid_step / step - round(self.grid_step / step)) > 1e-6:
+        if not whole_steps(self.grid_step, step):
             raise ValueError(f"gravity.grid_step {self.grid_step} MPa is not a whole number of ramp "
                              f"increments ({step:g} MPa = ramp_rate x interval)")
-        if abs(self.interval / self.dt - round(self.interval / self.dt)) > 1e-6:
+        if not whole_steps(self.interval, self.dt):
             raise ValueError(f"gravity interval {self.interval} s is not a whole number of time steps of {self.dt} s")
 
     def rolling(self, params: Params) -> Params:
@@ -178,11 +178,12 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
          level: np.ndarray, n_settle: int, setup: GravitySetup, copies: int = 1) -> tuple[dict, np.ndarray]:
     """Drive robot b of `state` (resting on `face`) with pair pair_of[b] through the pressures
     `level` (L,) MPa, one per setup.interval s (the first n_settle at zero), time step setup.dt
-    s, `params` as given (`GravitySetup.rolling` is the caller's). As the controller does
-    (`locomotion.control.roll`), when a support node has lifted by lift_tolerance m (from its
-    clearance at the end of the settling) the pressure is held for hold_time s before the ramp
-    goes on: near the tipping point the robot creeps over the edge at a constant pressure,
-    which a steady ramp would overshoot. At most MAX_HOLD s of holds per robot. A robot is
+    s, `params` as given (`GravitySetup.rolling` is the caller's). By the controller's rule
+    (`schedule.hold_step`, as in `locomotion.control.roll`), when a support node has lifted by
+    lift_tolerance m (from its clearance at the end of the settling) the pressure is held for
+    hold_time s before the ramp goes on: near the tipping point the robot creeps over the edge
+    at a constant pressure, which a steady ramp would overshoot. As in a braked roll, a node
+    still up holds it again; at most MAX_HOLD s of holds per robot. A robot is
     dropped once it rolls (see `run`) or, at the end of the settling, does not stand. Returns
     records (pressure (R, T) MPa, cog (R, T, 3), support (R, T, 3, 3), proj (R, T, 2), margin
     (R, T); `gravity_frame`, NaN once dropped) and the sample each robot was dropped at (R,)
@@ -192,8 +193,7 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
     first robot of each run only and then copied to the others, with its records. The same
     numbers as simulating every copy (a robot's results do not depend on its batch); the
     gravity-aware workspace settles a twelfth of its robots."""
-    interval, dt = setup.interval, setup.dt
-    lift_tolerance, hold_time = setup.lift_tolerance, setup.hold_time
+    interval, dt, lift_tolerance = setup.interval, setup.dt, setup.lift_tolerance
     R, L = state.batch, level.size
     copies = int(copies) if n_settle > 0 else 1
     if copies > 1 and (R % copies or np.any(level[:n_settle] != 0)):
@@ -229,15 +229,11 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
         if t + 1 == n_settle:  # end of the settling: who stands?
             off |= (resting != face) | (margin <= 0)
             base[active] = gap[:, support]
-        # the controller's hold: begins when a node lifts while ramping, ends after hold_time
         lifted = (ka >= n_settle) & np.any(gap[:, support] - base[active] > lift_tolerance, axis=1)
-        hd = holding[active]
-        held[active[hd]] += interval
-        total[active[hd]] += interval
-        ends = hd & (held[active] >= hold_time - 1e-9)
-        begins = ~hd & lifted & (total[active] < MAX_HOLD - 1e-9)
-        holding[active[ends]], holding[active[begins]], held[active[begins]] = False, True, 0.0
-        k[active[~(hd & ~ends) & ~begins]] += 1
+        holding[active], held[active], _, total[active] = hold_step(
+            holding[active], held[active], True, lifted, interval, setup.hold_time, rearm=True,
+            spent=total[active], budget=MAX_HOLD)
+        k[active[~holding[active]]] += 1
         off |= k[active] >= L  # through the whole ramp without rolling
         if off.any():
             gone[active[off]] = np.where(k[active[off]] >= L, T, t + 1)
@@ -255,13 +251,15 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
     return rec, gone
 
 
-def tip(pressure: np.ndarray, n_settle: int, margin: np.ndarray, gone: int) -> tuple[float, int]:
-    """Tipping pressure (MPa, NaN: none) of one robot's ramp record (pressure, margin (T,) MPa,
-    m; dropped at sample `gone`, T: never) and the index of its first sample outside (-1: none)."""
-    if gone <= n_settle or gone >= pressure.size:
-        return float("nan"), -1
-    p, k = frames.first_crossing(pressure[n_settle:gone], margin[n_settle:gone])
-    return (p, n_settle + k) if k >= 0 else (float("nan"), -1)
+def tip(rec: dict, row: int, face: int, n_settle: int,
+        gone: int) -> tuple[float, int, tuple[int, int] | None]:
+    """`frames.crossing` of robot `row` of the records `rec` (`ramp`) on `face` between the end
+    of the settling (sample n_settle) and its drop (sample `gone`; none if never dropped): the
+    tipping pressure MPa, the record's first sample outside and the edge, or (NaN, -1, None)."""
+    w = slice(n_settle, gone) if n_settle < gone < rec["pressure"].shape[1] else slice(0, 0)
+    path = (rec[name][row, w] for name in ("pressure", "margin", "proj", "support"))
+    p, k, edge = frames.crossing(*path, face)
+    return p, (w.start + k if k >= 0 else -1), edge
 
 
 def _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_step, rec, gone) -> GravitySweep:
@@ -277,14 +275,13 @@ def _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_
         js = range(H) if (slopes[i] == 0 and len([1 for a, _ in cases if a == i]) == 1) else [j]
         rows = np.arange(c * N, (c + 1) * N)
         stood = bool(np.all(gone[rows] > n_settle))
-        for jj in js:
-            out["stood"][i, jj] = stood
+        out["stood"][i, list(js)] = stood
         if not stood:
             continue
         for n, row in enumerate(rows):
             pr, end = rec["pressure"][row], min(gone[row], T)
-            p_tip, kk = tip(pr, n_settle, rec["margin"][row], gone[row])
-            rolled = kk >= 0
+            p_tip, _, edge = tip(rec, row, face, n_settle, gone[row])
+            rolled = edge is not None
             # a grid value is the mean over the samples within half a step of it (the nominal
             # averaging of paper III.A along the ramp: the robot rocks on the ground by a few mm),
             # valid if the robot was not dropped before the end of the window
@@ -294,10 +291,8 @@ def _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_
             means = {k: np.einsum("pt,t...->p...", w, v[row, :end]) for k, v in rec.items() if k != "pressure"}
             for jj in js:
                 out["rolled"][i, jj, n] = rolled
-                if rolled:
-                    out["tip_pressure"][i, jj, n] = p_tip
-                    e = frames.crossed_edge(rec["proj"][row, kk], rec["support"][row, kk][:, :2])
-                    out["tip_edge"][i, jj, n] = topo.edge_nodes(face, e) if e is not None else (0, 0)
+                if rolled:  # tip_edge (0, 0): none (docs/datasets.md)
+                    out["tip_pressure"][i, jj, n], out["tip_edge"][i, jj, n] = p_tip, edge
                 for name, key in (("cog", "cog"), ("support", "support"), ("projection", "proj"),
                                   ("margin", "margin")):
                     out[name][i, jj, n, valid] = means[key][valid]

@@ -227,7 +227,7 @@ def predict(workspace: Workspace, face: Face, nodes: ArrayLike,
         raise ValueError(f"face {topo.face_label(f)} is not below the robot: gravity does not "
                          "press it onto its support")
     cog, support = workspace.curve(f, actions)
-    proj = ct.project_along_gravity(cog, np.zeros(3), _UP, gravity)
+    proj = ct.project_along_gravity(cog, np.zeros(3), _UP, gravity / np.linalg.norm(gravity))
     margin = frames.margin_2d(proj[..., :2], support[..., :2])
     dist = frames.edge_distances(proj[..., :2], support[..., :2])
     return Prediction(workspace.pressures, origin + cog @ rot, origin + proj @ rot, proj[..., :2],

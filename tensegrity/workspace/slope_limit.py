@@ -86,11 +86,11 @@ def _free_ok(look: Workspace, params: Params, face: int, slope: float, heading: 
     for a in range(len(acts)):
         if (up or not wanted[0]) and (down or not wanted[1]):
             break  # nothing left to find
-        out = np.flatnonzero((pr.margin[a] < 0) & ok_p)
-        if not out.size:
+        # the first sample outside up to max_pressure (ok_p is a prefix: the pressures rise)
+        _, k, e = frames.crossing(pr.pressure[ok_p], pr.margin[a, ok_p], pr.projection_2d[a, ok_p],
+                                  pr.support[a, ok_p], face)
+        if e is None:
             continue
-        k = out[0]
-        e = topo.edge_nodes(face, frames.crossed_edge(pr.projection_2d[a, k], pr.support[a, k]))
         along = float(np.dot(direction(pr.support[a, k], face, e), u))
         up |= along > 0 and wanted[0]
         if along < 0 and wanted[1] and not down:
@@ -197,10 +197,9 @@ def _sim_ok(look: Workspace, params: Params, kind: int, face: int, slopes: np.nd
         if gone[j] <= n_settle:
             why[j] = "geometry"
             continue
-        p, k = gv.tip(rec["pressure"][j], n_settle, rec["margin"][j], gone[j])
-        if k < 0:
+        p, k, e = gv.tip(rec, j, face, n_settle, gone[j])
+        if e is None:
             continue
-        e = topo.edge_nodes(face, frames.crossed_edge(rec["proj"][j, k], rec["support"][j, k][:, :2]))
         u = np.array([np.cos(np.radians(headings[j])), np.sin(np.radians(headings[j]))])
         along = float(np.dot(direction(rec["support"][j, k], face, e), u))
         if (along > 0) == (kind == 1) and along != 0:

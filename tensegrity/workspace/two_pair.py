@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 
 from ..physics import frames, topology as topo
 from ..physics import symmetry as sym
-from ..physics.schedule import Schedule, check_pressures
+from ..physics.schedule import Schedule, check_pressures, whole_steps
 from ..physics.params import Params
 from . import nominal as nom
 from .fit import cv_select
@@ -48,8 +48,7 @@ class TwoPairSetup:
                              "(MPa, strictly increasing)")
         if not 0 <= self.discard < self.hold:
             raise ValueError(f"two_pair.discard: {self.discard} s is not in [0, two_pair.hold = {self.hold} s)")
-        n = self.hold / (self.record_every * self.dt)
-        if abs(n - round(n)) > 1e-6:
+        if not whole_steps(self.hold, self.record_every * self.dt):
             raise ValueError(f"two_pair.hold: {self.hold} s is not a whole number of recording intervals "
                              f"(two_pair.record_every x sim.dt = {self.record_every * self.dt:g} s)")
 
@@ -144,13 +143,11 @@ def contact_workspace(face: int, reps: ArrayLike, res: Mapping[str, np.ndarray],
     """The two-pair workspace of every combination on the canonical `face` from the sweep `res`
     (`sweep`) of the representatives `reps` (R, 2) at `levels` (P,) MPa: the arrays of
     `map_face` (cog, support, staircase) with the margin, the tipping pressure, its edge and the
-    tipping boundary of each (`tips`); which combinations were swept (66,) and their CoG
+    tipping boundary of each (`tipping`); which combinations were swept (66,) and their CoG
     spread (66, P, P, 3) m (NaN: mapped)."""
     cog, support, path = map_face(face, face, reps, res["cog"], res["support"])
     ws = {"cog": cog, "support": support, "staircase": path, "margin": margins(cog, support)}
-    t = [tips(levels, cog[c], support[c], ws["margin"][c], face) for c in range(len(COMBOS))]
-    ws |= {"tip_pressure": np.array([x[0] for x in t]), "tip_edge": np.array([x[1] for x in t], np.int64),
-           "tip_boundary": np.array([x[2] for x in t])}
+    ws |= tipping(levels, cog, support, ws["margin"], face)
     rows = np.array([combo_index(*c) for c in np.asarray(reps, int)])
     swept = np.isin(np.arange(len(COMBOS)), rows)
     std = np.full(cog.shape, np.nan)
@@ -204,19 +201,24 @@ def in_corner_frames(face: int, cog: np.ndarray, support: np.ndarray) -> tuple[n
     return c, s
 
 
-def tips(levels: ArrayLike, cog: np.ndarray, support: np.ndarray, margin: np.ndarray, face: int) -> tuple[float, tuple[int, int], np.ndarray]:
-    """Tipping boundary of one combination on `face` from its grid (P, P, ...): the least equal
-    pressure (MPa) of both pairs at which the CoG projection leaves the triangle (along the
-    diagonal, `frames.first_crossing`; NaN: never), the edge (two nodes, (0, 0): none) crossed
-    at the first diagonal point outside, and (P,) for each level of the first pair the least
-    pressure of the second at which it leaves (NaN: never)."""
+def tipping(levels: ArrayLike, cog: np.ndarray, support: np.ndarray, margin: np.ndarray,
+            face: int) -> dict[str, np.ndarray]:
+    """Tipping of n combinations on `face` from their grids cog (n, P, P, 3), support
+    (n, P, P, 3, 3) and margin (n, P, P) m at levels (P,) MPa: tip_pressure (n,) MPa, the least
+    equal pressure of both pairs at which the CoG projection leaves the triangle, and tip_edge
+    (n, 2), the edge crossed (two nodes, (0, 0): none, docs/datasets.md), along the diagonal
+    (`frames.crossing`); tip_boundary (n, P) MPa, for each level of the first pair the least
+    pressure of the second at which it leaves. NaN where it never leaves or a grid has a NaN."""
     levels = np.asarray(levels, float)
-    if not np.isfinite(margin).all():
-        return np.nan, (0, 0), np.full(levels.size, np.nan)
-    diag = np.arange(levels.size)
-    p, k = frames.first_crossing(levels, margin[diag, diag])
-    edge = (0, 0) if k < 0 else topo.edge_nodes(face, frames.crossed_edge(cog[k, k, :2], support[k, k, :, :2]))
-    return p, edge, np.array([frames.first_crossing(levels, m)[0] for m in margin])
+    n, diag = len(margin), np.arange(levels.size)
+    out = {"tip_pressure": np.full(n, np.nan), "tip_edge": np.zeros((n, 2), np.int64),
+           "tip_boundary": np.full((n, levels.size), np.nan)}
+    for c in np.flatnonzero(np.isfinite(margin).reshape(n, -1).all(axis=1)):
+        p, _, edge = frames.crossing(levels, margin[c, diag, diag], cog[c, diag, diag],
+                                     support[c, diag, diag], face)
+        out["tip_pressure"][c], out["tip_edge"][c] = p, edge or (0, 0)
+        out["tip_boundary"][c] = [frames.first_crossing(levels, m)[0] for m in margin[c]]
+    return out
 
 
 def margins(cog: np.ndarray, support: np.ndarray) -> np.ndarray:
@@ -232,7 +234,7 @@ def map_workspace(levels: ArrayLike, canonical: Mapping[str, tuple]) -> dict[str
     'isosceles' to (combos (n, 2), cog (n, P, P, 3), support (n, P, P, 3, 3) m, staircase
     order (n, 2)) in the support frame of the canonical face. Returns cog (20, 66, P, P, 3),
     support (20, 66, P, P, 3, 3), margin (20, 66, P, P) m, staircase (20, 66, 2) (`map_face`),
-    tip_pressure (20, 66) MPa, tip_edge (20, 66, 2) and tip_boundary (20, 66, P) MPa (`tips`)."""
+    tip_pressure (20, 66) MPa, tip_edge (20, 66, 2) and tip_boundary (20, 66, P) MPa (`tipping`)."""
     levels = np.asarray(levels, float)
     P, F, C = levels.size, topo.N_FACES, len(COMBOS)
     out = {"cog": np.full((F, C, P, P, 3), np.nan), "support": np.full((F, C, P, P, 3, 3), np.nan),
@@ -245,11 +247,9 @@ def map_workspace(levels: ArrayLike, canonical: Mapping[str, tuple]) -> dict[str
             out["cog"][f - 1], out["support"][f - 1], out["staircase"][f - 1] = map_face(
                 src, f, combos, *in_corner_frames(src, cog, support), paths)
     out["margin"] = margins(out["cog"], out["support"])
-    t = [[tips(levels, out["cog"][f, c], out["support"][f, c], out["margin"][f, c], f + 1) for c in range(C)]
+    t = [tipping(levels, out["cog"][f], out["support"][f], out["margin"][f], f + 1)
          for f in range(F)]
-    out["tip_pressure"] = np.array([[x[0] for x in row] for row in t])
-    out["tip_edge"] = np.array([[x[1] for x in row] for row in t], np.int64)
-    out["tip_boundary"] = np.array([[x[2] for x in row] for row in t])
+    out |= {k: np.stack([x[k] for x in t]) for k in t[0]}
     return out
 
 

@@ -6,7 +6,7 @@ import pytest
 
 from tensegrity import locomotion as lo
 from tensegrity.locomotion.brake import Brake, escape, hold
-from tensegrity.locomotion.control import _settle_gen
+from tensegrity.locomotion.control import settle_controller
 from tensegrity.locomotion.lockstep import lockstep
 from tensegrity.physics import contact as ct
 from tensegrity.physics import dynamics as d
@@ -98,7 +98,8 @@ def _settled_face(brake, terrain, face, yaw):
     state = d.stand_on(DAMPED, face, terrain, yaw_deg=yaw)
     tri = topo.FACES[face - 1]
     start = d.nodes(state.x, state.q, 0.5)[0][tri]
-    (res, _), st, _ = lockstep(DAMPED, terrain, state, lambda b, o: _settle_gen(s, o, brake), s)[0]
+    ctl = lambda b, o: settle_controller(s, o, brake)
+    (res, _), st, _ = lockstep(DAMPED, terrain, state, ctl, s)[0]
     return res, float(np.max(np.linalg.norm(d.nodes(st.x, st.q, 0.5)[0][tri] - start, axis=-1)))
 
 

@@ -282,12 +282,12 @@ def test_a_face_change_with_no_node_lifted_is_no_roll(ws):
     tips over). Before, the flip alone released the roll: on 0.05 m terrain, seed 2, the robot
     rocked 2 mm between (1,9,10) and (9,10,12) at 0.2-0.6 MPa, seven attempts in a row: "stuck"."""
     from dataclasses import replace
-    from tensegrity.locomotion.control import _roll_gen
+    from tensegrity.locomotion.control import roll_controller
     from tensegrity.locomotion.lockstep import observe
     s = lo.RollSettings()
     state = d.stand_on(DAMPED, EQUI, Terrain.flat())
     obs, = observe(DAMPED, Terrain.flat(), state, s)
-    gen = _roll_gen(DAMPED, s, obs, (10,), ws.max_pressure)
+    gen = roll_controller(DAMPED, s, obs, (10,), ws.max_pressure)
     first = next(gen)
     flip = replace(obs, face=topo.neighbour(EQUI, (10, 12)), t=obs.t + s.interval)
     second = gen.send(flip)
@@ -305,12 +305,12 @@ def test_a_robot_that_stays_tipped_gets_the_whole_escalation(ws):
     step (0.02 MPa per hold_time): on 0.05 m terrain, seed 3, attempts crept from 1.3 to 1.7 MPa
     until the safety net released them, short of the 2.0 MPa planned: "stuck"."""
     from dataclasses import replace
-    from tensegrity.locomotion.control import _roll_gen
+    from tensegrity.locomotion.control import roll_controller
     from tensegrity.locomotion.lockstep import observe
     s = lo.RollSettings()
     state = d.stand_on(DAMPED, EQUI, Terrain.flat())
     obs, = observe(DAMPED, Terrain.flat(), state, s)
-    gen = _roll_gen(DAMPED, s, obs, (10,), ws.max_pressure)
+    gen = roll_controller(DAMPED, s, obs, (10,), ws.max_pressure)
     pres = next(gen)
     gap = obs.gap.copy()
     gap[8] += 5 * s.lift_tolerance  # node 9, the apex across edge 10-12, stays up

@@ -7,7 +7,7 @@ import numpy as np
 
 from tensegrity import locomotion as lo
 from tensegrity.locomotion.brake import Brake
-from tensegrity.locomotion.control import _roll_gen, _settle_gen, settle
+from tensegrity.locomotion.control import roll_controller, settle_controller, settle
 from tensegrity.locomotion.lockstep import lockstep, observe
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import topology as topo
@@ -28,8 +28,9 @@ def _braked_roll(ws, pairs, expect):
     brake = Brake(ws, s.brake_margin)
 
     def ctl(b, obs):
-        _, obs = yield from _settle_gen(lo.RollSettings(brake=True, settle_time=1.5), obs, brake)
-        res, obs = yield from _roll_gen(DAMPED, s, obs, pairs, ws.max_pressure, brake, expect)
+        settling = lo.RollSettings(brake=True, settle_time=1.5)
+        _, obs = yield from settle_controller(settling, obs, brake)
+        res, obs = yield from roll_controller(DAMPED, s, obs, pairs, ws.max_pressure, brake, expect)
         return res
     (res, _, rec), = lockstep(DAMPED, SLOPE, state, ctl, s)
     return res, rec.pressure[rec.t > res.t_start]
@@ -91,8 +92,8 @@ def test_a_roll_goes_on_from_the_pressures_applied_before(ws):
     assert face == EQUI and full.max() > 4 * s.brake_rate * s.interval
     pl = lo.plan(ws, face, obs.nodes, direction=(1.0, 0.0))
     for before in (np.zeros(topo.N_PAIRS), 0.5 * full):
-        gen = _roll_gen(DAMPED, s, replace(obs, pressure=before), pl.pairs, ws.max_pressure, brake,
-                        pl.pressure)
+        gen = roll_controller(DAMPED, s, replace(obs, pressure=before), pl.pairs, ws.max_pressure,
+                              brake, pl.pressure)
         first = next(gen)
         assert np.abs(first - before).max() <= s.brake_rate * s.interval + 1e-9
         assert np.any(first != before)  # on its way to the brake and the roll
@@ -112,7 +113,7 @@ def test_a_roll_planned_at_zero_pressure_lets_the_brake_go(ws):
     assert full.max() > 4 * s.brake_rate * s.interval
     obs = replace(obs, face=EQUI, pressure=full)
     pair = next(q for q in range(1, 13) if full[q - 1] == 0)
-    gen = _roll_gen(DAMPED, s, obs, (pair,), ws.max_pressure, brake, 0.0)
+    gen = roll_controller(DAMPED, s, obs, (pair,), ws.max_pressure, brake, 0.0)
     steps = int(np.ceil(full.max() / (s.brake_rate * s.interval))) + 1
     pres = [next(gen)] + [gen.send(obs) for _ in range(steps)]  # the robot does not move
     held = np.flatnonzero(full)

@@ -1,10 +1,11 @@
 """One definition per rule (docs/design.md §2): the support frame of a face, the rest state, the
-crossed edge, the first margin crossing, the on-face rule and the terrain spec, each tested
-against geometry known in closed form or against the rule it replaced."""
+crossed edge, the first margin crossing, the on-face rule, the terrain spec, the hold of a ramp
+and the whole-number check, each tested against geometry known in closed form, against the rule
+it replaced or on a worked sequence."""
 import numpy as np
 import pytest
 
-from tensegrity.physics import contact, frames, terrain, topology as topo
+from tensegrity.physics import contact, frames, schedule, terrain, topology as topo
 from tensegrity.physics.terrain import Terrain
 
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])
@@ -61,6 +62,17 @@ def test_first_crossing_interpolates_and_reports_the_first_sample_outside():
     assert frames.first_crossing([0.4, 0.8], [-0.01, -0.02]) == (0.4, 0)  # outside from the start
 
 
+def test_crossing_gives_the_pressure_the_sample_and_the_edge_by_its_nodes():
+    support = np.array([[0.0, 1.0], [-0.866, -0.5], [0.866, -0.5]])
+    mid = 0.5 * (support[1] + support[2])  # edge 1 joins corners 1 and 2
+    path = np.array([0.0, 0.5, 1.2])[:, None] * mid  # CoG (3, 2) m walking out across edge 1
+    margin, tri = frames.margin_2d(path, support), np.broadcast_to(support, (3, 3, 2))
+    p, k, edge = frames.crossing([1.0, 2.0, 3.0], margin, path, tri, EQUI)
+    assert (p, k) == frames.first_crossing([1.0, 2.0, 3.0], margin) and k == 2
+    assert edge == topo.edge_nodes(EQUI, 1) and edge[0] < edge[1]
+    assert frames.crossing([1.0, 2.0], margin[:2], path[:2], tri[:2], EQUI)[1:] == (-1, None)
+
+
 def test_resting_face_is_the_one_on_face_rule():
     p = topo.reference_nodes(0.5)
     for face in (EQUI, 3, 17):
@@ -95,3 +107,30 @@ def test_terrain_spec_random_is_the_same_field_every_time():
 def test_bad_terrain_spec_is_named(spec):
     with pytest.raises(ValueError, match="terrain"):
         terrain.from_spec(spec)
+
+
+def _holds(lifted, rearm, budget=np.inf):
+    """Whether each check of a ramp (interval 0.02 s, hold_time 0.06 s) holds, by
+    `schedule.hold_step`, for the lifts `lifted` (n, ...) bool."""
+    holding, held, armed, spent, out = False, 0.0, True, 0.0, []
+    for up in lifted:
+        holding, held, armed, spent = schedule.hold_step(holding, held, armed, up, 0.02, 0.06,
+                                                         rearm, spent, budget)
+        out.append(holding)
+    return np.array(out)
+
+
+def test_hold_step_holds_hold_time_then_rearms_as_asked_within_its_budget():
+    up = np.array([0, 1, 1, 1, 1, 1, 0, 1], bool)  # a node lifts, stays up, comes down, lifts
+    held = [0, 1, 1, 1, 0]                           # three intervals (0.06 s), then the ramp
+    assert _holds(up, rearm=False).tolist() == held + [0, 0, 1]      # not again until it is down
+    assert _holds(up, rearm=True).tolist() == held + [1, 1, 1]       # again at once
+    assert _holds(up, rearm=True, budget=0.06).tolist() == held + [0, 0, 0]  # 0.06 s in all
+    robots = np.stack([up, ~up, np.roll(up, 2)], axis=1)             # vectorised: each its own
+    np.testing.assert_array_equal(_holds(robots, rearm=False),
+                                  np.stack([_holds(r, rearm=False) for r in robots.T], axis=1))
+
+
+def test_whole_steps_within_a_millionth_of_a_step():
+    assert schedule.whole_steps(0.02, 1e-4) and schedule.whole_steps(1.0, 50 * 1e-4)
+    assert not schedule.whole_steps(0.02, 3e-4) and not schedule.whole_steps(0.2, 0.3)

@@ -131,11 +131,11 @@ def test_track_thinned_within_tolerance():
     s = np.linspace(0.0, 2.0, 3000)
     track = np.column_stack([s, 0.1 * np.sin(5 * s), 0.02 * np.cos(40 * s)])
     track += 1e-4 * rng.normal(size=track.shape)
-    keep = runs._thin(track, 1e-3)
+    keep = runs.rdp_indices(track, 1e-3)
     assert keep[0] == 0 and keep[-1] == len(track) - 1 and len(keep) < len(track) / 5
     a, b = track[keep[:-1]], track[keep[1:]]  # distance of every sample to the drawn polyline
     t = np.clip(np.einsum("nkj,kj->nk", track[:, None] - a, b - a) / np.sum((b - a) ** 2, 1), 0, 1)
     gap = np.linalg.norm(track[:, None] - (a + t[..., None] * (b - a)), axis=-1).min(axis=1)
     assert gap.max() <= 1e-3
     track[5] = np.nan  # a failed run: drawn as it is
-    assert len(runs._thin(track, 1e-3)) == len(track)
+    assert len(runs.rdp_indices(track, 1e-3)) == len(track)

@@ -225,7 +225,7 @@ def test_fig7_curves_drop_sub_pixel_segments():
     """Wide VTK lines of segments shorter than a pixel drew stripes at the curves' ends."""
     c = np.column_stack([np.r_[np.linspace(0, 10, 11), 10 + np.geomspace(1e-3, 0.5, 30)],
                          np.zeros(41), np.zeros(41)])
-    thin = frame_plots._thin(c, 1.0)
+    thin = frame_plots.drop_close_points(c, 1.0)
     steps = np.linalg.norm(np.diff(thin[:, :2], axis=0), axis=1)
     assert np.all(steps >= 0.5 - 1e-12) and np.array_equal(thin[-1], c[-1])
     assert np.array_equal(thin[0], c[0]) and len(thin) < 15

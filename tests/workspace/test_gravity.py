@@ -51,7 +51,8 @@ def test_the_zero_slope_strip_is_flat_ground(flat):
     state = gv.place(P, EQUI, Terrain.flat(), (0.0, 0.0), 0.0)
     level, n = gv.ramp_levels(1.0, 4.4, 0.5, 0.02)
     rec, gone = gv.ramp(P, Terrain.flat(), EQUI, state, np.array([10]), level, n, G)
-    tip, _ = gv.tip(rec["pressure"][0], n, rec["margin"][0], gone[0])
+    tip, _, edge = gv.tip(rec, 0, EQUI, n, gone[0])
+    assert edge == (10, 12)
     assert tip == pytest.approx(flat.tip_pressure[0, 0, 0], abs=0.01)
     assert 3.6 < tip < 4.1
 

@@ -15,9 +15,10 @@ from numpy.typing import ArrayLike
 
 from ... import paper
 from ...physics import topology as topo
+from ...physics.topology import CONTACTS
 from ...validation import summary
 from ...validation.checks import MappingResult, StaticsResult, TimestepResult
-from ...validation.common import CONTACTS, FAIL, PASS, SKIP, Result
+from ...validation.common import FAIL, PASS, SKIP, Result
 from ...validation.gravity import RollCheck
 from ...validation.grounded import GroundedComparison, GroundedResult
 from ...validation.paper import PaperResult
