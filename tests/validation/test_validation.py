@@ -1,25 +1,15 @@
-"""The validate stage (tensegrity.validation): every check passes on a case where the claim holds
-and fails on one where it does not (a check that cannot fail is a defect). The checks return
-numbers and statuses; `summary` words them and `report` writes them."""
-import re
-from pathlib import Path
-
+"""The checks (tensegrity.validation): every check passes on a case where the claim holds and fails
+on one where it does not (a check that cannot fail is a defect). The checks return numbers and
+statuses; `summary` words them. The validate stage itself: tests/stages/test_validate.py."""
 import numpy as np
 import pytest
 import xarray as xr
 
-from tensegrity.io import settings
-from tensegrity.io.formats import run as run_formats
-from tensegrity.stages import nominal as nominal_stage, sweep as sweep_stage, validate as validate_stage
-from tensegrity.stages.config import stage_config
-from tensegrity.io import config
-from tensegrity.io import datasets
 from tensegrity.physics import frames, topology as topo
 from tensegrity.workspace import mapping
 from tensegrity.physics import statics
 from tensegrity.validation import checks, grounded, paper, summary
-from tensegrity.validation import runs as demo_runs
-from tensegrity.validation.common import FAIL, PASS, SKIP, CheckError, CheckSettings
+from tensegrity.validation.common import FAIL, PASS, SKIP
 from tensegrity.validation.nominals import full_nominal, simulate_nominal
 from tensegrity.workspace.sweep import SweepSetup
 from tensegrity.physics.params import Params
@@ -30,7 +20,6 @@ ISO = topo.face_number(topo.CONTACT_FACES["isosceles"])  # (10,11,12)
 P = Params()
 FREE = Params(gravity=0.0)
 DISCARD = 0.2  # s, the pipeline's nominal average (config nominal.discard)
-REPO = Path(__file__).resolve().parents[2]
 
 
 def nominal_dataset(contact, face, pairs, levels, cog, support, mode="free"):
@@ -308,121 +297,3 @@ def test_checks_without_a_complete_pair_are_not_evaluated():
     assert chk.status == {"4.1": SKIP, "4.2": SKIP} and not chk.faces
     chk = checks.check_statics(P, nominals, [2.4])
     assert status(chk, "2") == SKIP and measured(chk, "2") == "no pair swept at every level"
-
-
-# ------------------------------------------------------------------ the stage
-
-@pytest.fixture(scope="module")
-def tiny_stage(tmp_path_factory):
-    """The pipeline on #10 and #11 at two levels, then the validate stage on its outputs."""
-    tmp = tmp_path_factory.mktemp("stage")
-    cfg = config.load(overrides={"sweep": {"pairs": [10, 11], "levels": [2.0, 2.4], "hold": 0.5},
-                                 "validate": {"statics_pressures": [2.4]}})
-    noms = []
-    for contact in ("equilateral", "isosceles"):
-        sweeps = sweep_stage.sweep(stage_config(cfg, "sweep"), contact, tmp / "sweeps" / contact)
-        noms.append(nominal_stage.nominal(stage_config(cfg, "nominal"), sweeps, tmp / "nominal" / f"{contact}.nc"))
-    ws = nominal_stage.workspace({}, noms, tmp / "workspace.nc")
-    out = tmp / "validation"
-    cfg = stage_config(cfg, "validate")
-    paths = validate_stage.validate(cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html")
-    return cfg, noms, ws, out, paths
-
-
-def test_stage_writes_every_number_with_units_and_a_table(tiny_stage):
-    cfg, _, _, out, paths = tiny_stage
-    assert [p.name for p in paths] == ["validation.nc", "summary.md", "summary.html"]
-    ds = datasets.read(out / "validation.nc")
-    for name, var in ds.variables.items():
-        assert var.attrs.get("long_name"), name
-        if var.dtype.kind in "fi":
-            assert var.attrs.get("units"), name
-    ids = list(ds["check"].values)
-    assert ids == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4.1", "4.2", "5", "6"]
-    assert datasets.provenance_config(out / "validation.nc")["validate"] == cfg["validate"]
-    st = dict(zip(ids, ds["status"].values))
-    assert st["1.1"] == SKIP  # only two pairs swept: no ranking
-    assert st["2"] == st["3"] == st["5"] == PASS
-    assert st["6"] == SKIP and "run" not in ds.dims  # no run files given
-    assert list(ds["passed"].values) == [{PASS: 1, FAIL: 0, SKIP: -1}[s] for s in ds["status"].values]
-    md = (out / "summary.md").read_text()
-    for i in ids:
-        assert re.search(rf"^\| {re.escape(i)} \|", md, re.M), i
-    assert "| # | statement | measured | paper / goal | verdict |" in md
-    assert "<table>" in (out / "summary.html").read_text()
-    assert not list(out.glob(".*tmp"))  # written atomically, nothing left behind
-
-
-def test_a_check_that_raises_is_shown_as_failed(tiny_stage, monkeypatch):
-    cfg, noms, ws, _, _ = tiny_stage
-
-    def boom(*a, **k):
-        raise RuntimeError("solver diverged")
-    monkeypatch.setattr(checks, "check_statics", boom)
-    monkeypatch.setattr(checks, "check_mapping", boom)
-    monkeypatch.setattr(grounded, "check_grounded", boom)
-    monkeypatch.setattr(checks, "check_timestep", boom)
-    nominals = {ds.attrs["contact"]: ds for ds in map(datasets.read, noms)}
-    results = checks.run_checks(settings.params(cfg), settings.build(SweepSetup, cfg), DISCARD, nominals,
-                                datasets.read(ws), settings.build(CheckSettings, cfg))
-    assert isinstance(results[1], CheckError) and results[1].status == {"2": FAIL}
-    rows = {r.id: r for res in results for r in summary.verdicts(res)}
-    assert rows["2"].status == FAIL and rows["2"].measured == "error: RuntimeError: solver diverged"
-    assert rows["1.2"].status in (PASS, FAIL)
-    from tensegrity.io.formats.validation import workspace_validation_dataset
-    ds, _ = workspace_validation_dataset(results, [2.0, 2.4], [1, 7, 9, 18], [2.4])
-    assert list(ds["check"].values) == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4", "5", "6"]
-    assert "statics_difference" not in ds and "tip_pressure" in ds
-
-
-def run_file(path, name, outcome, goal=(1.0, 0.0, np.nan), final=(0.9, 0.1, 0.2), rolls=3):
-    """A file shaped like results/locomotion/{run}.nc (only what check 6 reads)."""
-    ds = xr.Dataset({"cog": (("time", "axis"), np.array([[0.0, 0.0, 0.2], final])),
-                     "goal": (("axis",), np.array(goal, float))},
-                    attrs={"run": name, "outcome": outcome, "message": f"{outcome} because", "rolls": rolls})
-    ds.to_netcdf(path)
-    return path
-
-
-def test_runs_check_fails_for_a_run_that_did_not_arrive(tmp_path):
-    good = run_file(tmp_path / "flat.nc", "flat", "arrived")
-    bad = run_file(tmp_path / "slope_up.nc", "slope_up", "no_contact", goal=(1.0, 0.0, 0.0), final=(-0.5, 0.0, 0.1))
-    edges = run_file(tmp_path / "paper.nc", "paper", "arrived", goal=(np.nan,) * 3)
-    res = demo_runs.check_runs(run_formats.read_runs([edges, good]))
-    assert res.status == {"6": PASS} and np.isnan(res.distance[0]) and res.distance[1] == pytest.approx(0.1414, abs=1e-4)
-    res = demo_runs.check_runs(run_formats.read_runs([edges, good, bad]))
-    assert res.status == {"6": FAIL} and list(res.arrived) == [True, True, False]
-    row, = summary.verdicts(res)
-    assert row.status == FAIL and "slope_up no_contact (3 rolls, 1.50 m from the goal): no_contact because" in row.measured
-    title, header, rows = summary.tables(res)[0]
-    assert [r[:2] for r in rows] == [["paper", "arrived"], ["flat", "arrived"], ["slope_up", "no_contact"]]
-    assert demo_runs.check_runs({}).status == {"6": SKIP}
-    # the end-of-workflow warning names the runs that did not arrive, and only those
-    text = validate_stage.runs_warning([edges, good, bad, tmp_path / "missing.nc"])
-    assert "slope_up: no_contact (no_contact because)" in text and "flat" not in text
-    assert validate_stage.runs_warning([edges, good]) == ""
-
-
-def test_stage_fails_check_6_in_every_output(tiny_stage, tmp_path):
-    cfg, noms, ws, _, _ = tiny_stage
-    runs = [run_file(tmp_path / "paper.nc", "paper", "arrived", goal=(np.nan,) * 3),
-            run_file(tmp_path / "slope_up.nc", "slope_up", "no_contact")]
-    out = tmp_path / "validation"
-    validate_stage.validate(cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html",
-                            run_paths=runs)
-    ds = datasets.read(out / "validation.nc")
-    st = dict(zip(ds["check"].values, ds["status"].values))
-    assert st["6"] == FAIL
-    assert list(ds["run"].values) == ["paper", "slope_up"] and list(ds["run_arrived"].values) == [1, 0]
-    assert list(ds["run_outcome"].values) == ["arrived", "no_contact"]
-    assert ds["run_distance_to_goal"].attrs["units"] == "m" and ds["run_rolls"].attrs["long_name"]
-    assert re.search(r"^\| 6 \| .* \| FAIL \|$", (out / "summary.md").read_text(), re.M)
-    assert "slope_up no_contact" in (out / "summary.html").read_text()
-
-
-def test_the_rule_puts_the_summary_in_the_report():
-    smk = (REPO / "workflow" / "rules" / "validate.smk").read_text()
-    assert re.search(r'report\(\s*"results/validation/summary\.html"', smk)
-    assert "rules.validate.output" in (REPO / "Snakefile").read_text()
-    assert re.search(r'runs=expand\(\s*"results/locomotion/\{run\}\.nc"', smk)  # check 6 reads the runs
-    assert (REPO / "workflow" / "report" / "validation.rst").is_file()
