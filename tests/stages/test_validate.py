@@ -10,6 +10,7 @@ import xarray as xr
 
 from tensegrity.io import config, datasets, settings
 from tensegrity.io.formats import run as run_formats
+from tensegrity.io.formats.nominal import read_nominal, read_nominals
 from tensegrity.stages import nominal as nominal_stage, sweep as sweep_stage, validate as validate_stage
 from tensegrity.stages.config import stage_config
 from tensegrity.validation import checks, grounded, summary
@@ -135,3 +136,20 @@ def test_the_rule_puts_the_summary_in_the_report():
     assert "rules.validate.output" in (REPO / "Snakefile").read_text()
     assert re.search(r'runs=expand\(\s*"results/locomotion/\{run\}\.nc"', smk)  # check 6 reads the runs
     assert (REPO / "workflow" / "report" / "validation.rst").is_file()
+
+
+def test_the_nominal_reader_hands_the_checks_the_files_numbers(tiny_stage):
+    """results/nominal/{contact}.nc as a `Nominal`: the pairs swept (#10, #11) at their rows of
+    all 12 pairs, NaN elsewhere; the face, mode and levels of the file."""
+    _, noms, ws, _, _ = tiny_stage
+    for path in noms:
+        ds, n = datasets.read(path), read_nominal(path)
+        assert n.contact == ds.attrs["contact"] and n.face == ds.attrs["face"] and n.mode == "free"
+        np.testing.assert_array_equal(n.levels, [2.0, 2.4])
+        np.testing.assert_array_equal(n.pairs, [10, 11])
+        for name in ("cog", "support", "margin"):
+            np.testing.assert_array_equal(getattr(n, name)[[9, 10]], ds[name].values)
+            assert np.isnan(np.delete(getattr(n, name), [9, 10], axis=0)).all()
+    assert list(read_nominals(noms[::-1])) == ["isosceles", "equilateral"]
+    with pytest.raises(ValueError, match="is not a nominal CoG file"):
+        read_nominal(ws)  # results/workspace.nc is not a nominal file
