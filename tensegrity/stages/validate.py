@@ -14,6 +14,8 @@ from ..io.formats import gravity as gf
 from ..io.formats import run as run_formats
 from ..io.formats import validation as vf
 from ..io.formats import two_pair as tpf
+from ..io.formats import workspace as wf
+from ..io.formats.nominal import read_nominals
 from ..locomotion.settings import RollSettings
 from ..validation import pages
 from ..validation.common import CheckSettings
@@ -40,8 +42,8 @@ def validate(cfg: dict, nominal_paths: Sequence[str | os.PathLike], workspace_pa
     (`run_paths`; none: check 6 is not evaluated); writes validation.nc, the Markdown summary
     and, if `html_path`, the HTML summary. Returns the paths written."""
     from ..validation import checks, report
-    nominals = {str(ds.attrs["contact"]): ds for ds in (datasets.read(p) for p in nominal_paths)}
-    workspace = datasets.read(workspace_path) if workspace_path else None
+    nominals = read_nominals(nominal_paths)
+    workspace = wf.read_workspace(workspace_path) if workspace_path else None
     setup, checks_ = settings.build(SweepSetup, cfg), settings.build(CheckSettings, cfg)
     discard = float(cfg["nominal"]["discard"])
     results = checks.run_checks(settings.params(cfg), setup, discard, nominals, workspace, checks_,
@@ -92,14 +94,8 @@ def validate_gravity(cfg: dict, gravity_path: str | os.PathLike, nominal_paths: 
     g, s = cfg["gravity"], settings.build(RollSettings, cfg)
     sweeps = gf.read_gravity(gravity_path)
     rc = vg.check_rolls(settings.params(cfg), sweeps, g["validate_slopes"], s, float(g["max_pressure"]))
-    flat = {}
-    for p in nominal_paths:
-        nd = datasets.read(p)
-        contact = str(nd.attrs["contact"])
-        if contact in sweeps:
-            flat[contact] = vg.flat_comparison(sweeps[contact], {
-                "pairs": list(nd["pair"].values), "levels": nd["pressure"].values, "cog": nd["cog"].values,
-                "support": nd["support"].values, "margin": nd["margin"].values}, CheckSettings.grounded_tolerance)
+    flat = {contact: vg.flat_comparison(sweeps[contact], free, CheckSettings.grounded_tolerance)
+            for contact, free in read_nominals(nominal_paths).items() if contact in sweeps}
     rows, status = vg.verdicts(rc, flat, float(g["tip_tolerance"]))
     for r in rows:
         print(f"  {r.id} {r.status}: {r.measured}", flush=True)

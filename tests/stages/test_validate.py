@@ -10,6 +10,7 @@ import xarray as xr
 
 from tensegrity.io import config, datasets, settings
 from tensegrity.io.formats import run as run_formats
+from tensegrity.io.formats import workspace as wf
 from tensegrity.io.formats.nominal import read_nominal, read_nominals
 from tensegrity.stages import nominal as nominal_stage, sweep as sweep_stage, validate as validate_stage
 from tensegrity.stages.config import stage_config
@@ -72,9 +73,8 @@ def test_a_check_that_raises_is_shown_as_failed(tiny_stage, monkeypatch):
     monkeypatch.setattr(checks, "check_mapping", boom)
     monkeypatch.setattr(grounded, "check_grounded", boom)
     monkeypatch.setattr(checks, "check_timestep", boom)
-    nominals = {ds.attrs["contact"]: ds for ds in map(datasets.read, noms)}
-    results = checks.run_checks(settings.params(cfg), settings.build(SweepSetup, cfg), DISCARD, nominals,
-                                datasets.read(ws), settings.build(CheckSettings, cfg))
+    results = checks.run_checks(settings.params(cfg), settings.build(SweepSetup, cfg), DISCARD, read_nominals(noms),
+                                wf.read_workspace(ws), settings.build(CheckSettings, cfg))
     assert isinstance(results[1], CheckError) and results[1].status == {"2": FAIL}
     rows = {r.id: r for res in results for r in summary.verdicts(res)}
     assert rows["2"].status == FAIL and rows["2"].measured == "error: RuntimeError: solver diverged"

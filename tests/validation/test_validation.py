@@ -1,16 +1,19 @@
 """The checks (tensegrity.validation): every check passes on a case where the claim holds and fails
 on one where it does not (a check that cannot fail is a defect). The checks return numbers and
 statuses; `summary` words them. The validate stage itself: tests/stages/test_validate.py."""
+from dataclasses import replace
+
 import numpy as np
 import pytest
-import xarray as xr
 
 from tensegrity.physics import frames, topology as topo
 from tensegrity.workspace import mapping
 from tensegrity.physics import statics
 from tensegrity.validation import checks, grounded, paper, summary
 from tensegrity.validation.common import FAIL, PASS, SKIP
-from tensegrity.validation.nominals import full_nominal, simulate_nominal
+from tensegrity.validation.nominals import simulate_nominal
+from tensegrity.workspace.lookup import Workspace
+from tensegrity.workspace.nominal import Nominal
 from tensegrity.workspace.sweep import SweepSetup
 from tensegrity.physics.params import Params
 
@@ -22,20 +25,16 @@ FREE = Params(gravity=0.0)
 DISCARD = 0.2  # s, the pipeline's nominal average (config nominal.discard)
 
 
-def nominal_dataset(contact, face, pairs, levels, cog, support, mode="free"):
-    """A dataset shaped like results/nominal/{contact}.nc from arrays (n, P, 3), (n, P, 3, 3)."""
+def nominal(contact, face, pairs, levels, cog, support, mode="free"):
+    """The nominal CoG of a contact case (as results/nominal/{contact}.nc holds it) from arrays
+    of the swept pairs (n, P, 3), (n, P, 3, 3); the margin of the CoG in the triangle."""
     cog, support = np.asarray(cog, float), np.asarray(support, float)
     margin = frames.margin_2d(cog[..., :2], support[..., :2])
-    return xr.Dataset(
-        {"cog": (("pair", "pressure", "axis"), cog), "support": (("pair", "pressure", "corner", "axis"), support),
-         "margin": (("pair", "pressure"), margin)},
-        coords={"pair": np.asarray(pairs), "pressure": np.asarray(levels, float), "axis": list("xyz"),
-                "corner": [1, 2, 3]},
-        attrs={"contact": contact, "face": int(face), "mode": mode})
+    return Nominal.of_pairs(contact, face, mode, levels, pairs, cog, support, margin)
 
 
 def from_run(contact, face, run, levels, mode="free"):
-    return nominal_dataset(contact, face, run.pairs, levels, run.cog, run.support, mode)
+    return nominal(contact, face, run.pairs, levels, run.cog, run.support, mode)
 
 
 def status(result, vid):
@@ -65,17 +64,17 @@ def static_nominals():
             nodes[p, k] = start = statics.equilibrium(P, prs, start=start)
     for contact, face in (("equilateral", EQUI), ("isosceles", ISO)):
         cs = [[frames.in_support_frame(nodes[p, k], face) for k in range(len(LEVELS))] for p in range(1, 13)]
-        out[contact] = nominal_dataset(contact, face, np.arange(1, 13), LEVELS,
-                                       [[c[0] for c in row] for row in cs], [[c[1] for c in row] for row in cs])
+        out[contact] = nominal(contact, face, np.arange(1, 13), LEVELS,
+                               [[c[0] for c in row] for row in cs], [[c[1] for c in row] for row in cs])
     return out
 
 
-def with_pair_data(ds, pair, from_pair):
-    """A copy of ds in which `pair` holds the data of `from_pair`."""
-    out = ds.copy(deep=True)
-    for name in ("cog", "support", "margin"):
-        out[name].loc[{"pair": pair}] = ds[name].sel(pair=from_pair).values
-    return out
+def with_pair_data(n, pair, from_pair):
+    """A copy of the nominal `n` in which `pair` holds the data of `from_pair`."""
+    arrays = {name: getattr(n, name).copy() for name in ("cog", "support", "margin")}
+    for a in arrays.values():
+        a[pair - 1] = a[from_pair - 1]
+    return replace(n, **arrays)
 
 
 def test_paper_statements_hold_on_the_static_workspace(static_nominals):
@@ -103,7 +102,7 @@ def test_wrong_tip_edge_or_pressure_fails(static_nominals):
     chk = paper.check_paper(dict(static_nominals, equilateral=with_pair_data(eq, 10, 12)))
     assert status(chk, "1.2") == FAIL and "edge 10-12" not in measured(chk, "1.2")
     # the same data reported at 20 % higher pressures: #10 leaves at about 5 MPa, not 4.2
-    scaled = {k: ds.assign_coords(pressure=ds["pressure"] * 1.2) for k, ds in static_nominals.items()}
+    scaled = {k: replace(n, levels=n.levels * 1.2) for k, n in static_nominals.items()}
     chk = paper.check_paper(scaled, ranking_pressure=2.4)
     assert status(chk, "1.2") == FAIL and status(chk, "1.3") == PASS
     chk = paper.check_paper(scaled, ranking_pressure=9.0)
@@ -124,8 +123,8 @@ def test_second_roll_must_cross_10_11_at_a_lower_pressure(static_nominals):
 def test_orbit_compares_each_member_from_its_own_corner(static_nominals):
     """The members' CoGs in the one support frame are not 120 deg rotations of each other (the
     deformed triangle is not equilateral); seen from their own corners they coincide."""
-    ds = static_nominals["equilateral"]
-    cog, sup, _ = full_nominal(ds)
+    n = static_nominals["equilateral"]
+    cog, sup = n.cog, n.support
     diff, spread = paper.orbit_spread(cog, sup, EQUI, (9, 10, 12))
     assert diff.max() < 1e-6 and spread.max() < 1e-6
     moved = cog.copy()
@@ -151,7 +150,7 @@ def test_statics_check_passes_on_the_dynamic_nominal_and_fails_when_perturbed(fr
     assert np.nanmax(diff) < 1e-4 and np.isfinite(diff[0, [3, 9]]).all() and np.isnan(diff[1]).all()
     cog = run.cog.copy()
     cog[1, 1, 0] += 2e-4  # #4 at 2.4 MPa, 0.2 mm off
-    bad = {"equilateral": nominal_dataset("equilateral", EQUI, run.pairs, setup.levels, cog, run.support)}
+    bad = {"equilateral": nominal("equilateral", EQUI, run.pairs, setup.levels, cog, run.support)}
     chk = checks.check_statics(P, bad, [1.2, 2.4], 1e-4)
     assert status(chk, "2") == FAIL and "#4 at 2.4 MPa" in measured(chk, "2")
 
@@ -180,10 +179,7 @@ def small_workspace():
     cog, sup = np.full((20, 12, 1, 3), np.nan), np.full((20, 12, 1, 3, 3), np.nan)
     for face in range(1, 21):
         cog[face - 1], sup[face - 1] = mapping.map_face(face, *full[str(topo.FACE_TYPES[face - 1])])
-    ws = xr.Dataset({"cog": (("face", "pair", "pressure", "axis"), cog),
-                     "support": (("face", "pair", "pressure", "corner", "axis"), sup)},
-                    coords={"face": np.arange(1, 21), "pair": np.arange(1, 13), "pressure": [2.4]})
-    return setup, ws, full
+    return setup, Workspace.from_arrays([2.4], cog, sup, FREE.strut_length), full
 
 
 def test_mapping_check_passes_for_the_symmetry_map(small_workspace):
@@ -197,21 +193,22 @@ def test_mapping_check_passes_for_the_symmetry_map(small_workspace):
 def test_mapping_check_fails_for_a_wrong_map_or_a_small_sample(small_workspace):
     setup, ws, full = small_workspace
     # face 1 given the canonical data of the same pair numbers (no permutation): a wrong mapping
-    bad = ws.copy(deep=True)
-    c, s = full["equilateral"]
-    bad["cog"][0], bad["support"][0] = c, s
+    cog, sup = ws.cog.copy(), ws.support.copy()
+    cog[0], sup[0] = full["equilateral"]
+    bad = replace(ws, cog=cog, support=sup)
     chk = checks.check_mapping(FREE, bad, [1, 7, 9, 18], setup, DISCARD, 1e-4)
     assert status(chk, "3") == FAIL and np.nanmax(chk.difference[0]) > 1e-3
     # the right CoG but the triangle's corners in the wrong order
-    bad = ws.copy(deep=True)
-    bad["support"][6] = ws["support"].values[6][..., [1, 2, 0], :]  # face 7, (6,10,11)
+    sup = ws.support.copy()
+    sup[6] = ws.support[6][..., [1, 2, 0], :]  # face 7, (6,10,11)
+    bad = replace(ws, support=sup)
     chk = checks.check_mapping(FREE, bad, [1, 7, 9, 18], setup, DISCARD, 1e-4)
     assert status(chk, "3") == FAIL and np.nanmax(chk.difference) < 1e-9
     assert np.nanmax(chk.support_difference[1]) > 1e-2
     chk = checks.check_mapping(FREE, ws, [1, 9], setup, DISCARD, 1e-4)  # one face of each kind is too few
     assert status(chk, "3") == FAIL and np.nanmax(chk.difference) < 1e-9
     assert chk.kinds == {"equilateral": 1, "isosceles": 1} and chk.faces_with_data == 2
-    chk = checks.check_mapping(FREE, ws.assign_coords(pressure=[2.0]), [1, 9], setup, DISCARD, 1e-4)
+    chk = checks.check_mapping(FREE, replace(ws, levels=[2.0]), [1, 9], setup, DISCARD, 1e-4)
     assert status(chk, "3") == SKIP and measured(chk, "3") == "the workspace was swept at other levels"
 
 
@@ -279,7 +276,7 @@ def test_timestep_check_passes_and_fails_when_perturbed():
     ok = checks.check_timestep(FREE, {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}, setup, DISCARD, 1e-4)
     assert status(ok, "5") == PASS and np.nanmax(ok.difference) < 5e-5
     cog = run.cog + [3e-4, 0, 0]
-    bad = {"equilateral": nominal_dataset("equilateral", EQUI, run.pairs, setup.levels, cog, run.support)}
+    bad = {"equilateral": nominal("equilateral", EQUI, run.pairs, setup.levels, cog, run.support)}
     chk = checks.check_timestep(FREE, bad, setup, DISCARD, 1e-4)
     assert status(chk, "5") == FAIL and measured(chk, "5").startswith("largest 0.3 mm (#10 at 2.4 MPa")
 
@@ -289,7 +286,7 @@ def test_checks_without_a_complete_pair_are_not_evaluated():
     cog0, tri = frames.in_support_frame(topo.reference_nodes(), EQUI)
     cog = np.tile(cog0, (1, 1, 1))
     cog[0, 0, 0] = np.nan
-    nominals = {"equilateral": nominal_dataset("equilateral", EQUI, [10], [2.4], cog, np.tile(tri, (1, 1, 1, 1)))}
+    nominals = {"equilateral": nominal("equilateral", EQUI, [10], [2.4], cog, np.tile(tri, (1, 1, 1, 1)))}
     setup = SweepSetup(levels=(2.4,), hold=0.5)
     chk = checks.check_timestep(FREE, nominals, setup, DISCARD)
     assert status(chk, "5") == SKIP and measured(chk, "5") == "no sweep"
