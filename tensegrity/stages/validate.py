@@ -47,7 +47,7 @@ def validate(cfg: dict, nominal_paths: Sequence[str | os.PathLike], workspace_pa
     setup, checks_ = settings.build(SweepSetup, cfg), settings.build(CheckSettings, cfg)
     discard = float(cfg["nominal"]["discard"])
     results = checks.run_checks(settings.params(cfg), setup, discard, nominals, workspace, checks_,
-                                on_result=report.log, runs=run_formats.read_runs(run_paths))
+                                on_result=report.log, runs=run_formats.read_run_summaries(run_paths))
     levels = common_levels(nominals)
     ds, allow = vf.workspace_validation_dataset(results, levels, checks_.faces, checks_.statics_pressures)
     note = ("Every number, with units: validation.nc. Sweeps: "

@@ -23,7 +23,6 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import xarray as xr
 
 from ..physics import statics, topology as topo
 from ..physics.params import Params
@@ -206,12 +205,12 @@ def check_timestep(params: Params, nominals: Mapping[str, Nominal], setup: Sweep
 def run_checks(params: Params, setup: SweepSetup, discard: float, nominals: Mapping[str, Nominal],
                workspace: Workspace | None, settings: CheckSettings = CheckSettings(),
                on_result: Callable[[Result], None] | None = None,
-               runs: Mapping[str, xr.Dataset] | None = None) -> list[Result]:
+               runs: Mapping[str, demo_runs.RunSummary] | None = None) -> list[Result]:
     """Every check, in order 1-6, with `params` and the pipeline's sweep `setup` (its nominal
     average after `discard` s) on the nominal
     CoG of the contact cases (contact -> `Nominal`, results/nominal/{contact}.nc), the workspace
-    (results/workspace.nc) and the demonstration runs (name -> results/locomotion/{run}.nc;
-    None or empty: check 6 is not evaluated).
+    (results/workspace.nc) and the demonstration runs (name -> `runs.RunSummary` of
+    results/locomotion/{run}.nc; None or empty: check 6 is not evaluated).
     A check that raises gives a `CheckError` (FAIL; the traceback goes to stderr, i.e. the job's
     log). `on_result` is called with each result as soon as it is known (progress logging)."""
     s = settings

@@ -1,6 +1,6 @@
-"""The validate stage (`stages.validate`): the workspace checks on the pipeline's files, written
-as validation.nc, summary.md and summary.html; the demonstration runs' files and the
-end-of-workflow warning."""
+"""The validate stage (`stages.validate`): the workspace checks on the pipeline's files, read
+through `io` and written as validation.nc, summary.md and summary.html; the demonstration runs'
+files and the end-of-workflow warning; the readers hand the checks the files' numbers."""
 import re
 from pathlib import Path
 
@@ -15,7 +15,6 @@ from tensegrity.io.formats.nominal import read_nominal, read_nominals
 from tensegrity.stages import nominal as nominal_stage, sweep as sweep_stage, validate as validate_stage
 from tensegrity.stages.config import stage_config
 from tensegrity.validation import checks, grounded, summary
-from tensegrity.validation import runs as demo_runs
 from tensegrity.validation.common import FAIL, PASS, SKIP, CheckError, CheckSettings
 from tensegrity.workspace.sweep import SweepSetup
 
@@ -94,19 +93,16 @@ def run_file(path, name, outcome, goal=(1.0, 0.0, np.nan), final=(0.9, 0.1, 0.2)
     return path
 
 
-def test_runs_check_fails_for_a_run_that_did_not_arrive(tmp_path):
+def test_run_files_are_read_as_what_check_6_needs_and_warned_about(tmp_path):
     good = run_file(tmp_path / "flat.nc", "flat", "arrived")
     bad = run_file(tmp_path / "slope_up.nc", "slope_up", "no_contact", goal=(1.0, 0.0, 0.0), final=(-0.5, 0.0, 0.1))
     edges = run_file(tmp_path / "paper.nc", "paper", "arrived", goal=(np.nan,) * 3)
-    res = demo_runs.check_runs(run_formats.read_runs([edges, good]))
-    assert res.status == {"6": PASS} and np.isnan(res.distance[0]) and res.distance[1] == pytest.approx(0.1414, abs=1e-4)
-    res = demo_runs.check_runs(run_formats.read_runs([edges, good, bad]))
-    assert res.status == {"6": FAIL} and list(res.arrived) == [True, True, False]
-    row, = summary.verdicts(res)
-    assert row.status == FAIL and "slope_up no_contact (3 rolls, 1.50 m from the goal): no_contact because" in row.measured
-    title, header, rows = summary.tables(res)[0]
-    assert [r[:2] for r in rows] == [["paper", "arrived"], ["flat", "arrived"], ["slope_up", "no_contact"]]
-    assert demo_runs.check_runs({}).status == {"6": SKIP}
+    runs = run_formats.read_run_summaries([edges, good, bad])
+    assert list(runs) == ["paper", "flat", "slope_up"]
+    assert [r.outcome for r in runs.values()] == ["arrived", "arrived", "no_contact"]
+    assert runs["slope_up"].message == "no_contact because" and runs["slope_up"].rolls == 3
+    np.testing.assert_array_equal(runs["flat"].final_cog, [0.9, 0.1, 0.2])
+    assert np.isnan(runs["paper"].distance) and runs["flat"].distance == pytest.approx(0.1414, abs=1e-4)
     # the end-of-workflow warning names the runs that did not arrive, and only those
     text = validate_stage.runs_warning([edges, good, bad, tmp_path / "missing.nc"])
     assert "slope_up: no_contact (no_contact because)" in text and "flat" not in text

@@ -10,6 +10,7 @@ from tensegrity.physics import frames, topology as topo
 from tensegrity.workspace import mapping
 from tensegrity.physics import statics
 from tensegrity.validation import checks, grounded, paper, summary
+from tensegrity.validation import runs as demo_runs
 from tensegrity.validation.common import FAIL, PASS, SKIP
 from tensegrity.validation.nominals import simulate_nominal
 from tensegrity.workspace.lookup import Workspace
@@ -294,3 +295,27 @@ def test_checks_without_a_complete_pair_are_not_evaluated():
     assert chk.status == {"4.1": SKIP, "4.2": SKIP} and not chk.faces
     chk = checks.check_statics(P, nominals, [2.4])
     assert status(chk, "2") == SKIP and measured(chk, "2") == "no pair swept at every level"
+
+
+# ------------------------------------------------------------------ 6. demonstration runs
+
+def run(outcome, goal=(1.0, 0.0, np.nan), final=(0.9, 0.1, 0.2), rolls=3):
+    """What check 6 reads of a run file (results/locomotion/{run}.nc)."""
+    return demo_runs.RunSummary(outcome, f"{outcome} because", rolls, np.array(goal, float),
+                                np.array(final, float))
+
+
+def test_runs_check_fails_for_a_run_that_did_not_arrive():
+    good = run("arrived")
+    bad = run("no_contact", goal=(1.0, 0.0, 0.0), final=(-0.5, 0.0, 0.1))
+    edges = run("arrived", goal=(np.nan,) * 3)
+    res = demo_runs.check_runs({"paper": edges, "flat": good})
+    assert res.status == {"6": PASS} and np.isnan(res.distance[0]) and res.distance[1] == pytest.approx(0.1414, abs=1e-4)
+    res = demo_runs.check_runs({"paper": edges, "flat": good, "slope_up": bad})
+    assert res.status == {"6": FAIL} and list(res.arrived) == [True, True, False]
+    row, = summary.verdicts(res)
+    assert row.status == FAIL and "slope_up no_contact (3 rolls, 1.50 m from the goal): no_contact because" in row.measured
+    title, header, rows = summary.tables(res)[0]
+    assert [r[:2] for r in rows] == [["paper", "arrived"], ["flat", "arrived"], ["slope_up", "no_contact"]]
+    assert demo_runs.check_runs({}).status == {"6": SKIP}
+    assert np.isnan(run("arrived", final=(np.nan,) * 3).distance)  # a run file without samples
