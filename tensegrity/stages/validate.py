@@ -69,10 +69,12 @@ def validate_two_pair(cfg: dict, contact_paths: Sequence[str | os.PathLike], two
     writes results/validation/two_pair.nc, .md and .html."""
     from ..validation import two_pair as v
     setup, s = settings.build(TwoPairSetup, cfg), cfg["two_pair"]
-    _, contacts = tpf.read_contacts(contact_paths)
+    contacts = tpf.read_two_pair_nominals(contact_paths)
+    grid_cog, staircase = tpf.read_two_pair_grid(two_pair_path)
     single = datasets.read(workspace_path)
-    r = v.validate(settings.params(cfg), setup, contacts, datasets.read(two_pair_path), single,
-                   datasets.strut_length(single), s["check_combos"], s["check_faces"], float(s["tolerance"]))
+    r = v.validate(settings.params(cfg), setup, contacts, grid_cog, staircase, wf.workspace_from_dataset(single),
+                   wf.tip_pressures(single), combos=s["check_combos"], faces=s["check_faces"],
+                   tolerance=float(s["tolerance"]))
     for row in r.rows:
         print(f"  {row.id} {row.status}: {row.measured}", flush=True)
     note = (f"Levels {', '.join(f'{x:g}' for x in setup.levels)} MPa held {setup.hold:g} s "

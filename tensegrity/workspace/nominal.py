@@ -1,6 +1,6 @@
 """Nominal CoG: the average of the CoG over the samples of each pressure level (paper III.A), and
 the nominal CoG of one contact case as a typed value: `Nominal` (one pair at a time, the file
-results/nominal/{contact}.nc)."""
+results/nominal/{contact}.nc) and `TwoPairNominal` (two pairs, results/two_pair/{contact}.nc)."""
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -51,6 +51,21 @@ class Nominal:
         pairs = np.asarray(pairs)
         return cls(str(contact), int(face), str(mode), np.asarray(levels, float), pairs,
                    *(all_pairs(pairs, a) for a in (cog, support, margin)))
+
+
+@dataclass(frozen=True)
+class TwoPairNominal:
+    """The nominal CoG of one contact case with two pairs driven at once: contact, the face
+    (1..20) it stands on, levels (P,) MPa of both pairs; per combination (66, the rows of
+    `workspace.two_pair.COMBOS`) and grid point (P, P) (the first pair at levels[i], the second
+    at levels[j]) cog (66, P, P, 3) m in the face's support frame (NaN: not available), and the
+    least equal pressure of both pairs at which the CoG projection leaves the triangle,
+    tip_pressure (66,) MPa (NaN: never)."""
+    contact: str
+    face: int
+    levels: np.ndarray
+    cog: np.ndarray
+    tip_pressure: np.ndarray
 
 
 def nominal(t: ArrayLike, level: ArrayLike, cog: np.ndarray, support: np.ndarray, n_levels: int,

@@ -1,6 +1,7 @@
-"""The validate stage (`stages.validate`): the workspace checks on the pipeline's files, read
-through `io` and written as validation.nc, summary.md and summary.html; the demonstration runs'
-files and the end-of-workflow warning; the readers hand the checks the files' numbers."""
+"""The validate stages (`stages.validate`): the workspace checks on the pipeline's files, read
+through `io` (`io.formats.read_nominals`, `read_workspace`, `read_run_summaries`) and written
+as validation.nc, summary.md and summary.html; the demonstration runs' files and the
+end-of-workflow warning; the readers hand the checks the files' numbers."""
 import re
 from pathlib import Path
 
@@ -10,12 +11,15 @@ import xarray as xr
 
 from tensegrity.io import config, datasets, settings
 from tensegrity.io.formats import run as run_formats
+from tensegrity.io.formats import two_pair as tpf
 from tensegrity.io.formats import workspace as wf
 from tensegrity.io.formats.nominal import read_nominal, read_nominals
 from tensegrity.stages import nominal as nominal_stage, sweep as sweep_stage, validate as validate_stage
 from tensegrity.stages.config import stage_config
+from tensegrity.physics import topology as topo
 from tensegrity.validation import checks, grounded, summary
 from tensegrity.validation.common import FAIL, PASS, SKIP, CheckError, CheckSettings
+from tensegrity.workspace import two_pair as tp
 from tensegrity.workspace.sweep import SweepSetup
 
 DISCARD = 0.2  # s, the pipeline's nominal average (config nominal.discard)
@@ -134,9 +138,10 @@ def test_the_rule_puts_the_summary_in_the_report():
     assert (REPO / "workflow" / "report" / "validation.rst").is_file()
 
 
-def test_the_nominal_reader_hands_the_checks_the_files_numbers(tiny_stage):
+def test_the_readers_hand_the_checks_the_files_numbers(tiny_stage):
     """results/nominal/{contact}.nc as a `Nominal`: the pairs swept (#10, #11) at their rows of
-    all 12 pairs, NaN elsewhere; the face, mode and levels of the file."""
+    all 12 pairs, NaN elsewhere; the face, mode and levels of the file. The tipping pressures
+    of results/workspace.nc by face and pair."""
     _, noms, ws, _, _ = tiny_stage
     for path in noms:
         ds, n = datasets.read(path), read_nominal(path)
@@ -149,3 +154,32 @@ def test_the_nominal_reader_hands_the_checks_the_files_numbers(tiny_stage):
     assert list(read_nominals(noms[::-1])) == ["isosceles", "equilateral"]
     with pytest.raises(ValueError, match="is not a nominal CoG file"):
         read_nominal(ws)  # results/workspace.nc is not a nominal file
+    tips = wf.tip_pressures(datasets.read(ws))
+    np.testing.assert_array_equal(tips, datasets.read(ws)["tip_pressure"].values)
+    assert tips.shape == (20, 12)
+
+
+def test_the_two_pair_readers_hand_the_checks_the_files_numbers(tmp_path):
+    """results/two_pair/{contact}.nc as a `TwoPairNominal`, results/workspace_two_pair.nc as the
+    grid and staircases the direct check compares (synthetic numbers)."""
+    rng, levels = np.random.default_rng(1), [1.0, 2.0]
+    grid = lambda *lead: {
+        "cog": rng.normal(size=(*lead, 66, 2, 2, 3)), "support": rng.normal(size=(*lead, 66, 2, 2, 3, 3)),
+        "margin": rng.normal(size=(*lead, 66, 2, 2)), "tip_pressure": rng.uniform(1, 2, (*lead, 66)),
+        "tip_edge": np.ones((*lead, 66, 2), int), "tip_boundary": np.full((*lead, 66, 2), np.nan),
+        "staircase": np.tile(tp.COMBOS, (*lead, 1, 1))}
+    ws = grid()
+    face = topo.face_number(topo.CONTACT_FACES["isosceles"])
+    ds = tpf.contact_dataset(levels, tp.COMBOS, ws, np.ones(66), np.zeros((66, 2, 2, 3)),
+                             {"contact": "isosceles", "face": face}, 0.5)
+    ds.to_netcdf(tmp_path / "isosceles.nc")
+    n = tpf.read_two_pair_nominals([tmp_path / "isosceles.nc"])["isosceles"]
+    assert n.contact == "isosceles" and n.face == face
+    np.testing.assert_array_equal(n.levels, levels)
+    np.testing.assert_array_equal(n.cog, ws["cog"])
+    np.testing.assert_array_equal(n.tip_pressure, ws["tip_pressure"])
+    ws20 = grid(20)
+    tpf.workspace_dataset(levels, tp.COMBOS, ws20, {}, 0.5).to_netcdf(tmp_path / "workspace_two_pair.nc")
+    cog, staircase = tpf.read_two_pair_grid(tmp_path / "workspace_two_pair.nc")
+    np.testing.assert_array_equal(cog, ws20["cog"])
+    np.testing.assert_array_equal(staircase, ws20["staircase"])
