@@ -14,7 +14,6 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
-import xarray as xr
 
 from ..io import datasets, settings
 from ..io.formats import study as sf
@@ -27,31 +26,6 @@ from ..workspace.sweep import SweepSetup
 from . import provenance
 
 CHUNK_FILE = "chunks/chunk{chunk:04d}.nc"
-
-
-def _paper(study: Mapping, ws: ev.StudyWorkspace, designs: Sequence) -> dict:
-    """The paper's statements per design (validation check 1, `validation.paper.check_paper`,
-    on each design's nominal CoG): tip pressures, edges, migration (D, C, P) and status (D, 5)."""
-    from ..validation.paper import check_paper
-    w = study["workspace"]
-    contacts = list(w["contacts"])
-    D, C, P = ws.margin.shape[:3]
-    out = {"tip_pressure": np.full((D, C, P), np.nan), "tip_edge": np.zeros((D, C, P, 2), np.int64),
-           "migration": np.full((D, C, P), np.nan), "status": np.zeros((D, len(ev.STATEMENTS)), np.int8)}
-    for i, prm in enumerate(designs):
-        nominals = {c: xr.Dataset({"cog": (("pair", "pressure", "axis"), ws.cog[i, j]),
-                                   "support": (("pair", "pressure", "corner", "axis"), ws.support[i, j]),
-                                   "margin": (("pair", "pressure"), ws.margin[i, j])},
-                                  coords={"pair": ws.pairs, "pressure": ws.levels}, attrs={"face": int(ws.faces[j])})
-                    for j, c in enumerate(contacts)}
-        r = check_paper(nominals, float(prm.strut_length), w["reference_pressure"], w["tip_tolerance"])
-        for j, c in enumerate(contacts):
-            k = ("equilateral", "isosceles").index(c)
-            out["tip_pressure"][i, j] = r.tip_pressure[k, ws.pairs - 1]
-            out["tip_edge"][i, j] = r.tip_edge[k, ws.pairs - 1]
-            out["migration"][i, j] = r.migration[k, ws.pairs - 1]
-        out["status"][i] = [ev.STATEMENT_CODE[r.status[s]] for s in ev.STATEMENTS]
-    return out
 
 
 def _attrs(study: Mapping) -> dict:
@@ -76,7 +50,7 @@ def study_chunk(cfg: dict, study: Mapping, chunk: int, out_path: str | os.PathLi
         setup = SweepSetup(levels=tuple(w["levels"]), hold=float(w["hold"]), dt=float(cfg["sim"]["dt"]),
                            record_every=int(w["sample_every"]))
         ws = ev.workspace(designs, w["contacts"], w["pairs"], setup, float(w["discard"]), progress)
-        paper = _paper(study, ws, designs)
+        paper = ev.paper_statements(designs, ws, w["contacts"], w["reference_pressure"], w["tip_tolerance"])
     if study["roll"]["enabled"]:
         s = settings.build(RollSettings, cfg)
         rolls = ev.roll_sequence(spec.design_params(s.rolling(base), study, X), s, study["roll"]["max_pressure"])

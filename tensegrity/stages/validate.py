@@ -15,6 +15,8 @@ from ..io.formats import gravity as gf
 from ..io.formats import run as run_formats
 from ..io.formats import validation as vf
 from ..io.formats import two_pair as tpf
+from ..io.formats import workspace as wf
+from ..io.formats.nominal import read_nominals
 from ..locomotion.settings import RollSettings
 from ..validation import pages
 from ..validation.common import CheckSettings
@@ -41,12 +43,12 @@ def validate(cfg: dict, nominal_paths: Sequence[str | os.PathLike], workspace_pa
     (`run_paths`; none: check 6 is not evaluated); writes validation.nc, the Markdown summary
     and, if `html_path`, the HTML summary. Returns the paths written."""
     from ..validation import checks, report
-    nominals = {str(ds.attrs["contact"]): ds for ds in (datasets.read(p) for p in nominal_paths)}
-    workspace = datasets.read(workspace_path) if workspace_path else None
+    nominals = read_nominals(nominal_paths)
+    workspace = wf.read_workspace(workspace_path) if workspace_path else None
     setup, checks_ = settings.build(SweepSetup, cfg), settings.build(CheckSettings, cfg)
     discard = float(cfg["nominal"]["discard"])
     results = checks.run_checks(settings.params(cfg), setup, discard, nominals, workspace, checks_,
-                                on_result=report.log, runs=run_formats.read_runs(run_paths))
+                                on_result=report.log, runs=run_formats.read_run_summaries(run_paths))
     levels = common_levels(nominals)
     ds, allow = vf.workspace_validation_dataset(results, levels, checks_.faces, checks_.statics_pressures)
     note = ("Every number, with units: validation.nc. Sweeps: "
@@ -68,10 +70,12 @@ def validate_two_pair(cfg: dict, contact_paths: Sequence[str | os.PathLike], two
     writes results/validation/two_pair.nc, .md and .html."""
     from ..validation import two_pair as v
     setup, s = settings.build(TwoPairSetup, cfg), cfg["two_pair"]
-    _, contacts = tpf.read_contacts(contact_paths)
+    contacts = tpf.read_two_pair_nominals(contact_paths)
+    grid_cog, staircase = tpf.read_two_pair_grid(two_pair_path)
     single = datasets.read(workspace_path)
-    r = v.validate(settings.params(cfg), setup, contacts, datasets.read(two_pair_path), single,
-                   datasets.strut_length(single), s["check_combos"], s["check_faces"], float(s["tolerance"]))
+    r = v.validate(settings.params(cfg), setup, contacts, grid_cog, staircase, wf.workspace_from_dataset(single),
+                   wf.tip_pressures(single), combos=s["check_combos"], faces=s["check_faces"],
+                   tolerance=float(s["tolerance"]))
     for row in r.rows:
         print(f"  {row.id} {row.status}: {row.measured}", flush=True)
     note = (f"Levels {', '.join(f'{x:g}' for x in setup.levels)} MPa held {setup.hold:g} s "
@@ -93,14 +97,8 @@ def validate_gravity(cfg: dict, gravity_path: str | os.PathLike, nominal_paths: 
     g, s = cfg["gravity"], settings.build(RollSettings, cfg)
     sweeps = gf.read_gravity(gravity_path)
     rc = vg.check_rolls(settings.params(cfg), sweeps, g["validate_slopes"], s, float(g["max_pressure"]))
-    flat = {}
-    for p in nominal_paths:
-        nd = datasets.read(p)
-        contact = str(nd.attrs["contact"])
-        if contact in sweeps:
-            flat[contact] = vg.flat_comparison(sweeps[contact], {
-                "pairs": list(nd["pair"].values), "levels": nd["pressure"].values, "cog": nd["cog"].values,
-                "support": nd["support"].values, "margin": nd["margin"].values}, CheckSettings.grounded_tolerance)
+    flat = {contact: vg.flat_comparison(sweeps[contact], free, CheckSettings.grounded_tolerance)
+            for contact, free in read_nominals(nominal_paths).items() if contact in sweeps}
     rows, status = vg.verdicts(rc, flat, float(g["tip_tolerance"]))
     for r in rows:
         print(f"  {r.id} {r.status}: {r.measured}", flush=True)

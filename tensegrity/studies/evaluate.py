@@ -2,6 +2,7 @@
 
 `workspace`: the free-mode sweep of every (design, contact, pair) as one batch of robots, each with
 its own parameters (`Params` fields as (B,) arrays), averaged per level as workspace.nominal does.
+`paper_statements`: the paper's statements (validation check 1) on each design's nominal CoG.
 `roll_sequence`: the paper's roll sequence (9,10,12) -#10-> (10,11,12) -#11-> (6,10,11) in the
 grounded mode for every design, driven by `locomotion.lockstep` as one batch.
 """
@@ -21,7 +22,10 @@ from ..physics import frames, topology as topo
 from ..physics.schedule import Schedule
 from ..physics.params import Params
 from ..physics.terrain import Terrain
+from ..validation import paper as check1
+from ..physics.topology import CONTACTS
 from ..workspace import sweep as sw
+from ..workspace.nominal import Nominal
 
 STATEMENTS = ("1.1", "1.2", "1.3", "1.4", "1.5")  # the paper's statements (validation check 1)
 STATEMENT_CODE = {"pass": 1, "fail": 0, "not evaluated": -1}
@@ -109,6 +113,35 @@ def workspace(designs: Sequence[Params], contacts: Sequence[str], pairs: Sequenc
             progress(hold)
     margin = frames.margin_2d(cog[..., :2], sup[..., :2])
     return StudyWorkspace(faces, pairs, levels, cog, sup, margin)
+
+
+def nominals(ws: StudyWorkspace, design: int, contacts: Sequence[str]) -> dict[str, Nominal]:
+    """The free-mode nominal CoG of design number `design` (0-based, of `ws`) per contact case,
+    `contacts` naming the contact cases of ws.faces in order."""
+    return {c: Nominal.of_pairs(c, int(ws.faces[j]), "free", ws.levels, ws.pairs, ws.cog[design, j],
+                                ws.support[design, j], ws.margin[design, j]) for j, c in enumerate(contacts)}
+
+
+def paper_statements(designs: Sequence[Params], ws: StudyWorkspace, contacts: Sequence[str],
+                     reference_pressure: float, tip_tolerance: float) -> dict[str, np.ndarray]:
+    """The paper's statements per design (validation check 1, `validation.paper.check_paper`, on
+    its nominal CoG `nominals` and its strut length; pairs ranked at `reference_pressure` MPa,
+    #10's tip within `tip_tolerance` MPa): tip_pressure (D, C, N) MPa (NaN: never), tip_edge
+    (D, C, N, 2) its nodes (0: none) and migration (D, C, N) m of the N pairs of `ws` on the C
+    `contacts`, and status (D, 5), the codes (STATEMENT_CODE) of statements 1.1-1.5."""
+    D, C, N = ws.margin.shape[:3]
+    out = {"tip_pressure": np.full((D, C, N), np.nan), "tip_edge": np.zeros((D, C, N, 2), np.int64),
+           "migration": np.full((D, C, N), np.nan), "status": np.zeros((D, len(STATEMENTS)), np.int8)}
+    for i, prm in enumerate(designs):
+        r = check1.check_paper(nominals(ws, i, contacts), float(prm.strut_length), reference_pressure,
+                               tip_tolerance)
+        for j, c in enumerate(contacts):
+            k = CONTACTS.index(c)
+            out["tip_pressure"][i, j] = r.tip_pressure[k, ws.pairs - 1]
+            out["tip_edge"][i, j] = r.tip_edge[k, ws.pairs - 1]
+            out["migration"][i, j] = r.migration[k, ws.pairs - 1]
+        out["status"][i] = [STATEMENT_CODE[r.status[s]] for s in STATEMENTS]
+    return out
 
 
 @dataclass(frozen=True)

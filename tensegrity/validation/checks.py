@@ -23,15 +23,16 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import xarray as xr
 
 from ..physics import statics, topology as topo
 from ..physics.params import Params
 from ..physics.topology import CONTACTS
 from . import grounded, paper, runs as demo_runs
 from .common import FAIL, LEVEL_TOL, N_CONTACTS, SKIP, CheckError, CheckSettings, Result, status
+from ..workspace.lookup import Workspace
+from ..workspace.nominal import Nominal
 from ..workspace.sweep import SweepSetup
-from .nominals import common_levels, full_nominal, nominal_face, simulate_nominal
+from .nominals import common_levels, simulate_nominal
 
 
 # ----------------------------------------------------------------------- 2. statics
@@ -52,7 +53,7 @@ class StaticsResult(Result):
     difference: np.ndarray
 
 
-def check_statics(params: Params, nominals: Mapping[str, xr.Dataset],
+def check_statics(params: Params, nominals: Mapping[str, Nominal],
                   pressures: Sequence[float] = CheckSettings.statics_pressures,
                   tolerance: float = CheckSettings.statics_tolerance) -> StaticsResult:
     """For every swept pair at `pressures` (MPa, among the swept levels), the nominal CoG against
@@ -66,15 +67,15 @@ def check_statics(params: Params, nominals: Mapping[str, xr.Dataset],
     diff = np.full((N_CONTACTS, topo.N_PAIRS, S), np.nan)
     at = [int(np.flatnonzero(np.isclose(levels, p, rtol=0, atol=LEVEL_TOL))[0])
           if np.isclose(levels, p, rtol=0, atol=LEVEL_TOL).any() else -1 for p in pressures]
-    modes = tuple(sorted({str(ds.attrs.get("mode", "free")) for ds in nominals.values()}))
+    modes = tuple(sorted({n.mode for n in nominals.values()}))
     missing = tuple(float(p) for p, k in zip(pressures, at) if k < 0)
-    faces = {c: nominal_face(nominals[c]) for c in CONTACTS if c in nominals}
+    faces = {c: nominals[c].face for c in CONTACTS if c in nominals}
     result = lambda st: StaticsResult(status={"2": st}, pressures=pressures, tolerance=tolerance,
                                       faces=faces, modes=modes, missing=missing, cog=scog,
                                       difference=diff)
     if modes != ("free",) or missing:
         return result(SKIP)
-    full = {c: full_nominal(nominals[c])[0] for c in faces}
+    full = {c: nominals[c].cog for c in faces}
     for p in range(topo.N_PAIRS):
         if not any(np.isfinite(cog[p]).all() for cog in full.values()):
             continue
@@ -117,13 +118,13 @@ class MappingResult(Result):
         return int(np.isfinite(self.difference).any(axis=(1, 2)).sum())
 
 
-def check_mapping(params: Params, workspace: xr.Dataset, faces: Sequence[int], setup: SweepSetup,
+def check_mapping(params: Params, workspace: Workspace, faces: Sequence[int], setup: SweepSetup,
                   discard: float, tolerance: float = CheckSettings.mapping_tolerance,
                   min_per_kind: int = 2) -> MappingResult:
-    """The workspace mapped by symmetry (results/workspace.nc) against a direct simulation
-    standing on each face of `faces` (non-canonical; at least `min_per_kind` of each kind):
-    the nominal CoG and the deformed support triangle (the staircase of `setup`, averaged after
-    `discard` s); goal: largest distance under `tolerance` m."""
+    """The workspace mapped by symmetry (results/workspace.nc, a `Workspace`) against a direct
+    simulation standing on each face of `faces` (non-canonical; at least `min_per_kind` of each
+    kind): the nominal CoG and the deformed support triangle (the staircase of `setup`, averaged
+    after `discard` s); goal: largest distance under `tolerance` m."""
     faces = np.array([topo.face_number(f) for f in faces], np.int64)
     levels = np.asarray(setup.levels, float)
     F, P = len(faces), len(levels)
@@ -132,16 +133,14 @@ def check_mapping(params: Params, workspace: xr.Dataset, faces: Sequence[int], s
     dsup_diff = np.full((F, topo.N_PAIRS, P), np.nan)
     canonical = {topo.face_number(f) for f in topo.CONTACT_FACES.values()}
     kinds = {k: sum(1 for f in faces if topo.FACE_TYPES[f - 1] == k and f not in canonical) for k in CONTACTS}
-    match = bool(np.allclose(workspace["pressure"].values, levels, rtol=0, atol=LEVEL_TOL))
+    match = bool(np.allclose(workspace.levels, levels, rtol=0, atol=LEVEL_TOL))
     result = lambda st: MappingResult(status={"3": st}, faces=faces, levels=levels, tolerance=tolerance,
                                       min_per_kind=min_per_kind, levels_match=match, kinds=kinds,
                                       cog=dcog, difference=dcog_diff, support_difference=dsup_diff)
     if not match:
         return result(SKIP)
-    wfaces = list(workspace["face"].values.astype(int))
     for i, face in enumerate(faces):
-        wc = workspace["cog"].values[wfaces.index(face)]
-        ws = workspace["support"].values[wfaces.index(face)]
+        wc, ws = workspace.cog[face - 1], workspace.support[face - 1]
         pairs = [p + 1 for p in range(topo.N_PAIRS) if np.isfinite(wc[p]).all()]
         if not pairs:
             continue
@@ -174,7 +173,7 @@ class TimestepResult(Result):
     difference: np.ndarray
 
 
-def check_timestep(params: Params, nominals: Mapping[str, xr.Dataset], setup: SweepSetup,
+def check_timestep(params: Params, nominals: Mapping[str, Nominal], setup: SweepSetup,
                    discard: float, tolerance: float = CheckSettings.timestep_tolerance) -> TimestepResult:
     """The pipeline's nominal CoG (time step setup.dt) against the same sweep at dt/2 (the same
     sample times: record_every doubled); goal: largest distance under `tolerance` m."""
@@ -184,15 +183,15 @@ def check_timestep(params: Params, nominals: Mapping[str, xr.Dataset], setup: Sw
     diff = np.full((N_CONTACTS, topo.N_PAIRS, P), np.nan)
     faces = {}
     for c, contact in enumerate(CONTACTS):
-        ds = nominals.get(contact)
-        if ds is None:
+        n = nominals.get(contact)
+        if n is None:
             continue
-        fc = full_nominal(ds)[0]
+        fc = n.cog
         pairs = [p + 1 for p in range(topo.N_PAIRS) if np.isfinite(fc[p]).all()]
         if not pairs:
             continue
         idx = np.array(pairs) - 1
-        faces[contact] = nominal_face(ds)
+        faces[contact] = n.face
         run = simulate_nominal(params, faces[contact], pairs, setup, discard, dt=setup.dt / 2,
                                record_every=2 * setup.record_every)
         hcog[c, idx] = run.cog
@@ -204,15 +203,15 @@ def check_timestep(params: Params, nominals: Mapping[str, xr.Dataset], setup: Sw
 
 # -------------------------------------------------------------------- all checks
 
-def run_checks(params: Params, setup: SweepSetup, discard: float, nominals: Mapping[str, xr.Dataset],
-               workspace: xr.Dataset | None, settings: CheckSettings = CheckSettings(),
+def run_checks(params: Params, setup: SweepSetup, discard: float, nominals: Mapping[str, Nominal],
+               workspace: Workspace | None, settings: CheckSettings = CheckSettings(),
                on_result: Callable[[Result], None] | None = None,
-               runs: Mapping[str, xr.Dataset] | None = None) -> list[Result]:
+               runs: Mapping[str, demo_runs.RunSummary] | None = None) -> list[Result]:
     """Every check, in order 1-6, with `params` and the pipeline's sweep `setup` (its nominal
     average after `discard` s) on the nominal
-    datasets (contact -> results/nominal/{contact}.nc), the workspace (results/workspace.nc) and
-    the demonstration runs (name -> results/locomotion/{run}.nc; None or empty: check 6 is not
-    evaluated).
+    CoG of the contact cases (contact -> `Nominal`, results/nominal/{contact}.nc), the workspace
+    (results/workspace.nc) and the demonstration runs (name -> `runs.RunSummary` of
+    results/locomotion/{run}.nc; None or empty: check 6 is not evaluated).
     A check that raises gives a `CheckError` (FAIL; the traceback goes to stderr, i.e. the job's
     log). `on_result` is called with each result as soon as it is known (progress logging)."""
     s = settings

@@ -23,6 +23,7 @@ from ..physics import frames, topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace import gravity as gv
+from ..workspace.nominal import Nominal
 from .common import INFO, LEVEL_TOL, SKIP, CheckSettings, status
 from .grounded import GroundedComparison, compare_grounded
 from .summary import Table, Verdict, edge_label, label, mm
@@ -91,20 +92,20 @@ def crossing(record: Record, face: int, pair: int) -> float:
     return frames.first_crossing(p[:k], margin)[0]
 
 
-def flat_comparison(sw: gv.GravitySweep, free: Mapping, tolerance: float) -> GroundedComparison | None:
+def flat_comparison(sw: gv.GravitySweep, free: Nominal, tolerance: float) -> GroundedComparison | None:
     """Check 4 on the gravity-aware workspace's flat ground (slope 0, first heading) against
-    the free nominal CoG `free` (pairs (n,), levels (P,) MPa, cog (n, P, 3), support
-    (n, P, 3, 3), margin (n, P), as in results/nominal/{contact}.nc), at the free levels on the
-    gravity-aware pressure grid. None without a flat slope or common pairs and levels."""
+    the free nominal CoG `free` (results/nominal/{contact}.nc) of its pairs swept, at the free
+    levels on the gravity-aware pressure grid. None without a flat slope or common pairs and
+    levels."""
     flat = np.flatnonzero(sw.slopes == 0)
-    lv = np.asarray(free["levels"], float)
+    lv = np.asarray(free.levels, float)
     k = [int(np.argmin(np.abs(sw.pressure - p))) for p in lv]
     keep = np.array([abs(sw.pressure[kk] - p) < LEVEL_TOL * 1e6 for kk, p in zip(k, lv)])
-    pairs = [p for p in free["pairs"] if p in sw.pairs]
+    pairs = [p for p in free.pairs if p in sw.pairs]
     if not flat.size or not keep.any() or not pairs:
         return None
     i, lv, k = flat[0], lv[keep], np.asarray(k)[keep]
-    fi = [list(free["pairs"]).index(p) for p in pairs]
+    fi = np.asarray(pairs, int) - 1
     gi = [list(sw.pairs).index(p) for p in pairs]
     g_cog, g_margin = sw.cog[i, 0][gi][:, k], sw.margin[i, 0][gi][:, k]
     tip = sw.tip_pressure[i, 0][gi]
@@ -114,8 +115,8 @@ def flat_comparison(sw: gv.GravitySweep, free: Mapping, tolerance: float) -> Gro
             after = topo.neighbour(sw.face, tuple(int(v) for v in sw.tip_edge[i, 0, g]))
             end[b, lv >= tip[b]] = after
             g_cog[b, lv >= tip[b]], g_margin[b, lv >= tip[b]] = np.nan, np.nan
-    return compare_grounded(lv, sw.face, free["cog"][fi][:, keep], free["support"][fi][:, keep],
-                            free["margin"][fi][:, keep], g_cog, g_margin, end, tolerance)
+    return compare_grounded(lv, sw.face, free.cog[fi][:, keep], free.support[fi][:, keep],
+                            free.margin[fi][:, keep], g_cog, g_margin, end, tolerance)
 
 
 def verdicts(rc: RollCheck, flat: Mapping[str, GroundedComparison | None], tolerance: float,

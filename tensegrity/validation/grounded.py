@@ -8,15 +8,15 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
-import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..physics import frames, topology as topo
 from ..physics.params import Params
 from ..physics.topology import CONTACTS
 from .common import N_CONTACTS, SKIP, CheckSettings, Result, status
+from ..workspace.nominal import Nominal
 from ..workspace.sweep import SweepSetup
-from .nominals import common_levels, full_nominal, nominal_face, simulate_nominal
+from .nominals import common_levels, simulate_nominal
 
 
 @dataclass(frozen=True)
@@ -104,7 +104,7 @@ class GroundedResult(Result):
     agree: np.ndarray
 
 
-def check_grounded(params: Params, nominals: Mapping[str, xr.Dataset], setup: SweepSetup,
+def check_grounded(params: Params, nominals: Mapping[str, Nominal], setup: SweepSetup,
                    discard: float, settle: float = CheckSettings.grounded_settle,
                    tolerance: float = CheckSettings.grounded_tolerance) -> GroundedResult:
     """The paper's assumption (III.A-B: cable forces dominate, gravity does not change the
@@ -128,11 +128,11 @@ def check_grounded(params: Params, nominals: Mapping[str, xr.Dataset], setup: Sw
     swept, agree = np.zeros(shape[:2], bool), np.zeros(shape[:2], bool)
     faces, shift_ok, roll_ok = {}, [], []
     for c, contact in enumerate(CONTACTS):
-        ds = nominals.get(contact)
-        if ds is None:
+        n = nominals.get(contact)
+        if n is None:
             continue
-        face = nominal_face(ds)
-        fc, fs, fm = full_nominal(ds)
+        face = n.face
+        fc, fs, fm = n.cog, n.support, n.margin
         swept[c] = np.isfinite(fm).all(axis=1)
         idx = np.flatnonzero(swept[c])
         if idx.size == 0:
@@ -150,7 +150,7 @@ def check_grounded(params: Params, nominals: Mapping[str, xr.Dataset], setup: Sw
         if cmp_.shift_ok is not None:
             shift_ok.append(cmp_.shift_ok)
         roll_ok.append(cmp_.roll_ok)
-    modes = tuple(sorted({str(ds.attrs.get("mode", "free")) for ds in nominals.values()}))
+    modes = tuple(sorted({n.mode for n in nominals.values()}))
     st = {"4.1": status(all(shift_ok)) if shift_ok else SKIP,
           "4.2": status(all(roll_ok)) if roll_ok else SKIP}
     return GroundedResult(status=st, levels=levels, faces=faces, modes=modes, settle=settle,

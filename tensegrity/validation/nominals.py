@@ -1,39 +1,26 @@
-"""The nominal CoG the checks compare: the pipeline's nominal datasets
-(results/nominal/{contact}.nc) as arrays over all 12 pairs, and the checks' own sweeps, run and
-averaged as the pipeline does (workspace.sweep, workspace.nominal)."""
+"""The nominal CoG the checks compare: the pipeline's nominal CoG of each contact case
+(`workspace.nominal.Nominal`, read by `io.formats.read_nominal`), and the checks' own sweeps, run
+and averaged as the pipeline does (workspace.sweep, workspace.nominal)."""
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
-import xarray as xr
 
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..workspace import nominal as nom
-from ..workspace.mapping import all_pairs, same_levels
+from ..workspace.mapping import same_levels
 from ..workspace import sweep as sw
+from ..workspace.nominal import Nominal
 from ..workspace.sweep import SweepSetup
 
 
-def full_nominal(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A nominal dataset (results/nominal/{contact}.nc, pairs swept (n,) at P levels) as arrays
-    over all pairs: cog (N_PAIRS, P, 3) m, support (N_PAIRS, P, 3, 3) m and margin (N_PAIRS, P)
-    m, NaN for the pairs not swept."""
-    pairs = ds["pair"].values
-    return tuple(all_pairs(pairs, ds[k].values) for k in ("cog", "support", "margin"))
-
-
-def common_levels(nominals: Mapping[str, xr.Dataset]) -> np.ndarray:
-    """The pressure levels (P,) MPa shared by the nominal datasets (contact -> dataset);
-    ValueError if none is given or the contact cases were swept at different levels."""
-    return same_levels([ds["pressure"].values for ds in nominals.values()])
-
-
-def nominal_face(ds: xr.Dataset) -> int:
-    """The face (1..20) a nominal dataset's robot stood on (its `face` attribute)."""
-    return int(ds.attrs["face"])
+def common_levels(nominals: Mapping[str, Nominal]) -> np.ndarray:
+    """The pressure levels (P,) MPa shared by the nominal CoG of the contact cases (contact ->
+    `Nominal`); ValueError if none is given or the contact cases were swept at different levels."""
+    return same_levels([n.levels for n in nominals.values()])
 
 
 @dataclass(frozen=True)

@@ -6,15 +6,15 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import xarray as xr
 from numpy.typing import ArrayLike
 
 from .. import paper
 from ..physics import frames, symmetry as sym, topology as topo
 from ..physics.params import Params
 from ..physics.topology import CONTACTS
+from ..workspace.nominal import Nominal
 from .common import LEVEL_TOL, N_CONTACTS, SKIP, CheckSettings, Result, status
-from .nominals import common_levels, full_nominal, nominal_face
+from .nominals import common_levels
 
 # The paper's statements are `tensegrity.paper`'s. The pressure of the second roll is not given:
 # the prototype needed 6 V against 11.1 V for the first (IV.B), i.e. a lower drive.
@@ -106,12 +106,12 @@ class PaperResult(Result):
     orbit_magnitude_spread: np.ndarray
 
 
-def check_paper(nominals: Mapping[str, xr.Dataset], strut_length: float = Params.strut_length,
+def check_paper(nominals: Mapping[str, Nominal], strut_length: float = Params.strut_length,
                 ranking_pressure: float = CheckSettings.ranking_pressure,
                 tip_tolerance: float = CheckSettings.tip_pressure_tolerance,
                 orbit_tolerance: float = CheckSettings.orbit_tolerance) -> PaperResult:
     """The paper's statements against the nominal CoG of the contact cases (`nominals` maps
-    'equilateral'/'isosceles' to results/nominal/{contact}.nc datasets; strut length m):
+    'equilateral'/'isosceles' to its `Nominal`, results/nominal/{contact}.nc; strut length m):
 
     1.1 standing on (9,10,12), #9, #10, #12 move the CoG most and #4, #6, #7 next (III.A, Fig. 7),
         ranked by the in-plane distance from the unactuated CoG at `ranking_pressure` MPa;
@@ -128,11 +128,11 @@ def check_paper(nominals: Mapping[str, xr.Dataset], strut_length: float = Params
     swept = np.zeros((N_CONTACTS, topo.N_PAIRS), bool)
     arrays, faces = {}, {}
     for c, contact in enumerate(CONTACTS):
-        ds = nominals.get(contact)
-        if ds is None:
+        n = nominals.get(contact)
+        if n is None:
             continue
-        face = faces[contact] = nominal_face(ds)
-        cog, sup, mar = arrays[contact] = full_nominal(ds)
+        face = faces[contact] = n.face
+        cog, sup, mar = arrays[contact] = n.cog, n.support, n.margin
         swept[c] = np.isfinite(mar).all(axis=1)
         for p in np.flatnonzero(swept[c]):
             tipp[c, p], _, e = frames.crossing(levels, mar[p], cog[p], sup[p], face)

@@ -2,24 +2,41 @@
 
 A run that does not arrive (outcome `stuck`, `no_contact`, `step_limit`, `off_terrain`,
 `sim_error`) is a failed check, not a stopped workflow: the run's file is the evidence of what
-went wrong (`io.run_formats.not_arrived` reads the outcomes of run files for the Snakefile's
-`onsuccess`warning. Numbers and statuses only; `validation.summary` words them; `io.run_formats.read_runs`
-reads the files.
+went wrong (`io.formats.run.not_arrived` reads the outcomes of run files for the Snakefile's
+`onsuccess` warning). Numbers and statuses only; `validation.summary` words them;
+`io.formats.run.read_run_summaries` reads the files.
 """
 from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .common import FAIL, PASS, SKIP, Result
 
-if TYPE_CHECKING:
-    import xarray as xr
-
 ARRIVED = "arrived"
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """What check 6 reads of a demonstration run (results/locomotion/{run}.nc, read by
+    `io.formats.run.read_run_summaries`): its outcome ('arrived', 'stuck', ...) and message, the
+    number of rolls, the goal (3,) m (NaN: a run over given edges, such as `paper`) and the
+    final CoG (3,) m (NaN: no sample), world frame."""
+    outcome: str
+    message: str
+    rolls: int
+    goal: np.ndarray
+    final_cog: np.ndarray
+
+    @property
+    def distance(self) -> float:
+        """Horizontal distance (m) of the final CoG from the goal; NaN without a goal or a sample."""
+        goal, cog = np.asarray(self.goal, float), np.asarray(self.final_cog, float)
+        if not (np.isfinite(goal[:2]).all() and np.isfinite(cog[:2]).all()):
+            return float("nan")
+        return float(np.linalg.norm(cog[:2] - goal[:2]))
 
 
 @dataclass(frozen=True)
@@ -40,25 +57,17 @@ class RunsResult(Result):
         return np.array([o == ARRIVED for o in self.outcome], bool)
 
 
-def _distance(ds: xr.Dataset) -> float:
-    goal = np.asarray(ds["goal"].values, float) if "goal" in ds else np.full(3, np.nan)
-    cog = np.asarray(ds["cog"].values, float) if "cog" in ds else np.empty((0, 3))
-    if not np.isfinite(goal[:2]).all() or cog.shape[0] == 0:
-        return float("nan")
-    return float(np.linalg.norm(cog[-1, :2] - goal[:2]))
-
-
-def check_runs(runs: Mapping[str, xr.Dataset]) -> RunsResult:
-    """Every demonstration run (name -> its dataset, results/locomotion/{run}.nc) arrived:
-    its `outcome` attribute is 'arrived'. Not evaluated if there are no runs."""
+def check_runs(runs: Mapping[str, RunSummary]) -> RunsResult:
+    """Every demonstration run (name -> its `RunSummary`, results/locomotion/{run}.nc) arrived:
+    its outcome is 'arrived'. Not evaluated if there are no runs."""
     names = tuple(str(k) for k in runs)
-    outcome = tuple(str(ds.attrs.get("outcome", "unknown")) for ds in runs.values())
-    message = tuple(str(ds.attrs.get("message", "")) for ds in runs.values())
-    rolls = np.array([int(ds.attrs.get("rolls", 0)) for ds in runs.values()], np.int64)
-    distance = np.array([_distance(ds) for ds in runs.values()], float)
+    outcome = tuple(r.outcome for r in runs.values())
+    message = tuple(r.message for r in runs.values())
+    rolls = np.array([r.rolls for r in runs.values()], np.int64)
+    distance = np.array([r.distance for r in runs.values()], float)
     st = SKIP if not names else PASS if all(o == ARRIVED for o in outcome) else FAIL
     return RunsResult(status={"6": st}, runs=names, outcome=outcome, message=message, rolls=rolls,
                       distance=distance)
 
 
-__all__ = ["ARRIVED", "RunsResult", "check_runs"]
+__all__ = ["ARRIVED", "RunSummary", "RunsResult", "check_runs"]

@@ -8,6 +8,8 @@
 (c) reported: the superposition error (sum of the single-pair shifts of results/workspace.nc
     against the measured two-pair shift) and the combinations that tip at a lower equal pressure
     than the best single pair needs.
+The files are read by `io.formats.two_pair` and `io.formats.workspace`; the checks take arrays,
+`workspace.nominal.TwoPairNominal` and `workspace.lookup.Workspace`.
 """
 from __future__ import annotations
 
@@ -15,28 +17,31 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import xarray as xr
 from numpy.typing import ArrayLike
 
-from ..physics import frames, statics, topology as topo
+from ..physics import statics, topology as topo
 from ..physics.params import Params
 from ..physics.topology import CONTACTS
 from ..workspace import two_pair as tp
+from ..workspace.lookup import Workspace
+from ..workspace.nominal import TwoPairNominal
 from ..workspace.two_pair import TwoPairSetup
 from .common import INFO, SKIP, status
 from .summary import Verdict, label, mm
 
-def check_statics(params: Params, contacts: Mapping[str, xr.Dataset], combos: np.ndarray, tol: float) -> tuple[np.ndarray, str]:
+def check_statics(params: Params, contacts: Mapping[str, TwoPairNominal], combos: np.ndarray,
+                  tol: float) -> tuple[np.ndarray, str]:
     """(a): difference (C, K, 3) m between the nominal and the static CoG of the K check
-    combinations at grid points (top, top), (low, top), (top, low), NaN where not available."""
+    combinations at grid points (top, top), (low, top), (top, low), NaN where not available;
+    `contacts` maps a contact case to its two-pair nominal CoG (results/two_pair/{contact}.nc)."""
     diff = np.full((len(CONTACTS), len(combos), 3), np.nan)
     for ci, contact in enumerate(CONTACTS):
-        ds = contacts.get(contact)
-        if ds is None:
+        n = contacts.get(contact)
+        if n is None:
             continue
-        lv, face, P = ds["pressure_a"].values, int(ds.attrs["face"]), ds.sizes["level_a"]
+        lv, face, P = n.levels, n.face, len(n.levels)
         for k, (a, b) in enumerate(combos):
-            cog = ds["cog"].values[tp.combo_index(a, b)]
+            cog = n.cog[tp.combo_index(a, b)]
             for g, (i, j) in enumerate(((P - 1, P - 1), (0, P - 1), (P - 1, 0))):
                 if np.isfinite(cog[i, j]).all():
                     p = np.zeros(topo.N_PAIRS)
@@ -45,62 +50,67 @@ def check_statics(params: Params, contacts: Mapping[str, xr.Dataset], combos: np
     return diff, SKIP if not np.isfinite(diff).any() else status(bool(np.nanmax(diff) <= tol))
 
 
-def check_direct(params: Params, setup: TwoPairSetup, ws: xr.Dataset, faces: Sequence[int], combos: np.ndarray,
-                 tol: float) -> tuple[np.ndarray, np.ndarray, str]:
+def check_direct(params: Params, setup: TwoPairSetup, cog: np.ndarray, staircase: np.ndarray,
+                 faces: Sequence[int], combos: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, str]:
     """(b): per check face (F,) and combination (K,) the largest CoG difference m of the mapped
     grid from a direct simulation along the same staircase, and along the other order (the
-    path dependence), both with the staircase of `setup`; NaN where the dataset holds no numbers."""
+    path dependence), both with the staircase of `setup`; NaN where the grid holds no numbers.
+    cog (20, 66, P, P, 3) m and staircase (20, 66, 2), the pairs in the order of the grid axes of
+    the staircase the numbers come from, per face and combination (rows of `two_pair.COMBOS`):
+    the 20-face two-pair workspace (results/workspace_two_pair.nc)."""
     same, other = np.full((len(faces), len(combos)), np.nan), np.full((len(faces), len(combos)), np.nan)
     rows = np.array([tp.combo_index(a, b) for a, b in combos], int)
     for fi, f in enumerate(faces):
-        mapped = ws["cog"].values[f - 1, rows]
-        path = ws["staircase_pairs"].values[f - 1, rows]
+        mapped = cog[f - 1, rows]
+        path = staircase[f - 1, rows]
         ok = np.flatnonzero(np.isfinite(mapped).all(axis=(1, 2, 3)))
         if not ok.size:
             continue
         order = np.concatenate([path[ok], path[ok][:, ::-1]])
         r = tp.sweep(params, f, order, setup)
-        cog = r["cog"][:, topo.FACE_REFERENCE[f - 1]]
+        sim = r["cog"][:, topo.FACE_REFERENCE[f - 1]]
         for n, k in enumerate(ok):
-            first = cog[n] if path[k, 0] < path[k, 1] else cog[n].swapaxes(0, 1)
-            second = cog[n + ok.size] if path[k, 1] < path[k, 0] else cog[n + ok.size].swapaxes(0, 1)
+            first = sim[n] if path[k, 0] < path[k, 1] else sim[n].swapaxes(0, 1)
+            second = sim[n + ok.size] if path[k, 1] < path[k, 0] else sim[n + ok.size].swapaxes(0, 1)
             same[fi, k] = np.linalg.norm(first - mapped[k], axis=-1).max()
             other[fi, k] = np.linalg.norm(second - mapped[k], axis=-1).max()
     return same, other, SKIP if not np.isfinite(same).any() else status(bool(np.nanmax(same) <= tol))
 
 
-def superposition(contacts: Mapping[str, xr.Dataset], single: xr.Dataset, strut_length: float) -> dict[str, np.ndarray]:
+def superposition(contacts: Mapping[str, TwoPairNominal], single: Workspace,
+                  single_tip: np.ndarray) -> dict[str, np.ndarray]:
     """(c): per contact (C,), combination (66,) and grid point (P, P): the in-plane shift of
-    the CoG from the unactuated one measured (m) and predicted by adding the two single pairs'
-    shifts (results/workspace.nc, NaN at levels it lacks); the equal-pressure tip (MPa) of each
-    combination and the least single-pair tip of the face (MPa). strut_length m: the robot's S."""
-    P = next(iter(contacts.values())).sizes["level_a"]
+    the CoG from the unactuated one (the robot's of `single`) measured (m) and predicted by
+    adding the two single pairs' shifts of the single-pair workspace `single`
+    (results/workspace.nc, NaN at levels it lacks); the equal-pressure tip (MPa) of each
+    combination and the least single-pair tip of the face (MPa) among `single_tip` (20, 12) MPa,
+    the single-pair workspace's tipping pressures (NaN: never)."""
+    P = len(next(iter(contacts.values())).levels)
     out = {k: np.full((len(CONTACTS), len(tp.COMBOS), P, P), np.nan) for k in ("measured", "predicted", "error")}
     out["tip"] = np.full((len(CONTACTS), len(tp.COMBOS)), np.nan)
     out["single_tip"] = np.full(len(CONTACTS), np.nan)
     out["single_pair"] = np.zeros(len(CONTACTS), int)
-    S = strut_length
     for ci, contact in enumerate(CONTACTS):
-        ds = contacts.get(contact)
-        if ds is None:
+        n = contacts.get(contact)
+        if n is None:
             continue
-        face, lv = int(ds.attrs["face"]), ds["pressure_a"].values
-        rest = frames.rest_frame(face, S)[0][:2]
-        sp = single["pressure"].values
+        face, lv = n.face, n.levels
+        rest = single.rest_cog[face - 1][:2]
+        sp = single.levels
         at = [np.flatnonzero(np.isclose(sp, p, atol=1e-9, rtol=0)) for p in lv]
         shift1 = np.full((topo.N_PAIRS, P, 2), np.nan)
         for i, k in enumerate(at):
             if k.size:
-                shift1[:, i] = single["cog"].sel(face=face).transpose("pair", "pressure", "axis").values[:, k[0], :2] - rest
-        cog = ds["cog"].values[..., :2] - rest
+                shift1[:, i] = single.cog[face - 1][:, k[0], :2] - rest
+        cog = n.cog[..., :2] - rest
         pred = shift1[tp.COMBOS[:, 0] - 1][:, :, None] + shift1[tp.COMBOS[:, 1] - 1][:, None, :]
         out["measured"][ci] = np.linalg.norm(cog, axis=-1)
         out["predicted"][ci] = np.linalg.norm(pred, axis=-1)
         out["error"][ci] = np.linalg.norm(pred - cog, axis=-1)
-        out["tip"][ci] = ds["tip_pressure"].values
-        t1 = single["tip_pressure"].sel(face=face).values
+        out["tip"][ci] = n.tip_pressure
+        t1 = np.asarray(single_tip)[face - 1]
         if np.isfinite(t1).any():
-            out["single_tip"][ci], out["single_pair"][ci] = np.nanmin(t1), int(single["pair"].values[np.nanargmin(t1)])
+            out["single_tip"][ci], out["single_pair"][ci] = np.nanmin(t1), int(np.nanargmin(t1)) + 1
     return out
 
 
@@ -156,18 +166,19 @@ class TwoPairCheck:
     tolerance: float
 
 
-def validate(params: Params, setup: TwoPairSetup, contacts: Mapping[str, xr.Dataset], ws: xr.Dataset,
-             single: xr.Dataset, strut_length: float, combos: ArrayLike, faces: Sequence[int],
-             tolerance: float) -> TwoPairCheck:
-    """(a)-(c) on the two-pair contact datasets (contact -> results/two_pair/{contact}.nc), the
-    20-face dataset `ws` (results/workspace_two_pair.nc) and the single-pair workspace `single`
-    (results/workspace.nc) of a robot of strut length S m, for the check `combos` (K, 2) on the
-    check `faces`, goal `tolerance` m. A failed check does not raise."""
+def validate(params: Params, setup: TwoPairSetup, contacts: Mapping[str, TwoPairNominal], cog: np.ndarray,
+             staircase: np.ndarray, single: Workspace, single_tip: np.ndarray, *, combos: ArrayLike,
+             faces: Sequence[int], tolerance: float) -> TwoPairCheck:
+    """(a)-(c) on the two-pair nominal CoG of the contact cases (contact -> `TwoPairNominal`,
+    results/two_pair/{contact}.nc), the 20-face grid cog and staircase (`check_direct`,
+    results/workspace_two_pair.nc) and the single-pair workspace `single` with its tipping
+    pressures `single_tip` (20, 12) MPa (results/workspace.nc), for the check `combos` (K, 2) on
+    the check `faces`, goal `tolerance` m. A failed check does not raise."""
     combos = np.asarray(combos, int).reshape(-1, 2)
     faces = [int(f) for f in faces]
     a, a_st = check_statics(params, contacts, combos, tolerance)
-    same, other, b_st = check_direct(params, setup, ws, faces, combos, tolerance)
-    sup = superposition(contacts, single, strut_length)
+    same, other, b_st = check_direct(params, setup, cog, staircase, faces, combos, tolerance)
+    sup = superposition(contacts, single, single_tip)
     rows = _verdicts(tolerance, faces, combos, a, a_st, same, other, b_st, sup)
     return TwoPairCheck(rows, a, same, other, sup, combos, faces,
-                        next(iter(contacts.values()))["pressure_a"].values, tolerance)
+                        next(iter(contacts.values())).levels, tolerance)

@@ -54,3 +54,11 @@ def test_the_drift_check_can_fail(monkeypatch):
     monkeypatch.setattr(RollSettings.__dataclass_fields__["escape_attempts"], "default", 0)
     with pytest.raises(AssertionError, match="escape_attempts = 0, schema locomotion.escape_attempts = 8"):
         test_defaults_are_the_schemas(RollSettings)
+
+
+def test_keyword_defaults_of_the_public_api_are_the_settings():
+    """`plan_roll`'s combine and min_alignment are RollSettings' (so the schema's)."""
+    import inspect
+    from tensegrity.locomotion.plan import plan
+    sig, s = inspect.signature(plan).parameters, RollSettings()
+    assert (sig["combine"].default, sig["min_alignment"].default) == (s.combine, s.min_alignment)

@@ -77,3 +77,29 @@ def test_the_roll_sequence_of_a_batch_is_that_of_each_robot_alone():
     assert 3.8 <= both[0].tip_pressure[0] <= 4.6
     assert both[0].tip_pressure[1] < both[0].tip_pressure[0]
     assert both[1].tip_pressure[0] > both[0].tip_pressure[0]  # stiffer: more pressure to tip
+
+
+def test_the_papers_statements_are_check_1_on_each_designs_nominal_cog(ws):
+    """Check 1 on each design's nominal CoG (`validation.paper.check_paper` on its `Nominal`s).
+    The default robot's #11 tips it over 10-11 between 1.2 and 2.4 MPa (the paper's second roll,
+    2.2 MPa: 1.3 and 1.4 hold), #10 not by 2.4 MPa (1.2 fails); the stiffer and the shorter
+    design tip nothing by 2.4 MPa. The ranking (1.1) needs all 12 pairs; the 3-fold orbit #9,
+    #10, #12 moves the CoG equally (1.5) for every design; the migration is each design's own."""
+    contacts = ["equilateral", "isosceles"]
+    nominals = ev.nominals(ws, 2, contacts)
+    assert [(n.contact, n.face, n.mode) for n in nominals.values()] == [("equilateral", 8, "free"),
+                                                                        ("isosceles", 20, "free")]
+    assert np.isnan(nominals["isosceles"].cog[:8]).all() and np.isfinite(nominals["isosceles"].cog[8:]).all()
+    out = ev.paper_statements(DESIGNS, ws, contacts, 2.4, 0.2)
+    assert out["status"].tolist() == [[-1, 0, 1, 1, 1], [-1, 0, 0, 0, 1], [-1, 0, 0, 0, 1]]
+    n11 = PAIRS.index(11)
+    assert 1.2 < out["tip_pressure"][0, 1, n11] < 2.4 and tuple(out["tip_edge"][0, 1, n11]) == (10, 11)
+    tipped = np.zeros(out["tip_pressure"].shape, bool)
+    tipped[0, 1, [n11, PAIRS.index(12)]] = True  # #12 too: the mirror image of #11 on (10,11,12)
+    assert np.isfinite(out["tip_pressure"]).tolist() == tipped.tolist()
+    assert (out["tip_edge"][~tipped] == 0).all()
+    for i, prm in enumerate(DESIGNS):
+        for c, face in enumerate(ws.faces):
+            rest = frames.rest_frame(int(face), float(prm.strut_length))[0][:2]
+            mig = np.linalg.norm(ws.cog[i, c, :, 1, :2] - rest, axis=-1)  # 2.4 MPa: the second level
+            np.testing.assert_allclose(out["migration"][i, c], mig, rtol=0, atol=1e-12)

@@ -9,6 +9,7 @@ from tensegrity.physics.params import Params
 from tensegrity.validation import gravity as vg, pages
 from tensegrity.validation.common import FAIL, INFO
 from tensegrity.workspace import gravity as gv
+from tensegrity.workspace.nominal import Nominal
 
 pytestmark = pytest.mark.unit
 ISO = topo.face_number(topo.CONTACT_FACES["isosceles"])  # (10,11,12)
@@ -30,8 +31,8 @@ def test_a_grounded_roll_tips_where_the_gravity_workspace_says(sweep):
     assert rc.lift_tip[0] > rc.roll_tip[0]
 
 
-def _free_from(sw: gv.GravitySweep, shift: float = 0.0) -> dict:
-    """The flat-ground data of `sw` as if it were a free nominal file, CoG moved by `shift` m;
+def _free_from(sw: gv.GravitySweep, shift: float = 0.0) -> Nominal:
+    """The flat-ground data of `sw` as if it were a free nominal CoG, CoG moved by `shift` m;
     after the roll (NaN) the CoG is put far out on the ray from the triangle's centre through
     its last position, so that it lies across the edge the robot rolled over."""
     k = np.arange(1, sw.pressure.size, 2)
@@ -43,8 +44,7 @@ def _free_from(sw: gv.GravitySweep, shift: float = 0.0) -> dict:
         ok = np.flatnonzero(np.isfinite(cog[b, :, 0]))
         centre = support[b, ok[-1]].mean(axis=0)
         cog[b, ok[-1] + 1:] = centre + 10 * (cog[b, ok[-1]] - centre)
-    return {"pairs": list(sw.pairs), "levels": sw.pressure[k], "cog": cog, "support": support,
-            "margin": margin}
+    return Nominal.of_pairs("isosceles", sw.face, "free", sw.pressure[k], sw.pairs, cog, support, margin)
 
 
 def test_check_4_on_the_ramp_compares_what_it_is_given(sweep):

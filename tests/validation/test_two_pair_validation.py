@@ -1,13 +1,15 @@
 """Validation of the two-pair workspace (validation.two_pair): the statics check passes on the
 simulated nominal and fails on a displaced one; the verdict tables carry every row."""
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
-from tensegrity.io.formats import two_pair as tpf
 from tensegrity.physics.params import Params
 from tensegrity.validation import pages, two_pair as v
 from tensegrity.validation.common import FAIL, PASS
 from tensegrity.workspace import two_pair as tp
+from tensegrity.workspace.nominal import TwoPairNominal
 
 ISO, LEVELS = 20, [2.4, 4.8]
 
@@ -18,19 +20,17 @@ def contact():
     reps = np.array([[10, 11]])
     r = tp.sweep(params, ISO, reps, tp.TwoPairSetup(levels=tuple(LEVELS)))
     ws, swept, std = tp.contact_workspace(ISO, reps, r, LEVELS)
-    ds = tpf.contact_dataset(LEVELS, tp.COMBOS, ws, swept, std, {"contact": "isosceles", "face": ISO},
-                             params.strut_length)
-    return params, ds
+    return params, TwoPairNominal("isosceles", ISO, np.array(LEVELS), ws["cog"], ws["tip_pressure"])
 
 
 def test_statics_check_passes_and_can_fail(contact):
-    params, ds = contact
+    params, nominal = contact
     combos = np.array([[10, 11]])
-    diff, st = v.check_statics(params, {"isosceles": ds}, combos, 1e-4)
+    diff, st = v.check_statics(params, {"isosceles": nominal}, combos, 1e-4)
     assert st == PASS and np.isfinite(diff[1]).all() and np.isnan(diff[0]).all()
-    bad = ds.copy(deep=True)
-    bad["cog"].values[tp.combo_index(10, 11), -1, -1, 0] += 2e-3  # 2 mm off at the top corner
-    diff2, st2 = v.check_statics(params, {"isosceles": bad}, combos, 1e-4)
+    cog = nominal.cog.copy()
+    cog[tp.combo_index(10, 11), -1, -1, 0] += 2e-3  # 2 mm off at the top corner
+    diff2, st2 = v.check_statics(params, {"isosceles": replace(nominal, cog=cog)}, combos, 1e-4)
     assert st2 == FAIL and diff2[1, 0, 0] > 1.5e-3
 
 

@@ -40,6 +40,21 @@ def test_first_roll_ignores_a_hop_and_finds_the_roll():
     assert nominal.first_roll(level, on, 3) == 2
 
 
+def test_a_nominal_holds_every_pair_and_refuses_what_is_not_one():
+    """`Nominal.of_pairs`: the swept pairs at their rows of all 12, NaN elsewhere; an unknown
+    mode, face or shape raises."""
+    cog, sup = np.full((2, 2, 3), 0.1), np.zeros((2, 2, 3, 3))
+    n = nominal.Nominal.of_pairs("isosceles", 20, "grounded", LEVELS, [11, 4], cog, sup, np.ones((2, 2)))
+    assert n.cog.shape == (12, 2, 3) and n.support.shape == (12, 2, 3, 3) and n.margin.shape == (12, 2)
+    assert np.isfinite(n.margin).all(axis=1).nonzero()[0].tolist() == [3, 10]
+    with pytest.raises(ValueError, match="mode must be one of"):
+        nominal.Nominal.of_pairs("isosceles", 20, "dry", LEVELS, [11], cog[:1], sup[:1], np.ones((1, 2)))
+    with pytest.raises(ValueError, match="unknown face 21"):
+        nominal.Nominal.of_pairs("isosceles", 21, "free", LEVELS, [11], cog[:1], sup[:1], np.ones((1, 2)))
+    with pytest.raises(ValueError, match=r"margin must have shape \(12, 2\)"):
+        nominal.Nominal.of_pairs("isosceles", 20, "free", LEVELS, [11], cog[:1], sup[:1], np.ones((1, 3)))
+
+
 @pytest.fixture(scope="module")
 def canonical():
     """Free-mode staircase on both canonical faces (short holds)."""

@@ -1,11 +1,16 @@
-"""results/nominal/{contact}.nc: the nominal CoG of one contact case (docs/datasets.md)."""
+"""results/nominal/{contact}.nc: the nominal CoG of one contact case (docs/datasets.md), its
+builder and its reader (a `workspace.nominal.Nominal`)."""
 from __future__ import annotations
+
+import os
+from collections.abc import Sequence
 
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
 from ...physics import topology as topo
+from ...workspace.nominal import Nominal
 from .. import datasets
 from .common import coords, rest_vars
 
@@ -30,3 +35,29 @@ def nominal_dataset(pairs: ArrayLike, levels: ArrayLike, cog: ArrayLike, std: Ar
          **rest_vars(strut_length, int(attrs["face"]))},
         coords=coords(pairs, levels),
         attrs=attrs)
+
+
+def nominal_from_dataset(ds: xr.Dataset) -> Nominal:
+    """The `Nominal` of a dataset with the contract of results/nominal/{contact}.nc: cog
+    (pair, pressure, axis) m, support (pair, pressure, corner, axis) m and margin (pair,
+    pressure) m of the pairs swept at the levels `pressure` MPa; attributes contact, face and
+    mode. ValueError naming the file if one is missing."""
+    try:
+        return Nominal.of_pairs(
+            ds.attrs["contact"], int(ds.attrs["face"]), ds.attrs["mode"], ds["pressure"].values,
+            ds["pair"].values, ds["cog"].transpose("pair", "pressure", "axis").values,
+            ds["support"].transpose("pair", "pressure", "corner", "axis").values,
+            ds["margin"].transpose("pair", "pressure").values)
+    except (KeyError, ValueError) as e:
+        src = ds.encoding.get("source", "<dataset>")
+        raise ValueError(f"{src!r} is not a nominal CoG file: {e}") from e
+
+
+def read_nominal(path: str | os.PathLike) -> Nominal:
+    """Read results/nominal/{contact}.nc (or a file of the same contract) as a `Nominal`."""
+    return nominal_from_dataset(datasets.read(path))
+
+
+def read_nominals(paths: Sequence[str | os.PathLike]) -> dict[str, Nominal]:
+    """The nominal files `paths` by contact case (contact -> `Nominal`), in the order given."""
+    return {n.contact: n for n in map(read_nominal, paths)}

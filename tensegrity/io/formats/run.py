@@ -1,6 +1,7 @@
 """The locomotion runs' files, results/locomotion/{run}.nc (docs/design.md §5, docs/datasets.md):
-the builder (`run_dataset`, written by `datasets.write(..., allow_nan=RUN_ALLOW_NAN)`) and the
-readers the figures use (`terrain_from_dataset`, `run_sample`).
+the builder (`run_dataset`, written by `datasets.write(..., allow_nan=RUN_ALLOW_NAN)`), the
+readers the figures use (`terrain_from_dataset`, `run_sample`) and the one validation uses
+(`read_run_summaries`).
 """
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ...physics.terrain import Terrain
+from ...validation.runs import RunSummary
 from .. import datasets
 from ..datasets import strut_radius
 
@@ -20,8 +22,8 @@ if TYPE_CHECKING:  # imported where used: importing io.run_formats loads no simu
     from ...locomotion.outcome import Run
     from ...physics.params import Params
 
-__all__ = ["RUN_ALLOW_NAN", "run_dataset", "terrain_from_dataset", "run_sample", "run_name", "read_runs",
-           "not_arrived"]
+__all__ = ["RUN_ALLOW_NAN", "run_dataset", "terrain_from_dataset", "run_sample", "run_name", "run_summary",
+           "read_run_summaries", "not_arrived"]
 
 RUN_ALLOW_NAN = ("planned_pressure", "tip_pressure", "goal")  # NaN: no roll predicted / none / no goal
 
@@ -117,12 +119,22 @@ def run_name(path: str | os.PathLike) -> str:
     return Path(path).stem
 
 
-def read_runs(paths: Iterable[str | os.PathLike]) -> dict[str, xr.Dataset]:
-    """The run files, name -> dataset (read into memory, the files closed)."""
+def run_summary(ds: xr.Dataset) -> RunSummary:
+    """What validation check 6 reads of a run dataset: the attributes outcome (default
+    'unknown'), message and rolls, the goal (3,) m and the last sample of cog (3,) m (NaN where
+    the file holds none)."""
+    goal = np.asarray(ds["goal"].values, float) if "goal" in ds else np.full(3, np.nan)
+    cog = np.asarray(ds["cog"].values, float) if "cog" in ds else np.empty((0, 3))
+    return RunSummary(str(ds.attrs.get("outcome", "unknown")), str(ds.attrs.get("message", "")),
+                      int(ds.attrs.get("rolls", 0)), goal, cog[-1] if cog.shape[0] else np.full(3, np.nan))
+
+
+def read_run_summaries(paths: Iterable[str | os.PathLike]) -> dict[str, RunSummary]:
+    """The run files `paths` as run name -> `RunSummary` (validation check 6)."""
     out = {}
     for p in paths:
         ds = datasets.read(p)  # a corrupted or missing file is named in the error
-        out[str(ds.attrs.get("run") or run_name(p))] = ds
+        out[str(ds.attrs.get("run") or run_name(p))] = run_summary(ds)
     return out
 
 

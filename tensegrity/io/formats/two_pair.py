@@ -1,8 +1,10 @@
 """The two-pair workspace files (issue 10; docs/datasets.md, "Two-pair workspace"): builders,
 the reader the planner relies on, and the numpy-only evaluator of the fitted surfaces.
 
-- results/two_pair/{contact}.nc: every combination on the canonical face (`contact_dataset`).
-- results/workspace_two_pair.nc: all 20 faces (`workspace_dataset`), read by `read_two_pair`.
+- results/two_pair/{contact}.nc: every combination on the canonical face (`contact_dataset`),
+  read by `read_contacts` (datasets) and `read_two_pair_nominals` (the validation's typed values).
+- results/workspace_two_pair.nc: all 20 faces (`workspace_dataset`), read by `read_two_pair`
+  (the planner) and `read_two_pair_grid` (the validation).
 - results/curves/two_pair.json: fitted surfaces (`surfaces_document`, `evaluate_surface`).
 
 Grid dimensions: `level_a` (the first pair's level) and `level_b` (the second's), both indexing
@@ -19,6 +21,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ...physics import topology as topo
+from ...workspace.nominal import TwoPairNominal
 from .. import datasets
 from .common import coords, rest_vars
 
@@ -93,6 +96,28 @@ def read_contacts(paths: Sequence[str | os.PathLike]) -> tuple[np.ndarray, dict[
     if not levels or any(not np.array_equal(lv, levels[0]) for lv in levels):
         raise ValueError("the two-pair contact files were swept at different levels (or none is given)")
     return levels[0], src
+
+
+def two_pair_nominal(ds: xr.Dataset) -> TwoPairNominal:
+    """The `TwoPairNominal` of a two-pair contact dataset (results/two_pair/{contact}.nc)."""
+    return TwoPairNominal(str(ds.attrs["contact"]), int(ds.attrs["face"]),
+                          np.asarray(ds["pressure_a"].values, float),
+                          ds["cog"].transpose("combo", *_GRID, "axis").values, ds["tip_pressure"].values)
+
+
+def read_two_pair_nominals(paths: Sequence[str | os.PathLike]) -> dict[str, TwoPairNominal]:
+    """The two-pair contact files by contact case (`read_contacts`) as `TwoPairNominal`s."""
+    return {c: two_pair_nominal(ds) for c, ds in read_contacts(paths)[1].items()}
+
+
+def read_two_pair_grid(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
+    """results/workspace_two_pair.nc as the validation compares it, in the file's combination
+    order (the rows of `workspace.two_pair.COMBOS`): cog (20, 66, P, P, 3) m in each face's
+    support frame and staircase_pairs (20, 66, 2), the pairs in the order of the grid axes of
+    the staircase the numbers come from (0: none)."""
+    ds = datasets.read(path)
+    return (ds["cog"].transpose("face", "combo", *_GRID, "axis").values,
+            ds["staircase_pairs"].transpose("face", "combo", "member").values)
 
 
 def read_two_pair(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

@@ -1,5 +1,5 @@
 """results/workspace.nc: the workspace of all 20 faces (docs/datasets.md), its contract check
-and its reader, a `Workspace` for planning."""
+and its reader, a `Workspace` for planning (and its tipping pressures, `tip_pressures`)."""
 from __future__ import annotations
 
 import os
@@ -109,6 +109,13 @@ def workspace_from_dataset(ds: xr.Dataset) -> Workspace:
     cog = ds["cog"].sel(sel).transpose("face", "pair", "pressure", "axis").values
     support = ds["support"].sel(sel).transpose("face", "pair", "pressure", "corner", "axis").values
     return Workspace.from_arrays(ds["pressure"].values, cog, support, datasets.strut_length(ds))
+
+
+def tip_pressures(ds: xr.Dataset) -> np.ndarray:
+    """The tipping pressures (20, 12) MPa of a dataset with the contract of results/workspace.nc,
+    faces 1..20 and pairs 1..12 in order (NaN: never or not computed)."""
+    tip = ds["tip_pressure"].sel(face=np.arange(1, topo.N_FACES + 1), pair=np.arange(1, topo.N_PAIRS + 1))
+    return tip.transpose("face", "pair").values
 
 
 def read_workspace(path: str | os.PathLike, two_pair: str | os.PathLike | None = None) -> Workspace:
