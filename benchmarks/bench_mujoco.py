@@ -16,6 +16,7 @@ MuJoCo is an optional benchmark requirement, never a runtime one:
     pip install -r benchmarks/requirements-mujoco.txt
 Usage: python benchmarks/bench_mujoco.py [--seconds 2] [--batch 24] [--threads 2] [--repeat 3]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -45,11 +46,11 @@ def pressures(batch: int) -> np.ndarray:
     return p
 
 
-def mjcf(params, grounded: bool, dt: float = DT, integrator: str = "Euler",
-         order: np.ndarray | None = None) -> str:
+def mjcf(params, grounded: bool, dt: float = DT, integrator: str = "Euler", order: np.ndarray | None = None) -> str:
     """MJCF text of the robot (module docstring) for scalar physics.params.Params `params`;
     tendons and actuators in the cable order `order` (24,) (default topology.CABLES')."""
     from tensegrity.physics import topology as topo
+
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator {integrator!r} is not one of {INTEGRATORS}")
     S, r, m = params.strut_length, params.strut_radius, params.strut_mass
@@ -60,30 +61,34 @@ def mjcf(params, grounded: bool, dt: float = DT, integrator: str = "Euler",
     for i, (a, b) in enumerate(topo.STRUTS):
         # node a at centre + S/2 along the body axis 3, node b at centre - S/2 (dynamics.nodes);
         # contact spheres collide with the plane only (contype 1 & plane conaffinity 1)
-        spheres = "".join(f'<geom type="sphere" size="{r!r}" pos="0 0 {z!r}" contype="1" '
-                          f'conaffinity="0" friction="{mu!r} 0 0"/>' for z in (S / 2, -S / 2))
+        spheres = "".join(
+            f'<geom type="sphere" size="{r!r}" pos="0 0 {z!r}" contype="1" conaffinity="0" friction="{mu!r} 0 0"/>'
+            for z in (S / 2, -S / 2)
+        )
         bodies.append(
             f'<body name="strut{i + 1}"><freejoint/>'
             f'<inertial pos="0 0 0" mass="{m!r}" diaginertia="{It!r} {It!r} {Ia!r}"/>'
-            f'{spheres if grounded else ""}'
+            f"{spheres if grounded else ''}"
             f'<site name="n{a + 1}" pos="0 0 {S / 2!r}"/><site name="n{b + 1}" pos="0 0 {-S / 2!r}"/>'
-            f'</body>')
+            f"</body>"
+        )
     for a, b in topo.CABLES[np.arange(24) if order is None else order]:
-        tendons.append(f'<spatial name="cable{a + 1}-{b + 1}"><site site="n{a + 1}"/>'
-                       f'<site site="n{b + 1}"/></spatial>')
+        tendons.append(f'<spatial name="cable{a + 1}-{b + 1}"><site site="n{a + 1}"/><site site="n{b + 1}"/></spatial>')
         # force = gain * ctrl + bias = -(Kg P (l - Lmin) + K (l - L) + B dl/dt), clamped <= 0
         actuators.append(
             f'<general tendon="cable{a + 1}-{b + 1}" gaintype="affine" gainprm="{Kg * Lmin!r} {-Kg!r} 0" '
             f'biastype="affine" biasprm="{K * L!r} {-K!r} {-B!r}" '
-            f'forcelimited="true" forcerange="-1e10 0" ctrllimited="false"/>')
-    plane = (f'<geom type="plane" size="0 0 1" contype="0" conaffinity="1" friction="{mu!r} 0 0"/>'
-             if grounded else "")
+            f'forcelimited="true" forcerange="-1e10 0" ctrllimited="false"/>'
+        )
+    plane = f'<geom type="plane" size="0 0 1" contype="0" conaffinity="1" friction="{mu!r} 0 0"/>' if grounded else ""
     g = params.gravity if grounded else 0.0
     flags = 'eulerdamp="disable"' + ("" if grounded else ' contact="disable"')
-    return (f'<mujoco model="tensegrity"><option timestep="{dt!r}" integrator="{integrator}" '
-            f'gravity="0 0 {-g!r}"><flag {flags}/>'
-            f'</option><worldbody>{plane}{"".join(bodies)}</worldbody>'
-            f'<tendon>{"".join(tendons)}</tendon><actuator>{"".join(actuators)}</actuator></mujoco>')
+    return (
+        f'<mujoco model="tensegrity"><option timestep="{dt!r}" integrator="{integrator}" '
+        f'gravity="0 0 {-g!r}"><flag {flags}/>'
+        f"</option><worldbody>{plane}{''.join(bodies)}</worldbody>"
+        f"<tendon>{''.join(tendons)}</tendon><actuator>{''.join(actuators)}</actuator></mujoco>"
+    )
 
 
 def initial_states(model, state) -> np.ndarray:
@@ -100,8 +105,9 @@ def initial_states(model, state) -> np.ndarray:
     return out
 
 
-def run_mujoco(model, x0: np.ndarray, ctrl: np.ndarray, nstep: int, nthread: int
-               ) -> tuple[float, np.ndarray, np.ndarray]:
+def run_mujoco(
+    model, x0: np.ndarray, ctrl: np.ndarray, nstep: int, nthread: int
+) -> tuple[float, np.ndarray, np.ndarray]:
     """`rollout` of B robots from states x0 (B, nstate) with actuator controls ctrl (B, 24) MPa,
     nstep steps on nthread threads. Returns the wall time (s), the strut centres (B, T, 6, 3) m
     and quaternions (B, T, 6, 4) every EVERY steps."""
@@ -115,7 +121,7 @@ def run_mujoco(model, x0: np.ndarray, ctrl: np.ndarray, nstep: int, nthread: int
         while done < nstep:  # nstep is a multiple of EVERY; `out[:, t]` is after step t + 1
             k = min(n, nstep - done)
             pool.rollout(model, datas, state, ctrl[:, :k], state=out[:, :k], nstep=k)
-            recs.append(out[:, EVERY - 1:k:EVERY, 1:1 + model.nq].copy())
+            recs.append(out[:, EVERY - 1 : k : EVERY, 1 : 1 + model.nq].copy())
             state = out[:, k - 1].copy()
             done += k
         wall = time.perf_counter() - t0
@@ -123,12 +129,12 @@ def run_mujoco(model, x0: np.ndarray, ctrl: np.ndarray, nstep: int, nthread: int
     return wall, rec[..., :3], rec[..., 3:]
 
 
-def run_ours(params, state, pressure: np.ndarray, terrain, nstep: int
-             ) -> tuple[float, np.ndarray]:
+def run_ours(params, state, pressure: np.ndarray, terrain, nstep: int) -> tuple[float, np.ndarray]:
     """`dynamics.simulate` of the batch for nstep steps. Returns the wall time (s) and the node
     positions (B, T, 12, 3) m every EVERY steps."""
     from tensegrity.physics import dynamics as d
     from tensegrity.physics.schedule import Schedule
+
     t0 = time.perf_counter()
     _, tr = d.simulate(params, state, Schedule.constant(pressure, nstep * DT), terrain, DT, EVERY)
     return time.perf_counter() - t0, tr.nodes(params.strut_length)
@@ -136,14 +142,19 @@ def run_ours(params, state, pressure: np.ndarray, terrain, nstep: int
 
 def _args() -> argparse.Namespace:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--seconds", type=float, default=2.0,
-                    help="simulated seconds per robot, a multiple of 0.01 (default 2)")
+    ap.add_argument(
+        "--seconds", type=float, default=2.0, help="simulated seconds per robot, a multiple of 0.01 (default 2)"
+    )
     ap.add_argument("--batch", type=int, default=24, help="robots per batch (default 24)")
     ap.add_argument("--threads", type=int, default=2, help="threads of each simulator (default 2)")
     ap.add_argument("--repeat", type=int, default=3, help="timed runs per case, median (default 3)")
-    ap.add_argument("--integrator", choices=INTEGRATORS, default="Euler",
-                    help="MuJoCo's integrator (default Euler, semi-implicit as ours; the others "
-                         "show how far a different scheme moves the trajectories)")
+    ap.add_argument(
+        "--integrator",
+        choices=INTEGRATORS,
+        default="Euler",
+        help="MuJoCo's integrator (default Euler, semi-implicit as ours; the others "
+        "show how far a different scheme moves the trajectories)",
+    )
     a = ap.parse_args()
     n = a.seconds / (EVERY * DT)
     if not (np.isfinite(n) and n >= 0.5 and abs(n - round(n)) < 1e-6):
@@ -152,12 +163,17 @@ def _args() -> argparse.Namespace:
         if getattr(a, key) < 1:
             ap.error(f"argument --{key}: {getattr(a, key)} must be at least 1")
     if mujoco is None:
-        sys.exit("bench_mujoco.py: MuJoCo is not installed. It is an optional benchmark requirement: "
-                 "pip install -r benchmarks/requirements-mujoco.txt")
+        sys.exit(
+            "bench_mujoco.py: MuJoCo is not installed. It is an optional benchmark requirement: "
+            "pip install -r benchmarks/requirements-mujoco.txt"
+        )
     import numba
+
     if a.threads > numba.config.NUMBA_NUM_THREADS:
-        ap.error(f"argument --threads: {a.threads} is more than numba's "
-                 f"{numba.config.NUMBA_NUM_THREADS} threads (NUMBA_NUM_THREADS)")
+        ap.error(
+            f"argument --threads: {a.threads} is more than numba's "
+            f"{numba.config.NUMBA_NUM_THREADS} threads (NUMBA_NUM_THREADS)"
+        )
     numba.set_num_threads(a.threads)
     return a
 
@@ -165,20 +181,26 @@ def _args() -> argparse.Namespace:
 def main() -> None:
     a = _args()
     from tqdm import tqdm
-    from tensegrity.physics import dynamics as d, topology as topo
+
+    from tensegrity.physics import dynamics as d
+    from tensegrity.physics import topology as topo
     from tensegrity.physics.params import Params
     from tensegrity.physics.terrain import Terrain
+
     nstep = round(a.seconds / DT)
     pressure = pressures(a.batch)
     ctrl = pressure[:, topo.CABLE_PAIR]  # per actuator (cable): its pair's pressure
-    print(f"MuJoCo {mujoco.__version__} `rollout` against tensegrity `dynamics.simulate`: "
-          f"{a.batch} robots x {a.seconds:g} s, dt {DT:g} s, {a.threads} threads each, "
-          f"{os.cpu_count()} cores; pair #{PAIR} at {pressure[-1, PAIR - 1]:g}-"
-          f"{pressure[0, PAIR - 1]:g} MPa; MuJoCo integrator {a.integrator}; median of {a.repeat} runs")
+    print(
+        f"MuJoCo {mujoco.__version__} `rollout` against tensegrity `dynamics.simulate`: "
+        f"{a.batch} robots x {a.seconds:g} s, dt {DT:g} s, {a.threads} threads each, "
+        f"{os.cpu_count()} cores; pair #{PAIR} at {pressure[-1, PAIR - 1]:g}-"
+        f"{pressure[0, PAIR - 1]:g} MPa; MuJoCo integrator {a.integrator}; median of {a.repeat} runs"
+    )
     print(f"{'mode':>9} {'tensegrity':>14} {'MuJoCo':>12} {'ratio':>7}   (robot-steps/s)")
     result = {}
-    bar = tqdm(total=2 * a.repeat, desc="timed runs", unit="run", disable=None, file=sys.stderr,
-               leave=False)  # on stderr, only on a terminal; the figures go to stdout
+    bar = tqdm(
+        total=2 * a.repeat, desc="timed runs", unit="run", disable=None, file=sys.stderr, leave=False
+    )  # on stderr, only on a terminal; the figures go to stdout
     for grounded in (False, True):
         params = Params() if grounded else Params(gravity=0.0)
         terrain = Terrain.flat() if grounded else Terrain.none()
@@ -195,8 +217,10 @@ def main() -> None:
             walls_mj.append(wall)
             bar.update()
         rate = [a.batch * nstep / np.median(w) for w in (walls_ours, walls_mj)]
-        bar.write(f"{'grounded' if grounded else 'free':>9} {rate[0]:>14,.0f} {rate[1]:>12,.0f} "
-                  f"{rate[0] / rate[1]:>7.1f}", file=sys.stdout)
+        bar.write(
+            f"{'grounded' if grounded else 'free':>9} {rate[0]:>14,.0f} {rate[1]:>12,.0f} {rate[0] / rate[1]:>7.1f}",
+            file=sys.stdout,
+        )
         result[grounded] = nodes_ours, d.nodes(x, q, params.strut_length), params, state, terrain
     bar.close()
     ours, theirs, params, state, terrain = result[False]
@@ -207,14 +231,18 @@ def main() -> None:
     _, x, q = run_mujoco(model, initial_states(model, state), ctrl[:, rev], nstep, a.threads)
     floor = np.abs(theirs - d.nodes(x, q, params.strut_length)).max() * 1e3
     travel = np.abs(ours - d.nodes(state.x, state.q, params.strut_length)[:, None]).max() * 1e3
-    print(f"free mode, largest node-trajectory difference (all robots, every {EVERY * DT:g} s): "
-          f"{np.abs(ours - theirs).max() * 1e3:.2g} mm\n"
-          f"  round-off floor, MuJoCo against itself with the 24 cables in reverse order: "
-          f"{floor:.2g} mm; the nodes move by up to {travel:.3g} mm")
+    print(
+        f"free mode, largest node-trajectory difference (all robots, every {EVERY * DT:g} s): "
+        f"{np.abs(ours - theirs).max() * 1e3:.2g} mm\n"
+        f"  round-off floor, MuJoCo against itself with the 24 cables in reverse order: "
+        f"{floor:.2g} mm; the nodes move by up to {travel:.3g} mm"
+    )
     ours, theirs = result[True][:2]
     cog = [n.mean(axis=-2)[:, -1] for n in (ours, theirs)]  # the CoG (B, 3) m (equal masses)
-    print(f"grounded mode, not compared (MuJoCo's contact model is not ours): the CoGs at the end "
-          f"differ by up to {np.linalg.norm(cog[0] - cog[1], axis=-1).max() * 1e3:.3g} mm")
+    print(
+        f"grounded mode, not compared (MuJoCo's contact model is not ours): the CoGs at the end "
+        f"differ by up to {np.linalg.norm(cog[0] - cog[1], axis=-1).max() * 1e3:.3g} mm"
+    )
 
 
 if __name__ == "__main__":

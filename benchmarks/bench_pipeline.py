@@ -11,6 +11,7 @@ wall time measures the other jobs as much as the code; the CPU time less so.
 Usage: python benchmarks/bench_pipeline.py [--runs 3] [--cores 2] [--keep DIR]
        [--configfile FILE] [--until RULE]   (another configuration; a part of the pipeline)
 """
+
 from __future__ import annotations
 
 import argparse
@@ -40,8 +41,13 @@ def one_run(folder: Path, cores: int, extra: list[str]) -> tuple[float, float, d
         (shutil.copytree if src.is_dir() else shutil.copy)(src, folder / name)
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     cpu0, t0 = children_cpu(), time.perf_counter()
-    p = subprocess.run([sys.executable, "-m", "snakemake", "--cores", str(cores), "-q", *extra],
-                       cwd=folder, env=env, capture_output=True, text=True)
+    p = subprocess.run(
+        [sys.executable, "-m", "snakemake", "--cores", str(cores), "-q", *extra],
+        cwd=folder,
+        env=env,
+        capture_output=True,
+        text=True,
+    )
     wall, cpu = time.perf_counter() - t0, children_cpu() - cpu0
     if p.returncode:
         raise SystemExit(f"the pipeline failed (exit {p.returncode}):\n{p.stderr[-3000:]}")
@@ -63,10 +69,15 @@ def main() -> None:
     args = ap.parse_args()
     if args.keep and args.keep.exists() and any(args.keep.iterdir()):
         ap.error(f"--keep {args.keep}: the folder exists and is not empty")
-    extra = (["--configfile", str(args.configfile.resolve())] if args.configfile else []) + \
-        (["--until", args.until] if args.until else [])
-    subprocess.run([sys.executable, "-c", "from tensegrity.physics.dynamics import warm; warm()"],
-                   check=True, env=dict(os.environ, PYTHONPATH=str(ROOT)), capture_output=True)
+    extra = (["--configfile", str(args.configfile.resolve())] if args.configfile else []) + (
+        ["--until", args.until] if args.until else []
+    )
+    subprocess.run(
+        [sys.executable, "-c", "from tensegrity.physics.dynamics import warm; warm()"],
+        check=True,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+        capture_output=True,
+    )
     walls, cpus = [], []
     for k in range(args.runs):
         with tempfile.TemporaryDirectory(prefix="bench_pipeline_") as tmp:
@@ -82,8 +93,10 @@ def main() -> None:
                 if args.keep:
                     shutil.copytree(tmp, args.keep, dirs_exist_ok=True)
     walls.sort(), cpus.sort()
-    print(f"median of {args.runs}: {walls[len(walls) // 2]:.1f} s wall, {cpus[len(cpus) // 2]:.1f} s CPU "
-          f"on {args.cores} cores (target: 30 s wall)")
+    print(
+        f"median of {args.runs}: {walls[len(walls) // 2]:.1f} s wall, {cpus[len(cpus) // 2]:.1f} s CPU "
+        f"on {args.cores} cores (target: 30 s wall)"
+    )
 
 
 if __name__ == "__main__":

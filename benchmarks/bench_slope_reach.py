@@ -20,6 +20,7 @@ candidate to check by simulation, not a proof); `--headings 24` gives the graph 
 Usage: python benchmarks/bench_slope_reach.py [--workspace results/workspace.nc]
        [--slopes 15 20 24] [--headings 8] [--gain 0.05] [--combos / --no-combos]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -31,14 +32,16 @@ import numpy as np
 
 from tensegrity import locomotion as lo
 from tensegrity.io import config, formats
+from tensegrity.io import settings as io_settings
+from tensegrity.locomotion import lookahead
 from tensegrity.locomotion.brake import Brake
 from tensegrity.locomotion.control import roll_controller, settle_controller
-from tensegrity.locomotion import lookahead
-from tensegrity.io import settings as io_settings
 from tensegrity.locomotion.lockstep import lockstep
-from tensegrity.physics import dynamics as d, topology as topo
+from tensegrity.physics import dynamics as d
+from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
-from tensegrity.workspace import gravity as gv, mapping
+from tensegrity.workspace import gravity as gv
+from tensegrity.workspace import mapping
 
 
 def gaits(landings: list, headings: np.ndarray, longest: int = 6) -> None:
@@ -69,19 +72,23 @@ def gaits(landings: list, headings: np.ndarray, longest: int = 6) -> None:
     for name, axis in (("uphill", 0), ("across", 1)):
         # across: the most across of the cycles that lose no height (mean uphill move >= 0),
         # found by weighting the uphill move more and more
-        for lam in ((0.0,) if axis == 0 else (0.0, 0.25, 0.5, 1.0, 2.0, 4.0)):
+        for lam in (0.0,) if axis == 0 else (0.0, 0.25, 0.5, 1.0, 2.0, 4.0):
             best = _best_cycle(len(sid), edges, np.eye(3)[axis] + [lam, 0.0, 0.0], longest)
             moves = np.array([e[3] for e in best or [(0, 0, (), np.zeros(3))]])  # (rolls, 3) m
             if moves[:, 0].mean() >= 0.0:
                 break
         if best is None or moves[:, 0].mean() < 0.0 or moves[:, axis].mean() < 1e-3:
-            print(f"  no {name} gait: no cycle of landings"
-                  + ("" if best is None else " that moves that way and keeps its height"))
+            print(
+                f"  no {name} gait: no cycle of landings"
+                + ("" if best is None else " that moves that way and keeps its height")
+            )
             continue
         acts = ", ".join("+".join(f"#{q}" for q in e[2]) for e in best)
-        print(f"  best {name} gait ({len(best)} rolls, pairs of the canonical faces: {acts}): per roll "
-              f"{1e3 * moves[:, 0].mean():+.0f} mm uphill (x), {1e3 * moves[:, 1].mean():+.0f} mm across (y), "
-              f"{1e3 * moves[:, 2].mean():+.0f} mm up")
+        print(
+            f"  best {name} gait ({len(best)} rolls, pairs of the canonical faces: {acts}): per roll "
+            f"{1e3 * moves[:, 0].mean():+.0f} mm uphill (x), {1e3 * moves[:, 1].mean():+.0f} mm across (y), "
+            f"{1e3 * moves[:, 2].mean():+.0f} mm up"
+        )
 
 
 def _best_cycle(size: int, edges: list, weight: np.ndarray, longest: int) -> list | None:
@@ -93,7 +100,7 @@ def _best_cycle(size: int, edges: list, weight: np.ndarray, longest: int) -> lis
         if move @ weight > w[a, b]:
             w[a, b], pick[a, b] = move @ weight, (a, b, act, move)
     walks, back, best = [w], [None], (-np.inf, 0, 0)
-    for k in range(2, longest + 1):
+    for _ in range(2, longest + 1):
         m = walks[-1][:, :, None] + w[None, :, :]
         back.append(m.argmax(axis=1))
         walks.append(m.max(axis=1))
@@ -117,8 +124,12 @@ def main() -> None:
     ap.add_argument("--slopes", nargs="+", type=float, default=[15, 20, 24], help="slope angles, deg")
     ap.add_argument("--headings", type=int, default=8, help="headings of the uphill direction per face")
     ap.add_argument("--gain", type=float, default=0.05, help="least uphill CoG gain of a roll, m")
-    ap.add_argument("--combos", action=argparse.BooleanOptionalAction, default=True,
-                    help="also every two-pair combination (default)")
+    ap.add_argument(
+        "--combos",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="also every two-pair combination (default)",
+    )
     a = ap.parse_args()
     if a.headings < 1:
         ap.error(f"--headings {a.headings}: at least one")
@@ -134,17 +145,18 @@ def main() -> None:
     headings = np.arange(a.headings) * 360.0 / a.headings
     faces = {k: topo.face_number(v) for k, v in topo.CONTACT_FACES.items()}
     poses = [(k, f, h) for k, f in faces.items() for h in headings]
-    print(f"{len(poses)} poses ({', '.join(faces)} x {a.headings} headings) x {len(actions)} actions "
-          f"({'singles and two-pair combinations' if a.combos else 'single pairs'}); uphill: resting "
-          f"on another face >= {a.gain} m higher; brake {'on' if s.brake else 'off'}, ramp "
-          f"{s.ramp_rate} MPa/s, up to {ws.max_pressure} MPa")
+    print(
+        f"{len(poses)} poses ({', '.join(faces)} x {a.headings} headings) x {len(actions)} actions "
+        f"({'singles and two-pair combinations' if a.combos else 'single pairs'}); uphill: resting "
+        f"on another face >= {a.gain} m higher; brake {'on' if s.brake else 'off'}, ramp "
+        f"{s.ramp_rate} MPa/s, up to {ws.max_pressure} MPa"
+    )
     rows = []
     for sl in a.slopes:
         terrain = Terrain.slope(sl)
-        state = d.State.concat([gv.place(params, f, terrain, (0.0, 0.0), h, len(actions))
-                                for _, f, h in poses])
+        state = d.State.concat([gv.place(params, f, terrain, (0.0, 0.0), h, len(actions)) for _, f, h in poses])
 
-        def ctl(b, obs):
+        def ctl(b, obs, terrain=terrain):
             brake = Brake(ws, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None
             face, obs = yield from settle_controller(s, obs, brake)
             if face is None:
@@ -168,8 +180,9 @@ def main() -> None:
             for act, (_, (r, start, end)) in zip(actions, res):
                 gain = r.cog_after[0] - r.cog_before[0]
                 if r.rolled and lookahead.lands(r, lookahead.SLIDE) and r.face_before == f:
-                    landings.append((r.face_before, start, act, r.face_after, end,
-                                     np.subtract(r.cog_after, r.cog_before)))
+                    landings.append(
+                        (r.face_before, start, act, r.face_after, end, np.subtract(r.cog_after, r.cog_before))
+                    )
                 if r.face_after is None:
                     kinds["tumbled"] += 1
                 elif not r.rolled:
@@ -193,14 +206,28 @@ def main() -> None:
         print(f"poses with a controlled roll (resting on a face after it): across {across}, downhill {down}")
         print("outcomes: " + ", ".join(f"{k} {v}" for k, v in kinds.most_common()))
         for (kind, h), (p, act, g) in sorted(best.items()):
-            print(f"  {kind:11s} heading {h:5.1f} deg: least-pressure uphill roll "
-                  f"{'+'.join(f'#{q}' for q in act)} at {p:.2f} MPa, {g:.2f} m up")
+            print(
+                f"  {kind:11s} heading {h:5.1f} deg: least-pressure uphill roll "
+                f"{'+'.join(f'#{q}' for q in act)} at {p:.2f} MPa, {g:.2f} m up"
+            )
         gaits(landings, headings)
         rolled = sum(kinds[k] for k in ("uphill", "across", "downhill", "tumbled"))
-        rows.append((sl, f"{stood}/{len(poses)}", up_single, up_combo, across, down, kinds["uphill"],
-                     f"{kinds['tumbled']} ({100 * kinds['tumbled'] / max(rolled, 1):.0f} %)"))
-    print("\n| slope deg | poses standing | uphill by a single pair | uphill by a combination | across "
-          "| downhill | uphill rolls | tumbles (of the rolls) |\n|---|---|---|---|---|---|---|---|")
+        rows.append(
+            (
+                sl,
+                f"{stood}/{len(poses)}",
+                up_single,
+                up_combo,
+                across,
+                down,
+                kinds["uphill"],
+                f"{kinds['tumbled']} ({100 * kinds['tumbled'] / max(rolled, 1):.0f} %)",
+            )
+        )
+    print(
+        "\n| slope deg | poses standing | uphill by a single pair | uphill by a combination | across "
+        "| downhill | uphill rolls | tumbles (of the rolls) |\n|---|---|---|---|---|---|---|---|"
+    )
     for r in rows:
         print("| " + " | ".join(str(v) for v in r) + " |")
 

@@ -2,6 +2,7 @@
 
 Usage: python benchmarks/bench_step.py [--seconds 0.5] [--cpu]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -13,8 +14,8 @@ import time
 import numpy as np
 
 from tensegrity.physics import dynamics as d
-from tensegrity.physics.schedule import Schedule
 from tensegrity.physics.params import Params
+from tensegrity.physics.schedule import Schedule
 from tensegrity.physics.terrain import Terrain
 
 
@@ -24,8 +25,7 @@ def _cpu_seconds() -> float:
     return r.ru_utime + r.ru_stime
 
 
-def run(batch: int, grounded: bool, sim_seconds: float, dt: float = 1e-4, repeat: int = 3,
-        cpu: bool = False) -> float:
+def run(batch: int, grounded: bool, sim_seconds: float, dt: float = 1e-4, repeat: int = 3, cpu: bool = False) -> float:
     """Robot-steps per second, the median of `repeat` timed runs; with `cpu`, per CPU second
     of the process, the best of `repeat` runs."""
     params = Params() if grounded else Params(gravity=0.0)
@@ -46,9 +46,12 @@ def run(batch: int, grounded: bool, sim_seconds: float, dt: float = 1e-4, repeat
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--seconds", type=float, default=0.5, help="simulated seconds per case")
-    ap.add_argument("--cpu", action="store_true",
-                    help="robot-steps per CPU second, best of 7 (on a shared machine; with "
-                         "NUMBA_NUM_THREADS=1, the code's own speed)")
+    ap.add_argument(
+        "--cpu",
+        action="store_true",
+        help="robot-steps per CPU second, best of 7 (on a shared machine; with "
+        "NUMBA_NUM_THREADS=1, the code's own speed)",
+    )
     a = ap.parse_args()
     t0 = time.perf_counter()
     d.simulate(Params(), d.stand_on(Params(), 8), Schedule.constant(np.zeros(12), 0.001))
@@ -56,13 +59,17 @@ def main() -> None:
     print(f"cores: {os.cpu_count()}, numba threads: {__import__('numba').get_num_threads()}, dt = 1e-4 s")
     print(f"{'batch':>6} {'mode':>9} {'robot-steps/' + ('cpu-s' if a.cpu else 's'):>15}")
     from tqdm import tqdm
+
     cases = [(grounded, batch) for grounded in (False, True) for batch in (1, 24, 288)]
     # a bar on stderr while the cases run, only on a terminal; the table goes to stdout
     with tqdm(cases, desc="cases", unit="case", disable=None, file=sys.stderr, leave=False) as bar:
         for grounded, batch in bar:
             secs = a.seconds if batch > 1 else 4 * a.seconds
-            bar.write(f"{batch:>6} {'grounded' if grounded else 'free':>9} "
-                      f"{run(batch, grounded, secs, repeat=7 if a.cpu else 3, cpu=a.cpu):>15,.0f}", file=sys.stdout)
+            bar.write(
+                f"{batch:>6} {'grounded' if grounded else 'free':>9} "
+                f"{run(batch, grounded, secs, repeat=7 if a.cpu else 3, cpu=a.cpu):>15,.0f}",
+                file=sys.stdout,
+            )
 
 
 if __name__ == "__main__":

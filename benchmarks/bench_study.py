@@ -15,6 +15,7 @@ Usage: python benchmarks/bench_study.py [--designs 8 32 128] [--hold 1.0] [--sam
        [--threads 2]
 (the example study stiffness_pretension uses --hold 0.5 --sample-every 50)
 """
+
 from __future__ import annotations
 
 import argparse
@@ -23,13 +24,10 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
-
-from tensegrity.stages import study as study_stage
-from tensegrity.stages.config import stage_config
 from tensegrity.io import config, datasets, study_config
 from tensegrity.physics import dynamics
-from tensegrity.studies import spec
+from tensegrity.stages import study as study_stage
+from tensegrity.stages.config import stage_config
 from tensegrity.validation import paper
 
 
@@ -56,27 +54,45 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--designs", type=int, nargs="+", default=[8, 32, 128])
     ap.add_argument("--hold", type=float, default=1.0, help="s per level (the workflow's default 1 s)")
-    ap.add_argument("--sample-every", type=int, default=10, help="steps between averaged samples (10: the pipeline's 1 ms)")
+    ap.add_argument(
+        "--sample-every", type=int, default=10, help="steps between averaged samples (10: the pipeline's 1 ms)"
+    )
     ap.add_argument("--threads", type=int, default=2)
     args = ap.parse_args()
     import numba
+
     numba.set_num_threads(min(args.threads, numba.config.NUMBA_NUM_THREADS))
     cfg = stage_config(config.load(), "study_chunk")
     dt = cfg["sim"]["dt"]
-    print(f"full workspace per design: 12 pairs x 12 levels x 2 contacts, hold {args.hold} s, dt {dt} s, "
-          f"samples every {args.sample_every} steps, {numba.get_num_threads()} threads")
-    print(f"{'designs':>8} {'robots':>7} {'wall s':>8} {'Mrobot-steps/s':>15} {'designs/h':>10} "
-          f"{'1000 designs':>13} | {'kernel':>7} {'frames':>7} {'paper':>7} {'write':>7}")
+    print(
+        f"full workspace per design: 12 pairs x 12 levels x 2 contacts, hold {args.hold} s, dt {dt} s, "
+        f"samples every {args.sample_every} steps, {numba.get_num_threads()} threads"
+    )
+    print(
+        f"{'designs':>8} {'robots':>7} {'wall s':>8} {'Mrobot-steps/s':>15} {'designs/h':>10} "
+        f"{'1000 designs':>13} | {'kernel':>7} {'frames':>7} {'paper':>7} {'write':>7}"
+    )
     for n in args.designs:
-        st = study_config.validate({"parameters": {"cable_stiffness": {"low": 700.0, "high": 1500.0, "units": "N/m"},
-                                           "cable_pretension": {"low": 12.0, "high": 30.0, "units": "N"}},
-                            "design": {"method": "lhs", "n": n, "seed": 1}, "chunk_size": n,
-                            "workspace": {"hold": args.hold, "discard": min(0.2, args.hold / 2),
-                                          "sample_every": args.sample_every}}, dt=dt)
+        st = study_config.validate(
+            {
+                "parameters": {
+                    "cable_stiffness": {"low": 700.0, "high": 1500.0, "units": "N/m"},
+                    "cable_pretension": {"low": 12.0, "high": 30.0, "units": "N"},
+                },
+                "design": {"method": "lhs", "n": n, "seed": 1},
+                "chunk_size": n,
+                "workspace": {"hold": args.hold, "discard": min(0.2, args.hold / 2), "sample_every": args.sample_every},
+            },
+            dt=dt,
+        )
         st = {"name": "bench", **st}
         clock: dict = {}
-        with tempfile.TemporaryDirectory() as tmp, timed(dynamics, "simulate", clock), \
-                timed(paper, "check_paper", clock), timed(datasets, "write", clock):
+        with (
+            tempfile.TemporaryDirectory() as tmp,
+            timed(dynamics, "simulate", clock),
+            timed(paper, "check_paper", clock),
+            timed(datasets, "write", clock),
+        ):
             t0 = time.perf_counter()
             study_stage.study_chunk(cfg, st, 0, Path(tmp) / "chunk.nc")
             wall = time.perf_counter() - t0
@@ -86,9 +102,11 @@ def main() -> None:
         rest = {"paper": clock.get("check_paper", 0.0), "write": clock.get("write", 0.0)}
         frames = wall - kernel - sum(rest.values())
         per_h = n / wall * 3600
-        print(f"{n:8d} {robots:7d} {wall:8.2f} {steps / kernel / 1e6:15.2f} {per_h:10.0f} "
-              f"{1000 / per_h * 60:10.1f} min | " + " ".join(
-                  f"{100 * x / wall:6.1f}%" for x in (kernel, frames, rest["paper"], rest["write"])))
+        print(
+            f"{n:8d} {robots:7d} {wall:8.2f} {steps / kernel / 1e6:15.2f} {per_h:10.0f} "
+            f"{1000 / per_h * 60:10.1f} min | "
+            + " ".join(f"{100 * x / wall:6.1f}%" for x in (kernel, frames, rest["paper"], rest["write"]))
+        )
 
 
 if __name__ == "__main__":

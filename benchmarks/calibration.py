@@ -2,6 +2,7 @@
 robot, in the free-mode workspace (staircase) and in the grounded simulation (slow ramp).
 Prints figures; asserts nothing. Usage: python benchmarks/calibration.py [--quick]
 (--quick: pairs #10 and #11 only, three grounded pressures; a smoke run, not the calibration)."""
+
 from __future__ import annotations
 
 import argparse
@@ -9,13 +10,12 @@ import argparse
 import numpy as np
 
 from tensegrity.physics import dynamics as d
-from tensegrity.physics import topology as topo
-from tensegrity.workspace import nominal
-from tensegrity.workspace import sweep
-from tensegrity.physics.schedule import Schedule
 from tensegrity.physics import frames
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
+from tensegrity.physics.schedule import Schedule
 from tensegrity.physics.terrain import Terrain
+from tensegrity.workspace import nominal, sweep
 
 LEVELS = np.round(np.arange(1, 13) * 0.4, 2)
 
@@ -49,18 +49,25 @@ def grounded_roll(face, pair, pressures, ramp=2.0, hold=2.0, steps=100):
 def main(quick: bool = False):
     pairs_eq = [10] if quick else list(range(1, 13))
     print("free mode (paper III.A), staircase 0.4..4.8 MPa held 1 s, nominal after 0.2 s:")
-    for name, face, pairs in (("(9,10,12)", (9, 10, 12), pairs_eq), ("(10,11,12)", (10, 11, 12), [11] if quick else [10, 11, 12])):
+    for name, face, pairs in (
+        ("(9,10,12)", (9, 10, 12), pairs_eq),
+        ("(10,11,12)", (10, 11, 12), [11] if quick else [10, 11, 12]),
+    ):
         tips = free_tip(face, pairs)
         for pair, (tp, margin) in tips.items():
-            print(f"  {name} #{pair:<2d} margin at 2.4 MPa {margin[5] * 1000:6.1f} mm, leaves the triangle at "
-                  f"{'never (<= 4.8)' if np.isnan(tp) else f'{tp:.2f} MPa'}")
+            print(
+                f"  {name} #{pair:<2d} margin at 2.4 MPa {margin[5] * 1000:6.1f} mm, leaves the triangle at "
+                f"{'never (<= 4.8)' if np.isnan(tp) else f'{tp:.2f} MPa'}"
+            )
     print("grounded (gravity, ground, mu = 0.8), pressure ramped over 2 s then held 2 s:")
     for name, face, pair in (("(9,10,12)", (9, 10, 12), 10), ("(10,11,12)", (10, 11, 12), 11)):
         ps = np.array([2.0, 4.0, 5.0]) if quick else np.round(np.arange(1.0, 5.01, 0.2), 2)
         rolled = grounded_roll(face, pair, ps)
         first = ps[np.argmax(rolled)] if rolled.any() else float("nan")
-        print(f"  {name} #{pair}: stands up to {ps[~rolled].max() if (~rolled).any() else 'none'} MPa, "
-              f"rolls from {first} MPa (0.2 MPa resolution)")
+        print(
+            f"  {name} #{pair}: stands up to {ps[~rolled].max() if (~rolled).any() else 'none'} MPa, "
+            f"rolls from {first} MPa (0.2 MPa resolution)"
+        )
 
 
 if __name__ == "__main__":

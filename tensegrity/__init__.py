@@ -18,11 +18,11 @@ Locomotion
     plan_roll(workspace, face, nodes, direction=..., goal=...) -> Plan
     roll_to(workspace, goal, params, terrain, settings=RollSettings()) -> Run   as the pipeline rolls
 """
+
 from __future__ import annotations
 
 import importlib
 import os
-
 from typing import TYPE_CHECKING
 
 from .version import __version__
@@ -51,14 +51,17 @@ _API = {
 __all__ = ["__version__", "load_workspace", *_API]
 
 
-def load_workspace(path: str | os.PathLike = "results/workspace.nc",
-                   two_pair: str | os.PathLike | None = "beside") -> Workspace:
+def load_workspace(
+    path: str | os.PathLike = "results/workspace.nc", two_pair: str | os.PathLike | None = "beside"
+) -> Workspace:
     """The 20-face workspace (results/workspace.nc) as a `Workspace` for planning, with the
     measured two-pair curves of `two_pair` (results/workspace_two_pair.nc): by default the file
     workspace_two_pair.nc beside `path` if it exists, as the pipeline's runs plan; None: two
     pairs superposed from the single-pair curves."""
     from pathlib import Path
+
     from .io.formats import read_workspace
+
     if two_pair == "beside":
         beside = Path(path).with_name("workspace_two_pair.nc")
         two_pair = beside if beside.is_file() else None

@@ -6,6 +6,7 @@ removes the temporaries that killed writers left behind (`remove_stale`).
 
 A leaf module (the standard library only): `io` and `render` both write through it.
 """
+
 from __future__ import annotations
 
 import contextlib

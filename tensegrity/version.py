@@ -1,5 +1,6 @@
 """The toolkit's version, from the installed package's metadata (pyproject.toml), defined once:
 `tensegrity.__version__` and every file's `source` attribute read it from here."""
+
 from importlib.metadata import PackageNotFoundError, version
 
 try:

@@ -1,12 +1,14 @@
 """Shared fixtures of the test suite (pytest finds them by name; never import this module)."""
+
 from pathlib import Path
 
 import pytest
 
 from tensegrity.physics import dynamics as d
-from tensegrity.physics import frames, topology as topo
-from tensegrity.physics.schedule import Schedule
+from tensegrity.physics import frames
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
+from tensegrity.physics.schedule import Schedule
 from tensegrity.physics.terrain import Terrain
 
 
@@ -32,15 +34,26 @@ def free():
 def free_sweep():
     """run(params, face, pairs, levels, hold=1.0, dt=1e-4) -> (t, cog, support): the staircase in
     the free mode, CoG (B, T, 3) m and support (B, T, 3, 3) m in the face's support frame."""
+
     def run(params, face, pairs, levels, hold=1.0, dt=1e-4):
         s = d.stand_on(params, face, Terrain.none(), batch=len(pairs))
         _, tr = d.simulate(params, s, Schedule.staircase(pairs, levels, hold), Terrain.none(), dt)
         return (tr.t, *frames.in_support_frame(tr.nodes(params.strut_length), face))
+
     return run
 
 
-_TIER = {"physics": "unit", "workspace": "unit", "locomotion": "unit", "validation": "unit",
-         "io": "unit", "studies": "unit", "stages": "unit", "render": "render", "workflow": "workflow"}
+_TIER = {
+    "physics": "unit",
+    "workspace": "unit",
+    "locomotion": "unit",
+    "validation": "unit",
+    "io": "unit",
+    "studies": "unit",
+    "stages": "unit",
+    "render": "render",
+    "workflow": "workflow",
+}
 
 
 def pytest_collection_modifyitems(items):

@@ -1,6 +1,7 @@
 """The layers of docs/design.md §8, held by reading every module's imports (including the ones
 inside functions and under TYPE_CHECKING): every module of the package belongs to a layer, a
 layer imports only the layers below it, and no modules import each other in a circle."""
+
 import ast
 from pathlib import Path
 
@@ -40,7 +41,7 @@ def _imports(path: Path, pkg: Path = PKG) -> set[str]:
     out = set()
     for node in ast.walk(ast.parse(path.read_text())):
         if isinstance(node, ast.ImportFrom):
-            base = here[:len(here) - (node.level - 1)] if node.level else []
+            base = here[: len(here) - (node.level - 1)] if node.level else []
             target = base + (node.module.split(".") if node.module else [])
             if target[:1] != ["tensegrity"]:
                 continue
@@ -104,6 +105,7 @@ def test_no_import_circle():
                     break
             if len(comp) > 1:
                 circles.append(sorted(comp))
+
     for v in sorted(edges):
         if v not in index:
             visit(v)
@@ -129,12 +131,14 @@ def test_modules_are_of_a_size_a_reader_holds_in_mind():
 
 def _public_functions(path: Path):
     """(name, node) of the module- and class-level public functions of a module."""
+
     def visit(body):
         for node in body:
             if isinstance(node, ast.ClassDef):
                 yield from visit(node.body)
             elif isinstance(node, ast.FunctionDef) and not node.name.startswith("_"):
                 yield node.name, node
+
     yield from visit(ast.parse(path.read_text()).body)
 
 

@@ -5,6 +5,7 @@ Exit codes: 0 success; 2 bad command-line usage; 3 invalid input (bad config, va
 pair, pressure or file); 4 the simulation failed (non-finite, exploded, off the terrain);
 1 anything else, including a `roll` that did not arrive (its outcome is printed).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -24,12 +25,14 @@ START = "9,10,12"  # the paper's start face (paper.START_FACE), as the command l
 
 def _load_cfg(args: argparse.Namespace) -> dict:
     from ..io import config
+
     return config.load(args.config, overrides=args.set or None)
 
 
 def _stage_cfg(args: argparse.Namespace, stage: str) -> dict:
     """The keys of the resolved configuration that `stage` reads, as its rule passes them."""
     from ..stages.config import stage_config
+
     return stage_config(_load_cfg(args), stage)
 
 
@@ -37,12 +40,25 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     """One actuation on one robot -> a netCDF with the CoG, nodes and pressures."""
     from ..io import datasets
     from ..stages.simulate import simulate
+
     with progress.bar(args.duration, "simulate") as bar:
-        path = simulate(_stage_cfg(args, "simulate"), args.face, args.pair, args.pressure, args.duration,
-                        args.out, ramp=args.ramp, mode=args.mode, terrain=args.terrain, progress=bar.update)
+        path = simulate(
+            _stage_cfg(args, "simulate"),
+            args.face,
+            args.pair,
+            args.pressure,
+            args.duration,
+            args.out,
+            ramp=args.ramp,
+            mode=args.mode,
+            terrain=args.terrain,
+            progress=bar.update,
+        )
     ds = datasets.read(path)
-    print(f"wrote {path}: {ds.sizes['time']} samples, final CoG (support frame) "
-          f"{np.round(ds['cog'].values[-1] * 1000, 2).tolist()} mm")
+    print(
+        f"wrote {path}: {ds.sizes['time']} samples, final CoG (support frame) "
+        f"{np.round(ds['cog'].values[-1] * 1000, 2).tolist()} mm"
+    )
     return 0
 
 
@@ -50,18 +66,34 @@ def cmd_query(args: argparse.Namespace) -> int:
     """Nominal CoG and margin for a face, pair and pressure from the fitted curves."""
     from ..io import formats
     from ..workspace import query
-    ans = query.query(formats.read_curves(args.curves), formats.read_workspace(args.workspace),
-                      args.face, args.pair, args.pressure, wsname=args.workspace)
-    out = {"face": ans.face, "pair": ans.pair, "pressure_mpa": ans.pressure,
-           "cog_m": ans.cog.round(7).tolist(), "margin_m": round(ans.margin, 7),
-           "stands": ans.margin > 0, "support_m": ans.support.round(7).tolist(),
-           "contact": ans.contact, "canonical_pair": ans.source_pair}
+
+    ans = query.query(
+        formats.read_curves(args.curves),
+        formats.read_workspace(args.workspace),
+        args.face,
+        args.pair,
+        args.pressure,
+        wsname=args.workspace,
+    )
+    out = {
+        "face": ans.face,
+        "pair": ans.pair,
+        "pressure_mpa": ans.pressure,
+        "cog_m": ans.cog.round(7).tolist(),
+        "margin_m": round(ans.margin, 7),
+        "stands": ans.margin > 0,
+        "support_m": ans.support.round(7).tolist(),
+        "contact": ans.contact,
+        "canonical_pair": ans.source_pair,
+    }
     if args.json:
         print(json.dumps(out))
     else:
-        print(f"face {ans.face} ({ans.contact}), pair #{ans.pair} at {ans.pressure} MPa: "
-              f"CoG {np.round(ans.cog * 1000, 2).tolist()} mm (support frame), margin "
-              f"{ans.margin * 1000:.2f} mm -> {'stands' if ans.margin > 0 else 'rolls'}")
+        print(
+            f"face {ans.face} ({ans.contact}), pair #{ans.pair} at {ans.pressure} MPa: "
+            f"CoG {np.round(ans.cog * 1000, 2).tolist()} mm (support frame), margin "
+            f"{ans.margin * 1000:.2f} mm -> {'stands' if ans.margin > 0 else 'rolls'}"
+        )
     return 0
 
 
@@ -71,6 +103,7 @@ def cmd_stage(args: argparse.Namespace) -> int:
     named by ARG=PATH (a parameter of the stage function; repeat it for a list). `tensegrity
     stage NAME` alone lists the stage's arguments."""
     from .stage import call, describe
+
     if not args.arguments:
         print(describe(args.stage))
         return 0
@@ -84,7 +117,9 @@ def cmd_config(args: argparse.Namespace) -> int:
     """`config show`: the resolved, validated configuration (defaults filled in) as YAML;
     `config check FILE`: validate a file, naming every bad key (exit 3)."""
     import yaml
+
     from ..io import config
+
     if args.action == "check":
         if not args.file:
             raise ValueError("config check needs a FILE")
@@ -100,6 +135,7 @@ def cmd_render(args: argparse.Namespace) -> int:
     """Render a dataset of the toolkit (sweep, nominal, workspace, locomotion run, simulation)
     to a PNG, off-screen."""
     from ..stages.render import render_dataset
+
     what = render_dataset(args.dataset, args.out, args.face)
     print(f"wrote {args.out}: {what}")
     return 0
@@ -122,14 +158,25 @@ def _locomotion_setup(args: argparse.Namespace):
     from ..io import formats, settings
     from ..locomotion.settings import RollSettings
     from ..physics.topology import face_number
+
     cfg = _stage_cfg(args, "locomotion_runs")
     face = face_number(args.face)  # bad input first, before any file is read
     two_pair = _two_pair_file(args)
     ws = formats.read_workspace(args.workspace, two_pair)
-    print(f"workspace {args.workspace}; two pairs: "
-          + (f"measured curves of {two_pair}" if two_pair else "superposed single-pair curves"
-             + (" (--two-pair none)" if args.two_pair == "none"
-                else f" ({Path(args.workspace).with_name('workspace_two_pair.nc')} not found)")), flush=True)
+    print(
+        f"workspace {args.workspace}; two pairs: "
+        + (
+            f"measured curves of {two_pair}"
+            if two_pair
+            else "superposed single-pair curves"
+            + (
+                " (--two-pair none)"
+                if args.two_pair == "none"
+                else f" ({Path(args.workspace).with_name('workspace_two_pair.nc')} not found)"
+            )
+        ),
+        flush=True,
+    )
     return cfg, face, args.terrain, settings.params(cfg), settings.build(RollSettings, cfg), ws
 
 
@@ -137,15 +184,16 @@ def cmd_plan(args: argparse.Namespace) -> int:
     """Choose the pair(s) and pressure that roll the robot toward a target, from the workspace."""
     from ..locomotion.control import settle
     from ..locomotion.plan import plan
-    from ..physics import contact as ct, dynamics as d
+    from ..physics import contact as ct
+    from ..physics import dynamics as d
+
     _, face, terrain, params, s, ws = _locomotion_setup(args)
     params = s.rolling(params)
     state, _ = settle(params, d.stand_on(params, face, terrain, yaw_deg=args.yaw), terrain, s)
     nodes = d.nodes(state.x, state.q, params.strut_length)[0]
     here = ct.face_from_gaps(ct.clearance(nodes, terrain, float(params.strut_radius)), s.contact_tolerance)
     target = {"goal": args.goal} if args.goal is not None else {"direction": args.direction}
-    print(plan(ws, here, nodes, terrain=terrain, combine=s.combine, min_alignment=s.min_alignment,
-               **target))
+    print(plan(ws, here, nodes, terrain=terrain, combine=s.combine, min_alignment=s.min_alignment, **target))
     return 0
 
 
@@ -156,15 +204,20 @@ def cmd_roll(args: argparse.Namespace) -> int:
     from ..locomotion.outcome import describe
     from ..locomotion.runs import roll_to
     from ..stages import provenance
+
     cfg, face, terrain, params, s, ws = _locomotion_setup(args)
     with progress.bar(None, "roll") as bar:
-        run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw,
-                      progress=bar.update)
+        run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw, progress=bar.update)
     print(describe(run, "roll"))
     if args.out:
-        datasets.write(run_dataset(run, terrain, s.rolling(params), "roll"), args.out,
-                       provenance(cfg, args.workspace), f"Rolling locomotion run: {run.outcome}",
-                       stage="locomotion", allow_nan=RUN_ALLOW_NAN)
+        datasets.write(
+            run_dataset(run, terrain, s.rolling(params), "roll"),
+            args.out,
+            provenance(cfg, args.workspace),
+            f"Rolling locomotion run: {run.outcome}",
+            stage="locomotion",
+            allow_nan=RUN_ALLOW_NAN,
+        )
     return 0 if run.outcome == "arrived" else 1
 
 
@@ -172,36 +225,59 @@ def cmd_study(args: argparse.Namespace) -> int:
     """Run a design study (config/studies/NAME.yaml or a YAML path) without Snakemake: every chunk
     not yet written, the merge and the analysis, into results/studies/NAME (docs/datasets.md)."""
     from .study import run
+
     return run(_load_cfg(args), args.study, args.out, args.limit)
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every command."""
     from ..stages.config import STAGES
-    ap = argparse.ArgumentParser(prog="tensegrity", description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+
+    ap = argparse.ArgumentParser(
+        prog="tensegrity", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--config", help="config YAML (default: config/config.yaml)")
-    common.add_argument("--set", action="append", metavar="KEY=VALUE",
-                        help="override a config key, e.g. --set params.cable_damping=1 (repeatable)")
+    common.add_argument(
+        "--set",
+        action="append",
+        metavar="KEY=VALUE",
+        help="override a config key, e.g. --set params.cable_damping=1 (repeatable)",
+    )
     face_help = f"start face: 1..20 or 'a,b,c' (default {START})"
 
-    p = sub.add_parser("simulate", parents=[common], help="simulate one actuation, write a netCDF",
-                       description=cmd_simulate.__doc__)
+    p = sub.add_parser(
+        "simulate", parents=[common], help="simulate one actuation, write a netCDF", description=cmd_simulate.__doc__
+    )
     p.add_argument("--face", type=cli_args.face, default=cli_args.face(START), help=face_help)
     p.add_argument("--pair", type=int, nargs="+", required=True, help="actuator pair(s) 1..12")
     p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
-    p.add_argument("--duration", type=cli_args.positive("--duration"), default=2.0, help="simulated time, s (default 2)")
-    p.add_argument("--ramp", type=cli_args.non_negative("--ramp"), default=0.0, help="ramp time from 0 to the pressure, s (default 0: a step)")
+    p.add_argument(
+        "--duration", type=cli_args.positive("--duration"), default=2.0, help="simulated time, s (default 2)"
+    )
+    p.add_argument(
+        "--ramp",
+        type=cli_args.non_negative("--ramp"),
+        default=0.0,
+        help="ramp time from 0 to the pressure, s (default 0: a step)",
+    )
     p.add_argument("--mode", choices=["free", "grounded"], default="free", help="free (no gravity/ground) or grounded")
-    p.add_argument("--terrain", type=cli_args.terrain, help="grounded terrain: flat, none, slope:ANGLE[:AZIMUTH], random:SEED[:AMPLITUDE]")
+    p.add_argument(
+        "--terrain",
+        type=cli_args.terrain,
+        help="grounded terrain: flat, none, slope:ANGLE[:AZIMUTH], random:SEED[:AMPLITUDE]",
+    )
     p.add_argument("--out", required=True, help="output netCDF path")
     p.set_defaults(func=cmd_simulate)
 
     p = sub.add_parser("query", help="nominal CoG and margin from the fitted curves", description=cmd_query.__doc__)
-    p.add_argument("--curves", default="results/curves/curves.json", help="curves JSON (default results/curves/curves.json)")
-    p.add_argument("--workspace", default="results/workspace.nc", help="workspace netCDF (default results/workspace.nc)")
+    p.add_argument(
+        "--curves", default="results/curves/curves.json", help="curves JSON (default results/curves/curves.json)"
+    )
+    p.add_argument(
+        "--workspace", default="results/workspace.nc", help="workspace netCDF (default results/workspace.nc)"
+    )
     p.add_argument("--face", type=cli_args.face, required=True, help="face: 1..20 or 'a,b,c'")
     p.add_argument("--pair", type=int, required=True, help="actuator pair 1..12")
     p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
@@ -214,41 +290,67 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--face", type=cli_args.face, help=f"face to show, for the workspace (default {START})")
     p.set_defaults(func=cmd_render)
 
-    p = sub.add_parser("stage", parents=[common], help="run one workflow stage outside Snakemake",
-                       description=cmd_stage.__doc__)
+    p = sub.add_parser(
+        "stage", parents=[common], help="run one workflow stage outside Snakemake", description=cmd_stage.__doc__
+    )
     p.add_argument("stage", choices=sorted(STAGES), metavar="NAME", help=", ".join(sorted(STAGES)))
-    p.add_argument("arguments", nargs="*", metavar="ARG=VALUE",
-                   help="a parameter of the stage function, e.g. out_path=results/workspace.nc")
+    p.add_argument(
+        "arguments",
+        nargs="*",
+        metavar="ARG=VALUE",
+        help="a parameter of the stage function, e.g. out_path=results/workspace.nc",
+    )
     p.set_defaults(func=cmd_stage)
 
-    p = sub.add_parser("config", parents=[common], help="show the resolved configuration or check a file",
-                       description=cmd_config.__doc__)
+    p = sub.add_parser(
+        "config",
+        parents=[common],
+        help="show the resolved configuration or check a file",
+        description=cmd_config.__doc__,
+    )
     p.add_argument("action", choices=["show", "check"])
-    p.add_argument("file", nargs="?", help="config YAML (show: default config/config.yaml or the "
-                                          "schema's defaults; check: required)")
+    p.add_argument(
+        "file",
+        nargs="?",
+        help="config YAML (show: default config/config.yaml or the schema's defaults; check: required)",
+    )
     p.set_defaults(func=cmd_config)
 
-    p = sub.add_parser("study", parents=[common], help="run a design study without Snakemake",
-                       description=cmd_study.__doc__)
+    p = sub.add_parser(
+        "study", parents=[common], help="run a design study without Snakemake", description=cmd_study.__doc__
+    )
     p.add_argument("study", help="study name (config/studies/NAME.yaml) or a YAML file")
     p.add_argument("--out", help="output folder (default results/studies/NAME)")
     p.add_argument("--limit", type=int, default=0, help="only the first N designs (default 0: all)")
     p.set_defaults(func=cmd_study)
 
-    for name, func, helptext in (("plan", cmd_plan, "choose the pair and pressure that roll the robot toward a target"),
-                                 ("roll", cmd_roll, "roll the robot toward a goal in the dynamic simulator")):
+    for name, func, helptext in (
+        ("plan", cmd_plan, "choose the pair and pressure that roll the robot toward a target"),
+        ("roll", cmd_roll, "roll the robot toward a goal in the dynamic simulator"),
+    ):
         p = sub.add_parser(name, parents=[common], help=helptext, description=func.__doc__)
-        p.add_argument("--workspace", default="results/workspace.nc", help="workspace file (default results/workspace.nc)")
-        p.add_argument("--two-pair", help="two-pair workspace file: combinations from its measured curves "
-                       "(default: workspace_two_pair.nc beside --workspace if it exists, as the pipeline's runs "
-                       "use it; 'none': superposed single-pair curves)")
+        p.add_argument(
+            "--workspace", default="results/workspace.nc", help="workspace file (default results/workspace.nc)"
+        )
+        p.add_argument(
+            "--two-pair",
+            help="two-pair workspace file: combinations from its measured curves "
+            "(default: workspace_two_pair.nc beside --workspace if it exists, as the pipeline's runs "
+            "use it; 'none': superposed single-pair curves)",
+        )
         p.add_argument("--face", type=cli_args.face, default=cli_args.face(START), help=face_help)
-        p.add_argument("--terrain", type=cli_args.terrain, default="flat",
-                       help="flat (default), slope:ANGLE[:AZIMUTH] or random:SEED[:AMPLITUDE]")
+        p.add_argument(
+            "--terrain",
+            type=cli_args.terrain,
+            default="flat",
+            help="flat (default), slope:ANGLE[:AZIMUTH] or random:SEED[:AMPLITUDE]",
+        )
         p.add_argument("--yaw", type=float, default=0.0, help="turn of the robot about the terrain normal, deg")
         if name == "plan":
             tgt = p.add_mutually_exclusive_group(required=True)
-            tgt.add_argument("--direction", type=cli_args.heading, help="target heading in deg from +x, or a vector x,y")
+            tgt.add_argument(
+                "--direction", type=cli_args.heading, help="target heading in deg from +x, or a vector x,y"
+            )
             tgt.add_argument("--goal", type=cli_args.xy("--goal"), help="goal point x,y in m")
         else:
             p.add_argument("--goal", type=cli_args.xy("--goal"), required=True, help="goal point x,y in m")
@@ -263,6 +365,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = cli_args.join_negative_values(sys.argv[1:] if argv is None else list(argv))
     args = ap.parse_args(cli_args.stage_arguments_first(argv))
     from ..physics.dynamics import SimulationError
+
     try:
         return args.func(args)
     except SimulationError as e:

@@ -1,4 +1,5 @@
 """`python -m tensegrity.cli`: the `tensegrity` command."""
+
 import sys
 
 from . import main

@@ -1,6 +1,7 @@
 """Command-line values of the `tensegrity` command (`cli`): numbers, faces, terrains, points and
 headings parsed by argparse, with messages that name the option; negative numbers after an
 option (`--goal -1.2,1.5`) are joined to it before parsing (`join_negative_values`)."""
+
 from __future__ import annotations
 
 import argparse
@@ -37,13 +38,15 @@ def face(text: str) -> float | tuple[int, ...]:
             return float(parts[0])
         return tuple(int(p) for p in parts)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"face {text!r}: give a number 1..20 or three node "
-                                         "numbers of a face, e.g. 9,10,12") from None
+        raise argparse.ArgumentTypeError(
+            f"face {text!r}: give a number 1..20 or three node numbers of a face, e.g. 9,10,12"
+        ) from None
 
 
 def terrain(text: str) -> Terrain:
     """A terrain spec (physics.terrain.from_spec, the one reading for every command)."""
     from ..physics.terrain import from_spec
+
     try:
         return from_spec(text)
     except ValueError as e:
@@ -56,6 +59,7 @@ def positive(name: str) -> Callable[[str], float]:
         if not v > 0:
             raise argparse.ArgumentTypeError(f"{name}: must be positive, got {text!r}")
         return v
+
     return parse
 
 
@@ -65,6 +69,7 @@ def non_negative(name: str) -> Callable[[str], float]:
         if v < 0:
             raise argparse.ArgumentTypeError(f"{name}: must be >= 0, got {text!r}")
         return v
+
     return parse
 
 
@@ -85,8 +90,10 @@ def join_negative_values(argv: list[str]) -> list[str]:
 
 def xy(name: str) -> Callable[[str], list[float]]:
     """A world point or vector 'x,y' (m); negative numbers need no '=' (see join_negative_values)."""
+
     def parse(text: str) -> list[float]:
         return floats(text, 2, name)
+
     return parse
 
 
@@ -111,7 +118,7 @@ def stage_arguments_first(argv: list[str], valued: tuple[str, ...] = ("--config"
     while i < len(rest):
         tok = rest[i]
         if tok in valued and i + 1 < len(rest):
-            opts += rest[i:i + 2]
+            opts += rest[i : i + 2]
             i += 2
             continue
         (opts if tok.startswith("-") else args).append(tok)

@@ -1,5 +1,6 @@
 """`tensegrity stage NAME ARG=VALUE ...`: any stage of `stages.config.STAGES`, its arguments by
 the names of its function's parameters (after `cfg`), read from the command line."""
+
 from __future__ import annotations
 
 import inspect
@@ -9,6 +10,7 @@ from typing import Any
 
 def _parameters(stage: str) -> dict[str, inspect.Parameter]:
     from ..stages import function
+
     params = list(inspect.signature(function(stage)).parameters.values())
     return {p.name: p for p in params[1:] if p.name != "progress"}  # after cfg
 
@@ -26,6 +28,7 @@ def _value(p: inspect.Parameter, text: str) -> Any:
         return float(text)
     if "Mapping" in ann or "dict" in ann:
         import yaml
+
         return yaml.safe_load(text)
     return text
 
@@ -54,6 +57,7 @@ def parse(stage: str, arguments: Sequence[str]) -> dict[str, Any]:
 def call(stage: str, cfg: dict, arguments: Sequence[str]) -> Any:
     """Run `stage` with the configuration keys `cfg` and the command-line `arguments`."""
     from ..stages import function
+
     return function(stage)(cfg, **parse(stage, arguments))
 
 
@@ -61,7 +65,10 @@ def describe(stage: str) -> str:
     """The stage's arguments and the first line of its docstring."""
     from ..stages import function
     from ..stages.config import STAGES
-    args = " ".join(f"{n}=..." + ("[...]" if _is_list(p) else "") + ("" if p.default is inspect.Parameter.empty else "?")
-                    for n, p in _parameters(stage).items())
+
+    args = " ".join(
+        f"{n}=..." + ("[...]" if _is_list(p) else "") + ("" if p.default is inspect.Parameter.empty else "?")
+        for n, p in _parameters(stage).items()
+    )
     doc = (inspect.getdoc(function(stage)) or "").split("\n\n")[0].replace("\n", " ")
     return f"tensegrity stage {stage} {args}\n  (rule {STAGES[stage].rule or '-'}) {doc}"

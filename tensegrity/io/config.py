@@ -15,6 +15,7 @@ configuration file.
 Every error is a `ConfigError` naming the offending key, e.g.
 ``config key sweep.pairs[0]: 13 is greater than the maximum of 12``.
 """
+
 from __future__ import annotations
 
 import copy
@@ -36,8 +37,19 @@ from .cross_checks import semantic_errors
 if TYPE_CHECKING:
     import jsonschema
 
-__all__ = ["ConfigError", "load", "validate", "params_from_config", "merge", "schema",
-           "defaults", "read_yaml", "check_files", "SCHEMA_PATH", "DEFAULT_PATH"]
+__all__ = [
+    "ConfigError",
+    "load",
+    "validate",
+    "params_from_config",
+    "merge",
+    "schema",
+    "defaults",
+    "read_yaml",
+    "check_files",
+    "SCHEMA_PATH",
+    "DEFAULT_PATH",
+]
 
 SCHEMA_PATH = Path(__file__).with_name("config.schema.yaml")  # package data: works from any install
 _CONFIG_REL = Path("config", "config.yaml")
@@ -54,6 +66,7 @@ def _default_file() -> Path | None:
 
 # -------------------------------------------------------------------------------------- schema
 
+
 @functools.lru_cache(maxsize=1)
 def _schema() -> dict:
     return read_yaml(SCHEMA_PATH)
@@ -68,6 +81,7 @@ def _extend_with_default(cls):
     """Validator class that fills `default`s while validating (jsonschema FAQ pattern). Defaults
     are deep-copied so that filling a nested section never alters the schema itself."""
     import jsonschema
+
     validate_properties = cls.VALIDATORS["properties"]
 
     def set_defaults(validator, properties, instance, schema):
@@ -84,6 +98,7 @@ def filling_validator(schema: dict) -> Any:
     """A jsonschema validator of `schema` (checked first) that fills its defaults while it
     validates."""
     import jsonschema  # here: a job that validates no configuration does not pay its import
+
     cls = jsonschema.validators.validator_for(schema)
     cls.check_schema(schema)
     return _extend_with_default(cls)(schema)
@@ -95,6 +110,7 @@ def _validator():
 
 
 # ------------------------------------------------------------------------------------- helpers
+
 
 def _keypath(path: Iterable) -> str:
     out = ""
@@ -185,6 +201,7 @@ def _sort_key(err: jsonschema.ValidationError):
 
 # ------------------------------------------------------------------------------------- public
 
+
 def validate(cfg: Mapping | None) -> dict:
     """Validated copy of `cfg` with every default filled in; the input is not modified.
 
@@ -204,8 +221,9 @@ def validate(cfg: Mapping | None) -> dict:
     return inst
 
 
-def check_against(validator: Any, schema: dict, data: Mapping,
-                  message: Callable[[Any], list[str] | None] | None = None) -> tuple[dict, list[str]]:
+def check_against(
+    validator: Any, schema: dict, data: Mapping, message: Callable[[Any], list[str] | None] | None = None
+) -> tuple[dict, list[str]]:
     """`data` coerced to `schema` (numbers given as strings, null), its defaults filled in by
     `validator` (`filling_validator`), and every problem: schema errors (worded by `message`
     where it returns a list) and non-finite numbers, one message per problem naming its key."""
@@ -254,8 +272,9 @@ def _parse_overrides(overrides: Mapping | Iterable[str]) -> dict:
     return out
 
 
-def load(path_or_dict: str | os.PathLike | Mapping | None = None,
-         overrides: Mapping | Iterable[str] | None = None) -> dict:
+def load(
+    path_or_dict: str | os.PathLike | Mapping | None = None, overrides: Mapping | Iterable[str] | None = None
+) -> dict:
     """Read, merge, fill and validate a configuration.
 
     path_or_dict: a YAML file, an already-read mapping, or None for the repository's
@@ -273,8 +292,7 @@ def load(path_or_dict: str | os.PathLike | Mapping | None = None,
         if cfg is None:  # an empty file is an empty configuration
             cfg = {}
         if not isinstance(cfg, Mapping):
-            raise ConfigError(f"config file {path_or_dict}: expected a mapping of sections, "
-                              f"got {type(cfg).__name__}")
+            raise ConfigError(f"config file {path_or_dict}: expected a mapping of sections, got {type(cfg).__name__}")
     if overrides:
         cfg = merge(cfg, _parse_overrides(overrides))
     return validate(cfg)

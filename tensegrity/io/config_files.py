@@ -4,6 +4,7 @@ PyYAML (and so Snakemake) keeps the last of two equal keys in a mapping; `read_y
 them, naming file, line and key, and `check_files` does it for every file a run loaded.
 `ConfigError` is the error of every configuration check (`io.config`), one message per problem.
 """
+
 from __future__ import annotations
 
 import os
@@ -32,8 +33,9 @@ def _construct_mapping(loader: _StrictLoader, node: yaml.MappingNode, deep: bool
             continue
         key = loader.construct_object(key_node, deep=True)
         if key in seen:
-            raise ConfigError(f"config file {key_node.start_mark.name} line "
-                              f"{key_node.start_mark.line + 1}: duplicate key {key!r}")
+            raise ConfigError(
+                f"config file {key_node.start_mark.name} line {key_node.start_mark.line + 1}: duplicate key {key!r}"
+            )
         seen.add(key)
     return loader.construct_mapping(node, deep=deep)
 

@@ -4,6 +4,7 @@ that can be built, runs whose plans the sweeps cover). `io.config.validate` runs
 configuration before any work; the stages call `section_errors` on the sections they are given.
 Each returns one message per problem, naming the key.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -18,8 +19,10 @@ def semantic_errors(cfg: dict) -> list[str]:
     levels = cfg["sweep"]["levels"]
     for i in range(1, len(levels)):
         if levels[i] <= levels[i - 1]:
-            out.append(f"config key sweep.levels[{i}]: {levels[i]} is not greater than the "
-                       f"previous level {levels[i - 1]} (levels must be strictly increasing, MPa)")
+            out.append(
+                f"config key sweep.levels[{i}]: {levels[i]} is not greater than the "
+                f"previous level {levels[i - 1]} (levels must be strictly increasing, MPa)"
+            )
             break
     discard, hold = cfg["nominal"]["discard"], cfg["sweep"]["hold"]
     if discard >= hold:
@@ -27,25 +30,33 @@ def semantic_errors(cfg: dict) -> list[str]:
     p = cfg["params"]
     rest = rest_length(p["strut_length"], p["cable_pretension"], p["cable_stiffness"])
     if rest <= 0:
-        out.append(f"config key params.cable_pretension: {p['cable_pretension']} N gives a cable "
-                   f"rest length L = l0 - T0/K = {rest:.4g} m, which must be positive")
+        out.append(
+            f"config key params.cable_pretension: {p['cable_pretension']} N gives a cable "
+            f"rest length L = l0 - T0/K = {rest:.4g} m, which must be positive"
+        )
     elif p["muscle_min_length"] >= rest:
-        out.append(f"config key params.muscle_min_length: {p['muscle_min_length']} m is not below "
-                   f"the cable rest length L = l0 - T0/K = {rest:.4g} m")
+        out.append(
+            f"config key params.muscle_min_length: {p['muscle_min_length']} m is not below "
+            f"the cable rest length L = l0 - T0/K = {rest:.4g} m"
+        )
     dt, interval = cfg["sim"]["dt"], cfg["locomotion"]["interval"]
     if not whole_steps(interval, dt):
         steps = interval / dt
-        out.append(f"config key locomotion.interval: {interval:g} s is not a whole number of time steps "
-                   f"sim.dt = {dt:g} s ({steps:.4g} steps; e.g. {max(1, round(steps)) * dt:g} s)")
+        out.append(
+            f"config key locomotion.interval: {interval:g} s is not a whole number of time steps "
+            f"sim.dt = {dt:g} s ({steps:.4g} steps; e.g. {max(1, round(steps)) * dt:g} s)"
+        )
     runs, contacts = cfg["locomotion"]["runs"], cfg["sweep"]["contacts"]
     missing = [c for c in ("equilateral", "isosceles") if c not in contacts]
     if runs and missing:
         # every demonstration run rolls onto faces of both kinds: its plans need both workspaces
-        out.append(f"config key locomotion.runs: the demonstration runs {', '.join(runs)} roll over faces "
-                   f"of both kinds, but sweep.contacts = [{', '.join(contacts)}] leaves out "
-                   f"{' and '.join(missing)}, so the workspace has no curves to plan them with; add "
-                   f"{' and '.join(missing)} to sweep.contacts, or leave out the runs with "
-                   f"locomotion='{{runs: []}}'")
+        out.append(
+            f"config key locomotion.runs: the demonstration runs {', '.join(runs)} roll over faces "
+            f"of both kinds, but sweep.contacts = [{', '.join(contacts)}] leaves out "
+            f"{' and '.join(missing)}, so the workspace has no curves to plan them with; add "
+            f"{' and '.join(missing)} to sweep.contacts, or leave out the runs with "
+            f"locomotion='{{runs: []}}'"
+        )
     out += section_errors(cfg, "two_pair") + section_errors(cfg, "gravity")
     if not out:
         try:
@@ -66,24 +77,32 @@ def section_errors(cfg: Mapping, section: str) -> list[str]:
         lv = s["levels"]
         bad = [i for i in range(1, len(lv)) if lv[i] <= lv[i - 1]]
         if bad:
-            out.append(f"config key two_pair.levels[{bad[0]}]: {lv[bad[0]]} is not greater than "
-                       f"{lv[bad[0] - 1]} (MPa, strictly increasing)")
+            out.append(
+                f"config key two_pair.levels[{bad[0]}]: {lv[bad[0]]} is not greater than "
+                f"{lv[bad[0] - 1]} (MPa, strictly increasing)"
+            )
         if s["discard"] >= s["hold"]:
             out.append(f"config key two_pair.discard: {s['discard']} s is not less than two_pair.hold = {s['hold']} s")
         if not whole_steps(s["hold"], s["record_every"] * dt):
-            out.append(f"config key two_pair.hold: {s['hold']} s is not a whole number of recording intervals "
-                       f"(two_pair.record_every x sim.dt = {s['record_every'] * dt:g} s)")
+            out.append(
+                f"config key two_pair.hold: {s['hold']} s is not a whole number of recording intervals "
+                f"(two_pair.record_every x sim.dt = {s['record_every'] * dt:g} s)"
+            )
     elif section == "gravity":
         g, loc = cfg["gravity"], cfg["locomotion"]
         if list(g["slopes"]) != sorted(g["slopes"]):
             out.append(f"config key gravity.slopes: {list(g['slopes'])} must be increasing (deg)")
         bad = [a for a in g["validate_slopes"] if a not in g["slopes"]]
         if bad:
-            out.append(f"config key gravity.validate_slopes: {bad} deg are not among gravity.slopes {list(g['slopes'])}")
+            out.append(
+                f"config key gravity.validate_slopes: {bad} deg are not among gravity.slopes {list(g['slopes'])}"
+            )
         step = loc["ramp_rate"] * loc["interval"]
         if not whole_steps(g["grid_step"], step):
-            out.append(f"config key gravity.grid_step: {g['grid_step']} MPa is not a whole number of ramp "
-                       f"increments ({step:g} MPa = locomotion.ramp_rate x locomotion.interval)")
+            out.append(
+                f"config key gravity.grid_step: {g['grid_step']} MPa is not a whole number of ramp "
+                f"increments ({step:g} MPa = locomotion.ramp_rate x locomotion.interval)"
+            )
     else:
         raise ValueError(f"no cross-key checks for section {section!r}")
     return out

@@ -11,11 +11,12 @@ Every numeric array variable is stored with the HDF5 Fletcher-32 checksum filter
 data bytes were corrupted fails to read (`read` raises `CorruptDatasetError`, naming the file)
 instead of returning wrong numbers. Coordinate variables carry no `_FillValue` (CF 2.5.1).
 """
+
 from __future__ import annotations
 
 import json
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -26,9 +27,17 @@ from numpy.typing import ArrayLike
 from .. import atomic
 from ..version import __version__
 
-
-__all__ = ["write", "read", "provenance_config", "robot_value", "strut_length", "strut_radius", "geometry_vars",
-           "CONVENTIONS", "CorruptDatasetError"]
+__all__ = [
+    "write",
+    "read",
+    "provenance_config",
+    "robot_value",
+    "strut_length",
+    "strut_radius",
+    "geometry_vars",
+    "CONVENTIONS",
+    "CorruptDatasetError",
+]
 
 CONVENTIONS = "CF-1.10"
 _STRING_KINDS = "USO"  # unicode, bytes, object (strings as read back by xarray)
@@ -53,12 +62,21 @@ def _check(ds: xr.Dataset, allow_nan: Iterable[str]) -> None:
                 raise ValueError(f"variable {name!r} has no {attr!r} attribute")
         if var.dtype.kind in "fc" and name not in allow and not np.all(np.isfinite(var.values)):
             n = int(np.size(var.values) - np.count_nonzero(np.isfinite(var.values)))
-            raise ValueError(f"variable {name!r} holds {n} non-finite value(s) (NaN or inf); "
-                             f"pass allow_nan=[{name!r}] if they are meaningful")
+            raise ValueError(
+                f"variable {name!r} holds {n} non-finite value(s) (NaN or inf); "
+                f"pass allow_nan=[{name!r}] if they are meaningful"
+            )
 
 
-def write(ds: xr.Dataset, path: str | os.PathLike, cfg: dict, title: str, *,
-          stage: str | None = None, allow_nan: Iterable[str] = ()) -> Path:
+def write(
+    ds: xr.Dataset,
+    path: str | os.PathLike,
+    cfg: dict,
+    title: str,
+    *,
+    stage: str | None = None,
+    allow_nan: Iterable[str] = (),
+) -> Path:
     """Check `ds` and write it to `path` (netCDF4) atomically; returns the path.
 
     cfg: the resolved configuration, stored as the JSON attribute `config`.
@@ -73,9 +91,14 @@ def write(ds: xr.Dataset, path: str | os.PathLike, cfg: dict, title: str, *,
     line = f"created by tensegrity {__version__}" + (f" {stage}" if stage else "")
     old = str(ds.attrs.get("history", "")).strip()
     out = ds.copy(deep=False)
-    out.attrs = {**ds.attrs, "title": title, "source": f"tensegrity {__version__}",
-                 "history": f"{old}\n{line}" if old else line, "Conventions": CONVENTIONS,
-                 "config": to_json(cfg)}
+    out.attrs = {
+        **ds.attrs,
+        "title": title,
+        "source": f"tensegrity {__version__}",
+        "history": f"{old}\n{line}" if old else line,
+        "Conventions": CONVENTIONS,
+        "config": to_json(cfg),
+    }
     with atomic.replacing(path) as tmp:
         out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(out))
     return path
@@ -116,7 +139,8 @@ def read(path: str | os.PathLike) -> xr.Dataset:
     except (RuntimeError, OSError, ValueError, KeyError, IndexError) as e:
         raise CorruptDatasetError(
             f"cannot read dataset {os.fspath(path)!r}: {type(e).__name__}: {e} (the file is corrupted "
-            "- an HDF5 checksum or structure error -, truncated or not netCDF; re-create it)") from e
+            "- an HDF5 checksum or structure error -, truncated or not netCDF; re-create it)"
+        ) from e
     out.encoding["source"] = os.fspath(path)
     return out
 
@@ -132,6 +156,7 @@ def robot_value(ds: xr.Dataset | str | os.PathLike, name: str) -> float:
             if name in f.variables and f[name].ndim == 0:
                 return float(f[name].values)
     from .config import defaults
+
     try:
         section = provenance_config(ds).get("params") or {}
     except ValueError:  # no `config` attribute
@@ -190,4 +215,5 @@ def to_json(cfg: Mapping) -> str:
     """The configuration as JSON with sorted keys, for provenance attributes; deterministic.
     Raises ValueError on NaN or infinity (validate first)."""
     from .config import plain
+
     return json.dumps(plain(cfg), sort_keys=True, allow_nan=False, default=_json_default)

@@ -6,6 +6,7 @@ tests/io/test_settings.py holds every class's defaults to the schema's through i
 `cfg` is a resolved configuration, or the keys of it a stage reads (`stages.config.stage_config`):
 a field whose key is missing is a KeyError naming the key, never a silent default.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -34,8 +35,12 @@ def _section(section: str, cls: type, **other: str) -> dict[str, str]:
 KEYS: dict[type, dict[str, str]] = {
     SweepSetup: _section("sweep", SweepSetup, dt="sim.dt", record_every="sim.record_every"),
     TwoPairSetup: _section("two_pair", TwoPairSetup, dt="sim.dt"),
-    GravitySetup: _section("gravity", GravitySetup, dt="sim.dt", **{
-        k: f"locomotion.{k}" for k in ("ramp_rate", "interval", "lift_tolerance", "hold_time", "strut_damping")}),
+    GravitySetup: _section(
+        "gravity",
+        GravitySetup,
+        dt="sim.dt",
+        **{k: f"locomotion.{k}" for k in ("ramp_rate", "interval", "lift_tolerance", "hold_time", "strut_damping")},
+    ),
     RollSettings: _section("locomotion", RollSettings, dt="sim.dt"),
     Scenarios: _section("locomotion", Scenarios),
     CheckSettings: _section("validate", CheckSettings),

@@ -4,6 +4,7 @@ tensegrity/io/study.schema.yaml: `load`, `validate`, `path_of`.
 `validate` checks the schema, then what it cannot say; every error is a `ConfigError` naming the
 key (``study key parameters.cable_stiffness.low: ...``), raised before any job runs.
 """
+
 from __future__ import annotations
 
 import difflib
@@ -46,28 +47,33 @@ def _semantic(st: dict, base: Params, dt: float | None) -> list[str]:
     if any(b <= a for a, b in zip(lv, lv[1:])):
         out.append(f"study key workspace.levels: {lv} MPa are not strictly increasing")
     if dt is not None and not whole_steps(ws["hold"], dt * ws["sample_every"]):
-        out.append(f"study key workspace.hold: {ws['hold']} s is not a whole number of sampling intervals "
-                   f"(workspace.sample_every = {ws['sample_every']} steps of sim.dt = {dt} s)")
+        out.append(
+            f"study key workspace.hold: {ws['hold']} s is not a whole number of sampling intervals "
+            f"(workspace.sample_every = {ws['sample_every']} steps of sim.dt = {dt} s)"
+        )
     if ws["discard"] >= ws["hold"]:
         out.append(f"study key workspace.discard: {ws['discard']} s is not less than workspace.hold = {ws['hold']} s")
     if ws["enabled"] and not lv[0] <= ws["reference_pressure"] <= lv[-1]:
-        out.append(f"study key workspace.reference_pressure: {ws['reference_pressure']} MPa is outside "
-                   f"the levels {lv[0]}..{lv[-1]} MPa")
+        out.append(
+            f"study key workspace.reference_pressure: {ws['reference_pressure']} MPa is outside "
+            f"the levels {lv[0]}..{lv[-1]} MPa"
+        )
     if not ws["enabled"] and not st["roll"]["enabled"]:
         out.append("study key workspace.enabled: the study computes nothing (workspace and roll both disabled)")
     if st["roll"]["enabled"]:
         bad = [p for p in NOT_IN_ROLLS if p in st["parameters"]]
         if bad:
-            out.append(f"study key parameters.{bad[0]}: cannot vary in a study with roll.enabled "
-                       "(the batched roll needs one strut length and radius)")
+            out.append(
+                f"study key parameters.{bad[0]}: cannot vary in a study with roll.enabled "
+                "(the batched roll needs one strut length and radius)"
+            )
     for o in st["analysis"]["outputs"]:
         part = "roll" if o.startswith("roll_") else "workspace"
         if not st[part]["enabled"]:
             out.append(f"study key analysis.outputs: {o!r} needs {part}.enabled: true")
     for p in st["analysis"]["response"]:
         if p not in st["parameters"]:
-            out.append(f"study key analysis.response: {p!r} is not a varied parameter "
-                       f"({', '.join(st['parameters'])})")
+            out.append(f"study key analysis.response: {p!r} is not a varied parameter ({', '.join(st['parameters'])})")
     if out:
         return out
     names = list(st["parameters"])  # every corner of the box must be a valid robot
@@ -94,6 +100,7 @@ def validate(study: Mapping | None, base: Params | None = None, dt: float | None
             hint = f"did you mean {close[0]!r}?" if close else f"known: {', '.join(UNITS)}"
             return [f"config key parameters.{err.instance}: not a parameter a study can vary ({hint})"]
         return None
+
     inst, errors = cfgmod.check_against(val, sch, study, unknown_parameter)
     if errors:
         raise ConfigError(_study_key(errors))
@@ -114,8 +121,9 @@ def path_of(name: str, root: str | os.PathLike = ".") -> Path:
     return p
 
 
-def load(name_or_path: str | os.PathLike, base: Params | None = None, root: str | os.PathLike = ".",
-         dt: float | None = None) -> dict:
+def load(
+    name_or_path: str | os.PathLike, base: Params | None = None, root: str | os.PathLike = ".", dt: float | None = None
+) -> dict:
     """The validated study from a name (config/studies/<name>.yaml) or a YAML path; the key
     `name` is set to the file's stem."""
     p = Path(name_or_path)

@@ -15,15 +15,34 @@ Files are read and written elsewhere: `io.formats` (workspace, run datasets) and
 `stages.locomotion_run`. Numbers people see (faces, pairs, nodes) start at 1; pressures in MPa,
 lengths in m, times in s.
 """
+
+from ..workspace.lookup import Prediction, Workspace, predict
 from .control import RollResult, roll, settle
 from .demos import DEMOS
 from .lockstep import Record
-from ..workspace.lookup import Prediction, Workspace, predict
-from .plan import Candidate, Plan, plan
 from .outcome import OUTCOMES, Run, Step, describe
+from .plan import Candidate, Plan, plan
 from .runs import roll_many, roll_over, roll_to
 from .settings import RollSettings
 
-__all__ = ["Workspace", "Prediction", "predict", "Candidate", "Plan", "plan", "RollSettings",
-           "RollResult", "Record", "roll", "settle", "Step", "Run", "roll_to", "roll_many",
-           "roll_over", "describe", "OUTCOMES", "DEMOS"]
+__all__ = [
+    "Workspace",
+    "Prediction",
+    "predict",
+    "Candidate",
+    "Plan",
+    "plan",
+    "RollSettings",
+    "RollResult",
+    "Record",
+    "roll",
+    "settle",
+    "Step",
+    "Run",
+    "roll_to",
+    "roll_many",
+    "roll_over",
+    "describe",
+    "OUTCOMES",
+    "DEMOS",
+]

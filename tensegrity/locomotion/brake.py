@@ -11,13 +11,15 @@ inside the support triangle, chosen as the robot lands (from its pose rotated on
 `escape` orders the actions not yet tried on a face where the planned candidates all failed
 ("stuck"): those predicted to roll toward the target first, then the others.
 """
+
 from __future__ import annotations
 
 import itertools
 
 import numpy as np
 
-from ..physics import contact as ct, topology as topo
+from ..physics import contact as ct
+from ..physics import topology as topo
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace, predict
 from .plan import candidates, direction_of
@@ -68,8 +70,14 @@ class Brake:
     on rough ground the workspace's planar prediction misleads the brake, which then throws the
     robot more often than it holds it (benchmarks/bench_locomotion.py, config/README.md)."""
 
-    def __init__(self, workspace: Workspace, margin: float, confirm: int = 3,
-                 terrain: Terrain | None = None, min_tilt: float = 0.0):
+    def __init__(
+        self,
+        workspace: Workspace,
+        margin: float,
+        confirm: int = 3,
+        terrain: Terrain | None = None,
+        min_tilt: float = 0.0,
+    ):
         self.workspace, self.margin, self.confirm = workspace, float(margin), int(confirm)
         self.terrain, self.min_tilt = terrain, float(min_tilt)
         self._face, self._p, self._seen = None, np.zeros(topo.N_PAIRS), (None, 0)
@@ -107,9 +115,15 @@ class Brake:
         return self._p.copy()
 
 
-def escape(workspace: Workspace, face: int, nodes: np.ndarray, tried: set[tuple[int, ...]], *,
-           direction: np.ndarray | None = None, goal: np.ndarray | None = None
-           ) -> list[tuple[int, ...]]:
+def escape(
+    workspace: Workspace,
+    face: int,
+    nodes: np.ndarray,
+    tried: set[tuple[int, ...]],
+    *,
+    direction: np.ndarray | None = None,
+    goal: np.ndarray | None = None,
+) -> list[tuple[int, ...]]:
     """Actions (single pairs and two-pair combinations) not in `tried`, the way off 1-based
     `face` when the planned candidates all failed: those predicted to roll the robot first, over
     the edge best aligned with `direction` (world vector) or the direction to `goal` (world
@@ -120,6 +134,13 @@ def escape(workspace: Workspace, face: int, nodes: np.ndarray, tried: set[tuple[
         return []
     u = direction_of(nodes, direction, goal)
     cands = candidates(workspace, face, nodes, acts, u)
-    cands.sort(key=lambda c: (not c.predicted, -round(c.alignment, 9) if c.predicted else 0.0,
-                              round(c.reach, 9), len(c.pairs), c.pairs))
+    cands.sort(
+        key=lambda c: (
+            not c.predicted,
+            -round(c.alignment, 9) if c.predicted else 0.0,
+            round(c.reach, 9),
+            len(c.pairs),
+            c.pairs,
+        )
+    )
     return [c.pairs for c in cands]

@@ -8,6 +8,7 @@ observation of the robot after it; `yield from` composes them, and their return 
 result; `lockstep.lockstep` drives any number of them as one simulated batch. Each robot's
 samples are recorded (`lockstep.Record`).
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -18,8 +19,8 @@ import numpy as np
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import topology as topo
-from ..physics.schedule import MAX_PRESSURE, hold_step
 from ..physics.params import Params
+from ..physics.schedule import MAX_PRESSURE, hold_step
 from ..physics.terrain import Terrain
 from .brake import Brake
 from .lockstep import Controller, Obs, Record, lockstep
@@ -35,6 +36,7 @@ class RollResult:
     support node lifted, if the robot then rolled (MPa, NaN if not); peak_pressure MPa;
     t_start, t_end s; cog_before, cog_after (3,) m world. From `roll` also the final `state`
     and the `record`."""
+
     pairs: tuple[int, ...]
     rolled: bool
     face_before: int
@@ -79,9 +81,15 @@ def settle_controller(s: RollSettings, obs: Obs, brake: Brake | None = None) -> 
     return obs.face, obs
 
 
-def roll_controller(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int, ...],
-                    max_pressure: float, brake: Brake | None = None, expect: float = float("nan")
-                    ) -> Controller:
+def roll_controller(
+    params: Params,
+    s: RollSettings,
+    obs: Obs,
+    pairs: tuple[int, ...],
+    max_pressure: float,
+    brake: Brake | None = None,
+    expect: float = float("nan"),
+) -> Controller:
     """See `roll`. With a `brake` (`brake.Brake`), the braking pressures of the start face stay on
     while the pressure rises (fading out over hold_time once it is at the top without a roll;
     given the `expect`ed rolling pressure, MPa, the plan's, as the pressure rises to it: kept
@@ -142,8 +150,9 @@ def roll_controller(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int,
         lifted = obs.gap[support] - base > s.lift_tolerance
         # unbraked, a lift that persists after a hold ran out is not held again; braked, each
         # step is held while a node is up (slopes need it)
-        holding, t_hold, rearmed, _ = hold_step(phase == "hold", t_hold, rearmed, lifted.any(),
-                                                s.interval, s.hold_time, rearm=brake is not None)
+        holding, t_hold, rearmed, _ = hold_step(
+            phase == "hold", t_hold, rearmed, lifted.any(), s.interval, s.hold_time, rearm=brake is not None
+        )
         over = False
         if lifted.sum() == 1:
             pivot = tuple(int(n) + 1 for n in support[~lifted])
@@ -170,13 +179,23 @@ def roll_controller(params: Params, s: RollSettings, obs: Obs, pairs: tuple[int,
             phase, t_phase = "release", 0.0  # a safety net: no attempt runs on forever
     after, obs = yield from settle_controller(s, obs, brake)
     rolled = after is not None and after != face0
-    return RollResult(tuple(int(q) for q in pairs), rolled, face0, after,
-                      tip if rolled else float("nan"), peak, t0, obs.t, cog0,
-                      obs.nodes.mean(axis=0)), obs
+    return RollResult(
+        tuple(int(q) for q in pairs),
+        rolled,
+        face0,
+        after,
+        tip if rolled else float("nan"),
+        peak,
+        t0,
+        obs.t,
+        cog0,
+        obs.nodes.mean(axis=0),
+    ), obs
 
 
-def settle(params: Params, state: d.State, terrain: Terrain,
-           settings: RollSettings | None = None) -> tuple[d.State, int | None]:
+def settle(
+    params: Params, state: d.State, terrain: Terrain, settings: RollSettings | None = None
+) -> tuple[d.State, int | None]:
     """Let one robot settle at zero pressure (see RollSettings). Returns the state and its
     1-based contact face (None if it rests on no face)."""
     s = settings or RollSettings()
@@ -186,8 +205,14 @@ def settle(params: Params, state: d.State, terrain: Terrain,
     return st, face
 
 
-def roll(params: Params, state: d.State, terrain: Terrain, pairs: int | Sequence[int], max_pressure: float,
-         settings: RollSettings | None = None) -> RollResult:
+def roll(
+    params: Params,
+    state: d.State,
+    terrain: Terrain,
+    pairs: int | Sequence[int],
+    max_pressure: float,
+    settings: RollSettings | None = None,
+) -> RollResult:
     """One roll in the dynamic simulator (paper III.C step 4) of one robot resting on a face:
     drive 1-based `pairs` together from 0 toward `max_pressure` MPa at ramp_rate. When a support
     node lifts the pressure is held (at most hold_time s, then the ramp resumes: escalation,
@@ -205,6 +230,7 @@ def roll(params: Params, state: d.State, terrain: Terrain, pairs: int | Sequence
         raise ValueError(f"max_pressure {np.asarray(max_pressure).tolist()!r} MPa must be in (0, {MAX_PRESSURE}]")
     if state.batch != 1:
         raise ValueError(f"roll drives one robot; the state holds {state.batch}")
-    (res, _), st, rec = lockstep(params, terrain, state, lambda b, o: roll_controller(
-        params, s, o, pairs, max_pressure), s)[0]
+    (res, _), st, rec = lockstep(
+        params, terrain, state, lambda b, o: roll_controller(params, s, o, pairs, max_pressure), s
+    )[0]
     return replace(res, state=st, record=rec)

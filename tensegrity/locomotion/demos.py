@@ -2,6 +2,7 @@
 (`Scenarios`, `demo_setup`: terrain, and a goal or the edges to roll over). The stage that runs
 them and writes their datasets is `stages.locomotion.locomotion_runs`.
 """
+
 from __future__ import annotations
 
 import math
@@ -23,6 +24,7 @@ class Scenarios:
     pinned by tests/io/test_settings.py): goal_distance m at goal_heading deg from +x (flat and
     terrain runs); slope_angle deg, the slope rising toward +x (slope runs); the random terrain
     of terrain_seed, height standard deviation terrain_amplitude m, cells terrain_spacing m."""
+
     goal_distance: float = 2.0
     goal_heading: float = 30.0
     slope_angle: float = 10.0
@@ -49,6 +51,12 @@ def demo_setup(name: str, scenarios: Scenarios = Scenarios()) -> dict:
     if name in ("slope_up", "slope_down"):  # the slope rises toward +x
         sign = 1.0 if name == "slope_up" else -1.0
         return {"terrain": Terrain.slope(float(c.slope_angle)), "goal": np.array([sign * dist, 0.0])}
-    return {"terrain": Terrain.random(int(c.terrain_seed), size=2 * dist + 4.0,
-                                      spacing=float(c.terrain_spacing),
-                                      amplitude=float(c.terrain_amplitude)), "goal": toward}
+    return {
+        "terrain": Terrain.random(
+            int(c.terrain_seed),
+            size=2 * dist + 4.0,
+            spacing=float(c.terrain_spacing),
+            amplitude=float(c.terrain_amplitude),
+        ),
+        "goal": toward,
+    }

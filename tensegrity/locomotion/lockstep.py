@@ -7,6 +7,7 @@ pressures (12,) MPa for the next interval and receive the observation after it; 
 value is their result. A robot that finishes leaves the batch; the others go on. Samples of every
 robot are kept in a `Record`.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable, Generator
@@ -18,8 +19,8 @@ import numpy as np
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import topology as topo
-from ..physics.schedule import Schedule
 from ..physics.params import Params
+from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
 from .settings import RollSettings
 
@@ -32,6 +33,7 @@ Controller = Generator[np.ndarray, "Obs", Any]
 class Record:
     """Samples, one per check interval: t (T,) s, nodes (T, 12, 3) m world, pressure (T, 12)
     MPa per pair, face (T,) contact face (0: none)."""
+
     t: np.ndarray
     nodes: np.ndarray
     pressure: np.ndarray
@@ -46,18 +48,25 @@ class Record:
 @dataclass(frozen=True)
 class Obs:
     """What a controller sees after each check interval."""
+
     t: float
     nodes: np.ndarray  # (12, 3) m
-    gap: np.ndarray    # (12,) m clearance of each node's contact sphere
-    face: int | None   # contact face
-    speed: float       # CoG speed over the last interval, m/s (NaN: unknown)
+    gap: np.ndarray  # (12,) m clearance of each node's contact sphere
+    face: int | None  # contact face
+    speed: float  # CoG speed over the last interval, m/s (NaN: unknown)
     pressure: np.ndarray = field(default_factory=lambda: np.zeros(topo.N_PAIRS))  # (12,) MPa
     # applied over the last interval: the next controller goes on from them (brake_rate)
     state: d.State | None = field(default=None, repr=False)  # the robot's whole state (batch 1)
 
 
-def observe(params: Params, terrain: Terrain, state: d.State, s: RollSettings,
-            before: list[Obs] | None = None, pressure: np.ndarray | None = None) -> list[Obs]:
+def observe(
+    params: Params,
+    terrain: Terrain,
+    state: d.State,
+    s: RollSettings,
+    before: list[Obs] | None = None,
+    pressure: np.ndarray | None = None,
+) -> list[Obs]:
     """Observations of every robot of the batch (one terrain query for all of them), with the
     pair pressures (B, 12) MPa applied over the last interval (default zero)."""
     P = d.nodes(state.x, state.q, params.strut_length)
@@ -68,11 +77,18 @@ def observe(params: Params, terrain: Terrain, state: d.State, s: RollSettings,
     for b in range(B):
         speed = float("nan")
         if before is not None and state.t > before[b].t:
-            speed = float(np.linalg.norm(P[b].mean(axis=0) - before[b].nodes.mean(axis=0))
-                          / (state.t - before[b].t))
-        out.append(Obs(state.t, P[b], gaps[b], int(faces[b]) or None, speed,
-                       np.zeros(topo.N_PAIRS) if pressure is None else pressure[b].copy(),
-                       state.take(slice(b, b + 1))))  # views: no state is written in place
+            speed = float(np.linalg.norm(P[b].mean(axis=0) - before[b].nodes.mean(axis=0)) / (state.t - before[b].t))
+        out.append(
+            Obs(
+                state.t,
+                P[b],
+                gaps[b],
+                int(faces[b]) or None,
+                speed,
+                np.zeros(topo.N_PAIRS) if pressure is None else pressure[b].copy(),
+                state.take(slice(b, b + 1)),
+            )
+        )  # views: no state is written in place
     return out
 
 
@@ -85,18 +101,25 @@ class _threads:
 
     def __enter__(self):
         import numba
+
         self.saved = numba.get_num_threads()
         if self.batch == 1:
             numba.set_num_threads(1)
 
     def __exit__(self, *exc):
         import numba
+
         numba.set_num_threads(self.saved)
 
 
-def lockstep(params: Params, terrain: Terrain, state: d.State,
-             make: Callable[[int, Obs], Controller], s: RollSettings,
-             progress: Callable[[float], None] | None = None) -> list[tuple[Any, d.State, Record]]:
+def lockstep(
+    params: Params,
+    terrain: Terrain,
+    state: d.State,
+    make: Callable[[int, Obs], Controller],
+    s: RollSettings,
+    progress: Callable[[float], None] | None = None,
+) -> list[tuple[Any, d.State, Record]]:
     """Drive one controller per robot of `state` (B robots) through the simulator together, one
     check interval (s.interval s, time step s.dt s) at a time, the struts damped as every roll
     is (`RollSettings.rolling`); make(b, obs) returns robot b's controller. A robot whose
@@ -125,14 +148,16 @@ def lockstep(params: Params, terrain: Terrain, state: d.State,
         while live:
             failed = {}
             try:
-                batch, _ = d.simulate(params, batch, Schedule.constant(pres[live], s.interval),
-                                      terrain, s.dt, every)
+                batch, _ = d.simulate(params, batch, Schedule.constant(pres[live], s.interval), terrain, s.dt, every)
             except d.SimulationError:  # find the robot(s) that failed and advance the rest
                 parts = []
                 for i, b in enumerate(live):
                     try:
-                        parts.append(d.simulate(params, batch.take([i]), Schedule.constant(
-                            pres[b], s.interval), terrain, s.dt, every)[0])
+                        parts.append(
+                            d.simulate(
+                                params, batch.take([i]), Schedule.constant(pres[b], s.interval), terrain, s.dt, every
+                            )[0]
+                        )
                     except d.SimulationError as e:
                         failed[b] = e
                         parts.append(batch.take([i]))
@@ -159,7 +184,11 @@ def lockstep(params: Params, terrain: Terrain, state: d.State,
     result = []
     for b in range(B):
         t, nodes, p, f = recs[b]
-        rec = Record(np.array(t, float), np.array(nodes, float).reshape(-1, 12, 3),
-                     np.array(p, float).reshape(-1, 12), np.array(f, np.int64))
+        rec = Record(
+            np.array(t, float),
+            np.array(nodes, float).reshape(-1, 12, 3),
+            np.array(p, float).reshape(-1, 12),
+            np.array(f, np.int64),
+        )
         result.append((out[b][0], out[b][1], rec))
     return result

@@ -1,6 +1,7 @@
 """What a run produced (design.md section 6): its outcome (one of OUTCOMES) and message, its
 `Step`s (plan, attempts, face after), the samples, and `describe`, the run in words. The runs
 themselves are made by `runs` (roll_to, roll_many, roll_over)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -28,6 +29,7 @@ class Step:
     """One step of a run: the plan made on `face` (1-based), the attempts in order, and the
     face the robot ended on (None if on no face); `simulated`: the rolls tried in simulation
     first (`lookahead.foresee`, where lookahead applies), in the order they were simulated."""
+
     face: int
     plan: Plan
     attempts: tuple[RollResult, ...]
@@ -50,6 +52,7 @@ class Run:
     """A run. outcome: one of OUTCOMES; message: why it ended; goal (3,) m (NaN for a run over
     a list of edges); start (3,) m: the CoG at the start; steps; record: the samples; wall:
     wall-clock time, s (shared by the runs of a batch); state: the final state."""
+
     outcome: str
     message: str
     goal: np.ndarray
@@ -87,16 +90,20 @@ class Run:
 
 def describe(run: Run, name: str = "") -> str:
     """A few lines a person can read: the outcome and every step."""
-    lines = [f"run {name}: {run.outcome} ({run.message}); {run.rolls} rolls, "
-             f"{run.travelled:.2f} m from the start" + ("" if np.isnan(run.goal[0]) else
-                                                   f", {run.distance_to_goal:.2f} m from the goal")]
+    lines = [
+        f"run {name}: {run.outcome} ({run.message}); {run.rolls} rolls, "
+        f"{run.travelled:.2f} m from the start"
+        + ("" if np.isnan(run.goal[0]) else f", {run.distance_to_goal:.2f} m from the goal")
+    ]
     for k, st in enumerate(run.steps, 1):
         r = st.used
-        lines.append(f"  step {k}: {topo.face_label(st.face)} -> "
-                     f"{topo.face_label(st.face_after) if st.face_after else 'no face'}: planned "
-                     f"{st.plan.pairs} at {st.plan.pressure:.2f} MPa over {st.plan.edge}; rolled by "
-                     f"{r.pairs} at {r.tip_pressure:.2f} MPa (peak {r.peak_pressure:.2f}), "
-                     f"{len(st.attempts)} attempt(s)")
+        lines.append(
+            f"  step {k}: {topo.face_label(st.face)} -> "
+            f"{topo.face_label(st.face_after) if st.face_after else 'no face'}: planned "
+            f"{st.plan.pairs} at {st.plan.pressure:.2f} MPa over {st.plan.edge}; rolled by "
+            f"{r.pairs} at {r.tip_pressure:.2f} MPa (peak {r.peak_pressure:.2f}), "
+            f"{len(st.attempts)} attempt(s)"
+        )
     return "\n".join(lines)
 
 
@@ -104,8 +111,17 @@ PIVOT_TOUCH = 0.002  # m: a support node this close to the terrain still touches
 ROLLING_MARGIN = -0.025  # m: the CoG projection this far outside shows a robot rolling
 
 
-def sample(nodes: np.ndarray, pressure: np.ndarray, k0: int, k1: int, face: int, tip: float,
-           terrain: Terrain, radius: float, which: str) -> int:
+def sample(
+    nodes: np.ndarray,
+    pressure: np.ndarray,
+    k0: int,
+    k1: int,
+    face: int,
+    tip: float,
+    terrain: Terrain,
+    radius: float,
+    which: str,
+) -> int:
     """Index of a sample of one step of a run, samples k0..k1-1 of nodes (T, 12, 3) m and
     pressure (T,) MPa (the highest pair's), on `face` with tipping pressure `tip` MPa (NaN:
     none), contact spheres of `radius` m: 'stable' (the pressure at half the tipping pressure,

@@ -6,6 +6,7 @@ combination, from the measured two-pair curves or else by superposing the single
 of the edge its CoG projection crosses matches the target, then by the least pressure. `plan`
 returns a `Plan` with its reasons, sentences a person can check.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -17,7 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..physics import contact as ct
-from ..physics import frames, topology as topo
+from ..physics import frames
+from ..physics import topology as topo
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Face, Workspace, predict
 
@@ -32,6 +34,7 @@ class Candidate:
     the robot (`frames.first_crossing` of the margin), MPa, NaN if none within the workspace;
     reach: predicted margin at the highest level, m (negative: outside); alignment: cosine
     between the edge's outward direction (horizontal) and the target direction."""
+
     pairs: tuple[int, ...]
     edge: tuple[int, int]
     next_face: int
@@ -57,6 +60,7 @@ class Plan:
     alignment as in `Candidate`; margin: the current CoG projection's margin, m; direction (3,):
     horizontal unit target direction, world; candidates: every option in the order to try (the
     first is the choice); reasons: sentences a person can check."""
+
     face: int
     pairs: tuple[int, ...]
     pressure: float
@@ -83,8 +87,7 @@ class Plan:
         return "\n".join(self.reasons)
 
 
-def direction_of(nodes: np.ndarray, direction: ArrayLike | None,
-                 goal: ArrayLike | None) -> np.ndarray:
+def direction_of(nodes: np.ndarray, direction: ArrayLike | None, goal: ArrayLike | None) -> np.ndarray:
     """Horizontal unit target direction (3,), world, toward `goal` (m) or along `direction`."""
     if (direction is None) == (goal is None):
         raise ValueError("give exactly one of direction (a world vector) or goal (a world point)")
@@ -100,13 +103,17 @@ def direction_of(nodes: np.ndarray, direction: ArrayLike | None,
         v = v[:2]
     n = float(np.linalg.norm(v))
     if n < 1e-6:
-        raise ValueError("the target direction is zero: the goal is right above the robot's CoG"
-                         if goal is not None else "direction has no horizontal component")
+        raise ValueError(
+            "the target direction is zero: the goal is right above the robot's CoG"
+            if goal is not None
+            else "direction has no horizontal component"
+        )
     return np.array([v[0] / n, v[1] / n, 0.0])
 
 
-def candidates(workspace: Workspace, f: int, nodes: np.ndarray, actions: list[tuple[int, ...]],
-                u: np.ndarray) -> list[Candidate]:
+def candidates(
+    workspace: Workspace, f: int, nodes: np.ndarray, actions: list[tuple[int, ...]], u: np.ndarray
+) -> list[Candidate]:
     """One Candidate per action on 1-based face f, for target direction u (3,)."""
     pred = predict(workspace, f, nodes, actions)
     out_world = ct.edge_outward(nodes[topo.FACES[f - 1]])
@@ -120,15 +127,26 @@ def candidates(workspace: Workspace, f: int, nodes: np.ndarray, actions: list[tu
         else:  # never crosses: the edge it comes closest to at the highest level
             e = int(np.argmin(pred.edge_dist[a, -1]))
         edge = topo.edge_nodes(f, e)
-        res.append(Candidate(tuple(int(x) for x in act), edge, topo.neighbour(f, edge), p,
-                             float(pred.margin[a, -1]), float(align[e])))
+        res.append(
+            Candidate(
+                tuple(int(x) for x in act), edge, topo.neighbour(f, edge), p, float(pred.margin[a, -1]), float(align[e])
+            )
+        )
     return res
 
 
-def plan(workspace: Workspace, face: Face, nodes: ArrayLike, *,
-         direction: ArrayLike | None = None, goal: ArrayLike | None = None,
-         terrain: Terrain | None = None, avoid: Iterable[Face] = (), combine: bool = True,
-         min_alignment: float = 0.0) -> Plan:
+def plan(
+    workspace: Workspace,
+    face: Face,
+    nodes: ArrayLike,
+    *,
+    direction: ArrayLike | None = None,
+    goal: ArrayLike | None = None,
+    terrain: Terrain | None = None,
+    avoid: Iterable[Face] = (),
+    combine: bool = True,
+    min_alignment: float = 0.0,
+) -> Plan:
     """Choose the actuation that rolls the robot standing on `face` (1..20 or three node
     numbers) with node positions `nodes` (12, 3) m toward a target `direction` (world vector)
     or `goal` (world point, m), from the workspace (paper III.C steps 2-3).
@@ -151,12 +169,10 @@ def plan(workspace: Workspace, face: Face, nodes: ArrayLike, *,
     u = direction_of(p, direction, goal)
     avoid = {topo.face_number(a) for a in avoid}
     cands = candidates(workspace, f, p, singles, u)
-    good = [c for c in cands if c.predicted and c.next_face not in avoid
-            and c.alignment > min_alignment]
+    good = [c for c in cands if c.predicted and c.next_face not in avoid and c.alignment > min_alignment]
     combined = False
     if not good and combine and len(singles) > 1:
-        cands += candidates(workspace, f, p, list(itertools.combinations(
-            [s[0] for s in singles], 2)), u)
+        cands += candidates(workspace, f, p, list(itertools.combinations([s[0] for s in singles], 2)), u)
         combined = True
 
     def rank(c: Candidate):
@@ -169,38 +185,69 @@ def plan(workspace: Workspace, face: Face, nodes: ArrayLike, *,
     best = cands[0]
     here = ct.judge(p, f)
     reasons = _reasons(workspace, f, here.margin, u, combined, best, cands[1:], avoid)
-    return Plan(f, best.pairs, best.pressure, best.edge, best.next_face, best.reach,
-                best.alignment, here.margin, u, tuple(cands), tuple(reasons))
+    return Plan(
+        f,
+        best.pairs,
+        best.pressure,
+        best.edge,
+        best.next_face,
+        best.reach,
+        best.alignment,
+        here.margin,
+        u,
+        tuple(cands),
+        tuple(reasons),
+    )
 
 
-def _reasons(workspace: Workspace, f: int, margin: float, u: np.ndarray, combined: bool,
-             best: Candidate, rest: Sequence[Candidate], avoid: set[int]) -> list[str]:
+def _reasons(
+    workspace: Workspace,
+    f: int,
+    margin: float,
+    u: np.ndarray,
+    combined: bool,
+    best: Candidate,
+    rest: Sequence[Candidate],
+    avoid: set[int],
+) -> list[str]:
     """The sentences of a Plan: where the robot stands, the target, the choice, the options."""
-    reasons = [f"standing on face {topo.face_label(f)} ({topo.FACE_TYPES[f - 1]}); the CoG projection "
-               f"is {margin * 1e3:.1f} mm inside the support triangle",
-               f"target direction {math.degrees(math.atan2(u[1], u[0])):.1f} deg from +x"]
+    reasons = [
+        f"standing on face {topo.face_label(f)} ({topo.FACE_TYPES[f - 1]}); the CoG projection "
+        f"is {margin * 1e3:.1f} mm inside the support triangle",
+        f"target direction {math.degrees(math.atan2(u[1], u[0])):.1f} deg from +x",
+    ]
     if combined:
-        how = ("measured two-pair curves" if workspace.combos is not None else "superposed workspace curves")
-        reasons.append("no single pair is predicted to roll the robot toward the target: "
-                       f"two-pair combinations ({how}) considered")
+        how = "measured two-pair curves" if workspace.combos is not None else "superposed workspace curves"
+        reasons.append(
+            f"no single pair is predicted to roll the robot toward the target: two-pair combinations ({how}) considered"
+        )
     if best.predicted:
         reasons.append(
             f"chosen {best.label()} at {best.pressure:.2f} MPa: the CoG projection leaves the "
             f"triangle over edge {best.edge[0]}-{best.edge[1]} (alignment {best.alignment:+.2f}) "
             f"and reaches {-best.reach * 1e3:.1f} mm outside at {workspace.max_pressure:g} MPa; "
-            f"next face {topo.face_label(best.next_face)}")
+            f"next face {topo.face_label(best.next_face)}"
+        )
         if best.next_face in avoid:
-            reasons.append(f"face {topo.face_label(best.next_face)} was visited recently: rolling "
-                           "back onto it only because nothing else is predicted to roll")
+            reasons.append(
+                f"face {topo.face_label(best.next_face)} was visited recently: rolling "
+                "back onto it only because nothing else is predicted to roll"
+            )
     else:
         reasons.append(
             f"the workspace predicts no roll: the best option, {best.label()} toward edge "
             f"{best.edge[0]}-{best.edge[1]}, keeps the CoG projection {best.reach * 1e3:.1f} mm "
-            f"inside at {workspace.max_pressure:g} MPa; the simulation will escalate to that level")
+            f"inside at {workspace.max_pressure:g} MPa; the simulation will escalate to that level"
+        )
     others = [c for c in rest if c.predicted][:4] or list(rest[:3])
     if others:
-        reasons.append("next options: " + "; ".join(
-            f"{c.label()} over {c.edge[0]}-{c.edge[1]} "
-            + (f"at {c.pressure:.2f} MPa" if c.predicted else "(no roll predicted)")
-            + f", alignment {c.alignment:+.2f}" for c in others))
+        reasons.append(
+            "next options: "
+            + "; ".join(
+                f"{c.label()} over {c.edge[0]}-{c.edge[1]} "
+                + (f"at {c.pressure:.2f} MPa" if c.predicted else "(no roll predicted)")
+                + f", alignment {c.alignment:+.2f}"
+                for c in others
+            )
+        )
     return reasons

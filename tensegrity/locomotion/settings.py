@@ -3,6 +3,7 @@ config/README.md; the defaults are the schema's, pinned by tests/io/test_setting
 
 A module of its own, below `control` and `lockstep`, which both read it.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
@@ -46,6 +47,7 @@ class RollSettings:
     such an incline a goal across the slope is reached by a switchback (`lookahead.switchback`).
     Every rolling simulation damps the struts by strut_damping (`rolling`), whatever the
     `Params` given: the robot of the pipeline's runs and of `roll_to` is the same."""
+
     ramp_rate: float = 1.0
     interval: float = 0.02
     lift_tolerance: float = 0.001
@@ -82,17 +84,22 @@ class RollSettings:
                     raise ValueError(f"locomotion setting strut_damping must be >= 0, got {np.asarray(v).tolist()!r}")
                 continue
             if isinstance(v, bool) or not (np.isfinite(v) and v > 0):
-                raise ValueError(f"locomotion setting {f.name} must be a positive number, got {np.asarray(v).tolist()!r}")
+                raise ValueError(
+                    f"locomotion setting {f.name} must be a positive number, got {np.asarray(v).tolist()!r}"
+                )
         for name in _COUNTS:
             v = getattr(self, name)
             if isinstance(v, bool) or not np.isfinite(v) or v < 0 or float(v) != int(v):
                 raise ValueError(f"locomotion setting {name} must be a whole number, got {np.asarray(v).tolist()!r}")
             object.__setattr__(self, name, int(v))
         if not (np.isfinite(self.min_alignment) and -1.0 <= self.min_alignment < 1.0):
-            raise ValueError(f"locomotion setting min_alignment must be in [-1, 1), got {np.asarray(self.min_alignment).tolist()!r}")
+            raise ValueError(
+                f"locomotion setting min_alignment must be in [-1, 1), got {np.asarray(self.min_alignment).tolist()!r}"
+            )
         if not whole_steps(self.interval, self.dt):
-            raise ValueError(f"locomotion interval {self.interval} s is not a whole number of "
-                             f"time steps of {self.dt} s")
+            raise ValueError(
+                f"locomotion interval {self.interval} s is not a whole number of time steps of {self.dt} s"
+            )
 
     def rolling(self, params: Params) -> Params:
         """`params` as every rolling simulation runs them: struts damped by strut_damping 1/s."""

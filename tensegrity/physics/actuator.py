@@ -21,6 +21,7 @@ config key, say `actuator.kind`) is added here: its fields in NAMES (and Params)
 in ROWS and `pack` / `constants`, its rule in `tension` / `tensions` with the same arguments.
 The kernel calls only `pack`, `activation` and `tension`.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -30,8 +31,7 @@ from . import topology as topo
 
 # The law's Params fields, in the order packed (params.NAMES): a, K N/m, L m, B N s/m, Lmin m,
 # Kg N/(MPa m).
-NAMES = ("cable_exponent", "cable_stiffness", "cable_rest_length", "cable_damping",
-         "muscle_min_length", "muscle_gain")
+NAMES = ("cable_exponent", "cable_stiffness", "cable_rest_length", "cable_damping", "muscle_min_length", "muscle_gain")
 _EXP, _STIFF, _REST, _DAMP, _MIN, _GAIN = range(len(NAMES))
 # Its constants per robot (rows of the kernel's C, `pack`): K N/m, L m, a, L**a, B N s/m, Lmin m.
 ROWS = ("K", "LR", "A_EXP", "LA", "BC", "LMIN")
@@ -54,8 +54,7 @@ def activation(prm: np.ndarray, b: int, c: int, pressure: float) -> float:
     return prm[b, c + _GAIN] * pressure
 
 
-def tension(ln: float, ldot: float, act: float, linear: bool, C: np.ndarray, r: int,
-            l: int) -> float:
+def tension(ln: float, ldot: float, act: float, linear: bool, C: np.ndarray, r: int, l: int) -> float:
     """Cable tension (N) by eq. 2 at length ln m and rate ldot m/s, with the muscle of eq. 1
     (act = Kg P N/m, `activation`), and the constants in rows r... of C[:, l] (`pack`; `linear`
     as it returned). Never negative: 0.0 for a slack cable; NaN passes."""
@@ -85,14 +84,13 @@ def tensions(ln: ArrayLike, ldot: ArrayLike, act: ArrayLike, rows: ArrayLike) ->
     ln, ldot, act = (np.asarray(x, dtype=float) for x in (ln, ldot, act))
     K, Lr, a, La, Bc, Lmin = np.asarray(rows, dtype=float)
     with np.errstate(invalid="ignore"):
-        f = np.where(a == 1.0, K * (ln - Lr), K * (ln ** a - La))
+        f = np.where(a == 1.0, K * (ln - Lr), K * (ln**a - La))
         f = f + Bc * ldot
         f = f + np.where((act > 0.0) & (ln > Lmin), act, 0.0) * (ln - Lmin)
         return np.where(f <= 0.0, 0.0, f)
 
 
-def spring(K: ArrayLike, L: ArrayLike, Lmin: ArrayLike,
-           act: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+def spring(K: ArrayLike, L: ArrayLike, Lmin: ArrayLike, act: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """(S1): eq. 1-2 at rest for a = 1 and l > Lmin is a linear spring, f = k max(0, l - l*),
     of stiffness k = K + Kg P (N/m) and slack length l* = (K L + Kg P Lmin) / k (m), from K N/m,
     L m, Lmin m and act = Kg P N/m (`activations`), broadcast."""

@@ -9,6 +9,7 @@ the edge it has crossed onto the other face sharing that edge.
 
 Edges are named by their two 1-based node numbers, smaller first, e.g. (10, 12).
 """
+
 from __future__ import annotations
 
 import itertools
@@ -18,14 +19,27 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import frames, topology as topo
+from . import frames
+from . import topology as topo
 from .terrain import Terrain
 
 GRAVITY_DIR = np.array([0.0, 0.0, -1.0])  # world frame, z up (docs/design.md §2)
 
-__all__ = ["ContactError", "Contact", "check_nodes", "clearance", "contact_face", "resting_face", "face_from_gaps",
-           "project_along_gravity", "edge_outward",
-           "judge", "analyse", "past_edge", "GRAVITY_DIR"]
+__all__ = [
+    "ContactError",
+    "Contact",
+    "check_nodes",
+    "clearance",
+    "contact_face",
+    "resting_face",
+    "face_from_gaps",
+    "project_along_gravity",
+    "edge_outward",
+    "judge",
+    "analyse",
+    "past_edge",
+    "GRAVITY_DIR",
+]
 
 
 class ContactError(ValueError):
@@ -95,14 +109,15 @@ def face_from_gaps(gap: ArrayLike, tol: float) -> int:
         return face
     low = np.argsort(gap, kind="stable")[:3]
     if np.any(gap[low] > tol):
-        raise ContactError(f"only {int(np.sum(gap <= tol))} node(s) within {tol * 1e3:.1f} mm "
-                           "of the terrain: no face rests on it")
-    raise ContactError(f"the nodes touching the terrain, {tuple(sorted(int(k) + 1 for k in low))}, "
-                       "are not a face")
+        raise ContactError(
+            f"only {int(np.sum(gap <= tol))} node(s) within {tol * 1e3:.1f} mm of the terrain: no face rests on it"
+        )
+    raise ContactError(f"the nodes touching the terrain, {tuple(sorted(int(k) + 1 for k in low))}, are not a face")
 
 
-def project_along_gravity(point: ArrayLike, plane_point: ArrayLike, plane_normal: ArrayLike,
-                          gravity: ArrayLike = GRAVITY_DIR) -> np.ndarray:
+def project_along_gravity(
+    point: ArrayLike, plane_point: ArrayLike, plane_normal: ArrayLike, gravity: ArrayLike = GRAVITY_DIR
+) -> np.ndarray:
     """Point (..., 3) m moved along `gravity` (..., 3), a vector of any length, onto the plane
     through plane_point (..., 3) m with unit normal plane_normal (..., 3) (paper Fig. 10)."""
     g, n = np.asarray(gravity, float), np.asarray(plane_normal, float)
@@ -140,6 +155,7 @@ class Contact:
     boundary (positive inside); stands: margin > 0; edge: the crossed edge (1-based nodes) or
     None; next_face: the face across that edge, or None; clearance (12,): gaps to the terrain
     (None when judged without one)."""
+
     face: int
     nodes: tuple[int, int, int]
     cog: np.ndarray
@@ -161,8 +177,9 @@ def judge(nodes: ArrayLike, face: int | Sequence[int]) -> Contact:
     return _judge(check_nodes(nodes), topo.face_number(face), None)
 
 
-def analyse(nodes: ArrayLike, terrain: Terrain, radius: float, tol: float | None = None,
-            face: int | Sequence[int] | None = None) -> Contact:
+def analyse(
+    nodes: ArrayLike, terrain: Terrain, radius: float, tol: float | None = None, face: int | Sequence[int] | None = None
+) -> Contact:
     """Contact face on `terrain` (see contact_face), CoG projection along gravity, margin, and
     the edge the robot rolls over if it does not stand. `face` (1..20 or three node numbers)
     skips the detection and judges stability on that face (for a robot that is tipping)."""
@@ -182,13 +199,23 @@ def _judge(p: np.ndarray, f: int, gap) -> Contact:
     margin = float(frames.margin_2d(projection_2d, support))
     k = frames.crossed_edge(projection_2d, support)
     edge = None if k is None else topo.edge_nodes(f, k)
-    return Contact(f, tuple(int(n) + 1 for n in corners), cog, proj, projection_2d, support, rot[2],
-                   margin, bool(margin > 0), edge, None if edge is None else topo.neighbour(f, edge),
-                   gap)
+    return Contact(
+        f,
+        tuple(int(n) + 1 for n in corners),
+        cog,
+        proj,
+        projection_2d,
+        support,
+        rot[2],
+        margin,
+        bool(margin > 0),
+        edge,
+        None if edge is None else topo.neighbour(f, edge),
+        gap,
+    )
 
 
-def past_edge(nodes: ArrayLike, face: int | Sequence[int], pivot: Sequence[int],
-              strut_length: float) -> float:
+def past_edge(nodes: ArrayLike, face: int | Sequence[int], pivot: Sequence[int], strut_length: float) -> float:
     """How far (m) the CoG of the *unactuated* robot, posed like `nodes` (12, 3) m while
     pivoting on the edge `pivot` (two 1-based nodes) of `face`, lies beyond that edge,
     horizontally (negative: on the face's side). Positive means that releasing the muscles now
@@ -237,6 +264,7 @@ def roll_over(nodes: ArrayLike, face: int | Sequence[int], edge: Sequence[int]) 
     def inward(tri):  # unit normal of a triangle of nodes, pointing into the robot
         n = np.cross(p[tri[1]] - p[tri[0]], p[tri[2]] - p[tri[0]])
         return n / np.linalg.norm(n) * np.sign(np.dot(n, centre - p[tri[0]]))
+
     axis = (p[b] - p[a]) / np.linalg.norm(p[b] - p[a])
     u, v = inward(topo.FACES[to - 1]), inward(topo.FACES[f - 1])  # turn u onto v about the edge
     ang = np.arctan2(np.dot(axis, np.cross(u, v)), np.dot(u, v) - np.dot(u, axis) * np.dot(v, axis))

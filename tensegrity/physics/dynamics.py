@@ -1,5 +1,6 @@
 """State of a batch of robots, initial states, the step function and the simulation driver
 (docs/design.md §3). The time loop itself is compiled in `kernel/`."""
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -8,8 +9,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import actuator, frames, topology as topo
-from . import kernel
+from . import actuator, frames, kernel
+from . import topology as topo
 from .params import Params
 from .schedule import Schedule, check_pressures
 from .terrain import Terrain
@@ -25,6 +26,7 @@ class State:
     q: unit quaternions (w, x, y, z) taking body to world components, (B, 6, 4), body axis 3
     along the strut; w: body angular velocities (rad/s), (B, 6, 3); anchor, stuck: friction
     stick points (B, 12, 3) m and flags (B, 12); t: time, s."""
+
     x: np.ndarray
     v: np.ndarray
     q: np.ndarray
@@ -37,9 +39,11 @@ class State:
     def batch(self) -> int:
         return self.x.shape[0]
 
-    def copy(self) -> "State":
-        return State(*(np.array(a, copy=True, order="C") for a in
-                       (self.x, self.v, self.q, self.w, self.anchor, self.stuck)), t=self.t)
+    def copy(self) -> State:
+        return State(
+            *(np.array(a, copy=True, order="C") for a in (self.x, self.v, self.q, self.w, self.anchor, self.stuck)),
+            t=self.t,
+        )
 
     def check(self) -> None:
         for name in ("x", "v", "q", "w"):
@@ -50,15 +54,17 @@ class State:
             if bad.any():
                 raise ValueError(f"state {name} is not finite for robot {int(np.argmax(bad))}")
 
-    def take(self, idx: ArrayLike | slice) -> "State":
+    def take(self, idx: ArrayLike | slice) -> State:
         """The sub-batch of robots idx."""
         return State(*(a[idx] for a in (self.x, self.v, self.q, self.w, self.anchor, self.stuck)), t=self.t)
 
     @staticmethod
-    def concat(states: Sequence["State"], t: float | None = None) -> "State":
+    def concat(states: Sequence[State], t: float | None = None) -> State:
         """One batch of the robots of `states`, in order, at time `t` s (default: the first's)."""
-        return State(*(np.concatenate([getattr(s, k) for s in states]) for k in
-                       ("x", "v", "q", "w", "anchor", "stuck")), t=states[0].t if t is None else t)
+        return State(
+            *(np.concatenate([getattr(s, k) for s in states]) for k in ("x", "v", "q", "w", "anchor", "stuck")),
+            t=states[0].t if t is None else t,
+        )
 
 
 def axes(q: np.ndarray, column: int | None = None) -> np.ndarray:
@@ -66,9 +72,11 @@ def axes(q: np.ndarray, column: int | None = None) -> np.ndarray:
     columns are the body axes in world components. With `column` (0..2): that axis (..., 3)."""
     q = q / np.sqrt((q * q).sum(axis=-1))[..., None]
     w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    cols = (lambda: (1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)),
-            lambda: (2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)),
-            lambda: (2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)))
+    cols = (
+        lambda: (1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)),
+        lambda: (2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)),
+        lambda: (2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)),
+    )
     if column is not None:
         return np.stack(cols[column](), axis=-1)
     return np.stack([np.stack(c(), axis=-1) for c in cols], axis=-1)
@@ -116,12 +124,24 @@ def from_nodes(p: np.ndarray) -> State:
     q = np.concatenate([np.cos(half)[:, None], np.sin(half)[:, None] * ax], axis=1)
     B = p.shape[0]
     z3 = np.zeros((B, topo.N_STRUTS, 3))
-    return State(0.5 * (a + b), z3, q.reshape(B, topo.N_STRUTS, 4), z3.copy(),
-                 np.zeros((B, topo.N_NODES, 3)), np.zeros((B, topo.N_NODES), dtype=np.bool_))
+    return State(
+        0.5 * (a + b),
+        z3,
+        q.reshape(B, topo.N_STRUTS, 4),
+        z3.copy(),
+        np.zeros((B, topo.N_NODES, 3)),
+        np.zeros((B, topo.N_NODES), dtype=np.bool_),
+    )
 
 
-def stand_on(params: Params, face: int | Sequence[int], terrain: Terrain | None = None, batch: int = 1,
-             position: ArrayLike = (0.0, 0.0), yaw_deg: float = 0.0) -> State:
+def stand_on(
+    params: Params,
+    face: int | Sequence[int],
+    terrain: Terrain | None = None,
+    batch: int = 1,
+    position: ArrayLike = (0.0, 0.0),
+    yaw_deg: float = 0.0,
+) -> State:
     """The symmetric robot at rest with `face` (1..20 or three node numbers) on the terrain
     under `position` (m), turned by yaw_deg about the terrain normal. With no terrain (free
     mode) it is placed as if on flat ground at z = 0."""
@@ -153,6 +173,7 @@ def stand_on(params: Params, face: int | Sequence[int], terrain: Terrain | None 
 @dataclass(frozen=True)
 class Trajectory:
     """Recorded samples: t (T,) s, x (B, T, 6, 3) m, q (B, T, 6, 4), pressure (B, T, 12) MPa."""
+
     t: np.ndarray
     x: np.ndarray
     q: np.ndarray
@@ -170,12 +191,21 @@ class Trajectory:
         return cog(self.x)
 
 
-_QUANTITY = {1: "a non-finite (NaN or inf) strut state", 2: "a node faster than max_speed",
-             3: "a node with no terrain under it"}
+_QUANTITY = {
+    1: "a non-finite (NaN or inf) strut state",
+    2: "a node faster than max_speed",
+    3: "a node with no terrain under it",
+}
 
 
-def simulate(params: Params, state: State, schedule: Schedule, terrain: Terrain | None = None,
-             dt: float = 1e-4, record_every: int = 10) -> tuple[State, Trajectory]:
+def simulate(
+    params: Params,
+    state: State,
+    schedule: Schedule,
+    terrain: Terrain | None = None,
+    dt: float = 1e-4,
+    record_every: int = 10,
+) -> tuple[State, Trajectory]:
     """Advance the batch through the schedule with time step dt (s), recording every
     `record_every` steps. Returns the final state and the trajectory; the input is unchanged.
     Raises SimulationError naming the robot, the time and the quantity if a run blows up."""
@@ -199,32 +229,49 @@ def simulate(params: Params, state: State, schedule: Schedule, terrain: Terrain 
     for k, dur in enumerate(schedule.durations):
         n = int(round(dur / dt))
         if abs(n * dt - dur) > 1e-9 * max(1.0, dur) or n % every:
-            raise ValueError(f"segment {k} of {dur} s is not a whole number of recording "
-                             f"intervals ({every} steps of {dt} s)")
+            raise ValueError(
+                f"segment {k} of {dur} s is not a whole number of recording intervals ({every} steps of {dt} s)"
+            )
         n_rec = n // every
         # a writeable C-ordered copy (as the state's): one compiled signature of the kernel
         pres = np.array(np.broadcast_to(schedule.pressure[:, k], (B, topo.N_PAIRS)), dtype=float, order="C")
         out_x = np.empty((B, n_rec, topo.N_STRUTS, 3))
         out_q = np.empty((B, n_rec, topo.N_STRUTS, 4))
-        kernel.advance(s.x, s.v, s.q, s.w, s.anchor, s.stuck, prm, pres, kind, meta, hz,
-                       n_rec, every, dt, out_x, out_q, status, fail)
+        kernel.advance(
+            s.x,
+            s.v,
+            s.q,
+            s.w,
+            s.anchor,
+            s.stuck,
+            prm,
+            pres,
+            kind,
+            meta,
+            hz,
+            n_rec,
+            every,
+            dt,
+            out_x,
+            out_q,
+            status,
+            fail,
+        )
         if status.any():
             b = int(np.flatnonzero(status)[0])
             raise SimulationError(
-                f"robot {b} of the batch: {_QUANTITY[int(status[b])]} at t = "
-                f"{t0 + fail[b] * dt:.4f} s (dt = {dt} s)")
+                f"robot {b} of the batch: {_QUANTITY[int(status[b])]} at t = {t0 + fail[b] * dt:.4f} s (dt = {dt} s)"
+            )
         ts.append(t0 + dt * every * np.arange(1, n_rec + 1))
         xs.append(out_x)
         qs.append(out_q)
         ps.append(np.repeat(pres[:, None], n_rec, axis=1))
         t0 += n * dt
     s = replace(s, t=t0)
-    return s, Trajectory(np.concatenate(ts), np.concatenate(xs, 1), np.concatenate(qs, 1),
-                         np.concatenate(ps, 1))
+    return s, Trajectory(np.concatenate(ts), np.concatenate(xs, 1), np.concatenate(qs, 1), np.concatenate(ps, 1))
 
 
-def step(params: Params, state: State, pressure: ArrayLike, dt: float = 1e-4,
-         terrain: Terrain | None = None) -> State:
+def step(params: Params, state: State, pressure: ArrayLike, dt: float = 1e-4, terrain: Terrain | None = None) -> State:
     """One time step of dt (s) with pair pressures (B, 12) or (12,) MPa: the pure step function."""
     p = check_pressures(pressure)
     return simulate(params, state, Schedule.constant(p.reshape(-1, topo.N_PAIRS), dt), terrain, dt, 1)[0]
@@ -245,20 +292,32 @@ def energy(params: Params, state: State, pressure: ArrayLike) -> np.ndarray:
     if np.any(np.asarray(params.cable_exponent) != 1.0):
         raise NotImplementedError("cable energy is implemented for cable_exponent = 1 only")
     B = state.batch
-    prm = {k: np.broadcast_to(np.asarray(getattr(params, k), float), (B,))[:, None]
-           for k in ("strut_mass", "strut_length", "strut_radius", "cable_stiffness",
-                     "cable_rest_length", "muscle_min_length", "muscle_gain", "gravity")}
+    prm = {
+        k: np.broadcast_to(np.asarray(getattr(params, k), float), (B,))[:, None]
+        for k in (
+            "strut_mass",
+            "strut_length",
+            "strut_radius",
+            "cable_stiffness",
+            "cable_rest_length",
+            "muscle_min_length",
+            "muscle_gain",
+            "gravity",
+        )
+    }
     m, S, r = prm["strut_mass"], prm["strut_length"], prm["strut_radius"]
-    It, Ia = m * (S ** 2 / 12 + r ** 2 / 4), m * r ** 2 / 2
-    kin = (0.5 * m * np.sum(state.v ** 2, -1) + 0.5 * It * np.sum(state.w[..., :2] ** 2, -1)
-           + 0.5 * Ia * state.w[..., 2] ** 2).sum(-1)
+    It, Ia = m * (S**2 / 12 + r**2 / 4), m * r**2 / 2
+    kin = (
+        0.5 * m * np.sum(state.v**2, -1)
+        + 0.5 * It * np.sum(state.w[..., :2] ** 2, -1)
+        + 0.5 * Ia * state.w[..., 2] ** 2
+    ).sum(-1)
     P = nodes(state.x, state.q, params.strut_length)
     ln = np.linalg.norm(P[:, topo.CABLES[:, 1]] - P[:, topo.CABLES[:, 0]], axis=-1)
     pres = np.broadcast_to(check_pressures(pressure), (B, topo.N_PAIRS))
     # the law at rest (S1): a spring k whose clamped tension starts at l* (eq. 1-2); U by (S2)
     act = actuator.activations(prm["muscle_gain"], pres)
-    k, lstar = actuator.spring(prm["cable_stiffness"], prm["cable_rest_length"],
-                               prm["muscle_min_length"], act)
+    k, lstar = actuator.spring(prm["cable_stiffness"], prm["cable_rest_length"], prm["muscle_min_length"], act)
     cable = 0.5 * (k * np.maximum(0.0, ln - lstar) ** 2).sum(-1)
     grav = (m * prm["gravity"] * state.x[..., 2]).sum(-1)
     return kin + cable + grav

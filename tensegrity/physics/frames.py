@@ -6,6 +6,7 @@ support frame of a face on given nodes (`face_frame`), the CoG and support trian
 projection (`margin_2d`), the edge it has crossed (`crossed_edge`), the least pressure at
 which a margin turns negative (`first_crossing`) and both along a path (`crossing`).
 """
+
 from __future__ import annotations
 
 import functools
@@ -72,8 +73,9 @@ def face_frame(nodes: np.ndarray, face: int | Sequence[int]) -> tuple[np.ndarray
     return support_frame(nodes[..., FACES[f], :], int(FACE_REFERENCE[f]), nodes.mean(axis=-2))
 
 
-def in_support_frame(nodes: np.ndarray, face: int | Sequence[int],
-                     frame: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
+def in_support_frame(
+    nodes: np.ndarray, face: int | Sequence[int], frame: tuple[np.ndarray, np.ndarray] | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """CoG (..., 3) m (mean of the nodes = mean of the strut centres, equal masses) and the
     support triangle (..., 3, 3) m, both in the support frame of the current, deformed `face`
     (1..20 or three node numbers); corners in the order of FACES. `frame`: that frame's
@@ -82,8 +84,7 @@ def in_support_frame(nodes: np.ndarray, face: int | Sequence[int],
     f = face_number(face) - 1
     cog, support = nodes.mean(axis=-2), nodes[..., FACES[f], :]
     origin, rot = support_frame(support, int(FACE_REFERENCE[f]), cog) if frame is None else frame
-    return (to_frame(cog, origin, rot),
-            to_frame(support, origin[..., None, :], rot[..., None, :, :]))
+    return (to_frame(cog, origin, rot), to_frame(support, origin[..., None, :], rot[..., None, :, :]))
 
 
 @functools.lru_cache(maxsize=64)
@@ -147,8 +148,9 @@ def first_crossing(pressure: ArrayLike, margin: ArrayLike) -> tuple[float, int]:
     return float(p0 + (p1 - p0) * m0 / (m0 - m1)), k
 
 
-def crossing(pressure: ArrayLike, margin: ArrayLike, point: ArrayLike, support: ArrayLike,
-             face: int) -> tuple[float, int, tuple[int, int] | None]:
+def crossing(
+    pressure: ArrayLike, margin: ArrayLike, point: ArrayLike, support: ArrayLike, face: int
+) -> tuple[float, int, tuple[int, int] | None]:
     """Where a path on `face` (1..20) leaves the triangle: pressure (n,) MPa, margin (n,) m of
     the CoG (projection) point (n, >=2) m against support (n, 3, >=2) m in the face's support
     frame. Returns the least pressure at which the margin turns negative, interpolated (MPa,

@@ -3,6 +3,7 @@
 A `Params` never changes during a run. Each field is a float, or an array of shape (B,) when the
 robots of a batch differ.
 """
+
 from __future__ import annotations
 
 import math
@@ -15,16 +16,35 @@ from . import actuator
 
 # Column order of the packed (B, NP) parameter array read by the kernel: the struts, the
 # actuator's fields side by side (actuator.NAMES), gravity and the ground contact.
-NAMES = (("strut_length", "strut_radius", "strut_mass") + actuator.NAMES
-         + ("gravity", "ground_stiffness", "ground_damping", "friction", "friction_stiffness",
-            "friction_damping", "strut_damping", "max_speed"))
-POSITIVE = ("strut_length", "strut_radius", "strut_mass", "cable_exponent", "cable_stiffness",
-            "cable_rest_length", "muscle_min_length", "ground_stiffness", "friction_stiffness",
-            "max_speed")
+NAMES = (
+    ("strut_length", "strut_radius", "strut_mass")
+    + actuator.NAMES
+    + (
+        "gravity",
+        "ground_stiffness",
+        "ground_damping",
+        "friction",
+        "friction_stiffness",
+        "friction_damping",
+        "strut_damping",
+        "max_speed",
+    )
+)
+POSITIVE = (
+    "strut_length",
+    "strut_radius",
+    "strut_mass",
+    "cable_exponent",
+    "cable_stiffness",
+    "cable_rest_length",
+    "muscle_min_length",
+    "ground_stiffness",
+    "friction_stiffness",
+    "max_speed",
+)
 
 
-def rest_length(strut_length: ArrayLike, pretension: ArrayLike,
-                stiffness: ArrayLike) -> float | np.ndarray:
+def rest_length(strut_length: ArrayLike, pretension: ArrayLike, stiffness: ArrayLike) -> float | np.ndarray:
     """Cable rest length L = l0 - T0/K (m) that gives every cable the prestress T0 (N) in the
     symmetric state at zero pressure, where its length is l0 = S sqrt(6)/4 (strut length S m,
     cable stiffness K N/m; docs/design.md §3-4). A float, or an array if any input is one."""
@@ -58,6 +78,7 @@ class Params:
         strut_damping: ds in eq. 3, optional linear damping of strut motion, 1/s (0: off).
         max_speed: m/s; a strut end faster than this means the run blew up.
     """
+
     strut_length: float = 0.5
     strut_radius: float = 0.01
     strut_mass: float = 0.2
@@ -79,8 +100,9 @@ class Params:
 
     def __post_init__(self):
         if np.all(np.isnan(np.asarray(self.cable_rest_length, dtype=float))):
-            object.__setattr__(self, "cable_rest_length", rest_length(
-                self.strut_length, self.cable_pretension, self.cable_stiffness))
+            object.__setattr__(
+                self, "cable_rest_length", rest_length(self.strut_length, self.cable_pretension, self.cable_stiffness)
+            )
         self.validate()
 
     def validate(self) -> None:
@@ -92,13 +114,17 @@ class Params:
             if not np.all(np.isfinite(val)):
                 raise ValueError(f"parameter {f.name} is not finite: {np.asarray(getattr(self, f.name)).tolist()!r}")
             if f.name in POSITIVE and np.any(val <= 0):
-                raise ValueError(f"parameter {f.name} must be positive, got {np.asarray(getattr(self, f.name)).tolist()!r}")
+                raise ValueError(
+                    f"parameter {f.name} must be positive, got {np.asarray(getattr(self, f.name)).tolist()!r}"
+                )
             if np.any(val < 0):
-                raise ValueError(f"parameter {f.name} must not be negative, got {np.asarray(getattr(self, f.name)).tolist()!r}")
+                raise ValueError(
+                    f"parameter {f.name} must not be negative, got {np.asarray(getattr(self, f.name)).tolist()!r}"
+                )
         if np.any(np.asarray(self.muscle_min_length) >= np.asarray(self.cable_rest_length)):
             raise ValueError("parameter muscle_min_length must be below cable_rest_length")
 
-    def replace(self, **kw: float | np.ndarray) -> "Params":
+    def replace(self, **kw: float | np.ndarray) -> Params:
         """A copy with the fields kw changed (dataclasses.replace). A change of the pretension,
         the cable stiffness or the strut length recomputes the rest length (`rest_length`),
         unless kw gives it."""
@@ -125,12 +151,13 @@ class Params:
             n = self.batch_size()
             if n is not None and n != batch:
                 raise ValueError(f"parameter arrays have length {n}, but the batch has {batch} robots")
-            packed[batch] = np.ascontiguousarray(np.stack(
-                [np.broadcast_to(np.asarray(getattr(self, k), dtype=float), (batch,)) for k in NAMES], axis=1))
+            packed[batch] = np.ascontiguousarray(
+                np.stack([np.broadcast_to(np.asarray(getattr(self, k), dtype=float), (batch,)) for k in NAMES], axis=1)
+            )
         return packed[batch].copy()
 
     @classmethod
-    def from_dict(cls, d: dict) -> "Params":
+    def from_dict(cls, d: dict) -> Params:
         """Params from a dict of fields; ValueError naming any unknown key."""
         unknown = set(d) - {f.name for f in fields(cls)}
         if unknown:

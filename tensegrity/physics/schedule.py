@@ -1,5 +1,6 @@
 """Pressure schedules: pair pressures (MPa) held over time segments, and their check (the law
 that turns a pressure into a cable force is `actuator`); the hold of a ramp (`hold_step`)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -31,9 +32,17 @@ def whole_steps(duration: float, step: float) -> bool:
     return abs(n - round(n)) <= 1e-6
 
 
-def hold_step(holding: ArrayLike, held: ArrayLike, armed: ArrayLike, lifted: ArrayLike,
-              interval: float, hold_time: float, rearm: bool, spent: ArrayLike = 0.0,
-              budget: float = np.inf) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def hold_step(
+    holding: ArrayLike,
+    held: ArrayLike,
+    armed: ArrayLike,
+    lifted: ArrayLike,
+    interval: float,
+    hold_time: float,
+    rearm: bool,
+    spent: ArrayLike = 0.0,
+    budget: float = np.inf,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The hold of a pressure ramp (`locomotion.control.roll`, `workspace.gravity.ramp`), one
     check of robots (...) after an `interval` s: a support node lifted (`lifted`, bool) starts a
     hold of the pressure if `armed`; it ends hold_time s later, and the ramp goes on. holding
@@ -55,6 +64,7 @@ def hold_step(holding: ArrayLike, held: ArrayLike, armed: ArrayLike, lifted: Arr
 class Schedule:
     """Piecewise-constant pair pressures: segment k lasts durations[k] s with pressure
     pressure[:, k, :] MPa, shape (B, K, 12) (B may be 1 for the whole batch)."""
+
     durations: np.ndarray
     pressure: np.ndarray
 
@@ -75,13 +85,13 @@ class Schedule:
         return float(self.durations.sum())
 
     @classmethod
-    def constant(cls, pressure: ArrayLike, duration: float) -> "Schedule":
+    def constant(cls, pressure: ArrayLike, duration: float) -> Schedule:
         """Pressures (B, 12) or (12,) MPa held for `duration` s."""
         p = np.asarray(pressure, dtype=float)
         return cls(np.array([duration]), p.reshape(-1, 1, topo.N_PAIRS))
 
     @classmethod
-    def staircase(cls, pairs: ArrayLike, levels: ArrayLike, hold: float, settle: float = 0.0) -> "Schedule":
+    def staircase(cls, pairs: ArrayLike, levels: ArrayLike, hold: float, settle: float = 0.0) -> Schedule:
         """The paper's sweep (III.A): robot b drives pair pairs[b] (1-based) through `levels`
         MPa, each held `hold` s, after `settle` s at zero pressure."""
         pairs = [topo.check_pair(p) for p in np.atleast_1d(pairs)]

@@ -8,6 +8,7 @@ a = 1 it is U = 0.5 (K + Kg P) max(0, l - l*)^2 with l* = (K L + Kg P Lmin) / (K
 (`actuator.spring`, the NumPy form of the law). This module never calls `kernel` or
 `dynamics.simulate`.
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -15,7 +16,8 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import actuator, frames, topology as topo
+from . import actuator, frames
+from . import topology as topo
 from .params import Params
 from .schedule import check_pressures
 
@@ -49,8 +51,9 @@ def strut_nodes(centres: np.ndarray, directions: np.ndarray, strut_length: float
     return centres[_NODE_STRUT] + (0.5 * strut_length * _NODE_SIGN)[:, None] * c[_NODE_STRUT]
 
 
-def cable_energy(centres: np.ndarray, directions: np.ndarray, strut_length: float,
-                 k: np.ndarray, lstar: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+def cable_energy(
+    centres: np.ndarray, directions: np.ndarray, strut_length: float, k: np.ndarray, lstar: np.ndarray
+) -> tuple[float, np.ndarray, np.ndarray]:
     """Cable energy U (J) and its gradients dU/d centres (6, 3) N and dU/d directions (6, 3) N m
     (per unit of the unnormalised direction), for the cable law (k, l*) of `cable_law`."""
     nd = np.linalg.norm(directions, axis=1, keepdims=True)
@@ -60,14 +63,14 @@ def cable_energy(centres: np.ndarray, directions: np.ndarray, strut_length: floa
     e = p[topo.CABLES[:, 1]] - p[topo.CABLES[:, 0]]
     ln = np.linalg.norm(e, axis=1)
     stretch = np.maximum(0.0, ln - lstar)
-    U = 0.5 * float(np.sum(k * stretch ** 2))
-    f = (k * stretch / ln)[:, None] * e          # dU/d p2 = -dU/d p1 = tension * unit vector
+    U = 0.5 * float(np.sum(k * stretch**2))
+    f = (k * stretch / ln)[:, None] * e  # dU/d p2 = -dU/d p1 = tension * unit vector
     gp = np.zeros((topo.N_NODES, 3))
     np.add.at(gp, topo.CABLES[:, 1], f)
     np.add.at(gp, topo.CABLES[:, 0], -f)
     gx = gp[topo.STRUTS[:, 0]] + gp[topo.STRUTS[:, 1]]
     gc = h * (gp[topo.STRUTS[:, 0]] - gp[topo.STRUTS[:, 1]])
-    gd = (gc - np.sum(gc * c, axis=1, keepdims=True) * c) / nd   # (I - c c^T) / |d|
+    gd = (gc - np.sum(gc * c, axis=1, keepdims=True) * c) / nd  # (I - c c^T) / |d|
     return U, gx, gd
 
 
@@ -77,7 +80,7 @@ def _solve(params: Params, pressure, start: np.ndarray) -> np.ndarray:
     k, lstar = cable_law(params, pressure)
     # Non-dimensional unknowns (centres / S, directions) and energy / (K S^2) keep the
     # Hessian O(1) for both translations and rotations.
-    scale = _scalar(params, "cable_stiffness") * S ** 2
+    scale = _scalar(params, "cable_stiffness") * S**2
     a, b = start[topo.STRUTS[:, 0]], start[topo.STRUTS[:, 1]]
     z0 = np.concatenate([(0.5 * (a + b) / S).ravel(), ((a - b) / S).ravel()])
 
@@ -86,14 +89,14 @@ def _solve(params: Params, pressure, start: np.ndarray) -> np.ndarray:
         return U / scale, np.concatenate([S * gx.ravel(), gd.ravel()]) / scale
 
     from scipy.optimize import minimize  # 0.7 s to import: only where an equilibrium is solved
+
     res = minimize(fun, z0, jac=True, method="BFGS", options={"gtol": 1e-11, "maxiter": 5000})
     z = res.x
     # Newton polish with a central-difference Hessian of the analytic gradient; lstsq drops the
     # 6 rigid-motion and 6 direction-scale null directions (eigenvalues ~1e-11, against >= 0.2
     # for the physical modes at the default parameters). Converges to round-off.
     for _ in range(4):
-        z[18:] = (z[18:].reshape(6, 3) / np.linalg.norm(z[18:].reshape(6, 3), axis=1,
-                                                       keepdims=True)).ravel()
+        z[18:] = (z[18:].reshape(6, 3) / np.linalg.norm(z[18:].reshape(6, 3), axis=1, keepdims=True)).ravel()
         grad = fun(z)[1]
         if np.max(np.abs(grad)) < 1e-14:
             break
@@ -143,8 +146,9 @@ def support_cog(nodes: np.ndarray, face: int | Sequence[int]) -> tuple[np.ndarra
     return frames.in_support_frame(nodes, face)
 
 
-def static_workspace(params: Params, face: int | Sequence[int], pair: int,
-                     pressures: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+def static_workspace(
+    params: Params, face: int | Sequence[int], pair: int, pressures: ArrayLike
+) -> tuple[np.ndarray, np.ndarray]:
     """Static CoG (n, 3) m in the support frame of `face` and margin (n,) m (frames.margin_2d
     of its in-plane coordinates against the deformed triangle, positive inside) for pressures
     (n,) MPa applied to the 1-based `pair` alone. Each level starts from the previous solution."""

@@ -4,6 +4,7 @@ An element is an orthogonal 3x3 map that permutes the nodes and keeps the sets o
 cables. Each carries its node, cable, face and pair permutations (0-based: perm[i] is the image
 of item i).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -18,10 +19,10 @@ from . import topology as topo
 @dataclass(frozen=True)
 class Symmetry:
     matrix: np.ndarray  # (3, 3) orthogonal map acting on world vectors
-    nodes: np.ndarray   # (12,) image of each node
+    nodes: np.ndarray  # (12,) image of each node
     cables: np.ndarray  # (24,) image of each cable
-    faces: np.ndarray   # (20,) image of each face
-    pairs: np.ndarray   # (12,) image of each actuator pair
+    faces: np.ndarray  # (20,) image of each face
+    pairs: np.ndarray  # (12,) image of each actuator pair
 
 
 def _edge_perm(edges: np.ndarray, nodes: np.ndarray) -> np.ndarray | None:

@@ -4,6 +4,7 @@ regular height field split into two triangles per cell (uneven ground).
 The NumPy query here (`height`, `height_and_normal`) and the kernel's (kernel/contact.py
 `terrain_contact`) find the same triangle by the same rule and give its exact normal
 (tests/physics/test_twins.py pins them)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -23,6 +24,7 @@ class Terrain:
     (i, j) holds the point at (s, t) = ((x - x0)/spacing - i, (y - y0)/spacing - j) in [0, 1)^2;
     its lower triangle, corners (i, j), (i+1, j), (i, j+1), holds s + t <= 1 (its edges and
     diagonal included), the upper triangle, corner (i+1, j+1), the rest."""
+
     kind: str = "plane"
     normal: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
     offset: float = 0.0
@@ -45,15 +47,15 @@ class Terrain:
         object.__setattr__(self, "heights", np.ascontiguousarray(h))
 
     @classmethod
-    def none(cls) -> "Terrain":
+    def none(cls) -> Terrain:
         return cls(kind="none")
 
     @classmethod
-    def flat(cls, z: float = 0.0) -> "Terrain":
+    def flat(cls, z: float = 0.0) -> Terrain:
         return cls(kind="plane", offset=float(z))
 
     @classmethod
-    def slope(cls, angle_deg: float, azimuth_deg: float = 0.0) -> "Terrain":
+    def slope(cls, angle_deg: float, azimuth_deg: float = 0.0) -> Terrain:
         """A plane through the origin rising by angle_deg toward the azimuth (deg from +x)."""
         if not -60 < angle_deg < 60:
             raise ValueError(f"slope angle {np.asarray(angle_deg).tolist()!r} deg out of range (-60, 60)")
@@ -62,8 +64,7 @@ class Terrain:
         return cls(kind="plane", normal=n, offset=0.0)
 
     @classmethod
-    def random(cls, seed: int, size: float = 6.0, spacing: float = 0.25,
-               amplitude: float = 0.03) -> "Terrain":
+    def random(cls, seed: int, size: float = 6.0, spacing: float = 0.25, amplitude: float = 0.03) -> Terrain:
         """A seeded random height field of side `size` m centred at the origin, heights of
         standard deviation about `amplitude` m (smoothed white noise)."""
         rng = np.random.default_rng(seed)
@@ -107,8 +108,9 @@ class Terrain:
         """Unit upward normal (..., 3) of the terrain triangle under (x, y)."""
         return self.height_and_normal(x, y, height=False)[1]
 
-    def height_and_normal(self, x: ArrayLike, y: ArrayLike,
-                          height: bool = True) -> tuple[np.ndarray | None, np.ndarray]:
+    def height_and_normal(
+        self, x: ArrayLike, y: ArrayLike, height: bool = True
+    ) -> tuple[np.ndarray | None, np.ndarray]:
         """`height` (m; None if not asked for) and `normal_at` (..., 3) under world points
         (x, y), from one query of the cells: on a height field the exact normal of the triangle
         that `height` interpolates in, computed as kernel/contact.py `terrain_contact` does (NaN
@@ -135,8 +137,9 @@ class Terrain:
         if self.kind == "plane":
             slope = float(np.degrees(np.arccos(min(1.0, abs(float(self.normal[2]))))))
             return f"a {slope:.3g} deg slope" if slope > 0.05 else "flat ground"
-        return {"heightfield": "uneven terrain (height field)",
-                "none": "no ground"}.get(self.kind, f"{self.kind} ground")
+        return {"heightfield": "uneven terrain (height field)", "none": "no ground"}.get(
+            self.kind, f"{self.kind} ground"
+        )
 
     def incline(self, x: ArrayLike, y: ArrayLike, even: float = 1.0) -> float:
         """Tilt from the horizontal, deg, of the ground under the points (x, y) m, where it is one
@@ -181,8 +184,7 @@ def from_spec(spec: str) -> Terrain:
     try:
         args = [float(a) for a in parts]
     except ValueError:
-        raise ValueError(f"terrain {spec!r}: {rest!r} is not a list of numbers; "
-                         f"use {SPEC_HELP}") from None
+        raise ValueError(f"terrain {spec!r}: {rest!r} is not a list of numbers; use {SPEC_HELP}") from None
     if not all(np.isfinite(args)):
         raise ValueError(f"terrain {spec!r}: values must be finite")
     if kind == "flat" and not args:
@@ -196,7 +198,5 @@ def from_spec(spec: str) -> Terrain:
             raise ValueError(f"terrain {spec!r}: the seed must be a whole number >= 0")
         if len(args) == 2 and not args[1] > 0:
             raise ValueError(f"terrain {spec!r}: the amplitude must be positive (m)")
-        return Terrain.random(int(args[0]), size=SPEC_FIELD_SIZE,
-                              **({"amplitude": args[1]} if len(args) == 2 else {}))
+        return Terrain.random(int(args[0]), size=SPEC_FIELD_SIZE, **({"amplitude": args[1]} if len(args) == 2 else {}))
     raise ValueError(f"terrain {spec!r}: use {SPEC_HELP}")
-

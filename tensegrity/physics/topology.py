@@ -4,6 +4,7 @@ Everything here is data and numbering: node coordinates, struts, cables, faces, 
 and which faces share an edge. Indices in arrays start at 0; the numbers a person sees (node,
 face, pair) start at 1.
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -13,33 +14,110 @@ import numpy as np
 N_NODES, N_STRUTS, N_CABLES, N_FACES, N_PAIRS = 12, 6, 24, 20, 12
 
 # Node coordinates for S = 0.5 m, centre at the origin (design.md table), rows = nodes 1..12.
-_NODES_S05 = np.array([
-    [0, .25, -.125], [-.25, -.125, 0], [0, -.25, -.125], [0, -.25, .125],
-    [-.125, 0, -.25], [-.25, .125, 0], [.125, 0, -.25], [.25, -.125, 0],
-    [.25, .125, 0], [0, .25, .125], [-.125, 0, .25], [.125, 0, .25]])
+_NODES_S05 = np.array(
+    [
+        [0, 0.25, -0.125],
+        [-0.25, -0.125, 0],
+        [0, -0.25, -0.125],
+        [0, -0.25, 0.125],
+        [-0.125, 0, -0.25],
+        [-0.25, 0.125, 0],
+        [0.125, 0, -0.25],
+        [0.25, -0.125, 0],
+        [0.25, 0.125, 0],
+        [0, 0.25, 0.125],
+        [-0.125, 0, 0.25],
+        [0.125, 0, 0.25],
+    ]
+)
 
 # Struts (first node = centre + L c, second = centre - L c), 1-based node numbers.
 STRUTS = np.array([(1, 3), (2, 8), (4, 10), (5, 11), (6, 9), (7, 12)]) - 1
 GAPS = np.array([(1, 10), (2, 6), (3, 4), (5, 7), (8, 9), (11, 12)]) - 1
-CABLES = np.array([
-    (1, 5), (1, 6), (1, 7), (1, 9), (2, 3), (2, 4), (2, 5), (2, 11), (3, 5), (3, 7), (3, 8),
-    (4, 8), (4, 11), (4, 12), (5, 6), (6, 10), (6, 11), (7, 8), (7, 9), (8, 12), (9, 10),
-    (9, 12), (10, 11), (10, 12)]) - 1
+CABLES = (
+    np.array(
+        [
+            (1, 5),
+            (1, 6),
+            (1, 7),
+            (1, 9),
+            (2, 3),
+            (2, 4),
+            (2, 5),
+            (2, 11),
+            (3, 5),
+            (3, 7),
+            (3, 8),
+            (4, 8),
+            (4, 11),
+            (4, 12),
+            (5, 6),
+            (6, 10),
+            (6, 11),
+            (7, 8),
+            (7, 9),
+            (8, 12),
+            (9, 10),
+            (9, 12),
+            (10, 11),
+            (10, 12),
+        ]
+    )
+    - 1
+)
 
 # Faces 1..8 equilateral in actuation order (reference vertex first); faces 9..20 isosceles
 # written (gap a, gap b, apex), reference vertex = apex.
-FACES = np.array([
-    (1, 6, 5), (1, 9, 7), (2, 5, 3), (2, 11, 4), (3, 8, 7), (4, 8, 12), (6, 11, 10), (9, 12, 10),
-    (1, 10, 6), (1, 10, 9), (2, 6, 5), (2, 6, 11), (3, 4, 2), (3, 4, 8), (5, 7, 1), (5, 7, 3),
-    (8, 9, 7), (8, 9, 12), (11, 12, 4), (11, 12, 10)]) - 1
+FACES = (
+    np.array(
+        [
+            (1, 6, 5),
+            (1, 9, 7),
+            (2, 5, 3),
+            (2, 11, 4),
+            (3, 8, 7),
+            (4, 8, 12),
+            (6, 11, 10),
+            (9, 12, 10),
+            (1, 10, 6),
+            (1, 10, 9),
+            (2, 6, 5),
+            (2, 6, 11),
+            (3, 4, 2),
+            (3, 4, 8),
+            (5, 7, 1),
+            (5, 7, 3),
+            (8, 9, 7),
+            (8, 9, 12),
+            (11, 12, 4),
+            (11, 12, 10),
+        ]
+    )
+    - 1
+)
 FACE_TYPES = np.array(["equilateral"] * 8 + ["isosceles"] * 12)
 FACE_REFERENCE = np.array([0] * 8 + [2] * 12)  # corner index of the reference vertex
 
 # Actuator pair #v: the two cables driven by the motors at node v (1-based node numbers).
-PAIRS = np.array([
-    [(1, 9), (1, 6)], [(2, 11), (2, 5)], [(3, 8), (2, 3)], [(4, 8), (2, 4)], [(1, 5), (3, 5)],
-    [(6, 11), (5, 6)], [(1, 7), (3, 7)], [(8, 12), (7, 8)], [(9, 12), (7, 9)],
-    [(9, 10), (6, 10)], [(10, 11), (4, 11)], [(10, 12), (4, 12)]]) - 1
+PAIRS = (
+    np.array(
+        [
+            [(1, 9), (1, 6)],
+            [(2, 11), (2, 5)],
+            [(3, 8), (2, 3)],
+            [(4, 8), (2, 4)],
+            [(1, 5), (3, 5)],
+            [(6, 11), (5, 6)],
+            [(1, 7), (3, 7)],
+            [(8, 12), (7, 8)],
+            [(9, 12), (7, 9)],
+            [(9, 10), (6, 10)],
+            [(10, 11), (4, 11)],
+            [(10, 12), (4, 12)],
+        ]
+    )
+    - 1
+)
 
 CONTACT_FACES = {"equilateral": (9, 10, 12), "isosceles": (10, 11, 12)}  # the canonical faces
 CONTACTS: tuple[str, ...] = tuple(CONTACT_FACES)  # the contact cases, in this order
@@ -78,8 +156,7 @@ def face_number(face: int | Sequence[int]) -> int:
     """1-based face number from a number 1..20 or three 1-based node numbers in any order."""
     if np.ndim(face) == 0:
         if isinstance(face, bool) or not float(face).is_integer() or not 1 <= int(face) <= N_FACES:
-            raise ValueError(f"unknown face {face}: faces are numbered 1..{N_FACES} "
-                             "or given as three node numbers")
+            raise ValueError(f"unknown face {face}: faces are numbered 1..{N_FACES} or given as three node numbers")
         return int(face)
     key = sorted(int(n) for n in face)
     for k, f in enumerate(FACES):

@@ -4,6 +4,7 @@ CoG cloud of a sweep (Fig. 6) and the kinematic workspace of a face (Fig. 7).
 Pure drawing functions on numpy arrays (lengths in m): each writes one PNG (scene.WINDOW px) and
 returns a dict saying what was drawn, so that tests can check the scene.
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -11,18 +12,18 @@ from pathlib import Path
 
 import numpy as np
 import pyvista as pv
-from numpy.typing import ArrayLike
 from matplotlib import colormaps  # a PyVista dependency
+from numpy.typing import ArrayLike
 
 from ..physics import topology as topo
 from . import plot2d
-from .scene import (LABEL, PAIR_COLOURS, WINDOW,
-                    finish, plotter)
+from .scene import LABEL, PAIR_COLOURS, WINDOW, finish, plotter
 
 __all__ = ["fig_cog_cloud", "fig_workspace", "level_colours", "at_pressure"]
 
 
 # --- Fig. 6 and 7: support-frame plots (mm, viewed along -z) ---------------------------------
+
 
 def at_pressure(levels: ArrayLike, values: ArrayLike, pressure: float) -> np.ndarray:
     """values (P, ...) given at the pressure levels (P,) MPa, linearly interpolated at
@@ -53,17 +54,24 @@ def _sample_levels(n_samples: int, levels: np.ndarray, sample_pressure) -> np.nd
 
 def _check_points(a, name: str, n: int | None = None) -> np.ndarray:
     a = np.asarray(a, float)
-    if a.ndim != 2 or a.shape[1] != 3 or (n is not None and len(a) != n) or \
-            not np.all(np.isfinite(a)):
+    if a.ndim != 2 or a.shape[1] != 3 or (n is not None and len(a) != n) or not np.all(np.isfinite(a)):
         want = f"({n}, 3)" if n is not None else "(n, 3)"
         raise ValueError(f"{name} must be a finite {want} array in m, got shape {a.shape}")
     return a
 
 
-def fig_cog_cloud(samples: np.ndarray, nominal: np.ndarray, levels: ArrayLike, support: np.ndarray,
-                  path: str | Path, pair: int, face_label: str, sample_pressure: ArrayLike | None = None,
-                  corner_labels: Sequence[int] | np.ndarray | None = None,
-                  title: str | None = None) -> dict:
+def fig_cog_cloud(
+    samples: np.ndarray,
+    nominal: np.ndarray,
+    levels: ArrayLike,
+    support: np.ndarray,
+    path: str | Path,
+    pair: int,
+    face_label: str,
+    sample_pressure: ArrayLike | None = None,
+    corner_labels: Sequence[int] | np.ndarray | None = None,
+    title: str | None = None,
+) -> dict:
     """Fig. 6: the CoG during a pressure sweep, projected on the support plane (mm): samples
     as a point cloud coloured by pressure level, nominal CoGs (level averages, paper III.A)
     as circles labelled with their pressure; the main view is zoomed on the cloud with the
@@ -85,8 +93,10 @@ def fig_cog_cloud(samples: np.ndarray, nominal: np.ndarray, levels: ArrayLike, s
     lvl = _sample_levels(len(s), levels, sample_pressure)
     cols = level_colours(len(levels))
     if title is None:
-        title = (f"Fig. 6  CoG path when #{pair} works, face {face_label}, "
-                 f"{levels.min():g}-{levels.max():g} MPa (support frame, top view)")
+        title = (
+            f"Fig. 6  CoG path when #{pair} works, face {face_label}, "
+            f"{levels.min():g}-{levels.max():g} MPa (support frame, top view)"
+        )
     pl = plotter(title, panels=3)
 
     # Main view: the cloud, the nominal CoGs, the frame origin and the nearest edge's stretch.
@@ -94,7 +104,7 @@ def fig_cog_cloud(samples: np.ndarray, nominal: np.ndarray, levels: ArrayLike, s
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     span = max(hi - lo)
     edges = [(t[k, :2], t[(k + 1) % 3, :2]) for k in range(3)]
-    some = pts[::max(1, len(pts) // 400)]
+    some = pts[:: max(1, len(pts) // 400)]
     dist = [min(plot2d.segment_distance(q, a, b) for q in some) for a, b in edges]
     k_near = int(np.argmin(dist))
     if dist[k_near] < 1.5 * span:  # show the edge the CoG is heading for
@@ -119,23 +129,40 @@ def fig_cog_cloud(samples: np.ndarray, nominal: np.ndarray, levels: ArrayLike, s
             shown.append(k)
     if shown[-1] != len(levels) - 1:  # the highest level is always labelled
         shown[-1] = len(levels) - 1
-    n_edges = plot2d.support_2d(pl, t, box, 5, "triangle", corner_labels=corner_labels,
-                                avoid=np.vstack([label_xy[shown], s[::max(1, len(s) // 200), :2]]))
+    n_edges = plot2d.support_2d(
+        pl,
+        t,
+        box,
+        5,
+        "triangle",
+        corner_labels=corner_labels,
+        avoid=np.vstack([label_xy[shown], s[:: max(1, len(s) // 200), :2]]),
+    )
     cloud = pv.PolyData(np.column_stack([s[:, :2], np.zeros(len(s))]))
     cloud["rgb"] = (cols[lvl] * 255).astype(np.uint8)
-    pl.add_mesh(cloud, scalars="rgb", rgb=True, point_size=4, render_points_as_spheres=True,
-                name="cog samples")
+    pl.add_mesh(cloud, scalars="rgb", rgb=True, point_size=4, render_points_as_spheres=True, name="cog samples")
     for k in range(len(levels)):
-        pl.add_mesh(plot2d.disc(nom[k], r, 2.0), color=cols[k], name=f"nominal {k}",
-                    lighting=False)
-        pl.add_mesh(plot2d.disc(nom[k], r, 2.5, inner=0.72 * r), color="black",
-                    name=f"nominal ring {k}", lighting=False)
-    pl.add_point_labels(np.column_stack([label_xy[shown], np.full(len(shown), 4.0)]),
-                        [labels[k] for k in shown], font_size=18, name="nominal labels", **LABEL)
-    pl.add_points(np.array([[0.0, 0.0, 1.0]]), color="black", point_size=10,
-                  render_points_as_spheres=True, name="origin")
-    pl.add_point_labels(np.array([[0.0, 0.0, 4.0]]) + [r, -r, 0], ["centroid"], font_size=16,
-                        name="origin label", **{**LABEL, "shape_opacity": 0.0})
+        pl.add_mesh(plot2d.disc(nom[k], r, 2.0), color=cols[k], name=f"nominal {k}", lighting=False)
+        pl.add_mesh(
+            plot2d.disc(nom[k], r, 2.5, inner=0.72 * r), color="black", name=f"nominal ring {k}", lighting=False
+        )
+    pl.add_point_labels(
+        np.column_stack([label_xy[shown], np.full(len(shown), 4.0)]),
+        [labels[k] for k in shown],
+        font_size=18,
+        name="nominal labels",
+        **LABEL,
+    )
+    pl.add_points(
+        np.array([[0.0, 0.0, 1.0]]), color="black", point_size=10, render_points_as_spheres=True, name="origin"
+    )
+    pl.add_point_labels(
+        np.array([[0.0, 0.0, 4.0]]) + [r, -r, 0],
+        ["centroid"],
+        font_size=16,
+        name="origin label",
+        **{**LABEL, "shape_opacity": 0.0},
+    )
     if corner_labels is not None:
         plot2d.corner_labels(pl, t, corner_labels, 4.0, 18, "corner labels")
     plot2d.axes_2d(pl, box, nx, ny)
@@ -146,21 +173,35 @@ def fig_cog_cloud(samples: np.ndarray, nominal: np.ndarray, levels: ArrayLike, s
     tb = (t[:, 0].min(), t[:, 0].max(), t[:, 1].min(), t[:, 1].max())
     plot2d.support_2d(pl, t, tb, 3, "context triangle")
     pl.add_mesh(cloud.copy(), scalars="rgb", rgb=True, point_size=2, name="context samples")
-    frame = np.array([[box[0], box[2], 1], [box[1], box[2], 1], [box[1], box[3], 1],
-                      [box[0], box[3], 1], [box[0], box[2], 1]])
+    frame = np.array(
+        [[box[0], box[2], 1], [box[1], box[2], 1], [box[1], box[3], 1], [box[0], box[3], 1], [box[0], box[2], 1]]
+    )
     pl.add_lines(frame, color="black", width=2, connected=True, name="context view box")
     if corner_labels is not None:
         plot2d.corner_labels(pl, t, corner_labels, 4.0, 14, "context corner labels")
-    pl.add_text("whole support triangle", position="upper_edge", font_size=10, color="black",
-                name="context caption")
+    pl.add_text("whole support triangle", position="upper_edge", font_size=10, color="black", name="context caption")
     plot2d.camera_2d(pl, 1, tb, margins=(0.12, 0.12, 0.1, 0.15))
 
     # Legend panel: the pressure levels.
     pl.subplot(0, 2)
-    pl.add_legend([[lab, tuple(c), "circle"] for lab, c in zip(labels, cols)], bcolor=None,
-                  size=(0.5, 0.6), loc="center", name="legend")
-    return finish(pl, path, title, samples=len(s), nominal=len(nom), labels=labels,
-                  labelled=[labels[k] for k in shown], support_edges=n_edges, view_mm=tuple(float(v) for v in box))
+    pl.add_legend(
+        [[lab, tuple(c), "circle"] for lab, c in zip(labels, cols)],
+        bcolor=None,
+        size=(0.5, 0.6),
+        loc="center",
+        name="legend",
+    )
+    return finish(
+        pl,
+        path,
+        title,
+        samples=len(s),
+        nominal=len(nom),
+        labels=labels,
+        labelled=[labels[k] for k in shown],
+        support_edges=n_edges,
+        view_mm=tuple(float(v) for v in box),
+    )
 
 
 def _dashed(a: np.ndarray, b: np.ndarray, dash: float) -> np.ndarray:
@@ -185,10 +226,16 @@ def drop_close_points(c: np.ndarray, step: float) -> np.ndarray:
     return c[keep]
 
 
-def fig_workspace(cog_paths: dict, support: np.ndarray, path: str | Path, title: str,
-                  tip_points: dict | None = None,
-                  corner_labels: Sequence[int] | np.ndarray | None = None,
-                  zoom_mm: float | None = None, tip_supports: dict | None = None) -> dict:
+def fig_workspace(
+    cog_paths: dict,
+    support: np.ndarray,
+    path: str | Path,
+    title: str,
+    tip_points: dict | None = None,
+    corner_labels: Sequence[int] | np.ndarray | None = None,
+    zoom_mm: float | None = None,
+    tip_supports: dict | None = None,
+) -> dict:
     """Fig. 7: the kinematic workspace of one contact face, viewed from above (support-frame z
     toward the camera, CoG projected on the support plane, mm): each pair's CoG curve as a
     coloured line labelled "#v" at its far end, the support triangle of the unactuated robot
@@ -207,15 +254,20 @@ def fig_workspace(cog_paths: dict, support: np.ndarray, path: str | Path, title:
     "labels" (main view), "zoom_labels", "tips" [pairs], "tip_points" {pair: (2,) mm},
     "tip_supports" {pair: (3, 2) mm}, "legend" [entries], "zoom_mm", "view_mm"}.
     """
-    curves = {topo.check_pair(v): _check_points(c, f"curve of pair {v}") * 1e3
-              for v, c in sorted(cog_paths.items())}
+    curves = {topo.check_pair(v): _check_points(c, f"curve of pair {v}") * 1e3 for v, c in sorted(cog_paths.items())}
     if not curves:
         raise ValueError("cog_paths is empty: give at least one pair's CoG path")
     t = _check_points(support, "support", 3) * 1e3
-    tips = {topo.check_pair(v): _check_points(np.reshape(q, (1, 3)), f"tip of pair {v}")[0] * 1e3
-            for v, q in (tip_points or {}).items() if q is not None}
-    deformed = {topo.check_pair(v): _check_points(s, f"tip support of pair {v}", 3) * 1e3
-                for v, s in (tip_supports or {}).items() if s is not None}
+    tips = {
+        topo.check_pair(v): _check_points(np.reshape(q, (1, 3)), f"tip of pair {v}")[0] * 1e3
+        for v, q in (tip_points or {}).items()
+        if q is not None
+    }
+    deformed = {
+        topo.check_pair(v): _check_points(s, f"tip support of pair {v}", 3) * 1e3
+        for v, s in (tip_supports or {}).items()
+        if s is not None
+    }
     pl = plotter(title, panels=3)
     circum = float(np.max(np.linalg.norm(t[:, :2] - t[:, :2].mean(axis=0), axis=1)))
     start = np.mean([c[0, :2] for c in curves.values()], axis=0)
@@ -224,10 +276,12 @@ def fig_workspace(cog_paths: dict, support: np.ndarray, path: str | Path, title:
     if zoom_mm is None:
         zoom_mm = float(1.4 * max([reach[v] for v in short] or [0.05 * circum]))
     centroid = t[:, :2].mean(axis=0)
-    pts = np.vstack([centroid + 1.12 * (t[:, :2] - centroid)] + [c[:, :2] for c in curves.values()]
-                    + [s[:, :2] for s in deformed.values()])
-    box, nx, ny = plot2d.nice_box(pts.min(axis=0) - 0.05 * circum,
-                                  pts.max(axis=0) + 0.05 * circum, n=7)
+    pts = np.vstack(
+        [centroid + 1.12 * (t[:, :2] - centroid)]
+        + [c[:, :2] for c in curves.values()]
+        + [s[:, :2] for s in deformed.values()]
+    )
+    box, nx, ny = plot2d.nice_box(pts.min(axis=0) - 0.05 * circum, pts.max(axis=0) + 0.05 * circum, n=7)
     zb = (start[0] - zoom_mm, start[0] + zoom_mm, start[1] - zoom_mm, start[1] + zoom_mm)
 
     def draw(pre: str, view, width: float, label_pairs, font: int, off: float, ring: float):
@@ -236,36 +290,51 @@ def fig_workspace(cog_paths: dict, support: np.ndarray, path: str | Path, title:
         for v, c in curves.items():
             c = drop_close_points(c, 1.5 * px)
             xy = np.column_stack([c[:, :2], np.full(len(c), 0.01 * v)])
-            pl.add_lines(xy if len(xy) > 1 else np.vstack([xy, xy]), color=PAIR_COLOURS[v - 1],
-                         width=width, connected=True, name=f"{pre}curve #{v}")
+            pl.add_lines(
+                xy if len(xy) > 1 else np.vstack([xy, xy]),
+                color=PAIR_COLOURS[v - 1],
+                width=width,
+                connected=True,
+                name=f"{pre}curve #{v}",
+            )
         texts = []
         for v in label_pairs:
             c = curves[v][:, :2]
             d = c[-1] - start
             d = d / max(np.linalg.norm(d), 1e-12)
             texts.append(f"#{v}")
-            pl.add_point_labels(np.array([[*(c[-1] + off * d), 5.0]]), [texts[-1]],
-                                font_size=font, name=f"{pre}label #{v}",
-                                **{**LABEL, "text_color": PAIR_COLOURS[v - 1],
-                                   "shape_opacity": 0.6})
+            pl.add_point_labels(
+                np.array([[*(c[-1] + off * d), 5.0]]),
+                [texts[-1]],
+                font_size=font,
+                name=f"{pre}label #{v}",
+                **{**LABEL, "text_color": PAIR_COLOURS[v - 1], "shape_opacity": 0.6},
+            )
         for v, q in tips.items():
-            pl.add_mesh(plot2d.disc(q[:2], ring, 4.0, inner=0.6 * ring), color="red",
-                        name=f"{pre}tip #{v}", lighting=False)
-        pl.add_points(np.array([[*start, 3.0]]), color="black", point_size=10 if not pre else 12,
-                      render_points_as_spheres=True, name=pre + "start")
+            pl.add_mesh(
+                plot2d.disc(q[:2], ring, 4.0, inner=0.6 * ring), color="red", name=f"{pre}tip #{v}", lighting=False
+            )
+        pl.add_points(
+            np.array([[*start, 3.0]]),
+            color="black",
+            point_size=10 if not pre else 12,
+            render_points_as_spheres=True,
+            name=pre + "start",
+        )
         return texts
 
-    labels = draw("", box, 6, [v for v in curves if v not in short], 22, 0.08 * circum,
-                  0.022 * circum)
+    labels = draw("", box, 6, [v for v in curves if v not in short], 22, 0.08 * circum, 0.022 * circum)
     for v, s in deformed.items():  # what each ring is judged against
-        dashes = np.concatenate([_dashed(s[k, :2], s[(k + 1) % 3, :2], 0.035 * circum)
-                                 for k in range(3)])
+        dashes = np.concatenate([_dashed(s[k, :2], s[(k + 1) % 3, :2], 0.035 * circum) for k in range(3)])
         seg = np.concatenate([dashes, np.full((len(dashes), 2, 1), -1.0 + 0.01 * v)], axis=2)
-        pl.add_lines(seg.reshape(-1, 3), color=PAIR_COLOURS[v - 1], width=2.5,
-                     name=f"tip support #{v}")
-    pl.add_lines(np.array([[zb[0], zb[2], 2], [zb[1], zb[2], 2], [zb[1], zb[3], 2],
-                           [zb[0], zb[3], 2], [zb[0], zb[2], 2]]), color="#555555", width=2,
-                 connected=True, name="zoom box")
+        pl.add_lines(seg.reshape(-1, 3), color=PAIR_COLOURS[v - 1], width=2.5, name=f"tip support #{v}")
+    pl.add_lines(
+        np.array([[zb[0], zb[2], 2], [zb[1], zb[2], 2], [zb[1], zb[3], 2], [zb[0], zb[3], 2], [zb[0], zb[2], 2]]),
+        color="#555555",
+        width=2,
+        connected=True,
+        name="zoom box",
+    )
     if corner_labels is not None:
         plot2d.corner_labels(pl, t, corner_labels, 5.0, 24, "corner labels")
     plot2d.axes_2d(pl, box, nx, ny)
@@ -273,27 +342,41 @@ def fig_workspace(cog_paths: dict, support: np.ndarray, path: str | Path, title:
 
     pl.subplot(0, 1)
     zoom_margins = (0.02, 0.02, 0.02, 0.1)
-    zoom_labels = draw("zoom ", plot2d.view_2d(pl, 1, zb, zoom_margins), 4, list(curves), 16,
-                       0.12 * zoom_mm, 0.05 * zoom_mm)
-    pl.add_point_labels(np.array([[*(start + [0.0, -0.12 * zoom_mm]), 5.0]]), ["0 MPa"],
-                        font_size=13, name="zoom start label", **{**LABEL, "shape_opacity": 0.0})
-    pl.add_text(f"zoom: start +-{zoom_mm:.0f} mm", position="upper_edge", font_size=10,
-                color="black", name="zoom caption")
+    zoom_labels = draw(
+        "zoom ", plot2d.view_2d(pl, 1, zb, zoom_margins), 4, list(curves), 16, 0.12 * zoom_mm, 0.05 * zoom_mm
+    )
+    pl.add_point_labels(
+        np.array([[*(start + [0.0, -0.12 * zoom_mm]), 5.0]]),
+        ["0 MPa"],
+        font_size=13,
+        name="zoom start label",
+        **{**LABEL, "shape_opacity": 0.0},
+    )
+    pl.add_text(
+        f"zoom: start +-{zoom_mm:.0f} mm", position="upper_edge", font_size=10, color="black", name="zoom caption"
+    )
     plot2d.camera_2d(pl, 1, zb, zoom_margins)
 
     pl.subplot(0, 2)
     entries = [[f"#{v}  {reach[v]:.0f} mm", PAIR_COLOURS[v - 1], "-"] for v in curves]
     if tips:
-        entries.append(["CoG leaves dashed triangle" if deformed else "leaves triangle",
-                        "red", "circle"])
+        entries.append(["CoG leaves dashed triangle" if deformed else "leaves triangle", "red", "circle"])
     if deformed:
         entries.append(["- - deformed, at tipping", "#555555", None])
     # at most ~27 px a line: the panel is 0.45 of the window high
     height = min(0.97, len(entries) * 27 / (0.45 * WINDOW[1]))
     pl.add_legend(entries, bcolor=None, size=(0.95, height), loc="center", name="legend")
-    return finish(pl, path, title, cog_paths={v: len(c) for v, c in curves.items()},
-                  labels=labels, zoom_labels=zoom_labels, tips=sorted(tips),
-                  tip_points={v: q[:2] for v, q in tips.items()},
-                  tip_supports={v: s[:, :2] for v, s in deformed.items()},
-                  legend=[e[0] for e in entries], zoom_mm=zoom_mm,
-                  view_mm=tuple(float(v) for v in box))
+    return finish(
+        pl,
+        path,
+        title,
+        cog_paths={v: len(c) for v, c in curves.items()},
+        labels=labels,
+        zoom_labels=zoom_labels,
+        tips=sorted(tips),
+        tip_points={v: q[:2] for v, q in tips.items()},
+        tip_supports={v: s[:, :2] for v, s in deformed.items()},
+        legend=[e[0] for e in entries],
+        zoom_mm=zoom_mm,
+        view_mm=tuple(float(v) for v in box),
+    )

@@ -1,5 +1,6 @@
 """Figures of the gravity-aware workspace and the slope limit (issue 10), drawn from arrays
 off-screen (matplotlib's Agg canvas); each PNG is written atomically (`files.save_figure`)."""
+
 from __future__ import annotations
 
 import os
@@ -12,13 +13,20 @@ from matplotlib.figure import Figure
 
 from .files import save_figure
 
-
 _KIND_COLOUR = {"stand": "tab:green", "uphill": "tab:red", "downhill": "tab:blue"}
 
 
-def slope_limit_figure(path: str | os.PathLike, kinds: Sequence[str], contacts: Sequence[str],
-                       headings: np.ndarray, simulated: np.ndarray, predicted_free: np.ndarray,
-                       predicted_gravity: np.ndarray, friction: float, max_pressure: float) -> Path:
+def slope_limit_figure(
+    path: str | os.PathLike,
+    kinds: Sequence[str],
+    contacts: Sequence[str],
+    headings: np.ndarray,
+    simulated: np.ndarray,
+    predicted_free: np.ndarray,
+    predicted_gravity: np.ndarray,
+    friction: float,
+    max_pressure: float,
+) -> Path:
     """Slope limit (deg) vs heading (deg), one panel per contact case, one colour per kind:
     simulated (solid), predicted from the free workspace (dashed), the gravity-aware grid
     (markers); arrays (kind, contact, heading)."""
@@ -28,11 +36,19 @@ def slope_limit_figure(path: str | os.PathLike, kinds: Sequence[str], contacts: 
         for k, kind in enumerate(kinds):
             col = _KIND_COLOUR.get(kind, "k")
             wide = {"stand": 5.0, "uphill": 2.0, "downhill": 1.6}.get(kind, 2.0)  # stand under downhill
-            ax.plot(headings, simulated[k, c], "-", color=col, lw=wide, alpha=0.55 if kind == "stand" else 1.0,
-                    label=f"{kind}: simulated")
+            ax.plot(
+                headings,
+                simulated[k, c],
+                "-",
+                color=col,
+                lw=wide,
+                alpha=0.55 if kind == "stand" else 1.0,
+                label=f"{kind}: simulated",
+            )
             ax.plot(headings, predicted_free[k, c], "--", color=col, lw=1.2, label=f"{kind}: free workspace")
-            ax.plot(headings, predicted_gravity[k, c], "o", color=col, ms=5, mfc="none",
-                    label=f"{kind}: gravity-aware grid")
+            ax.plot(
+                headings, predicted_gravity[k, c], "o", color=col, ms=5, mfc="none", label=f"{kind}: gravity-aware grid"
+            )
         ax.axhline(friction, color="0.4", lw=1, ls=":")
         ax.text(headings[0], friction + 0.4, f"friction angle {friction:.1f} deg", fontsize=8, color="0.3")
         ax.set_title(f"{contact} contact face")
@@ -43,13 +59,22 @@ def slope_limit_figure(path: str | os.PathLike, kinds: Sequence[str], contacts: 
     axes[0, 0].set_ylabel("steepest slope (deg)")
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
-    fig.suptitle(f"Slope limits: stand, roll uphill, roll downhill under control (pressures up to {max_pressure:g} MPa)")
+    fig.suptitle(
+        f"Slope limits: stand, roll uphill, roll downhill under control (pressures up to {max_pressure:g} MPa)"
+    )
     fig.tight_layout(rect=(0, 0.17, 1, 0.95))
     return save_figure(fig, path)
 
 
-def tip_figure(path: str | os.PathLike, contacts: Sequence[str], slopes: np.ndarray, headings: np.ndarray,
-               tip: np.ndarray, stood: np.ndarray, max_pressure: float) -> Path:
+def tip_figure(
+    path: str | os.PathLike,
+    contacts: Sequence[str],
+    slopes: np.ndarray,
+    headings: np.ndarray,
+    tip: np.ndarray,
+    stood: np.ndarray,
+    max_pressure: float,
+) -> Path:
     """Least tipping pressure over the pairs (MPa) vs heading (deg), one line per slope, one
     panel per contact; tip (contact, slope, heading, pair), stood (contact, slope, heading)."""
     fig = Figure(figsize=(6.2 * len(contacts), 4.4))

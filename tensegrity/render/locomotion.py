@@ -8,6 +8,7 @@ Drawing only, from arrays: node positions (12, 3) m in the world frame, a face a
 from the run datasets). Each figure writes one PNG and returns a dict saying what was drawn,
 so tests can check the scene. The plumbing is render.scene's, so the figures match Figs. 1-7.
 """
+
 from __future__ import annotations
 
 import math
@@ -19,7 +20,8 @@ import pyvista as pv
 from numpy.typing import ArrayLike
 
 from ..physics import contact as ct
-from ..physics import frames, topology as topo
+from ..physics import frames
+from ..physics import topology as topo
 from ..physics.terrain import Terrain
 from . import plot2d
 from .scene import add_terrain, finish, lines, node_labels, plotter, robot, strut_length, tube
@@ -33,19 +35,21 @@ INSET_FONT = 15  # text of the side panels: readable at the figure's 1200 x 900 
 
 # --- scene pieces ----------------------------------------------------------------------------
 
+
 def _support(pl, p, face, colour, name="support triangle"):
     support = p[topo.FACES[face - 1]]
-    pl.add_mesh(pv.PolyData(support, faces=[3, 0, 1, 2]), color=colour, opacity=0.55,
-                lighting=False, name=name)
-    pl.add_mesh(lines(support, np.array([[0, 1], [1, 2], [2, 0]])).tube(
-        radius=0.004 * strut_length(p)), color=colour, name=name + " edges")
+    pl.add_mesh(pv.PolyData(support, faces=[3, 0, 1, 2]), color=colour, opacity=0.55, lighting=False, name=name)
+    pl.add_mesh(
+        lines(support, np.array([[0, 1], [1, 2], [2, 0]])).tube(radius=0.004 * strut_length(p)),
+        color=colour,
+        name=name + " edges",
+    )
 
 
 def _gravity_line(pl, cog, proj, S):
     pl.add_mesh(tube(cog, proj, 0.004 * S), color=GRAVITY, name="gravity line")
     pl.add_points(cog[None], color="black", point_size=18, render_points_as_spheres=True, name="cog")
-    pl.add_points(proj[None], color=GRAVITY, point_size=18, render_points_as_spheres=True,
-                  name="cog projection")
+    pl.add_points(proj[None], color=GRAVITY, point_size=18, render_points_as_spheres=True, name="cog projection")
 
 
 def _side_camera(pl, p, up, toward, zoom=1.0):
@@ -72,28 +76,49 @@ def _inset(pl, k, contact: ct.Contact, colour, arrow=None, normal_xy=None):
     q = contact.projection_2d * 1e3
     pts = np.vstack([support, q[None]])
     box, _, _ = plot2d.nice_box(pts.min(axis=0) - 25, pts.max(axis=0) + 25)
-    plot2d.support_2d(pl, support, box, 3, "inset triangle",
-                      fill="#eef7ee" if colour == STANDS else "#fbe9e9", edge=colour)
+    plot2d.support_2d(
+        pl, support, box, 3, "inset triangle", fill="#eef7ee" if colour == STANDS else "#fbe9e9", edge=colour
+    )
     plot2d.corner_labels(pl, support, contact.nodes, 5.0, 18, "inset corner labels")
     pl.add_mesh(plot2d.disc(q, 6.0, 2.0), color=GRAVITY, name="inset projection")
     if normal_xy is not None:
-        pl.add_mesh(plot2d.disc(np.asarray(normal_xy) * 1e3, 5.0, 1.5), color="#8c8c8c",
-                    name="inset normal projection")
+        pl.add_mesh(plot2d.disc(np.asarray(normal_xy) * 1e3, 5.0, 1.5), color="#8c8c8c", name="inset normal projection")
     if arrow is not None:
         a = np.asarray(arrow, float)
-        pl.add_mesh(pv.Arrow(start=(q[0], q[1], 3.0), direction=(a[0], a[1], 0.0), scale=60.0,
-                             tip_length=0.3, tip_radius=0.12, shaft_radius=0.04),
-                    color=ROLLS, name="inset arrow")
+        pl.add_mesh(
+            pv.Arrow(
+                start=(q[0], q[1], 3.0),
+                direction=(a[0], a[1], 0.0),
+                scale=60.0,
+                tip_length=0.3,
+                tip_radius=0.12,
+                shaft_radius=0.04,
+            ),
+            color=ROLLS,
+            name="inset arrow",
+        )
     plot2d.camera_2d(pl, k, box, margins=(0.06, 0.06, 0.06, 0.1))
-    pl.add_text(f"from above (support frame)\nCoG projection (blue):\nmargin {contact.margin * 1e3:+.1f} mm",
-                position="upper_left", font_size=INSET_FONT, color="black", name=f"inset {k} text")
+    pl.add_text(
+        f"from above (support frame)\nCoG projection (blue):\nmargin {contact.margin * 1e3:+.1f} mm",
+        position="upper_left",
+        font_size=INSET_FONT,
+        color="black",
+        name=f"inset {k} text",
+    )
     pl.subplot(0, 0)
 
 
 # --- Fig. 8, 9 and 10 ------------------------------------------------------------------------
 
-def fig_state(nodes: np.ndarray, terrain: Terrain, face: int | Sequence[int], path: str | Path, title: str,
-              arrow: ArrayLike | None = None) -> dict:
+
+def fig_state(
+    nodes: np.ndarray,
+    terrain: Terrain,
+    face: int | Sequence[int],
+    path: str | Path,
+    title: str,
+    arrow: ArrayLike | None = None,
+) -> dict:
     """A robot (nodes (12, 3) m) on `terrain` judged on `face`: the CoG, its projection along
     gravity onto the plane of the face's nodes, the support triangle green if the projection is
     inside (Fig. 8: stable) or red with an arrow over the crossed edge if not (Fig. 9: rolling);
@@ -117,8 +142,13 @@ def fig_state(nodes: np.ndarray, terrain: Terrain, face: int | Sequence[int], pa
     if c.edge is not None:
         k = frames.crossed_edge(c.projection_2d, c.support)
         mid = p[[n - 1 for n in c.edge]].mean(axis=0) + 0.06 * S * c.normal
-        pl.add_mesh(pv.Arrow(start=mid, direction=out_world[k], scale=0.45 * S, tip_length=0.25,
-                             tip_radius=0.08, shaft_radius=0.03), color=ROLLS, name="rolling arrow")
+        pl.add_mesh(
+            pv.Arrow(
+                start=mid, direction=out_world[k], scale=0.45 * S, tip_length=0.25, tip_radius=0.08, shaft_radius=0.03
+            ),
+            color=ROLLS,
+            name="rolling arrow",
+        )
         _, rot = frames.face_frame(p, f)
         arrow2 = (rot @ out_world[k])[:2]
     if arrow is not None:  # the target direction, from the middle of the best-matching edge
@@ -126,28 +156,33 @@ def fig_state(nodes: np.ndarray, terrain: Terrain, face: int | Sequence[int], pa
         a = a / np.linalg.norm(a)
         k = int(np.argmax(out_world @ a))
         mid = p[topo.FACES[f - 1]][[k, (k + 1) % 3]].mean(axis=0) + 0.06 * S * c.normal
-        pl.add_mesh(pv.Arrow(start=mid, direction=a, scale=0.45 * S, tip_length=0.25,
-                             tip_radius=0.08, shaft_radius=0.03), color="#ff7f0e",
-                    name="target arrow")
+        pl.add_mesh(
+            pv.Arrow(start=mid, direction=a, scale=0.45 * S, tip_length=0.25, tip_radius=0.08, shaft_radius=0.03),
+            color="#ff7f0e",
+            name="target arrow",
+        )
     up = c.normal if terrain.kind == "none" else terrain.normal_at(*c.cog[:2])
     toward = out_world[int(np.argmin(frames.edge_distances(c.projection_2d, c.support)))]
     _side_camera(pl, p, up, toward)
     _inset(pl, 1, c, colour, arrow2)
     pl.subplot(0, 2)
-    legend = ("black: CoG\nblue: its projection along gravity\n"
-              + ("orange arrow: target direction\n" if arrow is not None else "")
-              + f"{'green' if c.stands else 'red'} triangle: contact face\n{topo.face_label(f)}; "
-              + ("the projection is inside:\nthe robot stands" if c.stands else
-                 f"the projection is outside,\nover edge {c.edge[0]}-{c.edge[1]}: it rolls onto "
-                 f"{topo.face_label(c.next_face)}"))
+    legend = (
+        "black: CoG\nblue: its projection along gravity\n"
+        + ("orange arrow: target direction\n" if arrow is not None else "")
+        + f"{'green' if c.stands else 'red'} triangle: contact face\n{topo.face_label(f)}; "
+        + (
+            "the projection is inside:\nthe robot stands"
+            if c.stands
+            else f"the projection is outside,\nover edge {c.edge[0]}-{c.edge[1]}: it rolls onto "
+            f"{topo.face_label(c.next_face)}"
+        )
+    )
     pl.add_text(legend, position="upper_left", font_size=INSET_FONT, color="black", name="legend")
     pl.subplot(0, 0)
-    return finish(pl, path, title, face=f, margin=c.margin, stands=c.stands, edge=c.edge,
-                  next_face=c.next_face)
+    return finish(pl, path, title, face=f, margin=c.margin, stands=c.stands, edge=c.edge, next_face=c.next_face)
 
 
-def fig_slope(nodes: np.ndarray, terrain: Terrain, face: int | Sequence[int], path: str | Path,
-              title: str) -> dict:
+def fig_slope(nodes: np.ndarray, terrain: Terrain, face: int | Sequence[int], path: str | Path, title: str) -> dict:
     """Fig. 10: a robot standing on a slope; the CoG projected along gravity (blue, the
     paper's construction) and along the face normal (grey), which differ by h tan(angle)
     downhill. nodes: (12, 3) world, m; face: 1..20 or three node numbers.
@@ -167,25 +202,32 @@ def fig_slope(nodes: np.ndarray, terrain: Terrain, face: int | Sequence[int], pa
     _support(pl, p, f, STANDS if c.stands else ROLLS)
     _gravity_line(pl, c.cog, c.projection, S)
     pl.add_mesh(tube(c.cog, normal_foot, 0.003 * S), color="#8c8c8c", name="normal line")
-    pl.add_points(normal_foot[None], color="#8c8c8c", point_size=14,
-                  render_points_as_spheres=True, name="normal projection")
+    pl.add_points(
+        normal_foot[None], color="#8c8c8c", point_size=14, render_points_as_spheres=True, name="normal projection"
+    )
     downhill = np.array([-terrain.normal[0], -terrain.normal[1], 0.0])
     downhill = downhill / np.linalg.norm(downhill) if np.linalg.norm(downhill) > 1e-9 else np.array([1.0, 0, 0])
     view = np.cross([0, 0, 1.0], downhill)  # horizontal, across the slope: downhill runs sideways
     centre = c.cog - 0.3 * h * np.array([0, 0, 1.0])
     pl.camera.focal_point = centre
-    pl.camera.position = centre + 3.6 * S * (math.cos(math.radians(8)) * view
-                                             + math.sin(math.radians(8)) * np.array([0, 0, 1.0]))
+    pl.camera.position = centre + 3.6 * S * (
+        math.cos(math.radians(8)) * view + math.sin(math.radians(8)) * np.array([0, 0, 1.0])
+    )
     pl.camera.up = (0, 0, 1)
     pl.camera.view_angle = 30.0
     pl.renderer.ResetCameraClippingRange()
     origin, rot = frames.face_frame(p, f)
     _inset(pl, 1, c, STANDS if c.stands else ROLLS, normal_xy=frames.to_frame(c.cog, origin, rot)[:2])
     pl.subplot(0, 2)
-    pl.add_text(f"slope {angle:.1f} deg, seen across it\n(downhill to the side)\n"
-                f"blue: projection along gravity\n(paper Fig. 10)\n"
-                f"grey: along the face normal\nthey differ by h tan(angle)\n= {shift * 1e3:.1f} mm "
-                f"downhill\n(h = {h * 1e3:.0f} mm: CoG height\nabove the face)",
-                position="upper_left", font_size=INSET_FONT, color="black", name="legend")
+    pl.add_text(
+        f"slope {angle:.1f} deg, seen across it\n(downhill to the side)\n"
+        f"blue: projection along gravity\n(paper Fig. 10)\n"
+        f"grey: along the face normal\nthey differ by h tan(angle)\n= {shift * 1e3:.1f} mm "
+        f"downhill\n(h = {h * 1e3:.0f} mm: CoG height\nabove the face)",
+        position="upper_left",
+        font_size=INSET_FONT,
+        color="black",
+        name="legend",
+    )
     pl.subplot(0, 0)
     return finish(pl, path, title, face=f, margin=c.margin, shift=shift, angle=angle)

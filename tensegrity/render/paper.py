@@ -5,6 +5,7 @@ Pure drawing functions on numpy arrays: each writes one PNG (scene.WINDOW px) an
 dict saying what was drawn, so that tests can check the scene. Lengths are taken in m; the
 support-frame figures (6, 7) show mm.
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -13,17 +14,33 @@ from pathlib import Path
 import numpy as np
 import pyvista as pv
 
-from ..physics import frames, topology as topo
+from ..physics import frames
+from ..physics import topology as topo
 from ..physics.contact import check_nodes
-from .scene import (AXIS_COLOURS, CABLE_COLOUR, LABEL, PAIR_COLOURS, STRUT_COLOURS, finish, lines, node_labels, plotter, robot_camera, strut_length, struts)
+from .scene import (
+    AXIS_COLOURS,
+    CABLE_COLOUR,
+    LABEL,
+    PAIR_COLOURS,
+    STRUT_COLOURS,
+    finish,
+    lines,
+    node_labels,
+    plotter,
+    robot_camera,
+    strut_length,
+    struts,
+)
 
 __all__ = ["fig_robot", "fig_support_frame"]
 
 
 # --- Fig. 1 and 4 ----------------------------------------------------------------------------
 
-def fig_robot(nodes: np.ndarray, path: str | Path, highlight_pairs: Sequence[int] | None = None,
-              title: str | None = None) -> dict:
+
+def fig_robot(
+    nodes: np.ndarray, path: str | Path, highlight_pairs: Sequence[int] | None = None, title: str | None = None
+) -> dict:
     """Fig. 1 (or Fig. 4 with highlight_pairs): the robot, struts as thick tubes, one colour
     each, the 24 cables as thin brown tubes and the 12 nodes numbered.
 
@@ -41,8 +58,11 @@ def fig_robot(nodes: np.ndarray, path: str | Path, highlight_pairs: Sequence[int
     if len(set(pairs)) != len(pairs):
         raise ValueError(f"highlight_pairs has repeated pairs: {pairs}")
     if title is None:
-        title = ("Fig. 4  Actuator pairs " + ", ".join(f"#{v}" for v in pairs)) if pairs else \
-            "Fig. 1  Six-strut tensegrity robot: struts (thick), cables (brown), nodes 1-12"
+        title = (
+            ("Fig. 4  Actuator pairs " + ", ".join(f"#{v}" for v in pairs))
+            if pairs
+            else "Fig. 1  Six-strut tensegrity robot: struts (thick), cables (brown), nodes 1-12"
+        )
     S = strut_length(p)
     pl = plotter(title)
     robot_camera(pl, p)
@@ -51,8 +71,7 @@ def fig_robot(nodes: np.ndarray, path: str | Path, highlight_pairs: Sequence[int
     cold = np.setdiff1d(np.arange(topo.N_CABLES), [c for cs in hot.values() for c in cs])
     n_cables = 0
     if len(cold):
-        mesh = lines(p, topo.CABLES[cold]).tube(radius=(0.003 if pairs else 0.0045) * S,
-                                                n_sides=12)
+        mesh = lines(p, topo.CABLES[cold]).tube(radius=(0.003 if pairs else 0.0045) * S, n_sides=12)
         pl.add_mesh(mesh, color="#b4b4b4" if pairs else CABLE_COLOUR, name="cables")
         n_cables += len(cold)
     pair_labels, label_col = [], []
@@ -70,13 +89,26 @@ def fig_robot(nodes: np.ndarray, path: str | Path, highlight_pairs: Sequence[int
     numbers = node_labels(pl, p, np.arange(topo.N_NODES), font_size=22 if pairs else 24)
     pl.add_points(p, color="black", point_size=11, render_points_as_spheres=True, name="nodes")
     for k, (pos, text, colour) in enumerate(zip(label_pos, pair_labels, label_col)):
-        pl.add_point_labels(pos[None], [text], font_size=26, name=f"pair label {k}",
-                            **{**LABEL, "text_color": colour, "shape_opacity": 0.85})
+        pl.add_point_labels(
+            pos[None],
+            [text],
+            font_size=26,
+            name=f"pair label {k}",
+            **{**LABEL, "text_color": colour, "shape_opacity": 0.85},
+        )
     robot_camera(pl, p)  # adding meshes may have reset it
-    return finish(pl, path, title, struts=n_struts, cables=n_cables, node_labels=numbers,
-                  highlighted=hot, pair_labels=pair_labels,
-                  pair_label_positions={v: q for v, q in zip(hot, label_pos)},
-                  shifted=sorted(c for c, sh in shift.items() if np.any(sh)))
+    return finish(
+        pl,
+        path,
+        title,
+        struts=n_struts,
+        cables=n_cables,
+        node_labels=numbers,
+        highlighted=hot,
+        pair_labels=pair_labels,
+        pair_label_positions={v: q for v, q in zip(hot, label_pos)},
+        shifted=sorted(c for c, sh in shift.items() if np.any(sh)),
+    )
 
 
 def _overlap_shifts(pl: pv.Plotter, p: np.ndarray, hot: dict, radius: float) -> dict:
@@ -131,9 +163,11 @@ def _pair_label_positions(pl: pv.Plotter, p: np.ndarray, hot: dict) -> list[np.n
             for t in (0.25, 0.35, 0.45, 0.55):
                 q = p[v - 1] + t * (p[far] - p[v - 1])
                 q2 = flat(q)[0]
-                score = min([np.min(np.linalg.norm(nodes2 - q2, axis=1))]
-                            + [2.0 * np.linalg.norm(q2 - r) for r in placed]
-                            + [seg_dist(q2, o[0], o[1]) for o in others])
+                score = min(
+                    [np.min(np.linalg.norm(nodes2 - q2, axis=1))]
+                    + [2.0 * np.linalg.norm(q2 - r) for r in placed]
+                    + [seg_dist(q2, o[0], o[1]) for o in others]
+                )
                 if best is None or score > best[0]:
                     best = (score, q, q2)
         placed.append(best[2])
@@ -142,6 +176,7 @@ def _pair_label_positions(pl: pv.Plotter, p: np.ndarray, hot: dict) -> list[np.n
 
 
 # --- Fig. 5 ----------------------------------------------------------------------------------
+
 
 def _frame_camera(pl: pv.Plotter, nodes: np.ndarray, origin: np.ndarray, rot: np.ndarray) -> None:
     """Camera fixed in the support frame: 45 deg above the support plane on the side away from
@@ -159,8 +194,7 @@ def _frame_camera(pl: pv.Plotter, nodes: np.ndarray, origin: np.ndarray, rot: np
     pl.renderer.ResetCameraClippingRange()
 
 
-def fig_support_frame(nodes: np.ndarray, face: int | Sequence[int], path: str | Path,
-                      title: str | None = None) -> dict:
+def fig_support_frame(nodes: np.ndarray, face: int | Sequence[int], path: str | Path, title: str | None = None) -> dict:
     """Fig. 5: the support frame of `face` (1..20 or three node numbers): the robot faint,
     the support triangle filled, the x, y, z axes as arrows at its centroid (z into the robot,
     toward the CoG = mean of the nodes, y toward the reference vertex), corners numbered.
@@ -174,36 +208,43 @@ def fig_support_frame(nodes: np.ndarray, face: int | Sequence[int], path: str | 
     support, cog = p[corners], p.mean(axis=0)
     origin, rot = frames.face_frame(p, f)
     if title is None:
-        title = (f"Fig. 5  Supporting-triangle frame of face {f} {topo.face_label(f)} "
-                 f"({topo.FACE_TYPES[f - 1]})")
+        title = f"Fig. 5  Supporting-triangle frame of face {f} {topo.face_label(f)} ({topo.FACE_TYPES[f - 1]})"
     S = strut_length(p)
     pl = plotter(title)
     _frame_camera(pl, p, origin, rot)
     struts(pl, p, STRUT_COLOURS, opacity=0.15)
-    pl.add_mesh(lines(p, topo.CABLES).tube(radius=0.004 * S, n_sides=10), color=CABLE_COLOUR,
-                opacity=0.18, name="cables")
-    pl.add_mesh(pv.PolyData(support, faces=[3, 0, 1, 2]), color="#ffd54a", opacity=0.85,
-                lighting=False, name="support triangle")
-    pl.add_mesh(lines(support, np.array([[0, 1], [1, 2], [2, 0]])).tube(radius=0.005 * S),
-                color="#b8860b", name="support triangle edges")
+    pl.add_mesh(
+        lines(p, topo.CABLES).tube(radius=0.004 * S, n_sides=10), color=CABLE_COLOUR, opacity=0.18, name="cables"
+    )
+    pl.add_mesh(
+        pv.PolyData(support, faces=[3, 0, 1, 2]), color="#ffd54a", opacity=0.85, lighting=False, name="support triangle"
+    )
+    pl.add_mesh(
+        lines(support, np.array([[0, 1], [1, 2], [2, 0]])).tube(radius=0.005 * S),
+        color="#b8860b",
+        name="support triangle edges",
+    )
     length = 0.62 * float(np.min(np.linalg.norm(support - origin, axis=1)))
     tips = []
     for k, name in enumerate("xyz"):
-        arrow = pv.Arrow(start=origin, direction=rot[k], scale=length, tip_length=0.22,
-                         tip_radius=0.07, shaft_radius=0.028)
+        arrow = pv.Arrow(
+            start=origin, direction=rot[k], scale=length, tip_length=0.22, tip_radius=0.07, shaft_radius=0.028
+        )
         pl.add_mesh(arrow, color=AXIS_COLOURS[name], name=f"axis {name}")
         tips.append(origin + 1.12 * length * rot[k] + 0.16 * length * rot[(k + 2) % 3])
-    pl.add_point_labels(np.array(tips), list("xyz"), font_size=34, name="axis labels",
-                        **{**LABEL, "shape_opacity": 0.0})
-    pl.add_point_labels(origin[None] - 0.12 * length * (rot[0] + rot[1]), ["O"], font_size=24,
-                        name="origin label", **{**LABEL, "shape_opacity": 0.0})
-    pl.add_points(cog[None], color="black", point_size=16, render_points_as_spheres=True,
-                  name="cog")
-    pl.add_point_labels(cog[None] + 0.05 * S * rot[0], ["CoG"], font_size=22, name="cog label",
-                        **LABEL)
+    pl.add_point_labels(
+        np.array(tips), list("xyz"), font_size=34, name="axis labels", **{**LABEL, "shape_opacity": 0.0}
+    )
+    pl.add_point_labels(
+        origin[None] - 0.12 * length * (rot[0] + rot[1]),
+        ["O"],
+        font_size=24,
+        name="origin label",
+        **{**LABEL, "shape_opacity": 0.0},
+    )
+    pl.add_points(cog[None], color="black", point_size=16, render_points_as_spheres=True, name="cog")
+    pl.add_point_labels(cog[None] + 0.05 * S * rot[0], ["CoG"], font_size=22, name="cog label", **LABEL)
     node_labels(pl, p, corners, font_size=28, name="corner labels", offset=0.09)
-    pl.add_points(support, color="black", point_size=12, render_points_as_spheres=True,
-                  name="corners")
+    pl.add_points(support, color="black", point_size=12, render_points_as_spheres=True, name="corners")
     _frame_camera(pl, p, origin, rot)
-    return finish(pl, path, title, face=f, corners=(corners + 1).tolist(), axes=rot,
-                  origin=origin)
+    return finish(pl, path, title, face=f, corners=(corners + 1).tolist(), axes=rot, origin=origin)

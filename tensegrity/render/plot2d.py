@@ -5,6 +5,7 @@ figures draw in mm. Helpers: the view and camera of a renderer, round axis boxes
 the support triangle to a view, discs, axes and corner labels.
 A `box` is a view region (xmin, xmax, ymin, ymax) in the figure's length unit.
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -15,9 +16,19 @@ from numpy.typing import ArrayLike
 
 from .scene import LABEL, WINDOW
 
-__all__ = ["view_2d", "camera_2d", "nice_box", "clip_polygon", "clip_segment",
-           "closest_on_segment", "segment_distance", "support_2d", "disc", "axes_2d",
-           "corner_labels"]
+__all__ = [
+    "view_2d",
+    "camera_2d",
+    "nice_box",
+    "clip_polygon",
+    "clip_segment",
+    "closest_on_segment",
+    "segment_distance",
+    "support_2d",
+    "disc",
+    "axes_2d",
+    "corner_labels",
+]
 
 Box = tuple[float, float, float, float]
 _MARGINS = (0.04, 0.04, 0.04, 0.04)
@@ -41,8 +52,7 @@ def view_2d(pl: pv.Plotter, k: int, box: Box, margins: tuple[float, float, float
     return cx - width / 2, cx + width / 2, cy - height / 2, cy + height / 2
 
 
-def camera_2d(pl: pv.Plotter, k: int, box: Box,
-              margins: tuple[float, float, float, float] = _MARGINS) -> None:
+def camera_2d(pl: pv.Plotter, k: int, box: Box, margins: tuple[float, float, float, float] = _MARGINS) -> None:
     """Renderer k looks down -z with a parallel projection at view_2d(pl, k, box, margins)."""
     v = view_2d(pl, k, box, margins)
     cx, cy = (v[0] + v[1]) / 2, (v[2] + v[3]) / 2
@@ -71,8 +81,7 @@ def nice_box(lo: ArrayLike, hi: ArrayLike, n: int = 5) -> tuple[Box, int, int]:
 def clip_polygon(poly: np.ndarray, box: Box) -> np.ndarray:
     """Convex polygon (k, 2) clipped to box (Sutherland-Hodgman); (j, 2), j = 0 if outside."""
     out = np.asarray(poly, float)
-    for axis, bound, keep_below in ((0, box[0], False), (0, box[1], True), (1, box[2], False),
-                                    (1, box[3], True)):
+    for axis, bound, keep_below in ((0, box[0], False), (0, box[1], True), (1, box[2], False), (1, box[3], True)):
         if len(out) == 0:
             break
         inside = (out[:, axis] <= bound) if keep_below else (out[:, axis] >= bound)
@@ -94,8 +103,7 @@ def clip_segment(a: ArrayLike, b: ArrayLike, box: Box) -> tuple[np.ndarray, np.n
     a, b = np.asarray(a, float), np.asarray(b, float)
     d = b - a
     t0, t1 = 0.0, 1.0
-    for p, q in ((-d[0], a[0] - box[0]), (d[0], box[1] - a[0]), (-d[1], a[1] - box[2]),
-                 (d[1], box[3] - a[1])):
+    for p, q in ((-d[0], a[0] - box[0]), (d[0], box[1] - a[0]), (-d[1], a[1] - box[2]), (d[1], box[3] - a[1])):
         if p == 0:
             if q < 0:
                 return None
@@ -122,10 +130,17 @@ def segment_distance(q: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
     return float(np.linalg.norm(q - closest_on_segment(q, a, b)))
 
 
-def support_2d(pl: pv.Plotter, support: np.ndarray, box: Box, width: float, name: str,
-               fill: str = "#fff6d5", edge: str = "#b8860b",
-               corner_labels: Sequence[int] | np.ndarray | None = None,
-               avoid: np.ndarray | None = None) -> int:
+def support_2d(
+    pl: pv.Plotter,
+    support: np.ndarray,
+    box: Box,
+    width: float,
+    name: str,
+    fill: str = "#fff6d5",
+    edge: str = "#b8860b",
+    corner_labels: Sequence[int] | np.ndarray | None = None,
+    avoid: np.ndarray | None = None,
+) -> int:
     """The support triangle `support` (3, 2+) (x, y of its corners, mm), filled and outlined,
     clipped to box; with corner_labels (three node numbers), each visible edge is named
     ("edge 10-12") on its visible part: at its middle, or with `avoid` (n, 2) (points that
@@ -134,48 +149,67 @@ def support_2d(pl: pv.Plotter, support: np.ndarray, box: Box, width: float, name
     poly = clip_polygon(support[:, :2], box)
     if len(poly) >= 3:
         faces = np.hstack([[len(poly)], np.arange(len(poly))])
-        pl.add_mesh(pv.PolyData(np.column_stack([poly, np.full(len(poly), -3.0)]), faces=faces),
-                    color=fill, lighting=False, name=name + " fill")
+        pl.add_mesh(
+            pv.PolyData(np.column_stack([poly, np.full(len(poly), -3.0)]), faces=faces),
+            color=fill,
+            lighting=False,
+            name=name + " fill",
+        )
     n = 0
     for k in range(3):
         seg = clip_segment(support[k, :2], support[(k + 1) % 3, :2], box)
         if seg is not None:
-            pl.add_lines(np.array([[*seg[0], -2.0], [*seg[1], -2.0]]), color=edge, width=width,
-                         name=f"{name} edge {k + 1}")
+            pl.add_lines(
+                np.array([[*seg[0], -2.0], [*seg[1], -2.0]]), color=edge, width=width, name=f"{name} edge {k + 1}"
+            )
             n += 1
             if corner_labels is not None:
                 a, b = sorted((int(corner_labels[k]), int(corner_labels[(k + 1) % 3])))
                 mid = 0.5 * (seg[0] + seg[1])
                 if avoid is not None and len(avoid):
                     cand = [seg[0] + f * (seg[1] - seg[0]) for f in (0.5, 0.15, 0.85)]
-                    mid = max(cand, key=lambda q: np.min(np.linalg.norm(
-                        np.asarray(avoid)[:, :2] - q, axis=1)))
-                pl.add_point_labels(np.array([[*mid, 5.0]]), [f"edge {a}-{b}"], font_size=16,
-                                    name=f"{name} edge label {k + 1}",
-                                    **{**LABEL, "text_color": edge})
+                    mid = max(cand, key=lambda q: np.min(np.linalg.norm(np.asarray(avoid)[:, :2] - q, axis=1)))
+                pl.add_point_labels(
+                    np.array([[*mid, 5.0]]),
+                    [f"edge {a}-{b}"],
+                    font_size=16,
+                    name=f"{name} edge label {k + 1}",
+                    **{**LABEL, "text_color": edge},
+                )
     return n
 
 
 def disc(centre_xy: Sequence[float] | np.ndarray, radius: float, z: float, inner: float = 0.0) -> pv.PolyData:
     """A flat disc (ring if inner > 0) at centre_xy (2,), height z, facing +z."""
-    return pv.Disc(center=(centre_xy[0], centre_xy[1], z), inner=inner, outer=radius,
-                   normal=(0, 0, 1), c_res=48)
+    return pv.Disc(center=(centre_xy[0], centre_xy[1], z), inner=inner, outer=radius, normal=(0, 0, 1), c_res=48)
 
 
 def axes_2d(pl: pv.Plotter, box: Box, nx: int, ny: int) -> None:
     """x and y axes (mm) with nx and ny ticks around box, in the active renderer."""
-    pl.show_bounds(bounds=(box[0], box[1], box[2], box[3], 0, 0), xtitle="x (mm)",
-                   ytitle="y (mm)", show_zaxis=False, show_zlabels=False, color="black",
-                   font_size=16, location="front", use_2d=True, n_xlabels=nx, n_ylabels=ny,
-                   fmt="%.0f", bold=False)
+    pl.show_bounds(
+        bounds=(box[0], box[1], box[2], box[3], 0, 0),
+        xtitle="x (mm)",
+        ytitle="y (mm)",
+        show_zaxis=False,
+        show_zlabels=False,
+        color="black",
+        font_size=16,
+        location="front",
+        use_2d=True,
+        n_xlabels=nx,
+        n_ylabels=ny,
+        fmt="%.0f",
+        bold=False,
+    )
 
 
-def corner_labels(pl: pv.Plotter, support: np.ndarray, labels: Sequence[int] | np.ndarray, z: float,
-                  font_size: int, name: str) -> None:
+def corner_labels(
+    pl: pv.Plotter, support: np.ndarray, labels: Sequence[int] | np.ndarray, z: float, font_size: int, name: str
+) -> None:
     """The node numbers `labels` (3,) just outside the corners of `support` (3, 2+), at z."""
     c = support[:, :2].mean(axis=0)
     out = support[:, :2] - c
-    pos = support[:, :2] + 0.1 * np.linalg.norm(out, axis=1).max() * out / np.linalg.norm(
-        out, axis=1, keepdims=True)
-    pl.add_point_labels(np.column_stack([pos, np.full(3, z)]), [str(s) for s in labels],
-                        font_size=font_size, name=name, **LABEL)
+    pos = support[:, :2] + 0.1 * np.linalg.norm(out, axis=1).max() * out / np.linalg.norm(out, axis=1, keepdims=True)
+    pl.add_point_labels(
+        np.column_stack([pos, np.full(3, z)]), [str(s) for s in labels], font_size=font_size, name=name, **LABEL
+    )

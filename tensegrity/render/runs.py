@@ -6,6 +6,7 @@ frame, the faces it settled on, a goal and a `Terrain`; nothing here reads a fil
 run dataset (tensegrity.stages.locomotion_paths and locomotion_animation read the runs). Each
 function writes one file and returns a dict saying what was drawn.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -17,8 +18,18 @@ from numpy.typing import ArrayLike
 from ..physics import topology as topo
 from ..physics.terrain import Terrain
 from .files import atomic
-from .scene import (CABLE_COLOUR, LABEL, STRUT_COLOURS, WINDOW, add_terrain, finish,
-                    fit_camera, plotter, robot, terrain_mesh)
+from .scene import (
+    CABLE_COLOUR,
+    LABEL,
+    STRUT_COLOURS,
+    WINDOW,
+    add_terrain,
+    finish,
+    fit_camera,
+    plotter,
+    robot,
+    terrain_mesh,
+)
 
 __all__ = ["fig_path", "animate"]
 
@@ -69,7 +80,7 @@ def rdp_indices(points: np.ndarray, tol: float) -> np.ndarray:
         a, b = todo.pop()
         if b - a < 2:
             continue
-        seg, rel = p[b] - p[a], p[a + 1:b] - p[a]
+        seg, rel = p[b] - p[a], p[a + 1 : b] - p[a]
         along = np.clip(rel @ seg / (seg @ seg), 0.0, 1.0) if seg @ seg > 0 else 0.0
         dist = np.linalg.norm(rel - np.multiply.outer(along, seg), axis=1)
         i = a + 1 + int(np.argmax(dist))
@@ -99,22 +110,47 @@ def _top_camera(pl: pv.Plotter, centre, extent: float) -> None:
     pl.camera.parallel_scale = 1.05 * extent
     x0 = centre[0] + 0.95 * extent * WINDOW[0] / WINDOW[1] - 0.75
     y0 = centre[1] - 0.85 * extent
-    pl.add_mesh(pv.Line((x0, y0, 1.2), (x0 + 0.5, y0, 1.2)).tube(radius=0.01), color="black",
-                name="scale bar")
-    pl.add_point_labels(np.array([[x0 + 0.25, y0 + 0.06, 1.2]]), ["0.5 m"], font_size=16,
-                        name="scale label", **{**LABEL, "shape_opacity": 0.0})
+    pl.add_mesh(pv.Line((x0, y0, 1.2), (x0 + 0.5, y0, 1.2)).tube(radius=0.01), color="black", name="scale bar")
+    pl.add_point_labels(
+        np.array([[x0 + 0.25, y0 + 0.06, 1.2]]),
+        ["0.5 m"],
+        font_size=16,
+        name="scale label",
+        **{**LABEL, "shape_opacity": 0.0},
+    )
     for axis, label in (((1, 0, 0), "x"), ((0, 1, 0), "y")):
-        pl.add_mesh(pv.Arrow(start=(x0 - 0.3, y0, 1.2), direction=axis, scale=0.22,
-                             tip_length=0.3, tip_radius=0.1, shaft_radius=0.035),
-                    color="black", name=f"axis {label}")
-        pl.add_point_labels(np.array([[x0 - 0.3 + 0.27 * axis[0], y0 + 0.27 * axis[1], 1.2]]),
-                            [label], font_size=16, name=f"axis {label} label",
-                            **{**LABEL, "shape_opacity": 0.0})
+        pl.add_mesh(
+            pv.Arrow(
+                start=(x0 - 0.3, y0, 1.2),
+                direction=axis,
+                scale=0.22,
+                tip_length=0.3,
+                tip_radius=0.1,
+                shaft_radius=0.035,
+            ),
+            color="black",
+            name=f"axis {label}",
+        )
+        pl.add_point_labels(
+            np.array([[x0 - 0.3 + 0.27 * axis[0], y0 + 0.27 * axis[1], 1.2]]),
+            [label],
+            font_size=16,
+            name=f"axis {label} label",
+            **{**LABEL, "shape_opacity": 0.0},
+        )
 
 
-def fig_path(nodes: np.ndarray, terrain: Terrain, path: str | Path, title: str, *,
-             faces: ArrayLike = (), step_end: ArrayLike = (), goal: ArrayLike | None = None,
-             view: str = "top") -> dict:
+def fig_path(
+    nodes: np.ndarray,
+    terrain: Terrain,
+    path: str | Path,
+    title: str,
+    *,
+    faces: ArrayLike = (),
+    step_end: ArrayLike = (),
+    goal: ArrayLike | None = None,
+    view: str = "top",
+) -> dict:
     """The path of a run over its terrain, `view` "top" (from above, parallel projection) or
     "3d": the CoG track, the contact triangles the robot settled on after each step, the
     start, the goal with its 0.3 m arrival circle, and the robot at the end (3d: also, faint,
@@ -149,8 +185,11 @@ def fig_path(nodes: np.ndarray, terrain: Terrain, path: str | Path, title: str, 
         support = nodes[i][topo.FACES[f - 1]]
         if view == "top":
             support = np.column_stack([support[:, :2], np.full(3, 0.9)])
-        pl.add_mesh(pv.PolyData(support, faces=[3, 0, 1, 2]).extract_all_edges().tube(radius=0.006),
-                    color="#ff7f0e", name=f"contact {k + 1}")
+        pl.add_mesh(
+            pv.PolyData(support, faces=[3, 0, 1, 2]).extract_all_edges().tube(radius=0.006),
+            color="#ff7f0e",
+            name=f"contact {k + 1}",
+        )
         contacts += 1
     start = cog[0] if view == "3d" else np.array([*cog[0, :2], 1.1])
     pl.add_mesh(pv.Sphere(radius=0.05, center=start), color="#2ca02c", name="start")
@@ -164,15 +203,21 @@ def fig_path(nodes: np.ndarray, terrain: Terrain, path: str | Path, title: str, 
     if view == "3d":
         robot(pl, nodes[0], opacity=0.35, name="robot at the start")
         _oblique_camera(pl, centre, cog, 2.6 * extent)
-        fit_camera(pl, np.vstack([terrain_mesh(terrain, centre, ground).points, nodes[0],
-                                   nodes[-1], track]),
-                    right=0.7 if terrain.kind == "heightfield" else 0.95)  # the colour bar
+        fit_camera(
+            pl,
+            np.vstack([terrain_mesh(terrain, centre, ground).points, nodes[0], nodes[-1], track]),
+            right=0.7 if terrain.kind == "heightfield" else 0.95,
+        )  # the colour bar
     else:
         _top_camera(pl, centre, extent)
     pl.renderer.ResetCameraClippingRange()
-    pl.add_text("black: CoG track   orange: contact faces after each roll\n"
-                "green: start   red: goal and arrival circle", position="lower_left",
-                font_size=11, color="black", name="legend")
+    pl.add_text(
+        "black: CoG track   orange: contact faces after each roll\ngreen: start   red: goal and arrival circle",
+        position="lower_left",
+        font_size=11,
+        color="black",
+        name="legend",
+    )
     return finish(pl, path, title, contacts=contacts, view=view)
 
 
@@ -181,8 +226,7 @@ def _title(pl: pv.Plotter, longest: str, width: int) -> pv.Text:
     (at most 24) in which the text `longest` fits 96 % of the width. Unlike a corner annotation
     (`add_text` at a named position), which finds its font size again whenever its text
     changes (20 ms of a 35 ms frame), it keeps one size: the title of a frame does not jump."""
-    title = pl.add_text(longest, position=(0.5, 0.99), viewport=True, font_size=12, color="black",
-                        name="title")
+    title = pl.add_text(longest, position=(0.5, 0.99), viewport=True, font_size=12, color="black", name="title")
     title.prop.justification_horizontal, title.prop.justification_vertical = "center", "top"
     box = np.zeros(4)
     for size in range(24, 7, -1):
@@ -193,9 +237,19 @@ def _title(pl: pv.Plotter, longest: str, width: int) -> pv.Text:
     return title
 
 
-def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: Terrain,
-            path: str | Path, *, goal: ArrayLike | None = None, label: str = "", fps: int = 10,
-            speed: float = 8.0, size: tuple[int, int] = (640, 480)) -> dict:
+def animate(
+    nodes: np.ndarray,
+    time: np.ndarray,
+    pressure: np.ndarray,
+    terrain: Terrain,
+    path: str | Path,
+    *,
+    goal: ArrayLike | None = None,
+    label: str = "",
+    fps: int = 10,
+    speed: float = 8.0,
+    size: tuple[int, int] = (640, 480),
+) -> dict:
     """An animation (GIF) of a run: the robot rolling over its terrain toward the goal, the
     CoG track so far, and in each frame's title `label`, the time and the pressures applied.
     The meshes and the title are built once and changed in place, so a frame costs one
@@ -209,16 +263,18 @@ def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: 
     Returns {"path", "frames", "fps"}.
     """
     from PIL import Image
+
     if not (fps >= 1 and speed > 0):
         raise ValueError(f"fps must be >= 1 and speed > 0, got {fps!r}, {speed!r}")
     nodes, cog = _check_run(nodes)
     t, pres = np.asarray(time, float), np.asarray(pressure, float)
     if t.shape != (len(nodes),) or pres.shape != (len(nodes), topo.N_PAIRS):
-        raise ValueError(f"time {t.shape} and pressure {pres.shape} must be ({len(nodes)},) "
-                         f"and ({len(nodes)}, 12) for {len(nodes)} samples")
+        raise ValueError(
+            f"time {t.shape} and pressure {pres.shape} must be ({len(nodes)},) "
+            f"and ({len(nodes)}, 12) for {len(nodes)} samples"
+        )
     goal = _goal(goal)
-    frames = np.unique(np.clip(np.searchsorted(t, np.arange(t[0], t[-1] + 1e-9, speed / fps)),
-                               0, len(t) - 1))
+    frames = np.unique(np.clip(np.searchsorted(t, np.arange(t[0], t[-1] + 1e-9, speed / fps)), 0, len(t) - 1))
     centre, extent = _area(cog, goal)
     pl = plotter(None, size=size)
     for r in pl.renderers:  # smoothing costs time in software and shows little in a GIF
@@ -231,17 +287,22 @@ def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: 
         pl.add_mesh(pv.Sphere(radius=0.05, center=goal + [0, 0, 0.02]), color=GOAL, name="goal")
 
     def segments(seg: np.ndarray) -> pv.PolyData:  # lines only: one cell per segment
-        return pv.PolyData(nodes[frames[0]].copy(),
-                           lines=np.hstack([np.full((len(seg), 1), 2), seg]).ravel())
+        return pv.PolyData(nodes[frames[0]].copy(), lines=np.hstack([np.full((len(seg), 1), 2), seg]).ravel())
 
     robot_struts, cables = segments(topo.STRUTS), segments(topo.CABLES)
     robot_struts.cell_data["strut"] = np.arange(topo.N_STRUTS)
     trail = np.repeat(cog[frames[0]][None] + [0, 0, 0.02], len(frames), axis=0)
     track = pv.lines_from_points(trail.copy())
-    pl.add_mesh(robot_struts, scalars="strut", cmap=STRUT_COLOURS, show_scalar_bar=False,
-                render_lines_as_tubes=True, line_width=9, name="struts")
-    pl.add_mesh(cables, color=CABLE_COLOUR, render_lines_as_tubes=True, line_width=2,
-                name="cables")
+    pl.add_mesh(
+        robot_struts,
+        scalars="strut",
+        cmap=STRUT_COLOURS,
+        show_scalar_bar=False,
+        render_lines_as_tubes=True,
+        line_width=9,
+        name="struts",
+    )
+    pl.add_mesh(cables, color=CABLE_COLOUR, render_lines_as_tubes=True, line_width=2, name="cables")
     pl.add_mesh(track, color=PATH, line_width=3, name="track")
     _oblique_camera(pl, centre, cog, 2.4 * extent)
     pl.renderer.ResetCameraClippingRange()
@@ -255,10 +316,10 @@ def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: 
     title = _title(pl, max(titles, key=len), size[0])
     # The palette: the robot's, track's and goal's colours in four shades (the tubes are lit),
     # then the rest of the first frame's colours (mostly the terrain), 256 in all.
-    key = np.array([[int(c[k:k + 2], 16) for k in (1, 3, 5)]
-                    for c in [*STRUT_COLOURS, CABLE_COLOUR, GOAL]], float)
-    shades = np.vstack([key * f for f in (0.45, 0.7, 1.0)] + [key + 0.35 * (255 - key)]
-                       + [[[0, 0, 0], [255, 255, 255]]])
+    key = np.array([[int(c[k : k + 2], 16) for k in (1, 3, 5)] for c in [*STRUT_COLOURS, CABLE_COLOUR, GOAL]], float)
+    shades = np.vstack(
+        [key * f for f in (0.45, 0.7, 1.0)] + [key + 0.35 * (255 - key)] + [[[0, 0, 0], [255, 255, 255]]]
+    )
     shades = np.clip(np.rint(shades), 0, 255).astype(np.uint8)
     palette, images = None, []
     for n, i in enumerate(frames):
@@ -271,13 +332,13 @@ def animate(nodes: np.ndarray, time: np.ndarray, pressure: np.ndarray, terrain: 
         rgb = np.ascontiguousarray(pl.screenshot(return_img=True)[..., :3])
         if palette is None:
             rest = Image.fromarray(rgb).quantize(256 - len(shades), method=Image.Quantize.MEDIANCUT)
-            colours = np.vstack([shades, np.reshape(rest.getpalette()[:3 * (256 - len(shades))],
-                                                    (-1, 3))]).astype(np.uint8)
+            colours = np.vstack([shades, np.reshape(rest.getpalette()[: 3 * (256 - len(shades))], (-1, 3))]).astype(
+                np.uint8
+            )
             palette = Image.new("P", (1, 1))
             palette.putpalette(colours.ravel().tolist())
         images.append(Image.fromarray(rgb).quantize(palette=palette, dither=Image.Dither.NONE))
     pl.close()
     with atomic(path) as tmp:
-        images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:],
-                       duration=1000.0 / fps, loop=0)
+        images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:], duration=1000.0 / fps, loop=0)
     return {"path": str(path), "frames": len(frames), "fps": fps}

@@ -12,6 +12,7 @@ VTK_DEFAULT_OPENGL_WINDOW, which VTK reads when it creates a render window, so i
 `plotter()` just before the first window exists, not when the module is imported: importing
 tensegrity.render changes no process-wide setting. Callers set nothing.
 """
+
 from __future__ import annotations
 
 import functools
@@ -25,24 +26,61 @@ import pyvista as pv
 from numpy.typing import ArrayLike
 
 from ..physics import topology as topo
-from .files import atomic
 from ..physics.terrain import Terrain
+from .files import atomic
 
-__all__ = ["WINDOW", "STRUT_COLOURS", "CABLE_COLOUR", "PAIR_COLOURS", "AXIS_COLOURS", "LABEL",
-           "offscreen", "plotter", "finish", "tube", "lines", "strut_length", "struts", "robot",
-           "node_labels", "robot_camera", "fit_camera", "terrain_mesh", "add_terrain"]
+__all__ = [
+    "WINDOW",
+    "STRUT_COLOURS",
+    "CABLE_COLOUR",
+    "PAIR_COLOURS",
+    "AXIS_COLOURS",
+    "LABEL",
+    "offscreen",
+    "plotter",
+    "finish",
+    "tube",
+    "lines",
+    "strut_length",
+    "struts",
+    "robot",
+    "node_labels",
+    "robot_camera",
+    "fit_camera",
+    "terrain_mesh",
+    "add_terrain",
+]
 
 WINDOW = (1200, 900)  # px
 STRUT_COLOURS = ["#1f77b4", "#2ca02c", "#d62728", "#9467bd", "#ff7f0e", "#17becf"]
 CABLE_COLOUR = "#8b4513"  # brown, as in the paper's Fig. 1
 # One colour per pair #1..#12; the strongest contrasts go to the pairs that move the CoG most
 # (#9, #10, #12, then #4, #6, #7 on the equilateral face; #5, #11 on the isosceles one).
-PAIR_COLOURS = ["#42d4f4", "#9a6324", "#808000", "#f58231", "#000075", "#911eb4",
-                "#f032e6", "#469990", "#e6194b", "#4363d8", "#d4a000", "#3cb44b"]
+PAIR_COLOURS = [
+    "#42d4f4",
+    "#9a6324",
+    "#808000",
+    "#f58231",
+    "#000075",
+    "#911eb4",
+    "#f032e6",
+    "#469990",
+    "#e6194b",
+    "#4363d8",
+    "#d4a000",
+    "#3cb44b",
+]
 AXIS_COLOURS = {"x": "#d62728", "y": "#2ca02c", "z": "#1f4fd6"}
 # Style of every text label drawn at a point (pass as **LABEL to add_point_labels).
-LABEL = dict(bold=True, text_color="black", shape_color="white", shape_opacity=0.75,
-             show_points=False, always_visible=True, margin=2)
+LABEL = dict(
+    bold=True,
+    text_color="black",
+    shape_color="white",
+    shape_opacity=0.75,
+    show_points=False,
+    always_visible=True,
+    margin=2,
+)
 # Canonical view of the robot in its reference pose (direction from the centre to the camera,
 # and the up vector): the direction that keeps the 12 projected nodes furthest apart.
 _ROBOT_VIEW = (np.array([-0.441, -0.148, 0.885]), np.array([0.0, 1.0, 0.0]))
@@ -63,8 +101,7 @@ def plotter(title: str | None, panels: int = 1, size: tuple[int, int] = WINDOW) 
     (1: top, with a border; 2: bottom) and a title strip (3); renderer 0 is left active.
     """
     offscreen()
-    pl = pv.Plotter(off_screen=True, window_size=size, shape=(1, 4 if panels == 3 else 1),
-                    border=False)
+    pl = pv.Plotter(off_screen=True, window_size=size, shape=(1, 4 if panels == 3 else 1), border=False)
     # Edges smoothed by FXAA, a filter of the finished image, not by multisampling: MSAA x4 cost
     # 0.17 s a figure in software (llvmpipe), FXAA 0.04 s, and they look alike (compared side by
     # side). Set on the renderers: PyVista's enable_anti_aliasing("fxaa") turns to SSAA under EGL.
@@ -73,8 +110,7 @@ def plotter(title: str | None, panels: int = 1, size: tuple[int, int] = WINDOW) 
         r.UseFXAAOn()
     pl.set_background("white")
     if panels == 3:
-        ports = [(0.0, 0.0, 0.7, 0.93), (0.7, 0.45, 1.0, 0.93), (0.7, 0.0, 1.0, 0.45),
-                 (0.0, 0.93, 1.0, 1.0)]
+        ports = [(0.0, 0.0, 0.7, 0.93), (0.7, 0.45, 1.0, 0.93), (0.7, 0.0, 1.0, 0.45), (0.0, 0.93, 1.0, 1.0)]
         for r, port in zip(pl.renderers, ports):
             r.SetViewport(*port)
             r.set_background("white")
@@ -117,18 +153,21 @@ def lines(points: np.ndarray, segments: np.ndarray) -> pv.PolyData:
 
 def strut_length(nodes: np.ndarray) -> float:
     """Mean strut length (m) of node positions (12, 3) m: the scale of every figure."""
-    return float(np.mean(np.linalg.norm(nodes[topo.STRUTS[:, 0]] - nodes[topo.STRUTS[:, 1]],
-                                        axis=1)))
+    return float(np.mean(np.linalg.norm(nodes[topo.STRUTS[:, 0]] - nodes[topo.STRUTS[:, 1]], axis=1)))
 
 
-def struts(pl: pv.Plotter, nodes: np.ndarray, colours: Sequence[str], opacity: float = 1.0,
-           prefix: str = "") -> int:
+def struts(pl: pv.Plotter, nodes: np.ndarray, colours: Sequence[str], opacity: float = 1.0, prefix: str = "") -> int:
     """The six struts of nodes (12, 3) m as tubes of radius S/50, one colour each (colours:
     six colours); actors "<prefix>strut a-b". Returns the number drawn."""
     S = strut_length(nodes)
     for k, (a, b) in enumerate(topo.STRUTS):
-        pl.add_mesh(tube(nodes[a], nodes[b], 0.02 * S), color=colours[k], opacity=opacity,
-                    smooth_shading=True, name=f"{prefix}strut {a + 1}-{b + 1}")
+        pl.add_mesh(
+            tube(nodes[a], nodes[b], 0.02 * S),
+            color=colours[k],
+            opacity=opacity,
+            smooth_shading=True,
+            name=f"{prefix}strut {a + 1}-{b + 1}",
+        )
     return len(topo.STRUTS)
 
 
@@ -136,14 +175,19 @@ def robot(pl: pv.Plotter, nodes: np.ndarray, opacity: float = 1.0, name: str = "
     """The robot of nodes (12, 3) m as in Fig. 1, without numbers: struts one colour each
     (actors "<name> strut a-b") and the 24 cables as thin brown tubes ("<name> cables")."""
     struts(pl, nodes, STRUT_COLOURS, opacity, prefix=f"{name} ")
-    pl.add_mesh(lines(nodes, topo.CABLES).tube(radius=0.0045 * strut_length(nodes), n_sides=10),
-                color=CABLE_COLOUR, opacity=opacity, name=f"{name} cables")
+    pl.add_mesh(
+        lines(nodes, topo.CABLES).tube(radius=0.0045 * strut_length(nodes), n_sides=10),
+        color=CABLE_COLOUR,
+        opacity=opacity,
+        name=f"{name} cables",
+    )
 
 
 def robot_camera(pl: pv.Plotter, nodes: np.ndarray, zoom: float = 1.0) -> None:
     """The canonical view of the robot (nodes (12, 3) m) carried along with its pose, so that
     Fig. 1 looks the same whatever the robot's position and orientation."""
     from scipy.spatial.transform import Rotation  # 0.4 s to import: only the robot figures
+
     c = nodes.mean(axis=0)
     S = strut_length(nodes)
     rot, _ = Rotation.align_vectors(nodes - c, topo.reference_nodes(S))
@@ -186,8 +230,7 @@ def fit_camera(pl: pv.Plotter, points: np.ndarray, top: float = 0.86, right: flo
         for _ in range(40):
             mid = 0.5 * (lo + hi)
             x, y, depth = spread(centre, mid)
-            ok = ((depth > 0).all() and x.min() >= -0.95 and x.max() <= right and y.max() <= top
-                  and y.min() >= -0.95)
+            ok = (depth > 0).all() and x.min() >= -0.95 and x.max() <= right and y.max() <= top and y.min() >= -0.95
             lo, hi = (lo, mid) if ok else (mid, hi)
         x, y, depth = spread(centre, hi)
         shift_y = 0.5 * (y.max() + y.min()) - 0.5 * (top - 0.95)
@@ -197,8 +240,14 @@ def fit_camera(pl: pv.Plotter, points: np.ndarray, top: float = 0.86, right: flo
     cam.position = centre + hi * d
 
 
-def node_labels(pl: pv.Plotter, nodes: np.ndarray, idx: Sequence[int] | np.ndarray, font_size: int = 22,
-                offset: float = 0.06, **kw: Any) -> list[str]:
+def node_labels(
+    pl: pv.Plotter,
+    nodes: np.ndarray,
+    idx: Sequence[int] | np.ndarray,
+    font_size: int = 22,
+    offset: float = 0.06,
+    **kw: Any,
+) -> list[str]:
     """Number the nodes idx (0-based) of nodes (12, 3) m 1-based, just outside the structure
     as seen by the camera (the offset, a fraction of S, is taken in the image plane).
     Set the camera first. Returns the labels."""
@@ -211,8 +260,7 @@ def node_labels(pl: pv.Plotter, nodes: np.ndarray, idx: Sequence[int] | np.ndarr
     norm = np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-9 * S)
     pos = nodes[idx] + offset * S * out / norm
     labels = [str(i + 1) for i in idx]
-    pl.add_point_labels(pos, labels, font_size=font_size, name=kw.pop("name", "node labels"),
-                        **{**LABEL, **kw})
+    pl.add_point_labels(pos, labels, font_size=font_size, name=kw.pop("name", "node labels"), **{**LABEL, **kw})
     return labels
 
 
@@ -225,8 +273,9 @@ def terrain_mesh(terrain: Terrain, centre: ArrayLike, extent: float) -> pv.PolyD
     if terrain.kind == "heightfield":
         c = np.asarray(centre, float)
         lo, hi = verts[:, 2].min() - 1.0, verts[:, 2].max() + 1.0
-        cut = mesh.clip_box((c[0] - extent, c[0] + extent, c[1] - extent, c[1] + extent, lo, hi),
-                            invert=False).extract_surface(algorithm="dataset_surface")
+        cut = mesh.clip_box(
+            (c[0] - extent, c[0] + extent, c[1] - extent, c[1] + extent, lo, hi), invert=False
+        ).extract_surface(algorithm="dataset_surface")
         if cut.n_points:
             mesh = cut
     return mesh
@@ -237,11 +286,23 @@ def add_terrain(pl: pv.Plotter, terrain: Terrain, centre: ArrayLike, extent: flo
     height with its grid and a colour bar if `coloured`, else one sand colour."""
     mesh = terrain_mesh(terrain, centre, extent)
     if coloured and terrain.kind == "heightfield":
-        pl.add_mesh(mesh, scalars="height (m)", cmap="gist_earth", opacity=1.0, name="terrain",
-                    scalar_bar_args={"title": "terrain height (m)", "color": "black",
-                                     "vertical": True, "position_x": 0.88, "position_y": 0.2,
-                                     "title_font_size": 16, "label_font_size": 14,
-                                     "fmt": "%.2f"})
+        pl.add_mesh(
+            mesh,
+            scalars="height (m)",
+            cmap="gist_earth",
+            opacity=1.0,
+            name="terrain",
+            scalar_bar_args={
+                "title": "terrain height (m)",
+                "color": "black",
+                "vertical": True,
+                "position_x": 0.88,
+                "position_y": 0.2,
+                "title_font_size": 16,
+                "label_font_size": 14,
+                "fmt": "%.2f",
+            },
+        )
         pl.add_mesh(mesh.extract_all_edges(), color="#5a5a5a", opacity=0.35, name="terrain grid")
     else:
         pl.add_mesh(mesh, color="#d9d4c7", opacity=0.9, name="terrain")

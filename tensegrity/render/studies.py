@@ -2,6 +2,7 @@
 sensitivity indices with their 95 % intervals, the response map over two parameters, and the
 robustness of the paper's roll sequence. Each PNG is written atomically (`files.save_figure`).
 """
+
 from __future__ import annotations
 
 import os
@@ -13,13 +14,21 @@ from matplotlib.figure import Figure
 
 from .files import save_figure
 
-_LABEL = {"saltelli": "Sobol indices (Saltelli design)", "morris": "Morris elementary effects",
-          "delta": "delta and S1 indices (SALib delta)"}
+_LABEL = {
+    "saltelli": "Sobol indices (Saltelli design)",
+    "morris": "Morris elementary effects",
+    "delta": "delta and S1 indices (SALib delta)",
+}
 _CONF = {"S1": "S1_conf", "ST": "ST_conf", "mu_star": "mu_star_conf", "delta": "delta_conf"}
 
 
-def sensitivity_bars(parameters: Sequence[str], outputs: Sequence[str], method: str,
-                     indices: Mapping[str, np.ndarray], path: str | os.PathLike) -> Path:
+def sensitivity_bars(
+    parameters: Sequence[str],
+    outputs: Sequence[str],
+    method: str,
+    indices: Mapping[str, np.ndarray],
+    path: str | os.PathLike,
+) -> Path:
     """One panel per output: bars of each index (arrays (outputs, parameters)) per parameter,
     with the 95 % confidence interval as error bars. NaN indices (study not run in full) are
     said in the title."""
@@ -43,17 +52,26 @@ def sensitivity_bars(parameters: Sequence[str], outputs: Sequence[str], method: 
     return save_figure(fig, path)
 
 
-def response_map(p1: np.ndarray, p2: np.ndarray, objective: np.ndarray, min_margin: np.ndarray,
-                 name1: tuple[str, str], name2: tuple[str, str], best: np.ndarray,
-                 path: str | os.PathLike) -> Path:
+def response_map(
+    p1: np.ndarray,
+    p2: np.ndarray,
+    objective: np.ndarray,
+    min_margin: np.ndarray,
+    name1: tuple[str, str],
+    name2: tuple[str, str],
+    best: np.ndarray,
+    path: str | os.PathLike,
+) -> Path:
     """Two panels over the designs' values of two parameters (name, units): the objective (MPa,
     lowest tipping pressure of the best pair; grey crosses: a pair falls at the reference
     pressure) and the smallest margin (mm) at the reference pressure; the best designs ringed."""
     fig = Figure(figsize=(10.0, 4.4), layout="constrained")
     axs = fig.subplots(1, 2)
     ok = np.isfinite(objective)
-    panels = ((objective, "objective: lowest tipping pressure, all standing (MPa)", "viridis", ok),
-              (1000 * min_margin, "smallest margin at the reference pressure (mm)", "RdBu", np.ones_like(ok)))
+    panels = (
+        (objective, "objective: lowest tipping pressure, all standing (MPa)", "viridis", ok),
+        (1000 * min_margin, "smallest margin at the reference pressure (mm)", "RdBu", np.ones_like(ok)),
+    )
     for ax, (val, title, cmap, sel) in zip(axs, panels):
         if sel.sum():
             kw = {}
@@ -70,20 +88,29 @@ def response_map(p1: np.ndarray, p2: np.ndarray, objective: np.ndarray, min_marg
         ax.set_title(title, fontsize=10)
     if len(best):
         axs[0].scatter(p1[best], p2[best], s=160, facecolors="none", edgecolors="red", linewidths=1.5)
-        axs[0].annotate("best", (p1[best[0]], p2[best[0]]), xytext=(6, 6), textcoords="offset points",
-                        color="red", fontsize=9)
+        axs[0].annotate(
+            "best", (p1[best[0]], p2[best[0]]), xytext=(6, 6), textcoords="offset points", color="red", fontsize=9
+        )
     fig.suptitle(f"Response over {name1[0]} and {name2[0]} ({len(p1)} designs)", fontsize=11)
     return save_figure(fig, path)
 
 
-def robustness(success: np.ndarray, tip: np.ndarray, X: np.ndarray, names: Sequence[tuple[str, str]],
-               rate: tuple[float, float, float], path: str | os.PathLike) -> Path:
-    """rate: success rate and its 95 % interval (low, high). Left: histograms of the grounded tipping pressures (N, 2) MPa of the two rolls (#10, #11);
-    right: the samples over the first two uncertain parameters, success (o) or failure (x)."""
+def robustness(
+    success: np.ndarray,
+    tip: np.ndarray,
+    X: np.ndarray,
+    names: Sequence[tuple[str, str]],
+    rate: tuple[float, float, float],
+    path: str | os.PathLike,
+) -> Path:
+    """rate: success rate and its 95 % interval (low, high). Left: histograms of the grounded
+    tipping pressures (N, 2) MPa of the two rolls (#10, #11); right: the samples over the first
+    two uncertain parameters, success (o) or failure (x)."""
     fig = Figure(figsize=(10.0, 4.2), layout="constrained")
     a, b = fig.subplots(1, 2)
-    for r, (label, color) in enumerate((("roll 1: #10, (9,10,12) -> (10,11,12)", "C0"),
-                                        ("roll 2: #11, (10,11,12) -> (6,10,11)", "C1"))):
+    for r, (label, color) in enumerate(
+        (("roll 1: #10, (9,10,12) -> (10,11,12)", "C0"), ("roll 2: #11, (10,11,12) -> (6,10,11)", "C1"))
+    ):
         t = tip[:, r][np.isfinite(tip[:, r])]
         if t.size:
             a.hist(t, bins=max(5, min(20, t.size // 2)), alpha=0.6, color=color, label=f"{label} (n={t.size})")
@@ -99,6 +126,9 @@ def robustness(success: np.ndarray, tip: np.ndarray, X: np.ndarray, names: Seque
     b.set_ylabel(f"{names[j][0]} ({names[j][1]})")
     b.legend(fontsize=8, loc="best", framealpha=0.9)
     b.set_title("samples: did the sequence succeed?", fontsize=10)
-    fig.suptitle(f"Robustness of the paper's roll sequence: success rate {100 * rate[0]:.0f} % "
-                 f"(95 % interval {100 * rate[1]:.0f}-{100 * rate[2]:.0f} %), {ok.size} samples", fontsize=11)
+    fig.suptitle(
+        f"Robustness of the paper's roll sequence: success rate {100 * rate[0]:.0f} % "
+        f"(95 % interval {100 * rate[1]:.0f}-{100 * rate[2]:.0f} %), {ok.size} samples",
+        fontsize=11,
+    )
     return save_figure(fig, path)

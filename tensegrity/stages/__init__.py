@@ -9,6 +9,7 @@ files through `io`, turns `cfg` into typed settings once (`io.settings`), calls 
 
 This module stays light (the standard library only): the Snakefile imports `stages.config`.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -34,6 +35,7 @@ def provenance(cfg: Mapping, *inputs: str | os.PathLike) -> dict:
     """The configuration of a stage's outputs: the configurations of its input files merged key
     by key (`io.config.merge`), then the stage's own keys `cfg` over them."""
     from ..io import config, datasets
+
     out: dict = {}
     for path in inputs:
         out = config.merge(out, datasets.provenance_config(path))
@@ -47,12 +49,14 @@ def logging_to(path: str | os.PathLike, threads: int | None = None) -> Iterator[
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     if threads:
         import numba
+
         numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
     with open(path, "w") as log, contextlib.redirect_stdout(log), contextlib.redirect_stderr(log):
         try:
             yield
         except BaseException:
             import traceback
+
             traceback.print_exc(file=log)
             raise
 
@@ -66,6 +70,7 @@ def job(path: str | os.PathLike, threads: int | None = None) -> Iterator[None]:
     flushed first. A failure raises as usual (traceback in the log, exit status 1)."""
     import logging
     import sys
+
     with logging_to(path, threads):
         yield
     logging.shutdown()

@@ -8,6 +8,7 @@ it; `tensegrity stage` passes the same, so a file's provenance does not depend o
 made. A key is `section.key`, or a section name for the whole section (`params`: every stage
 that simulates depends on the whole robot).
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -20,24 +21,56 @@ SIMULATION, DATA, VALIDATION, FIGURE = "simulation", "data", "validation", "figu
 
 # keys shared by several stages
 _SIM = ("params", "sim.dt")
-_RAMP = ("locomotion.ramp_rate", "locomotion.interval", "locomotion.lift_tolerance",
-         "locomotion.hold_time", "locomotion.strut_damping")
-ROLL_KEYS = _RAMP + tuple(f"locomotion.{k}" for k in (
-    "release_margin", "release_time", "catch_time", "settle_speed", "settle_time",
-    "contact_tolerance", "combine", "min_alignment", "max_attempts", "max_rolls",
-    "arrive_tolerance", "escape_attempts", "lookahead", "lookahead_tilt", "brake", "brake_margin",
-    "brake_rate", "brake_tilt", "brake_release_time"))
-_SCENARIOS = tuple(f"locomotion.{k}" for k in (
-    "goal_distance", "goal_heading", "slope_angle", "terrain_seed", "terrain_amplitude",
-    "terrain_spacing"))
-_GRAVITY = ("gravity.pairs", "gravity.slopes", "gravity.headings", "gravity.max_pressure",
-            "gravity.settle", "gravity.grid_step")
+_RAMP = (
+    "locomotion.ramp_rate",
+    "locomotion.interval",
+    "locomotion.lift_tolerance",
+    "locomotion.hold_time",
+    "locomotion.strut_damping",
+)
+ROLL_KEYS = _RAMP + tuple(
+    f"locomotion.{k}"
+    for k in (
+        "release_margin",
+        "release_time",
+        "catch_time",
+        "settle_speed",
+        "settle_time",
+        "contact_tolerance",
+        "combine",
+        "min_alignment",
+        "max_attempts",
+        "max_rolls",
+        "arrive_tolerance",
+        "escape_attempts",
+        "lookahead",
+        "lookahead_tilt",
+        "brake",
+        "brake_margin",
+        "brake_rate",
+        "brake_tilt",
+        "brake_release_time",
+    )
+)
+_SCENARIOS = tuple(
+    f"locomotion.{k}"
+    for k in ("goal_distance", "goal_heading", "slope_angle", "terrain_seed", "terrain_amplitude", "terrain_spacing")
+)
+_GRAVITY = (
+    "gravity.pairs",
+    "gravity.slopes",
+    "gravity.headings",
+    "gravity.max_pressure",
+    "gravity.settle",
+    "gravity.grid_step",
+)
 _TWO_PAIR = ("two_pair.levels", "two_pair.hold", "two_pair.discard", "two_pair.record_every")
 
 
 class Stage(NamedTuple):
     """A stage: `function` "module:function" of `tensegrity.stages`, the `rule` whose job runs
     it, its `kind` and the configuration `keys` it reads."""
+
     function: str
     rule: str
     kind: str
@@ -45,9 +78,21 @@ class Stage(NamedTuple):
 
 
 STAGES: dict[str, Stage] = {
-    "sweep": Stage("sweep:sweep", "sweep", SIMULATION, (
-        *_SIM, "sim.record_every", "sweep.pairs", "sweep.levels", "sweep.hold", "sweep.settle",
-        "sweep.mode", "sweep.node_stride")),
+    "sweep": Stage(
+        "sweep:sweep",
+        "sweep",
+        SIMULATION,
+        (
+            *_SIM,
+            "sim.record_every",
+            "sweep.pairs",
+            "sweep.levels",
+            "sweep.hold",
+            "sweep.settle",
+            "sweep.mode",
+            "sweep.node_stride",
+        ),
+    ),
     "nominal": Stage("nominal:nominal", "nominal", DATA, ("nominal.discard",)),
     "workspace": Stage("nominal:workspace", "nominal", DATA, ()),
     "curves": Stage("fit:curves", "fit", DATA, ("fit.max_degree", "fit.spline_knots", "fit.folds")),
@@ -56,27 +101,59 @@ STAGES: dict[str, Stage] = {
     "two_pair": Stage("two_pair:two_pair", "two_pair", SIMULATION, (*_SIM, *_TWO_PAIR, "two_pair.pairs")),
     "two_pair_map": Stage("two_pair:two_pair_map", "two_pair", DATA, ()),
     "gravity": Stage("gravity:gravity", "gravity", SIMULATION, (*_SIM, *_RAMP, *_GRAVITY)),
-    "slope_limit": Stage("gravity:slope_limit", "slope_limit", SIMULATION, (
-        *_SIM, *_RAMP, *_GRAVITY, "gravity.iterations", "gravity.free_step")),
+    "slope_limit": Stage(
+        "gravity:slope_limit",
+        "slope_limit",
+        SIMULATION,
+        (*_SIM, *_RAMP, *_GRAVITY, "gravity.iterations", "gravity.free_step"),
+    ),
     "gravity_figure": Stage("gravity:gravity_figure", "slope_limit", FIGURE, ()),
-    "locomotion_runs": Stage("locomotion:locomotion_runs", "locomotion_runs", SIMULATION,
-                             (*_SIM, *ROLL_KEYS, *_SCENARIOS)),
+    "locomotion_runs": Stage(
+        "locomotion:locomotion_runs", "locomotion_runs", SIMULATION, (*_SIM, *ROLL_KEYS, *_SCENARIOS)
+    ),
     "state_figures": Stage("locomotion:state_figures", "locomotion_figures", FIGURE, ()),
     "path_figures": Stage("locomotion:path_figures", "locomotion_figures", FIGURE, ()),
-    "animation": Stage("locomotion:animation", "locomotion_figures", FIGURE,
-                       ("locomotion.animation_fps", "locomotion.animation_speed")),
+    "animation": Stage(
+        "locomotion:animation", "locomotion_figures", FIGURE, ("locomotion.animation_fps", "locomotion.animation_speed")
+    ),
     "robot_figures": Stage("render:robot_figures", "render", FIGURE, ("params",)),
     "cog_cloud": Stage("render:cog_cloud", "render", FIGURE, ()),
     "workspace_figure": Stage("render:workspace_figure", "render", FIGURE, ()),
     "two_pair_figure": Stage("render:two_pair_figure", "render", FIGURE, ()),
-    "validate": Stage("validate:validate", "validate", VALIDATION, (
-        *_SIM, "sim.record_every", "sweep.levels", "sweep.hold", "sweep.settle", "sweep.mode",
-        "nominal.discard", "validate")),
-    "validate_two_pair": Stage("validate:validate_two_pair", "validate", VALIDATION, (
-        *_SIM, *_TWO_PAIR, "two_pair.check_combos", "two_pair.check_faces", "two_pair.tolerance")),
-    "validate_gravity": Stage("validate:validate_gravity", "validate_gravity", VALIDATION, (
-        *_SIM, *ROLL_KEYS, "gravity.max_pressure", "gravity.settle", "gravity.validate_slopes",
-        "gravity.tip_tolerance")),
+    "validate": Stage(
+        "validate:validate",
+        "validate",
+        VALIDATION,
+        (
+            *_SIM,
+            "sim.record_every",
+            "sweep.levels",
+            "sweep.hold",
+            "sweep.settle",
+            "sweep.mode",
+            "nominal.discard",
+            "validate",
+        ),
+    ),
+    "validate_two_pair": Stage(
+        "validate:validate_two_pair",
+        "validate",
+        VALIDATION,
+        (*_SIM, *_TWO_PAIR, "two_pair.check_combos", "two_pair.check_faces", "two_pair.tolerance"),
+    ),
+    "validate_gravity": Stage(
+        "validate:validate_gravity",
+        "validate_gravity",
+        VALIDATION,
+        (
+            *_SIM,
+            *ROLL_KEYS,
+            "gravity.max_pressure",
+            "gravity.settle",
+            "gravity.validate_slopes",
+            "gravity.tip_tolerance",
+        ),
+    ),
     "study_chunk": Stage("study:study_chunk", "study_chunk", SIMULATION, (*_SIM, *ROLL_KEYS)),
     "study_merge": Stage("study:study_merge", "study_merge", DATA, ()),
     "study_analyse": Stage("study:study_analyse", "study_analyse", DATA, ()),

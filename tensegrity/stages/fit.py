@@ -1,6 +1,7 @@
 """Rule `fit` (workflow/rules/fit.smk): a cross-validated curve of the nominal CoG against
 pressure per pair and axis (results/curves/{contact}.nc, curves.json), and the fitted two-pair
 surfaces (results/curves/two_pair.json)."""
+
 from __future__ import annotations
 
 import json
@@ -21,34 +22,60 @@ def curves(cfg: dict, nominal_path: str | os.PathLike, out_path: str | os.PathLi
     """Stage `curves`: a curve per pair and axis of one contact case's nominal CoG (models up to
     fit.max_degree and splines of fit.spline_knots, chosen by fit.folds-fold cross-validation)."""
     from ..workspace import fit
+
     src = datasets.read(nominal_path)
     f = cfg["fit"]
     p, cog = src["pressure"].values, src["cog"].values
     ok = np.isfinite(cog).all(axis=-1)  # levels before a grounded robot rolled off its face
     for i, pair in enumerate(src["pair"].values):
         if ok[i].sum() < 2:
-            raise ValueError(f"pair #{pair} on {topo.face_label(int(src.attrs['face']))} stood at fewer than 2 "
-                             f"levels (it rolled off at {float(src['tip_pressure'][i]):g} MPa): nothing to fit; "
-                             "sweep lower pressures or use the free mode")
-    found = [[fit.fit_curve(p[ok[i]], cog[i, ok[i], a], max_degree=f["max_degree"],
-                            spline_knots=tuple(f["spline_knots"]), folds=f["folds"])
-              for a in range(3)] for i in range(cog.shape[0])]
-    ds = formats.curves_dataset(fit.curves_to_arrays(found), src["pair"], src["axis"],
-                                {k: src.attrs[k] for k in ("contact", "face", "face_nodes", "mode")})
-    return datasets.write(ds, out_path, provenance(cfg, nominal_path),
-                          f"Fitted CoG curves of the {src.attrs['contact']} contact case",
-                          stage="fit", allow_nan=formats.CURVES_ALLOW_NAN)
+            raise ValueError(
+                f"pair #{pair} on {topo.face_label(int(src.attrs['face']))} stood at fewer than 2 "
+                f"levels (it rolled off at {float(src['tip_pressure'][i]):g} MPa): nothing to fit; "
+                "sweep lower pressures or use the free mode"
+            )
+    found = [
+        [
+            fit.fit_curve(
+                p[ok[i]],
+                cog[i, ok[i], a],
+                max_degree=f["max_degree"],
+                spline_knots=tuple(f["spline_knots"]),
+                folds=f["folds"],
+            )
+            for a in range(3)
+        ]
+        for i in range(cog.shape[0])
+    ]
+    ds = formats.curves_dataset(
+        fit.curves_to_arrays(found),
+        src["pair"],
+        src["axis"],
+        {k: src.attrs[k] for k in ("contact", "face", "face_nodes", "mode")},
+    )
+    return datasets.write(
+        ds,
+        out_path,
+        provenance(cfg, nominal_path),
+        f"Fitted CoG curves of the {src.attrs['contact']} contact case",
+        stage="fit",
+        allow_nan=formats.CURVES_ALLOW_NAN,
+    )
 
 
 def curves_json(cfg: dict, curve_paths: Iterable[str | os.PathLike], out_path: str | os.PathLike) -> Path:
     """Stage `curves_json`: all contact cases' curves as one JSON file (plain numbers, evaluable
     in any language; `formats.curves_document`)."""
     from ..workspace import fit
+
     contacts = {}
     for path in curve_paths:
         ds = datasets.read(path)
-        contacts[ds.attrs["contact"]] = (ds.attrs["face_nodes"], ds["pair"].values,
-                                         fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS}))
+        contacts[ds.attrs["contact"]] = (
+            ds.attrs["face_nodes"],
+            ds["pair"].values,
+            fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS}),
+        )
     doc = formats.curves_document(contacts)
     return atomic.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))
 
@@ -58,6 +85,7 @@ def two_pair_surfaces(cfg: dict, contact_paths: Sequence[str | os.PathLike], out
     each contact case (degree up to fit.max_degree by fit.folds-fold cross-validation) as
     results/curves/two_pair.json (plain numbers; `io.two_pair_formats.evaluate_surface`)."""
     from ..workspace import two_pair as tp
+
     levels, src = tpf.read_contacts(contact_paths)
     f = cfg["fit"]
     pa, pb = np.meshgrid(levels, levels, indexing="ij")

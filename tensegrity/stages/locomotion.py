@@ -1,6 +1,7 @@
 """Rules `locomotion_runs` and `locomotion_figures` (workflow/rules/locomotion.smk): the
 demonstration runs planned from the workspace and rolled in the grounded simulation
 (results/locomotion/{run}.nc), then Figs. 8-10, the runs' paths and an animation."""
+
 from __future__ import annotations
 
 import os
@@ -17,15 +18,20 @@ from ..physics import topology as topo
 from . import provenance
 
 
-def locomotion_runs(cfg: dict, names: Sequence[str], workspace_path: str | os.PathLike,
-                    out_paths: Sequence[str | os.PathLike],
-                    two_pair_path: str | os.PathLike | None = None) -> list[Path]:
+def locomotion_runs(
+    cfg: dict,
+    names: Sequence[str],
+    workspace_path: str | os.PathLike,
+    out_paths: Sequence[str | os.PathLike],
+    two_pair_path: str | os.PathLike | None = None,
+) -> list[Path]:
     """Stage `locomotion_runs`: each demonstration run of `names` (locomotion.DEMOS), planned from
     the workspace file (results/workspace.nc) and, if given, the measured two-pair curves of
     results/workspace_two_pair.nc (without it two pairs are superposed), rolled in the grounded
     simulation, written to the matching `out_paths` (results/locomotion/{run}.nc). One job: the
     workspace is read once and the simulator started once."""
     from ..locomotion import demos, outcome, runs
+
     if len(names) != len(out_paths):
         raise ValueError(f"{len(names)} runs {list(names)} but {len(out_paths)} output paths")
     ws = formats.read_workspace(workspace_path, two_pair_path)
@@ -40,33 +46,56 @@ def locomotion_runs(cfg: dict, names: Sequence[str], workspace_path: str | os.Pa
         else:
             run = runs.roll_to(ws, setup["goal"], params, setup["terrain"], settings=s)
         print(outcome.describe(run, name), flush=True)
-        out.append(datasets.write(run_formats.run_dataset(run, setup["terrain"], s.rolling(params), name), out_path,
-                                  prov, f"Rolling locomotion run '{name}': {run.outcome}",
-                                  stage="locomotion", allow_nan=run_formats.RUN_ALLOW_NAN))
+        out.append(
+            datasets.write(
+                run_formats.run_dataset(run, setup["terrain"], s.rolling(params), name),
+                out_path,
+                prov,
+                f"Rolling locomotion run '{name}': {run.outcome}",
+                stage="locomotion",
+                allow_nan=run_formats.RUN_ALLOW_NAN,
+            )
+        )
     return out
 
 
 def _path_figure(ds, out: str | os.PathLike, view: str) -> dict:
     """The path of the run dataset `ds` over its terrain, from above ("top") or "3d"."""
     from ..render import runs as run_figures
+
     terrain = run_formats.terrain_from_dataset(ds)
     t = ds["time"].values
-    title = (f"Rolling run '{ds.attrs.get('run', '')}' on {terrain.describe()}: "
-             f"{ds.attrs['outcome']}, {int(ds.attrs['rolls'])} rolls "
-             f"({'from above' if view == 'top' else '3D'})")
-    return run_figures.fig_path(ds["nodes"].values, terrain, out, title,
-                                faces=ds["next_face"].values,
-                                step_end=np.clip(np.searchsorted(t, ds["t_end"].values), 0, len(t) - 1),
-                                goal=ds["goal"].values, view=view)
+    title = (
+        f"Rolling run '{ds.attrs.get('run', '')}' on {terrain.describe()}: "
+        f"{ds.attrs['outcome']}, {int(ds.attrs['rolls'])} rolls "
+        f"({'from above' if view == 'top' else '3D'})"
+    )
+    return run_figures.fig_path(
+        ds["nodes"].values,
+        terrain,
+        out,
+        title,
+        faces=ds["next_face"].values,
+        step_end=np.clip(np.searchsorted(t, ds["t_end"].values), 0, len(t) - 1),
+        goal=ds["goal"].values,
+        view=view,
+    )
 
 
-def state_figures(cfg: dict, paper_path: str | os.PathLike, slope_path: str | os.PathLike,
-                  fig8: str | os.PathLike, fig9: str | os.PathLike, fig10: str | os.PathLike) -> list[dict]:
+def state_figures(
+    cfg: dict,
+    paper_path: str | os.PathLike,
+    slope_path: str | os.PathLike,
+    fig8: str | os.PathLike,
+    fig9: str | os.PathLike,
+    fig10: str | os.PathLike,
+) -> list[dict]:
     """Stage `state_figures`: Fig. 8 and 9 from the paper run (its first roll: #10 on (9,10,12))
     and Fig. 10 from a slope run (the robot at rest on the slope before its first roll).
     Returns what each figure drew (render.locomotion)."""
     from ..physics import contact as ct
     from ..render import locomotion as state_figures_
+
     ds = datasets.read(paper_path)
     terrain = run_formats.terrain_from_dataset(ds)
     face = int(ds["face"].values[0])
@@ -74,34 +103,49 @@ def state_figures(cfg: dict, paper_path: str | os.PathLike, slope_path: str | os
     tip = float(ds["tip_pressure"].values[0])
     edge = [topo.edge_nodes(face, j) for j in range(3)].index(tuple(ds["edge"].values[0]))
     k, p = run_formats.run_sample(ds, terrain, 1, "stable")
-    out = [state_figures_.fig_state(
-        p, terrain, face, fig8,
-        f"Fig. 8  Stable: #{pair} at {ds['pressure'].values[k].max():.1f} MPa, the CoG "
-        f"projection stays inside {topo.face_label(face)}",
-        arrow=ct.edge_outward(p[topo.FACES[face - 1]])[edge])]
+    out = [
+        state_figures_.fig_state(
+            p,
+            terrain,
+            face,
+            fig8,
+            f"Fig. 8  Stable: #{pair} at {ds['pressure'].values[k].max():.1f} MPa, the CoG "
+            f"projection stays inside {topo.face_label(face)}",
+            arrow=ct.edge_outward(p[topo.FACES[face - 1]])[edge],
+        )
+    ]
     try:
         k, p = run_formats.run_sample(ds, terrain, 1, "rolling")
-        title9 = (f"Fig. 9  Rolling: #{pair} tipped the robot at {tip:.2f} MPa; the CoG "
-                  f"projection has left {topo.face_label(face)}")
+        title9 = (
+            f"Fig. 9  Rolling: #{pair} tipped the robot at {tip:.2f} MPa; the CoG "
+            f"projection has left {topo.face_label(face)}"
+        )
     except ValueError:  # e.g. grounded sweeps: the planned pressure did not tip the robot
-        k = int(np.clip(np.searchsorted(ds["time"].values, ds["t_end"].values[0]), 0,
-                        ds.sizes["time"] - 1))
+        k = int(np.clip(np.searchsorted(ds["time"].values, ds["t_end"].values[0]), 0, ds.sizes["time"] - 1))
         p = ds["nodes"].values[k]
-        title9 = (f"Fig. 9  Not rolling: #{pair} at up to {float(ds['peak_pressure'].values[0]):.2f} MPa "
-                  f"did not tip the robot off {topo.face_label(face)} (run '{ds.attrs.get('run', '')}': "
-                  f"{ds.attrs.get('outcome', '')})")
+        title9 = (
+            f"Fig. 9  Not rolling: #{pair} at up to {float(ds['peak_pressure'].values[0]):.2f} MPa "
+            f"did not tip the robot off {topo.face_label(face)} (run '{ds.attrs.get('run', '')}': "
+            f"{ds.attrs.get('outcome', '')})"
+        )
     out.append(state_figures_.fig_state(p, terrain, face, fig9, title9))
     sl = datasets.read(slope_path)
     k0 = int(np.searchsorted(sl["time"].values, sl["t_start"].values[0]))
-    out.append(state_figures_.fig_slope(
-        sl["nodes"].values[k0], run_formats.terrain_from_dataset(sl), int(sl["face"].values[0]), fig10,
-        f"Fig. 10  Slope: the CoG projects along gravity onto the contact plane "
-        f"('{sl.attrs['run']}' run)"))
+    out.append(
+        state_figures_.fig_slope(
+            sl["nodes"].values[k0],
+            run_formats.terrain_from_dataset(sl),
+            int(sl["face"].values[0]),
+            fig10,
+            f"Fig. 10  Slope: the CoG projects along gravity onto the contact plane ('{sl.attrs['run']}' run)",
+        )
+    )
     return out
 
 
-def path_figures(cfg: dict, run_path: str | os.PathLike, top: str | os.PathLike,
-                 three_d: str | os.PathLike) -> list[dict]:
+def path_figures(
+    cfg: dict, run_path: str | os.PathLike, top: str | os.PathLike, three_d: str | os.PathLike
+) -> list[dict]:
     """Stage `path_figures`: the path of one run from above (`top`) and in 3D (`three_d`).
     Returns what each figure drew (render.runs.fig_path)."""
     ds = datasets.read(run_path)
@@ -112,9 +156,17 @@ def animation(cfg: dict, run_path: str | os.PathLike, gif: str | os.PathLike) ->
     """Stage `animation`: a GIF of one run at locomotion.animation_fps frames per second,
     locomotion.animation_speed times faster than simulated time. Returns {"path", "frames", "fps"}."""
     from ..render import runs as run_figures
+
     loc = cfg["locomotion"]
     ds = datasets.read(run_path)
-    return run_figures.animate(ds["nodes"].values, ds["time"].values, ds["pressure"].values,
-                               run_formats.terrain_from_dataset(ds), gif, goal=ds["goal"].values,
-                               label=f"run '{ds.attrs.get('run', '')}'", fps=int(loc["animation_fps"]),
-                               speed=float(loc["animation_speed"]))
+    return run_figures.animate(
+        ds["nodes"].values,
+        ds["time"].values,
+        ds["pressure"].values,
+        run_formats.terrain_from_dataset(ds),
+        gif,
+        goal=ds["goal"].values,
+        label=f"run '{ds.attrs.get('run', '')}'",
+        fps=int(loc["animation_fps"]),
+        speed=float(loc["animation_speed"]),
+    )

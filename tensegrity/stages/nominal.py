@@ -1,6 +1,7 @@
 """Rule `nominal` (workflow/rules/nominal.smk): each level's CoG samples averaged into the
 nominal CoG of every contact case (results/nominal/{contact}.nc), and the canonical workspaces
 mapped to all 20 faces (results/workspace.nc)."""
+
 from __future__ import annotations
 
 import os
@@ -10,7 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from ..io import datasets, formats
-from ..physics import frames, topology as topo
+from ..physics import frames
+from ..physics import topology as topo
 from ..workspace import mapping
 from ..workspace import nominal as nom
 from . import provenance
@@ -23,8 +25,12 @@ def nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: str |
     first = sweeps[0]
     levels = first["levels"].values
     hold, discard = first.attrs["hold_s"], float(cfg["nominal"]["discard"])
-    res = [nom.nominal(ds["time"].values, ds["level"].values, ds["cog"].values,
-                       ds["support"].values, len(levels), hold, discard) for ds in sweeps]
+    res = [
+        nom.nominal(
+            ds["time"].values, ds["level"].values, ds["cog"].values, ds["support"].values, len(levels), hold, discard
+        )
+        for ds in sweeps
+    ]
     cog, std, sup, margin = (np.stack([r[k] for r in res]) for k in range(4))
     pairs = [int(ds.attrs["pair"]) for ds in sweeps]
     tip = np.array([frames.first_crossing(levels, m)[0] for m in margin])
@@ -35,12 +41,26 @@ def nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: str |
         k = nom.first_roll(ds["level"].values, ds["on_face"].values, len(levels))
         rolled[i, k:] = 1
         tip[i] = nom.mask_after_roll(levels, k, tip[i], cog[i], std[i], sup[i], margin[i])
-    ds = formats.nominal_dataset(pairs, levels, cog, std, sup, margin, tip, rolled,
-                                 {k: first.attrs[k] for k in ("contact", "face", "face_nodes", "mode")}
-                                 | {"discard_s": discard}, datasets.strut_length(first))
-    return datasets.write(ds, out_path, provenance(cfg, *sweep_paths),
-                          f"Nominal CoG of the {first.attrs['contact']} contact case {topo.face_label(int(first.attrs['face']))}",
-                          stage="nominal", allow_nan=formats.NOMINAL_ALLOW_NAN)
+    ds = formats.nominal_dataset(
+        pairs,
+        levels,
+        cog,
+        std,
+        sup,
+        margin,
+        tip,
+        rolled,
+        {k: first.attrs[k] for k in ("contact", "face", "face_nodes", "mode")} | {"discard_s": discard},
+        datasets.strut_length(first),
+    )
+    return datasets.write(
+        ds,
+        out_path,
+        provenance(cfg, *sweep_paths),
+        f"Nominal CoG of the {first.attrs['contact']} contact case {topo.face_label(int(first.attrs['face']))}",
+        stage="nominal",
+        allow_nan=formats.NOMINAL_ALLOW_NAN,
+    )
 
 
 def workspace(cfg: dict, nominal_paths: Sequence[str | os.PathLike], out_path: str | os.PathLike) -> Path:
@@ -48,9 +68,15 @@ def workspace(cfg: dict, nominal_paths: Sequence[str | os.PathLike], out_path: s
     symmetry group (results/workspace.nc)."""
     src = {ds.attrs["contact"]: ds for ds in (datasets.read(p) for p in nominal_paths)}
     levels = mapping.same_levels([ds["pressure"].values for ds in src.values()])
-    ws = mapping.map_workspace(levels, {c: (ds["pair"].values, ds["cog"].values, ds["support"].values)
-                                        for c, ds in src.items()})
+    ws = mapping.map_workspace(
+        levels, {c: (ds["pair"].values, ds["cog"].values, ds["support"].values) for c, ds in src.items()}
+    )
     ds = formats.workspace_dataset(levels, ws, datasets.strut_length(next(iter(src.values()))))
-    return datasets.write(ds, out_path, provenance(cfg, *nominal_paths),
-                          "Kinematic workspace of all 20 contact faces, mapped by symmetry",
-                          stage="map", allow_nan=formats.WORKSPACE_ALLOW_NAN)
+    return datasets.write(
+        ds,
+        out_path,
+        provenance(cfg, *nominal_paths),
+        "Kinematic workspace of all 20 contact faces, mapped by symmetry",
+        stage="map",
+        allow_nan=formats.WORKSPACE_ALLOW_NAN,
+    )

@@ -1,6 +1,7 @@
 """Rule `render` (workflow/rules/render.smk): the paper's Figs. 1, 4, 5, 6, 7 and the two-pair
 regions, from the datasets the rule names; and `render_dataset`, any dataset of the toolkit to
 a PNG (`tensegrity render`). Only `render` draws; these read the files and hand it arrays."""
+
 from __future__ import annotations
 
 import os
@@ -9,36 +10,45 @@ import numpy as np
 
 from .. import paper
 from ..io import datasets, settings
-from ..physics import frames, topology as topo
+from ..physics import frames
+from ..physics import topology as topo
 from ..workspace import nominal as nom
 
 
-def robot_figures(cfg: dict, fig1: str | os.PathLike, fig4: str | os.PathLike,
-                  fig5: str | os.PathLike) -> list[dict]:
+def robot_figures(cfg: dict, fig1: str | os.PathLike, fig4: str | os.PathLike, fig5: str | os.PathLike) -> list[dict]:
     """Stage `robot_figures`: Figs. 1, 4 and 5: the robot, its actuator pairs, and the support
     frame of (9,10,12). Returns what each figure drew (render.paper)."""
     from ..physics import dynamics as d
     from ..physics.terrain import Terrain
     from ..render import paper as figures
+
     params = settings.params(cfg)
     nodes = topo.reference_nodes(params.strut_length)
     state = d.stand_on(params, paper.START_FACE, Terrain.flat())
-    return [figures.fig_robot(nodes, fig1),
-            figures.fig_robot(nodes, fig4, highlight_pairs=list(paper.FIG4_PAIRS)),
-            figures.fig_support_frame(d.nodes(state.x, state.q, params.strut_length)[0], paper.START_FACE, fig5)]
+    return [
+        figures.fig_robot(nodes, fig1),
+        figures.fig_robot(nodes, fig4, highlight_pairs=list(paper.FIG4_PAIRS)),
+        figures.fig_support_frame(d.nodes(state.x, state.q, params.strut_length)[0], paper.START_FACE, fig5),
+    ]
 
 
 def _corners(face: int) -> list[int]:
     return (topo.FACES[face - 1] + 1).tolist()
 
 
-def cog_cloud(cfg: dict, sweep_path: str | os.PathLike, nominal_path: str | os.PathLike, out: str | os.PathLike,
-              max_pressure: float = paper.FIG6_MAX_PRESSURE) -> dict:
+def cog_cloud(
+    cfg: dict,
+    sweep_path: str | os.PathLike,
+    nominal_path: str | os.PathLike,
+    out: str | os.PathLike,
+    max_pressure: float = paper.FIG6_MAX_PRESSURE,
+) -> dict:
     """Stage `cog_cloud`: Fig. 6, the CoG point cloud and nominal CoGs of one pair, levels up to
     max_pressure (MPa). A grounded robot that rolled off its face (`rolled`) is drawn only at
     the levels before the roll, and the title says so. Returns what the figure drew
     (render.frame_plots.fig_cog_cloud)."""
     from ..render import frame_plots
+
     sw_ds, nm = datasets.read(sweep_path), datasets.read(nominal_path)
     pair, face = int(sw_ds.attrs["pair"]), int(sw_ds.attrs["face"])
     levels = nm["pressure"].values
@@ -47,22 +57,34 @@ def cog_cloud(cfg: dict, sweep_path: str | os.PathLike, nominal_path: str | os.P
     n_stood = nom.levels_stood(cog, rolled)
     keep = (levels <= max_pressure + 1e-9) & (np.arange(len(levels)) < n_stood)
     if not keep.any():
-        raise ValueError(f"pair #{pair} on {topo.face_label(face)} rolled off its face at the first "
-                         f"level ({levels[0]:g} MPa): no level to draw")
+        raise ValueError(
+            f"pair #{pair} on {topo.face_label(face)} rolled off its face at the first "
+            f"level ({levels[0]:g} MPa): no level to draw"
+        )
     sel = (sw_ds["level"].values >= 0) & (sw_ds["level"].values < keep.sum())
     title = None
     if n_stood < len(levels) and levels[n_stood] <= max_pressure + 1e-9:
-        title = (f"Fig. 6  CoG path when #{pair} works, face {topo.face_label(face)}, "
-                 f"{levels[0]:g}-{levels[keep][-1]:g} MPa: it rolled off at {levels[n_stood]:g} MPa")
-    return frame_plots.fig_cog_cloud(sw_ds["cog"].values[sel], cog[keep], levels[keep],
-                                     frames.rest_frame(face, datasets.strut_length(nm))[1], out,
-                                     pair=pair, face_label=topo.face_label(face),
-                                     sample_pressure=sw_ds["pressure_cmd"].values[sel],
-                                     corner_labels=_corners(face), title=title)
+        title = (
+            f"Fig. 6  CoG path when #{pair} works, face {topo.face_label(face)}, "
+            f"{levels[0]:g}-{levels[keep][-1]:g} MPa: it rolled off at {levels[n_stood]:g} MPa"
+        )
+    return frame_plots.fig_cog_cloud(
+        sw_ds["cog"].values[sel],
+        cog[keep],
+        levels[keep],
+        frames.rest_frame(face, datasets.strut_length(nm))[1],
+        out,
+        pair=pair,
+        face_label=topo.face_label(face),
+        sample_pressure=sw_ds["pressure_cmd"].values[sel],
+        corner_labels=_corners(face),
+        title=title,
+    )
 
 
-def workspace_figure(cfg: dict, curves_path: str | os.PathLike, nominal_path: str | os.PathLike,
-                     out: str | os.PathLike, points: int = 60) -> dict:
+def workspace_figure(
+    cfg: dict, curves_path: str | os.PathLike, nominal_path: str | os.PathLike, out: str | os.PathLike, points: int = 60
+) -> dict:
     """Stage `workspace_figure`: Fig. 7, every pair's fitted CoG curve from 0 MPa to the highest
     level it stood at, with the support triangle of the unactuated robot, a red ring where a
     curve leaves its deformed triangle (the curve at the tipping pressure) and that deformed
@@ -71,6 +93,7 @@ def workspace_figure(cfg: dict, curves_path: str | os.PathLike, nominal_path: st
     pairs. Returns what the figure drew (render.frame_plots.fig_workspace)."""
     from ..render import frame_plots
     from ..workspace import fit
+
     cv, nm = datasets.read(curves_path), datasets.read(nominal_path)
     face = int(nm.attrs["face"])
     rest_cog, rest_support = frames.rest_frame(face, datasets.strut_length(nm))
@@ -88,33 +111,44 @@ def workspace_figure(cfg: dict, curves_path: str | os.PathLike, nominal_path: st
             tip_supports[int(pair)] = frame_plots.at_pressure(levels, nm["support"].sel(pair=pair).values, tp)
         elif np.isfinite(tp):  # grounded: rolled off at tp before its CoG left the triangle
             rolled[int(pair)] = tp
-    title = (f"Fig. 7  Kinematic workspace, {nm.attrs['contact']} face {topo.face_label(face)}, "
-             f"{levels[0]:g}-{levels[-1]:g} MPa")
+    title = (
+        f"Fig. 7  Kinematic workspace, {nm.attrs['contact']} face {topo.face_label(face)}, "
+        f"{levels[0]:g}-{levels[-1]:g} MPa"
+    )
     if rolled:
-        title += ("; " + ", ".join(f"#{v}" for v in rolled)
-                  + f" rolled off at {min(rolled.values()):g}"
-                  + (f"-{max(rolled.values()):g}" if max(rolled.values()) > min(rolled.values()) else "")
-                  + " MPa")
-    return frame_plots.fig_workspace(lines, rest_support, out, tip_points=tips, tip_supports=tip_supports,
-                                     title=title, corner_labels=_corners(face))
+        title += (
+            "; "
+            + ", ".join(f"#{v}" for v in rolled)
+            + f" rolled off at {min(rolled.values()):g}"
+            + (f"-{max(rolled.values()):g}" if max(rolled.values()) > min(rolled.values()) else "")
+            + " MPa"
+        )
+    return frame_plots.fig_workspace(
+        lines, rest_support, out, tip_points=tips, tip_supports=tip_supports, title=title, corner_labels=_corners(face)
+    )
 
 
-def two_pair_figure(cfg: dict, nominal_path: str | os.PathLike, contact_path: str | os.PathLike,
-                    out: str | os.PathLike) -> dict:
+def two_pair_figure(
+    cfg: dict, nominal_path: str | os.PathLike, contact_path: str | os.PathLike, out: str | os.PathLike
+) -> dict:
     """Stage `two_pair_figure`: the CoG projections one pair reaches (results/nominal/{contact}.nc)
     and two pairs reach (results/two_pair/{contact}.nc), with the unactuated support triangle."""
     from ..render import two_pair as draw
+
     nm, tw = datasets.read(nominal_path), datasets.read(contact_path)
     face = int(tw.attrs["face"])
     _, rest = frames.rest_frame(face, datasets.strut_length(tw))
     one = nm["cog"].values.reshape(-1, 3)
     two = tw["cog"].values.reshape(-1, 3)
     levels = tw["pressure_a"].values
-    title = (f"Two-pair workspace, {tw.attrs['contact']} face {topo.face_label(face)}, CoG projections\n"
-             f"one pair {nm['pressure'].values[0]:g}-{nm['pressure'].values[-1]:g} MPa, "
-             f"two pairs {levels[0]:g}-{levels[-1]:g} MPa each")
-    return draw.fig_two_pair(one[np.isfinite(one).all(1)], two[np.isfinite(two).all(1)], rest,
-                             topo.FACES[face - 1] + 1, out, title)
+    title = (
+        f"Two-pair workspace, {tw.attrs['contact']} face {topo.face_label(face)}, CoG projections\n"
+        f"one pair {nm['pressure'].values[0]:g}-{nm['pressure'].values[-1]:g} MPa, "
+        f"two pairs {levels[0]:g}-{levels[-1]:g} MPa each"
+    )
+    return draw.fig_two_pair(
+        one[np.isfinite(one).all(1)], two[np.isfinite(two).all(1)], rest, topo.FACES[face - 1] + 1, out, title
+    )
 
 
 def render_dataset(path: str | os.PathLike, out: str | os.PathLike, face: int | None = None) -> str:
@@ -123,16 +157,24 @@ def render_dataset(path: str | os.PathLike, out: str | os.PathLike, face: int | 
     above), a `tensegrity simulate` output (the robot at the end). Returns what was drawn."""
     from ..render import frame_plots
     from ..render import paper as figures
+
     ds = datasets.read(path)
     if "level" in ds and "pair" in ds.attrs:  # a sweep
         face_ = int(ds.attrs["face"])
         sel = ds["level"].values >= 0
         levels = ds["levels"].values
         mean = np.array([ds["cog"].values[ds["level"].values == k].mean(0) for k in range(levels.size)])
-        frame_plots.fig_cog_cloud(ds["cog"].values[sel], mean, levels,
-                                  frames.rest_frame(face_, datasets.strut_length(ds))[1], out,
-                                  pair=int(ds.attrs["pair"]), face_label=topo.face_label(face_),
-                                  sample_pressure=ds["pressure_cmd"].values[sel], corner_labels=_corners(face_))
+        frame_plots.fig_cog_cloud(
+            ds["cog"].values[sel],
+            mean,
+            levels,
+            frames.rest_frame(face_, datasets.strut_length(ds))[1],
+            out,
+            pair=int(ds.attrs["pair"]),
+            face_label=topo.face_label(face_),
+            sample_pressure=ds["pressure_cmd"].values[sel],
+            corner_labels=_corners(face_),
+        )
         return "sweep: CoG cloud and level means"
     if "margin" in ds and "face" in ds.dims:  # the workspace
         face_ = topo.face_number(face) if face is not None else topo.face_number(paper.START_FACE)
@@ -143,6 +185,7 @@ def render_dataset(path: str | os.PathLike, out: str | os.PathLike, face: int | 
         return _render_nominal(ds, face_, datasets.strut_length(ds), out, f"Nominal CoG, face {topo.face_label(face_)}")
     if "face_sequence" in ds or "step" in ds.dims:  # a locomotion run
         from .locomotion import _path_figure
+
         _path_figure(ds, out, "top")
         return "locomotion run: path from above"
     if "nodes" in ds and "time" in ds["nodes"].dims:  # tensegrity simulate
@@ -156,6 +199,7 @@ def _render_nominal(ds, face: int, strut_length: float, out: str | os.PathLike, 
     each pair's levels it stood at, a red ring at the tipping pressure (the nominal CoG
     interpolated there) and the deformed support there, dashed."""
     from ..render import frame_plots
+
     rest_cog, rest_support = frames.rest_frame(face, strut_length)
     levels = ds["pressure"].values
     lines, tips, tip_supports = {}, {}, {}
@@ -169,6 +213,7 @@ def _render_nominal(ds, face: int, strut_length: float, out: str | os.PathLike, 
         if np.isfinite(tp) and tp <= levels[n - 1] + 1e-9:
             tips[int(p)] = frame_plots.at_pressure(levels[:n], cog[:n], tp)
             tip_supports[int(p)] = frame_plots.at_pressure(levels[:n], ds["support"].sel(pair=p).values[:n], tp)
-    frame_plots.fig_workspace(lines, rest_support, out, title=title, tip_points=tips,
-                              tip_supports=tip_supports, corner_labels=_corners(face))
+    frame_plots.fig_workspace(
+        lines, rest_support, out, title=title, tip_points=tips, tip_supports=tip_supports, corner_labels=_corners(face)
+    )
     return "workspace: nominal CoG per pair"

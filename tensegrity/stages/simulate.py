@@ -1,5 +1,6 @@
 """`tensegrity simulate`: one actuation of one robot, ramped to a pressure and held, written as
 a netCDF file (docs/datasets.md, "Simulation"). No rule runs it; it is a stage all the same."""
+
 from __future__ import annotations
 
 import os
@@ -15,9 +16,18 @@ from ..physics.terrain import Terrain
 CHUNK = 0.05  # s: the simulation runs in pieces of about this length (the progress bar's steps)
 
 
-def simulate(cfg: dict, face: int | Sequence[int], pairs: Sequence[int], pressure: float, duration: float,
-             out_path: str | os.PathLike, ramp: float = 0.0, mode: str = "free", terrain: Terrain | None = None,
-             progress: Callable[[float], None] | None = None) -> Path:
+def simulate(
+    cfg: dict,
+    face: int | Sequence[int],
+    pairs: Sequence[int],
+    pressure: float,
+    duration: float,
+    out_path: str | os.PathLike,
+    ramp: float = 0.0,
+    mode: str = "free",
+    terrain: Terrain | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> Path:
     """Stage `simulate`: stand the robot on `face`, ramp `pairs` to `pressure` MPa over `ramp` s
     (0: a step) and hold it for the rest of `duration` s, in `mode` ('free' or 'grounded', on
     `terrain`, default flat); record every sim.record_every steps of sim.dt s. progress(s)
@@ -25,6 +35,7 @@ def simulate(cfg: dict, face: int | Sequence[int], pairs: Sequence[int], pressur
     from ..physics import dynamics as d
     from ..physics.schedule import Schedule
     from ..workspace import sweep
+
     params, ground = sweep.setup(settings.params(cfg), mode)
     if terrain is not None:
         if mode == "free":
@@ -47,7 +58,13 @@ def simulate(cfg: dict, face: int | Sequence[int], pairs: Sequence[int], pressur
         if progress is not None:
             progress(chunk)
     x, q = np.concatenate(xs), np.concatenate(qs)
-    ds = formats.simulation_dataset(np.concatenate(ts), d.nodes(x, q, params.strut_length), np.concatenate(ps),
-                                    face, {"mode": mode, "pairs": pairs, "pressure_mpa": pressure, "ramp_s": ramp})
-    return datasets.write(ds, out_path, cfg, f"Simulation of pairs {pairs} at {pressure} MPa on "
-                          f"{topo.face_label(face)}", stage="simulate")
+    ds = formats.simulation_dataset(
+        np.concatenate(ts),
+        d.nodes(x, q, params.strut_length),
+        np.concatenate(ps),
+        face,
+        {"mode": mode, "pairs": pairs, "pressure_mpa": pressure, "ramp_s": ramp},
+    )
+    return datasets.write(
+        ds, out_path, cfg, f"Simulation of pairs {pairs} at {pressure} MPa on {topo.face_label(face)}", stage="simulate"
+    )

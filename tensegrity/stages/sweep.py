@@ -1,5 +1,6 @@
 """Rule `sweep` (workflow/rules/sweep.smk): the pressure staircase of every configured pair on a
 contact face, results/sweeps/{contact}/pairNN.nc."""
+
 from __future__ import annotations
 
 import os
@@ -14,6 +15,7 @@ def sweep(cfg: dict, contact: str, out_dir: str | os.PathLike) -> list[Path]:
     """Stage `sweep`: sweep every pair of sweep.pairs standing on the canonical face of `contact`
     (one batch); write `out_dir`/pairNN.nc."""
     from ..workspace import sweep as sw  # the simulator (numba) only where it runs
+
     if contact not in topo.CONTACT_FACES:
         raise ValueError(f"unknown contact {contact!r}: use one of {list(topo.CONTACT_FACES)}")
     setup, params = settings.build(SweepSetup, cfg), settings.params(cfg)
@@ -21,7 +23,13 @@ def sweep(cfg: dict, contact: str, out_dir: str | os.PathLike) -> list[Path]:
     paths = []
     for b, pair in enumerate(res.pairs):
         ds = formats.sweep_dataset(res, b, contact, setup, int(cfg["sweep"]["node_stride"]), float(params.strut_length))
-        paths.append(datasets.write(ds, Path(out_dir) / formats.SWEEP_FILE.format(pair=int(pair)), cfg,
-                                    f"Pressure sweep of pair #{pair} standing on {topo.face_label(res.face)}",
-                                    stage="sweep"))
+        paths.append(
+            datasets.write(
+                ds,
+                Path(out_dir) / formats.SWEEP_FILE.format(pair=int(pair)),
+                cfg,
+                f"Pressure sweep of pair #{pair} standing on {topo.face_label(res.face)}",
+                stage="sweep",
+            )
+        )
     return paths

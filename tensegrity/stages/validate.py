@@ -3,6 +3,7 @@ symmetry, the grounded mode and dt/2, and the demonstration runs (results/valida
 summary.md, summary.html); the two-pair workspace against statics, direct simulation and
 superposition (two_pair.*); the gravity-aware workspace against grounded rolls (gravity.*).
 Failed checks do not raise: they are verdicts in the files."""
+
 from __future__ import annotations
 
 import os
@@ -13,8 +14,8 @@ from .. import atomic
 from ..io import datasets, settings
 from ..io.formats import gravity as gf
 from ..io.formats import run as run_formats
-from ..io.formats import validation as vf
 from ..io.formats import two_pair as tpf
+from ..io.formats import validation as vf
 from ..io.formats import workspace as wf
 from ..io.formats.nominal import read_nominals
 from ..locomotion.settings import RollSettings
@@ -26,8 +27,9 @@ from ..workspace.two_pair import TwoPairSetup
 from . import provenance
 
 
-def _pages(md_path: str | os.PathLike, html_path: str | os.PathLike | None, title: str, lead: Sequence[str],
-           tables: Sequence) -> list[Path]:
+def _pages(
+    md_path: str | os.PathLike, html_path: str | os.PathLike | None, title: str, lead: Sequence[str], tables: Sequence
+) -> list[Path]:
     """A validation page as Markdown and, if `html_path`, HTML (`validation.pages`)."""
     out = [atomic.write_text(md_path, pages.markdown(title, lead, tables))]
     if html_path:
@@ -35,79 +37,157 @@ def _pages(md_path: str | os.PathLike, html_path: str | os.PathLike | None, titl
     return out
 
 
-def validate(cfg: dict, nominal_paths: Sequence[str | os.PathLike], workspace_path: str | os.PathLike | None,
-             nc_path: str | os.PathLike, md_path: str | os.PathLike, html_path: str | os.PathLike | None = None,
-             run_paths: Sequence[str | os.PathLike] = ()) -> list[Path]:
+def validate(
+    cfg: dict,
+    nominal_paths: Sequence[str | os.PathLike],
+    workspace_path: str | os.PathLike | None,
+    nc_path: str | os.PathLike,
+    md_path: str | os.PathLike,
+    html_path: str | os.PathLike | None = None,
+    run_paths: Sequence[str | os.PathLike] = (),
+) -> list[Path]:
     """Stage `validate`: every check of `validation.checks` on the pipeline's nominal CoG files
     (results/nominal/{contact}.nc), workspace (results/workspace.nc) and demonstration runs
     (`run_paths`; none: check 6 is not evaluated); writes validation.nc, the Markdown summary
     and, if `html_path`, the HTML summary. Returns the paths written."""
     from ..validation import checks, report
+
     nominals = read_nominals(nominal_paths)
     workspace = wf.read_workspace(workspace_path) if workspace_path else None
     setup, checks_ = settings.build(SweepSetup, cfg), settings.build(CheckSettings, cfg)
     discard = float(cfg["nominal"]["discard"])
-    results = checks.run_checks(settings.params(cfg), setup, discard, nominals, workspace, checks_,
-                                on_result=report.log, runs=run_formats.read_run_summaries(run_paths))
+    results = checks.run_checks(
+        settings.params(cfg),
+        setup,
+        discard,
+        nominals,
+        workspace,
+        checks_,
+        on_result=report.log,
+        runs=run_formats.read_run_summaries(run_paths),
+    )
     levels = common_levels(nominals)
     ds, allow = vf.workspace_validation_dataset(results, levels, checks_.faces, checks_.statics_pressures)
-    note = ("Every number, with units: validation.nc. Sweeps: "
-            f"{', '.join(f'{p:g}' for p in setup.levels)} MPa held {setup.hold:g} s, "
-            f"{setup.mode} mode, dt {setup.dt:g} s, nominal = mean after the first {discard:g} s of each level.")
+    note = (
+        "Every number, with units: validation.nc. Sweeps: "
+        f"{', '.join(f'{p:g}' for p in setup.levels)} MPa held {setup.hold:g} s, "
+        f"{setup.mode} mode, dt {setup.dt:g} s, nominal = mean after the first {discard:g} s of each level."
+    )
     prov = provenance(cfg, *nominal_paths, *([workspace_path] if workspace_path else []))
-    path = datasets.write(ds, nc_path, prov, "Validation of the workspace against the paper, statics, symmetry, "
-                          "the grounded mode and a halved time step, and of the demonstration runs",
-                          stage="validate", allow_nan=allow)
-    return [path, *_pages(md_path, html_path, report.TITLE, [report.counts(results), note],
-                          report.summary_tables(results))]
+    path = datasets.write(
+        ds,
+        nc_path,
+        prov,
+        "Validation of the workspace against the paper, statics, symmetry, "
+        "the grounded mode and a halved time step, and of the demonstration runs",
+        stage="validate",
+        allow_nan=allow,
+    )
+    return [
+        path,
+        *_pages(md_path, html_path, report.TITLE, [report.counts(results), note], report.summary_tables(results)),
+    ]
 
 
-def validate_two_pair(cfg: dict, contact_paths: Sequence[str | os.PathLike], two_pair_path: str | os.PathLike,
-                      workspace_path: str | os.PathLike, nc_path: str | os.PathLike, md_path: str | os.PathLike,
-                      html_path: str | os.PathLike | None = None) -> list[Path]:
+def validate_two_pair(
+    cfg: dict,
+    contact_paths: Sequence[str | os.PathLike],
+    two_pair_path: str | os.PathLike,
+    workspace_path: str | os.PathLike,
+    nc_path: str | os.PathLike,
+    md_path: str | os.PathLike,
+    html_path: str | os.PathLike | None = None,
+) -> list[Path]:
     """Stage `validate_two_pair`: the two-pair workspace against statics, direct simulation of
     two_pair.check_combos on two_pair.check_faces, and superposition (`validation.two_pair`);
     writes results/validation/two_pair.nc, .md and .html."""
     from ..validation import two_pair as v
+
     setup, s = settings.build(TwoPairSetup, cfg), cfg["two_pair"]
     contacts = tpf.read_two_pair_nominals(contact_paths)
     grid_cog, staircase = tpf.read_two_pair_grid(two_pair_path)
     single = datasets.read(workspace_path)
-    r = v.validate(settings.params(cfg), setup, contacts, grid_cog, staircase, wf.workspace_from_dataset(single),
-                   wf.tip_pressures(single), combos=s["check_combos"], faces=s["check_faces"],
-                   tolerance=float(s["tolerance"]))
+    r = v.validate(
+        settings.params(cfg),
+        setup,
+        contacts,
+        grid_cog,
+        staircase,
+        wf.workspace_from_dataset(single),
+        wf.tip_pressures(single),
+        combos=s["check_combos"],
+        faces=s["check_faces"],
+        tolerance=float(s["tolerance"]),
+    )
     for row in r.rows:
         print(f"  {row.id} {row.status}: {row.measured}", flush=True)
-    note = (f"Levels {', '.join(f'{x:g}' for x in setup.levels)} MPa held {setup.hold:g} s "
-            f"(nominal: mean after {setup.discard:g} s), free mode. Every number: two_pair.nc.")
+    note = (
+        f"Levels {', '.join(f'{x:g}' for x in setup.levels)} MPa held {setup.hold:g} s "
+        f"(nominal: mean after {setup.discard:g} s), free mode. Every number: two_pair.nc."
+    )
     prov = provenance(cfg, *contact_paths, two_pair_path, workspace_path)
-    path = datasets.write(vf.two_pair_validation_dataset(r), nc_path, prov, v.TITLE, stage="validate_two_pair",
-                          allow_nan=vf.TWO_PAIR_ALLOW_NAN)
-    return [path, *_pages(md_path, html_path, v.TITLE, [pages.counts([x.status for x in r.rows]), note],
-                          [pages.verdict_table(r.rows)])]
+    path = datasets.write(
+        vf.two_pair_validation_dataset(r),
+        nc_path,
+        prov,
+        v.TITLE,
+        stage="validate_two_pair",
+        allow_nan=vf.TWO_PAIR_ALLOW_NAN,
+    )
+    return [
+        path,
+        *_pages(
+            md_path, html_path, v.TITLE, [pages.counts([x.status for x in r.rows]), note], [pages.verdict_table(r.rows)]
+        ),
+    ]
 
 
-def validate_gravity(cfg: dict, gravity_path: str | os.PathLike, nominal_paths: Sequence[str | os.PathLike],
-                     nc_path: str | os.PathLike, md_path: str | os.PathLike,
-                     html_path: str | os.PathLike | None = None) -> list[Path]:
+def validate_gravity(
+    cfg: dict,
+    gravity_path: str | os.PathLike,
+    nominal_paths: Sequence[str | os.PathLike],
+    nc_path: str | os.PathLike,
+    md_path: str | os.PathLike,
+    html_path: str | os.PathLike | None = None,
+) -> list[Path]:
     """Stage `validate_gravity`: checks G.1-G.3 (`validation.gravity`) of the gravity-aware
     workspace on gravity.validate_slopes, within gravity.tip_tolerance; writes
     results/validation/gravity.nc, .md and .html."""
     from ..validation import gravity as vg
+
     g, s = cfg["gravity"], settings.build(RollSettings, cfg)
     sweeps = gf.read_gravity(gravity_path)
     rc = vg.check_rolls(settings.params(cfg), sweeps, g["validate_slopes"], s, float(g["max_pressure"]))
-    flat = {contact: vg.flat_comparison(sweeps[contact], free, CheckSettings.grounded_tolerance)
-            for contact, free in read_nominals(nominal_paths).items() if contact in sweeps}
+    flat = {
+        contact: vg.flat_comparison(sweeps[contact], free, CheckSettings.grounded_tolerance)
+        for contact, free in read_nominals(nominal_paths).items()
+        if contact in sweeps
+    }
     rows, status = vg.verdicts(rc, flat, float(g["tip_tolerance"]))
     for r in rows:
         print(f"  {r.id} {r.status}: {r.measured}", flush=True)
-    note = (f"Ramps at {s.ramp_rate:g} MPa/s in steps of {s.interval:g} s after {float(g['settle']):g} s at rest; "
-            f"grounded rolls with the controller's settings (config locomotion) up to {float(g['max_pressure']):g} MPa.")
-    path = datasets.write(vf.gravity_validation_dataset(rc, flat, status), nc_path, provenance(cfg, gravity_path),
-                          vg.TITLE, stage="validate_gravity", allow_nan=vf.GRAVITY_ALLOW_NAN)
-    return [path, *_pages(md_path, html_path, vg.TITLE, [pages.counts([r.status for r in rows]), note],
-                          [pages.verdict_table(rows), vg.roll_table(rc)])]
+    note = (
+        f"Ramps at {s.ramp_rate:g} MPa/s in steps of {s.interval:g} s after {float(g['settle']):g} s at rest; "
+        f"grounded rolls with the controller's settings (config locomotion) up to {float(g['max_pressure']):g} MPa."
+    )
+    path = datasets.write(
+        vf.gravity_validation_dataset(rc, flat, status),
+        nc_path,
+        provenance(cfg, gravity_path),
+        vg.TITLE,
+        stage="validate_gravity",
+        allow_nan=vf.GRAVITY_ALLOW_NAN,
+    )
+    return [
+        path,
+        *_pages(
+            md_path,
+            html_path,
+            vg.TITLE,
+            [pages.counts([r.status for r in rows]), note],
+            [pages.verdict_table(rows), vg.roll_table(rc)],
+        ),
+    ]
 
 
 def runs_warning(paths: Iterable[str | os.PathLike]) -> str:
@@ -116,7 +196,9 @@ def runs_warning(paths: Iterable[str | os.PathLike]) -> str:
     bad = run_formats.not_arrived(paths)
     if not bad:
         return ""
-    lines = [f"WARNING: {len(bad)} demonstration run(s) did not arrive (validation check 6 FAILS; "
-             f"see results/validation/summary.md):"]
+    lines = [
+        f"WARNING: {len(bad)} demonstration run(s) did not arrive (validation check 6 FAILS; "
+        f"see results/validation/summary.md):"
+    ]
     lines += [f"  {name}: {outcome} ({message})" for name, outcome, message in bad]
     return "\n".join(lines)

@@ -8,6 +8,7 @@ any other design (grid, lhs, sobol) gives the moment-independent delta and S1 of
 A design whose output is undefined (a pair that never tips: NaN) is censored at `censor`
 (the highest swept level), said in the dataset.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -17,9 +18,11 @@ import numpy as np
 from .spec import problem
 
 # index name -> (its confidence interval's name) per method
-INDICES = {"saltelli": (("S1", "S1_conf"), ("ST", "ST_conf")),
-           "morris": (("mu_star", "mu_star_conf"), ("sigma", None)),
-           "delta": (("delta", "delta_conf"), ("S1", "S1_conf"))}
+INDICES = {
+    "saltelli": (("S1", "S1_conf"), ("ST", "ST_conf")),
+    "morris": (("mu_star", "mu_star_conf"), ("sigma", None)),
+    "delta": (("delta", "delta_conf"), ("S1", "S1_conf")),
+}
 
 
 class _Names(np.ndarray):
@@ -41,8 +44,9 @@ def method_of(study: Mapping) -> str:
     return m if m in ("saltelli", "morris") else "delta"
 
 
-def sensitivity(study: Mapping, X: np.ndarray, y: np.ndarray, censor: float | None = None,
-                seed: int = 1, resamples: int = 100) -> dict[str, np.ndarray]:
+def sensitivity(
+    study: Mapping, X: np.ndarray, y: np.ndarray, censor: float | None = None, seed: int = 1, resamples: int = 100
+) -> dict[str, np.ndarray]:
     """Indices of one output y (N,) over the designs X (N, k) (all rows of the design matrix, in
     order): {index: (k,), index_conf: (k,)} as named in INDICES[method_of(study)]. NaN outputs
     are censored at `censor` (ValueError if there is none to use). A constant output has
@@ -58,14 +62,23 @@ def sensitivity(study: Mapping, X: np.ndarray, y: np.ndarray, censor: float | No
         return {name: np.zeros(k) for pair in INDICES[method] for name in pair if name}
     if method == "saltelli":
         from SALib.analyze import sobol
-        r = sobol.analyze(pr, y, calc_second_order=False, seed=seed, print_to_console=False,
-                          num_resamples=resamples)
+
+        r = sobol.analyze(pr, y, calc_second_order=False, seed=seed, print_to_console=False, num_resamples=resamples)
     elif method == "morris":
         from SALib.analyze import morris
-        r = morris.analyze(pr, X, y, num_levels=study["design"]["morris_levels"], seed=seed,
-                           print_to_console=False, num_resamples=resamples)
+
+        r = morris.analyze(
+            pr,
+            X,
+            y,
+            num_levels=study["design"]["morris_levels"],
+            seed=seed,
+            print_to_console=False,
+            num_resamples=resamples,
+        )
     else:
         from SALib.analyze import delta
+
         r = delta.analyze(pr, X, y, seed=seed, print_to_console=False, num_resamples=resamples)
     return {name: np.asarray(r[name], float) for pair in INDICES[method] for name in pair if name}
 
@@ -97,8 +110,9 @@ def censor_values(study: Mapping) -> dict[str, float]:
     return {"workspace": float(study["workspace"]["levels"][-1]), "roll": float(study["roll"]["max_pressure"])}
 
 
-def all_indices(study: Mapping, X: np.ndarray, outputs: Mapping[str, np.ndarray],
-                complete: bool) -> tuple[dict[str, dict[str, np.ndarray]], list[str]]:
+def all_indices(
+    study: Mapping, X: np.ndarray, outputs: Mapping[str, np.ndarray], complete: bool
+) -> tuple[dict[str, dict[str, np.ndarray]], list[str]]:
     """The indices (`sensitivity`) of every output (name -> y (N,)) over the designs X (N, k):
     output -> {index: (k,)}, NaN where the study was not run in full (`complete` False) or
     SALib could not compute them; and the messages of those it could not compute. Outputs
@@ -109,7 +123,9 @@ def all_indices(study: Mapping, X: np.ndarray, outputs: Mapping[str, np.ndarray]
     for o, y in outputs.items():
         nan = {n: np.full(X.shape[1], np.nan) for p in INDICES[method] for n in p if n}
         try:
-            out[o] = sensitivity(study, X, y, censor["roll" if o.startswith("roll_") else "workspace"]) if complete else nan
+            out[o] = (
+                sensitivity(study, X, y, censor["roll" if o.startswith("roll_") else "workspace"]) if complete else nan
+            )
         except (np.linalg.LinAlgError, ValueError) as e:  # e.g. delta's density of a 0/1 output
             out[o] = nan
             failed.append(f"{o}: {type(e).__name__}: {str(e).splitlines()[0]}")

@@ -6,6 +6,7 @@ its own parameters (`Params` fields as (B,) arrays), averaged per level as works
 `roll_sequence`: the paper's roll sequence (9,10,12) -#10-> (10,11,12) -#11-> (6,10,11) in the
 grounded mode for every design, driven by `locomotion.lockstep` as one batch.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
@@ -15,15 +16,16 @@ import numpy as np
 
 from .. import paper
 from ..locomotion import control
-from ..locomotion.settings import RollSettings
 from ..locomotion.lockstep import lockstep
+from ..locomotion.settings import RollSettings
 from ..physics import dynamics as d
-from ..physics import frames, topology as topo
-from ..physics.schedule import Schedule
+from ..physics import frames
+from ..physics import topology as topo
 from ..physics.params import Params
+from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
-from ..validation import paper as check1
 from ..physics.topology import CONTACTS
+from ..validation import paper as check1
 from ..workspace import sweep as sw
 from ..workspace.nominal import Nominal
 
@@ -55,6 +57,7 @@ class StudyWorkspace:
     """Nominal CoG of every design (D), contact case (C), pair (P) and level (L), in the support
     frame of the contact face: cog (D, C, P, L, 3) m, support (D, C, P, L, 3, 3) m (mean deformed
     triangle), margin (D, C, P, L) m (positive inside); faces (C,) 1..20."""
+
     faces: np.ndarray
     pairs: np.ndarray
     levels: np.ndarray
@@ -72,9 +75,14 @@ def _blocks(hold: float, dt: float, record_every: int, block_s: float = 0.1) -> 
     return [k * dt * record_every for k in [per] * (n // per) + ([n % per] if n % per else [])]
 
 
-def workspace(designs: Sequence[Params], contacts: Sequence[str], pairs: Sequence[int],
-              setup: sw.SweepSetup, discard: float,
-              progress: Callable[[float], None] | None = None) -> StudyWorkspace:
+def workspace(
+    designs: Sequence[Params],
+    contacts: Sequence[str],
+    pairs: Sequence[int],
+    setup: sw.SweepSetup,
+    discard: float,
+    progress: Callable[[float], None] | None = None,
+) -> StudyWorkspace:
     """Free-mode staircase of `setup` (paper III.A; workspace.sweep in the free mode, its settle
     and mode not used) of every pair on every contact face for every design, as ONE batch of
     D * C * P robots; each level (MPa) is held setup.hold s and averaged after `discard` s as
@@ -96,7 +104,7 @@ def workspace(designs: Sequence[Params], contacts: Sequence[str], pairs: Sequenc
         start, n = state.t, 0
         for dur in _blocks(hold, dt, record_every):
             state, tr = d.simulate(prm, state, Schedule.constant(pres, dur), terrain, dt, record_every)
-            keep = tr.t > start + discard   # as workspace.nominal.nominal
+            keep = tr.t > start + discard  # as workspace.nominal.nominal
             if not keep.any():
                 continue
             nodes = tr.nodes(prm.strut_length)[:, keep].reshape(D, C, P, -1, topo.N_NODES, 3)
@@ -118,23 +126,42 @@ def workspace(designs: Sequence[Params], contacts: Sequence[str], pairs: Sequenc
 def nominals(ws: StudyWorkspace, design: int, contacts: Sequence[str]) -> dict[str, Nominal]:
     """The free-mode nominal CoG of design number `design` (0-based, of `ws`) per contact case,
     `contacts` naming the contact cases of ws.faces in order."""
-    return {c: Nominal.of_pairs(c, int(ws.faces[j]), "free", ws.levels, ws.pairs, ws.cog[design, j],
-                                ws.support[design, j], ws.margin[design, j]) for j, c in enumerate(contacts)}
+    return {
+        c: Nominal.of_pairs(
+            c,
+            int(ws.faces[j]),
+            "free",
+            ws.levels,
+            ws.pairs,
+            ws.cog[design, j],
+            ws.support[design, j],
+            ws.margin[design, j],
+        )
+        for j, c in enumerate(contacts)
+    }
 
 
-def paper_statements(designs: Sequence[Params], ws: StudyWorkspace, contacts: Sequence[str],
-                     reference_pressure: float, tip_tolerance: float) -> dict[str, np.ndarray]:
+def paper_statements(
+    designs: Sequence[Params],
+    ws: StudyWorkspace,
+    contacts: Sequence[str],
+    reference_pressure: float,
+    tip_tolerance: float,
+) -> dict[str, np.ndarray]:
     """The paper's statements per design (validation check 1, `validation.paper.check_paper`, on
     its nominal CoG `nominals` and its strut length; pairs ranked at `reference_pressure` MPa,
     #10's tip within `tip_tolerance` MPa): tip_pressure (D, C, N) MPa (NaN: never), tip_edge
     (D, C, N, 2) its nodes (0: none) and migration (D, C, N) m of the N pairs of `ws` on the C
     `contacts`, and status (D, 5), the codes (STATEMENT_CODE) of statements 1.1-1.5."""
     D, C, N = ws.margin.shape[:3]
-    out = {"tip_pressure": np.full((D, C, N), np.nan), "tip_edge": np.zeros((D, C, N, 2), np.int64),
-           "migration": np.full((D, C, N), np.nan), "status": np.zeros((D, len(STATEMENTS)), np.int8)}
+    out = {
+        "tip_pressure": np.full((D, C, N), np.nan),
+        "tip_edge": np.zeros((D, C, N, 2), np.int64),
+        "migration": np.full((D, C, N), np.nan),
+        "status": np.zeros((D, len(STATEMENTS)), np.int8),
+    }
     for i, prm in enumerate(designs):
-        r = check1.check_paper(nominals(ws, i, contacts), float(prm.strut_length), reference_pressure,
-                               tip_tolerance)
+        r = check1.check_paper(nominals(ws, i, contacts), float(prm.strut_length), reference_pressure, tip_tolerance)
         for j, c in enumerate(contacts):
             k = CONTACTS.index(c)
             out["tip_pressure"][i, j] = r.tip_pressure[k, ws.pairs - 1]
@@ -149,6 +176,7 @@ class RollOutcome:
     """The roll sequence of one design: success (both rolls landed where the paper's did),
     tip_pressure (2,) MPa held when a support node lifted (NaN: no roll), face (2,) the face after
     each roll (0: none or not tried), error ('' or the simulation failure)."""
+
     success: bool
     tip_pressure: np.ndarray
     face: np.ndarray
@@ -199,8 +227,7 @@ def _rolls(designs, settings, max_pressure, terrain) -> list[RollOutcome]:
     prm = batch_params(designs)
     state = _stand(designs, [topo.face_number(paper.START_FACE)], terrain, 1)
     shared = {"done": 0, "n": len(designs), "t_end": None}
-    out = lockstep(prm, terrain, state, lambda b, o: _sequence(designs[b], settings, o, max_pressure, shared),
-                   settings)
+    out = lockstep(prm, terrain, state, lambda b, o: _sequence(designs[b], settings, o, max_pressure, shared), settings)
     return [r[0] for r in out]
 
 
@@ -216,5 +243,9 @@ def design_outputs(ws: StudyWorkspace, tip_pressure: np.ndarray, reference_press
     best = tip.reshape(D, -1).min(axis=1)
     best = np.where(np.isfinite(best), best, np.nan)
     min_margin = mref.reshape(D, -1).min(axis=1)
-    return {"reference_margin": mref, "min_margin": min_margin, "best_tip_pressure": best,
-            "objective": np.where(min_margin > 0, best, np.nan)}
+    return {
+        "reference_margin": mref,
+        "min_margin": min_margin,
+        "best_tip_pressure": best,
+        "objective": np.where(min_margin > 0, best, np.nan),
+    }

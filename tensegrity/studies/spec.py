@@ -1,6 +1,7 @@
 """A design study (config/studies/<name>.yaml, read and checked by `io.study_config`): the
 parameters it may vary and their units, the design matrix it names and its chunks of designs.
 """
+
 from __future__ import annotations
 
 import copy
@@ -14,10 +15,21 @@ import numpy as np
 from ..physics.params import Params
 
 # The unit of each parameter a study may vary (the configuration's `params`, docs/design.md §4).
-UNITS = {"strut_length": "m", "strut_radius": "m", "strut_mass": "kg", "cable_stiffness": "N/m",
-         "cable_pretension": "N", "cable_damping": "N s/m", "muscle_min_length": "m",
-         "muscle_gain": "N/(MPa m)", "ground_stiffness": "N/m", "ground_damping": "N s/m",
-         "friction": "1", "friction_stiffness": "N/m", "friction_damping": "N s/m"}
+UNITS = {
+    "strut_length": "m",
+    "strut_radius": "m",
+    "strut_mass": "kg",
+    "cable_stiffness": "N/m",
+    "cable_pretension": "N",
+    "cable_damping": "N s/m",
+    "muscle_min_length": "m",
+    "muscle_gain": "N/(MPa m)",
+    "ground_stiffness": "N/m",
+    "ground_damping": "N s/m",
+    "friction": "1",
+    "friction_stiffness": "N/m",
+    "friction_damping": "N s/m",
+}
 # Parameters that must be one number for the whole batch of a roll (lockstep.observe, contact).
 NOT_IN_ROLLS = ("strut_radius", "strut_length")
 
@@ -25,8 +37,11 @@ NOT_IN_ROLLS = ("strut_radius", "strut_length")
 def problem(study: Mapping) -> dict:
     """The SALib problem: names, bounds (one [low, high] per parameter), num_vars."""
     names = list(study["parameters"])
-    return {"num_vars": len(names), "names": names,
-            "bounds": [[study["parameters"][n]["low"], study["parameters"][n]["high"]] for n in names]}
+    return {
+        "num_vars": len(names),
+        "names": names,
+        "bounds": [[study["parameters"][n]["low"], study["parameters"][n]["high"]] for n in names],
+    }
 
 
 def design_matrix(study: Mapping) -> np.ndarray:
@@ -40,20 +55,28 @@ def design_matrix(study: Mapping) -> np.ndarray:
         return np.array(list(itertools.product(*axes)), float).reshape(-1, k)
     if method in ("lhs", "sobol"):
         from scipy.stats import qmc
+
         eng = qmc.LatinHypercube(d=k, seed=d["seed"]) if method == "lhs" else qmc.Sobol(d=k, seed=d["seed"])
         return qmc.scale(eng.random(d["n"]), lo, hi)
     if method == "saltelli":
         from SALib.sample import sobol
+
         return sobol.sample(pr, d["n"], calc_second_order=False, seed=d["seed"])
     from SALib.sample import morris
+
     return morris.sample(pr, d["n"], num_levels=d["morris_levels"], seed=d["seed"])
 
 
 def n_designs(study: Mapping) -> int:
     """Number of designs of the study (rows of `design_matrix`) without building it."""
     d, k = study["design"], len(study["parameters"])
-    return {"grid": d["levels"] ** k, "lhs": d["n"], "sobol": d["n"],
-            "saltelli": d["n"] * (k + 2), "morris": d["n"] * (k + 1)}[d["method"]]
+    return {
+        "grid": d["levels"] ** k,
+        "lhs": d["n"],
+        "sobol": d["n"],
+        "saltelli": d["n"] * (k + 2),
+        "morris": d["n"] * (k + 1),
+    }[d["method"]]
 
 
 def n_chunks(study: Mapping, limit: int = 0) -> int:

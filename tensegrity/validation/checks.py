@@ -16,6 +16,7 @@ A check never raises because a comparison failed: a failure is a status next to 
 Checks 3-5 run their own (batched) simulations. `run_checks` runs all six; `validation.report`
 turns the results into summary.md/html and validation.nc.
 """
+
 from __future__ import annotations
 
 import traceback
@@ -24,18 +25,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..physics import statics, topology as topo
+from ..physics import statics
+from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.topology import CONTACTS
-from . import grounded, paper, runs as demo_runs
-from .common import FAIL, LEVEL_TOL, N_CONTACTS, SKIP, CheckError, CheckSettings, Result, status
 from ..workspace.lookup import Workspace
 from ..workspace.nominal import Nominal
 from ..workspace.sweep import SweepSetup
+from . import grounded, paper
+from . import runs as demo_runs
+from .common import FAIL, LEVEL_TOL, N_CONTACTS, SKIP, CheckError, CheckSettings, Result, status
 from .nominals import common_levels, simulate_nominal
 
-
 # ----------------------------------------------------------------------- 2. statics
+
 
 @dataclass(frozen=True)
 class StaticsResult(Result):
@@ -44,6 +47,7 @@ class StaticsResult(Result):
     sorted sweep modes of the nominal files), missing (the pressures not among the swept levels),
     cog (C, N_PAIRS, S, 3) m of the static equilibrium and difference (C, N_PAIRS, S) m from the
     nominal CoG, both in the support frame, NaN where not computed; status of verdict 2."""
+
     pressures: np.ndarray
     tolerance: float
     faces: dict[str, int]
@@ -53,9 +57,12 @@ class StaticsResult(Result):
     difference: np.ndarray
 
 
-def check_statics(params: Params, nominals: Mapping[str, Nominal],
-                  pressures: Sequence[float] = CheckSettings.statics_pressures,
-                  tolerance: float = CheckSettings.statics_tolerance) -> StaticsResult:
+def check_statics(
+    params: Params,
+    nominals: Mapping[str, Nominal],
+    pressures: Sequence[float] = CheckSettings.statics_pressures,
+    tolerance: float = CheckSettings.statics_tolerance,
+) -> StaticsResult:
     """For every swept pair at `pressures` (MPa, among the swept levels), the nominal CoG against
     the free-mode static equilibrium solved by energy minimisation (physics.statics), both in
     the support frame of each contact face; goal: largest distance under `tolerance` m. Not
@@ -65,14 +72,25 @@ def check_statics(params: Params, nominals: Mapping[str, Nominal],
     S = len(pressures)
     scog = np.full((N_CONTACTS, topo.N_PAIRS, S, 3), np.nan)
     diff = np.full((N_CONTACTS, topo.N_PAIRS, S), np.nan)
-    at = [int(np.flatnonzero(np.isclose(levels, p, rtol=0, atol=LEVEL_TOL))[0])
-          if np.isclose(levels, p, rtol=0, atol=LEVEL_TOL).any() else -1 for p in pressures]
+    at = [
+        int(np.flatnonzero(np.isclose(levels, p, rtol=0, atol=LEVEL_TOL))[0])
+        if np.isclose(levels, p, rtol=0, atol=LEVEL_TOL).any()
+        else -1
+        for p in pressures
+    ]
     modes = tuple(sorted({n.mode for n in nominals.values()}))
     missing = tuple(float(p) for p, k in zip(pressures, at) if k < 0)
     faces = {c: nominals[c].face for c in CONTACTS if c in nominals}
-    result = lambda st: StaticsResult(status={"2": st}, pressures=pressures, tolerance=tolerance,
-                                      faces=faces, modes=modes, missing=missing, cog=scog,
-                                      difference=diff)
+    result = lambda st: StaticsResult(
+        status={"2": st},
+        pressures=pressures,
+        tolerance=tolerance,
+        faces=faces,
+        modes=modes,
+        missing=missing,
+        cog=scog,
+        difference=diff,
+    )
     if modes != ("free",) or missing:
         return result(SKIP)
     full = {c: nominals[c].cog for c in faces}
@@ -95,6 +113,7 @@ def check_statics(params: Params, nominals: Mapping[str, Nominal],
 
 # ------------------------------------------------------------------ 3. symmetry mapping
 
+
 @dataclass(frozen=True)
 class MappingResult(Result):
     """Numbers of check 3 on the F sample `faces` (1..20), all N_PAIRS pairs and the P `levels`
@@ -102,6 +121,7 @@ class MappingResult(Result):
     (face type -> number of non-canonical sample faces), cog (F, N_PAIRS, P, 3) m of the direct
     simulations, difference (F, N_PAIRS, P) m from the mapped CoG and support_difference
     (F, N_PAIRS, P) m, the largest corner distance of the triangles; NaN where not computed."""
+
     faces: np.ndarray
     levels: np.ndarray
     tolerance: float
@@ -118,9 +138,15 @@ class MappingResult(Result):
         return int(np.isfinite(self.difference).any(axis=(1, 2)).sum())
 
 
-def check_mapping(params: Params, workspace: Workspace, faces: Sequence[int], setup: SweepSetup,
-                  discard: float, tolerance: float = CheckSettings.mapping_tolerance,
-                  min_per_kind: int = 2) -> MappingResult:
+def check_mapping(
+    params: Params,
+    workspace: Workspace,
+    faces: Sequence[int],
+    setup: SweepSetup,
+    discard: float,
+    tolerance: float = CheckSettings.mapping_tolerance,
+    min_per_kind: int = 2,
+) -> MappingResult:
     """The workspace mapped by symmetry (results/workspace.nc, a `Workspace`) against a direct
     simulation standing on each face of `faces` (non-canonical; at least `min_per_kind` of each
     kind): the nominal CoG and the deformed support triangle (the staircase of `setup`, averaged
@@ -134,9 +160,18 @@ def check_mapping(params: Params, workspace: Workspace, faces: Sequence[int], se
     canonical = {topo.face_number(f) for f in topo.CONTACT_FACES.values()}
     kinds = {k: sum(1 for f in faces if topo.FACE_TYPES[f - 1] == k and f not in canonical) for k in CONTACTS}
     match = bool(np.allclose(workspace.levels, levels, rtol=0, atol=LEVEL_TOL))
-    result = lambda st: MappingResult(status={"3": st}, faces=faces, levels=levels, tolerance=tolerance,
-                                      min_per_kind=min_per_kind, levels_match=match, kinds=kinds,
-                                      cog=dcog, difference=dcog_diff, support_difference=dsup_diff)
+    result = lambda st: MappingResult(
+        status={"3": st},
+        faces=faces,
+        levels=levels,
+        tolerance=tolerance,
+        min_per_kind=min_per_kind,
+        levels_match=match,
+        kinds=kinds,
+        cog=dcog,
+        difference=dcog_diff,
+        support_difference=dsup_diff,
+    )
     if not match:
         return result(SKIP)
     for i, face in enumerate(faces):
@@ -152,12 +187,12 @@ def check_mapping(params: Params, workspace: Workspace, faces: Sequence[int], se
     if not np.isfinite(dcog_diff).any():
         return result(SKIP)
     n_faces = int(np.isfinite(dcog_diff).any(axis=(1, 2)).sum())
-    ok = (np.nanmax(np.fmax(dcog_diff, dsup_diff)) <= tolerance and min(kinds.values()) >= min_per_kind
-          and n_faces == F)
+    ok = np.nanmax(np.fmax(dcog_diff, dsup_diff)) <= tolerance and min(kinds.values()) >= min_per_kind and n_faces == F
     return result(status(bool(ok)))
 
 
 # -------------------------------------------------------------------- 5. time step
+
 
 @dataclass(frozen=True)
 class TimestepResult(Result):
@@ -165,6 +200,7 @@ class TimestepResult(Result):
     MPa: dt s (the pipeline's; the check ran dt/2), tolerance m, faces (contact -> face 1..20 of
     the cases run), cog (C, N_PAIRS, P, 3) m the nominal CoG at dt/2 and difference
     (C, N_PAIRS, P) m from the pipeline's; NaN where not computed."""
+
     levels: np.ndarray
     dt: float
     tolerance: float
@@ -173,8 +209,13 @@ class TimestepResult(Result):
     difference: np.ndarray
 
 
-def check_timestep(params: Params, nominals: Mapping[str, Nominal], setup: SweepSetup,
-                   discard: float, tolerance: float = CheckSettings.timestep_tolerance) -> TimestepResult:
+def check_timestep(
+    params: Params,
+    nominals: Mapping[str, Nominal],
+    setup: SweepSetup,
+    discard: float,
+    tolerance: float = CheckSettings.timestep_tolerance,
+) -> TimestepResult:
     """The pipeline's nominal CoG (time step setup.dt) against the same sweep at dt/2 (the same
     sample times: record_every doubled); goal: largest distance under `tolerance` m."""
     levels = common_levels(nominals)
@@ -192,36 +233,53 @@ def check_timestep(params: Params, nominals: Mapping[str, Nominal], setup: Sweep
             continue
         idx = np.array(pairs) - 1
         faces[contact] = n.face
-        run = simulate_nominal(params, faces[contact], pairs, setup, discard, dt=setup.dt / 2,
-                               record_every=2 * setup.record_every)
+        run = simulate_nominal(
+            params, faces[contact], pairs, setup, discard, dt=setup.dt / 2, record_every=2 * setup.record_every
+        )
         hcog[c, idx] = run.cog
         diff[c, idx] = np.linalg.norm(fc[idx] - run.cog, axis=-1)
     st = SKIP if not np.isfinite(diff).any() else status(bool(np.nanmax(diff) <= tolerance))
-    return TimestepResult(status={"5": st}, levels=levels, dt=setup.dt, tolerance=tolerance,
-                          faces=faces, cog=hcog, difference=diff)
+    return TimestepResult(
+        status={"5": st}, levels=levels, dt=setup.dt, tolerance=tolerance, faces=faces, cog=hcog, difference=diff
+    )
 
 
 # -------------------------------------------------------------------- all checks
 
-def run_checks(params: Params, setup: SweepSetup, discard: float, nominals: Mapping[str, Nominal],
-               workspace: Workspace | None, settings: CheckSettings = CheckSettings(),
-               on_result: Callable[[Result], None] | None = None,
-               runs: Mapping[str, demo_runs.RunSummary] | None = None) -> list[Result]:
-    """Every check, in order 1-6, with `params` and the pipeline's sweep `setup` (its nominal
-    average after `discard` s) on the nominal
-    CoG of the contact cases (contact -> `Nominal`, results/nominal/{contact}.nc), the workspace
-    (results/workspace.nc) and the demonstration runs (name -> `runs.RunSummary` of
-    results/locomotion/{run}.nc; None or empty: check 6 is not evaluated).
+
+def run_checks(
+    params: Params,
+    setup: SweepSetup,
+    discard: float,
+    nominals: Mapping[str, Nominal],
+    workspace: Workspace | None,
+    settings: CheckSettings | None = None,
+    on_result: Callable[[Result], None] | None = None,
+    runs: Mapping[str, demo_runs.RunSummary] | None = None,
+) -> list[Result]:
+    """Every check, in order 1-6, with `params`, the pipeline's sweep `setup` (its nominal average
+    after `discard` s) and `settings` (default `CheckSettings()`) on the nominal CoG of the contact
+    cases (contact -> `Nominal`, results/nominal/{contact}.nc), the workspace (results/workspace.nc)
+    and the demonstration runs (name -> `runs.RunSummary` of results/locomotion/{run}.nc; None or
+    empty: check 6 is not evaluated).
     A check that raises gives a `CheckError` (FAIL; the traceback goes to stderr, i.e. the job's
     log). `on_result` is called with each result as soon as it is known (progress logging)."""
-    s = settings
+    s = settings or CheckSettings()
     todo = [
-        ("paper", "1", lambda: paper.check_paper(nominals, params.strut_length, s.ranking_pressure,
-                                                 s.tip_pressure_tolerance, s.orbit_tolerance)),
+        (
+            "paper",
+            "1",
+            lambda: paper.check_paper(
+                nominals, params.strut_length, s.ranking_pressure, s.tip_pressure_tolerance, s.orbit_tolerance
+            ),
+        ),
         ("statics", "2", lambda: check_statics(params, nominals, s.statics_pressures, s.statics_tolerance)),
         ("mapping", "3", lambda: check_mapping(params, workspace, s.faces, setup, discard, s.mapping_tolerance)),
-        ("grounded", "4", lambda: grounded.check_grounded(params, nominals, setup, discard, s.grounded_settle,
-                                                          s.grounded_tolerance)),
+        (
+            "grounded",
+            "4",
+            lambda: grounded.check_grounded(params, nominals, setup, discard, s.grounded_settle, s.grounded_tolerance),
+        ),
         ("timestep", "5", lambda: check_timestep(params, nominals, setup, discard, s.timestep_tolerance)),
         ("runs", "6", lambda: demo_runs.check_runs(runs or {})),
     ]

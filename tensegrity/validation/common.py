@@ -2,6 +2,7 @@
 configuration's `validate` section as a dataclass) and the result every check derives from.
 Numbers and statuses only: the words are written by `validation.summary`, the datasets by
 `validation.report`."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -11,7 +12,7 @@ from ..physics import topology as topo
 PASS, FAIL, SKIP = "pass", "fail", "not evaluated"
 INFO = "reported"  # a row of numbers, not a check
 N_CONTACTS = len(topo.CONTACTS)
-LEVEL_TOL = 1e-9   # MPa: a pressure within this of a swept level is that level
+LEVEL_TOL = 1e-9  # MPa: a pressure within this of a swept level is that level
 
 
 def status(ok: bool) -> str:
@@ -23,22 +24,24 @@ def status(ok: bool) -> str:
 class CheckSettings:
     """The configuration's `validate` section (config/README.md; the defaults are the schema's,
     pinned by tests/validation). Pressures in MPa, lengths in m, times in s."""
-    ranking_pressure: float = 2.4              # MPa, pairs ranked by CoG migration here (1.1)
-    tip_pressure_tolerance: float = 0.2        # MPa, around the paper's 4.2 MPa (1.2)
-    orbit_tolerance: float = 1e-4              # m, 3-fold orbit members' CoG (1.5)
+
+    ranking_pressure: float = 2.4  # MPa, pairs ranked by CoG migration here (1.1)
+    tip_pressure_tolerance: float = 0.2  # MPa, around the paper's 4.2 MPa (1.2)
+    orbit_tolerance: float = 1e-4  # m, 3-fold orbit members' CoG (1.5)
     statics_pressures: tuple[float, ...] = (0.8, 2.4, 4.0)  # MPa, among the swept levels (2)
-    statics_tolerance: float = 1e-4            # m (2)
-    faces: tuple[int, ...] = (1, 7, 9, 18)     # sample faces of the mapping check (3)
-    mapping_tolerance: float = 1e-4            # m (3)
-    grounded_settle: float = 0.5               # s on the ground before the first level (4)
-    grounded_tolerance: float = 5e-3           # m, in-plane CoG shift (4.1)
-    timestep_tolerance: float = 1e-4           # m (5)
+    statics_tolerance: float = 1e-4  # m (2)
+    faces: tuple[int, ...] = (1, 7, 9, 18)  # sample faces of the mapping check (3)
+    mapping_tolerance: float = 1e-4  # m (3)
+    grounded_settle: float = 0.5  # s on the ground before the first level (4)
+    grounded_tolerance: float = 5e-3  # m, in-plane CoG shift (4.1)
+    timestep_tolerance: float = 1e-4  # m (5)
 
 
 @dataclass(frozen=True)
 class Result:
     """Base of every check's result: `status` maps each verdict number ('1.1', '2', ...), in the
     order of the summary table, to PASS, FAIL or SKIP."""
+
     status: dict[str, str]
 
 
@@ -46,6 +49,7 @@ class Result:
 class CheckError(Result):
     """A check that raised: its `name` ('statics'), `number` ('2') and the error
     ('RuntimeError: ...'); `status` is {number: FAIL}."""
+
     name: str
     number: str
     error: str

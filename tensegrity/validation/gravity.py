@@ -9,6 +9,7 @@ G.3 (reported) on flat ground, whether the robot first rolls at the level where 
 G.2 and G.3 measure the paper's free-mode assumption, as check 4 of the workspace validation
 does; they are numbers, not checks of this workspace.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -17,9 +18,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..locomotion.control import roll, settle
-from ..locomotion.settings import RollSettings
 from ..locomotion.lockstep import Record
-from ..physics import frames, topology as topo
+from ..locomotion.settings import RollSettings
+from ..physics import frames
+from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace import gravity as gv
@@ -27,7 +29,6 @@ from ..workspace.nominal import Nominal
 from .common import INFO, LEVEL_TOL, SKIP, CheckSettings, status
 from .grounded import GroundedComparison, compare_grounded
 from .summary import Table, Verdict, edge_label, label, mm
-
 
 TITLE = "Validation of the gravity-aware workspace"
 
@@ -39,6 +40,7 @@ class RollCheck:
     projection's crossing, `crossing`), lift_tip MPa (the controller's own tip: a support node
     lifted by lift_tolerance, which lags the crossing while the robot starts to fall), difference MPa;
     edge (n, 2) the workspace's crossed edge, rolled_to (n,) the roll's face (0: none)."""
+
     contact: np.ndarray
     slope: np.ndarray
     heading: np.ndarray
@@ -51,8 +53,13 @@ class RollCheck:
     rolled_to: np.ndarray
 
 
-def check_rolls(params: Params, sweeps: Mapping[str, gv.GravitySweep], slopes: Sequence[float], settings: RollSettings,
-                max_pressure: float) -> RollCheck:
+def check_rolls(
+    params: Params,
+    sweeps: Mapping[str, gv.GravitySweep],
+    slopes: Sequence[float],
+    settings: RollSettings,
+    max_pressure: float,
+) -> RollCheck:
     """For each contact, slope among `slopes` (deg) and heading: a grounded roll
     (`control.settle`, then `control.roll`; `params` of the rolling simulations) with the pair that tips the robot at
     the least pressure in the gravity-aware workspace, on a plane of that slope."""
@@ -67,19 +74,39 @@ def check_rolls(params: Params, sweeps: Mapping[str, gv.GravitySweep], slopes: S
                     continue
                 n = int(np.nanargmin(tips))
                 terrain = Terrain.slope(float(a))
-                state, face = settle(params, gv.place(params, sw.face, terrain, (0.0, 0.0), float(h)),
-                                     terrain, settings)
+                state, face = settle(
+                    params, gv.place(params, sw.face, terrain, (0.0, 0.0), float(h)), terrain, settings
+                )
                 if face != sw.face:
                     continue
                 res = roll(params, state, terrain, int(sw.pairs[n]), max_pressure, settings)
-                rows.append((contact, a, h, sw.pairs[n], tips[n], crossing(res.record, sw.face, int(sw.pairs[n])),
-                             res.tip_pressure, sw.tip_edge[i, j, n], res.face_after or 0))
+                rows.append(
+                    (
+                        contact,
+                        a,
+                        h,
+                        sw.pairs[n],
+                        tips[n],
+                        crossing(res.record, sw.face, int(sw.pairs[n])),
+                        res.tip_pressure,
+                        sw.tip_edge[i, j, n],
+                        res.face_after or 0,
+                    )
+                )
     cols = list(zip(*rows)) if rows else [[]] * 9
     ws_tip, roll_tip = np.array(cols[4], float), np.array(cols[5], float)
-    return RollCheck(np.array(cols[0], str), np.array(cols[1], float), np.array(cols[2], float),
-                     np.array(cols[3], np.int64), ws_tip, roll_tip, np.array(cols[6], float),
-                     np.abs(roll_tip - ws_tip), np.array(cols[7], np.int64).reshape(-1, 2),
-                     np.array(cols[8], np.int64))
+    return RollCheck(
+        np.array(cols[0], str),
+        np.array(cols[1], float),
+        np.array(cols[2], float),
+        np.array(cols[3], np.int64),
+        ws_tip,
+        roll_tip,
+        np.array(cols[6], float),
+        np.abs(roll_tip - ws_tip),
+        np.array(cols[7], np.int64).reshape(-1, 2),
+        np.array(cols[8], np.int64),
+    )
 
 
 def crossing(record: Record, face: int, pair: int) -> float:
@@ -115,42 +142,100 @@ def flat_comparison(sw: gv.GravitySweep, free: Nominal, tolerance: float) -> Gro
             after = topo.neighbour(sw.face, tuple(int(v) for v in sw.tip_edge[i, 0, g]))
             end[b, lv >= tip[b]] = after
             g_cog[b, lv >= tip[b]], g_margin[b, lv >= tip[b]] = np.nan, np.nan
-    return compare_grounded(lv, sw.face, free.cog[fi][:, keep], free.support[fi][:, keep],
-                            free.margin[fi][:, keep], g_cog, g_margin, end, tolerance)
+    return compare_grounded(
+        lv,
+        sw.face,
+        free.cog[fi][:, keep],
+        free.support[fi][:, keep],
+        free.margin[fi][:, keep],
+        g_cog,
+        g_margin,
+        end,
+        tolerance,
+    )
 
 
-def verdicts(rc: RollCheck, flat: Mapping[str, GroundedComparison | None], tolerance: float,
-             shift_tolerance: float = CheckSettings.grounded_tolerance) -> tuple[list[Verdict], dict]:
+def verdicts(
+    rc: RollCheck,
+    flat: Mapping[str, GroundedComparison | None],
+    tolerance: float,
+    shift_tolerance: float = CheckSettings.grounded_tolerance,
+) -> tuple[list[Verdict], dict]:
     """The verdict rows G.1-G.3 and their statuses."""
     ok = np.isfinite(rc.difference)
     worst = int(np.nanargmax(rc.difference)) if ok.any() else -1
     missed = int(np.sum(np.isfinite(rc.workspace_tip) != np.isfinite(rc.roll_tip)))
     g1 = SKIP if not rc.pair.size else status(ok.any() and missed == 0 and np.nanmax(rc.difference) <= tolerance)
-    meas = (f"largest {rc.difference[worst]:.3f} MPa (#{rc.pair[worst]} on the {rc.contact[worst]} face, "
-            f"slope {rc.slope[worst]:g} deg, heading {rc.heading[worst]:g} deg) over {int(ok.sum())} rolls; "
-            f"{missed} roll(s) where only one of the two tipped" if worst >= 0 else "no roll compared")
+    meas = (
+        f"largest {rc.difference[worst]:.3f} MPa (#{rc.pair[worst]} on the {rc.contact[worst]} face, "
+        f"slope {rc.slope[worst]:g} deg, heading {rc.heading[worst]:g} deg) over {int(ok.sum())} rolls; "
+        f"{missed} roll(s) where only one of the two tipped"
+        if worst >= 0
+        else "no roll compared"
+    )
     cmp_ = [c for c in flat.values() if c is not None]
     shifts = [c.in_plane_max for c in cmp_ if np.isfinite(c.in_plane_max)]
     # G.2, G.3 measure the paper's assumption (free mode) as check 4 does: numbers, not checks
     g2 = INFO if shifts else SKIP
     g3 = INFO if cmp_ else SKIP
     agree = [f"{c}: {int(v.agree.sum())} of {v.agree.size} pairs" for c, v in flat.items() if v is not None]
-    rows = [Verdict("G.1", "the gravity-aware tipping pressures match grounded rolls (locomotion.control.roll)",
-                    meas, f"goal: within {tolerance:g} MPa", g1),
-            Verdict("G.2", "on flat ground, gravity and contact shift the standing robot's CoG little "
-                    "(check 4.1 on the ramp)", f"largest {mm(max(shifts))} in the support plane" if shifts else "n/a",
-                    f"reported (check 4.1 counts below {mm(shift_tolerance)} as negligible)", g2),
-            Verdict("G.3", "on flat ground the robot first rolls at the free workspace's tipping level "
-                    "(check 4.2 on the ramp)", "; ".join(agree) or "n/a", "reported (check 4.2)", g3)]
+    rows = [
+        Verdict(
+            "G.1",
+            "the gravity-aware tipping pressures match grounded rolls (locomotion.control.roll)",
+            meas,
+            f"goal: within {tolerance:g} MPa",
+            g1,
+        ),
+        Verdict(
+            "G.2",
+            "on flat ground, gravity and contact shift the standing robot's CoG little (check 4.1 on the ramp)",
+            f"largest {mm(max(shifts))} in the support plane" if shifts else "n/a",
+            f"reported (check 4.1 counts below {mm(shift_tolerance)} as negligible)",
+            g2,
+        ),
+        Verdict(
+            "G.3",
+            "on flat ground the robot first rolls at the free workspace's tipping level (check 4.2 on the ramp)",
+            "; ".join(agree) or "n/a",
+            "reported (check 4.2)",
+            g3,
+        ),
+    ]
     return rows, {"G.1": g1, "G.2": g2, "G.3": g3}
 
 
 def roll_table(rc: RollCheck) -> Table:
     """One row per grounded roll."""
     f = lambda x: f"{x:.2f}" if np.isfinite(x) else "none"
-    rows = [[str(rc.contact[n]), f"{rc.slope[n]:g}", f"{rc.heading[n]:g}", f"#{rc.pair[n]}",
-             f(rc.workspace_tip[n]), f(rc.roll_tip[n]), f(rc.difference[n]), f(rc.lift_tip[n]), edge_label(rc.edge[n]),
-             label(rc.rolled_to[n]) if rc.rolled_to[n] else "none"] for n in range(rc.pair.size)]
-    return ("Tipping pressure: gravity-aware workspace vs grounded roll",
-            ["contact", "slope (deg)", "heading (deg)", "pair", "workspace (MPa)", "roll (MPa)",
-             "difference (MPa)", "roll: node lifted (MPa)", "edge", "rolled onto"], rows)
+    rows = [
+        [
+            str(rc.contact[n]),
+            f"{rc.slope[n]:g}",
+            f"{rc.heading[n]:g}",
+            f"#{rc.pair[n]}",
+            f(rc.workspace_tip[n]),
+            f(rc.roll_tip[n]),
+            f(rc.difference[n]),
+            f(rc.lift_tip[n]),
+            edge_label(rc.edge[n]),
+            label(rc.rolled_to[n]) if rc.rolled_to[n] else "none",
+        ]
+        for n in range(rc.pair.size)
+    ]
+    return (
+        "Tipping pressure: gravity-aware workspace vs grounded roll",
+        [
+            "contact",
+            "slope (deg)",
+            "heading (deg)",
+            "pair",
+            "workspace (MPa)",
+            "roll (MPa)",
+            "difference (MPa)",
+            "roll: node lifted (MPa)",
+            "edge",
+            "rolled onto",
+        ],
+        rows,
+    )

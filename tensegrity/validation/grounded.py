@@ -2,6 +2,7 @@
 grounded mode (gravity, ground, friction) and compared with the free-mode nominal CoG: how far
 gravity and contact move the CoG while the robot stands, and whether it rolls where the free
 workspace says it should. Numbers and statuses only; `validation.summary` words them."""
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -10,12 +11,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..physics import frames, topology as topo
+from ..physics import frames
+from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.topology import CONTACTS
-from .common import N_CONTACTS, SKIP, CheckSettings, Result, status
 from ..workspace.nominal import Nominal
 from ..workspace.sweep import SweepSetup
+from .common import N_CONTACTS, SKIP, CheckSettings, Result, status
 from .nominals import common_levels, simulate_nominal
 
 
@@ -28,6 +30,7 @@ class GroundedComparison:
     face reached; the face across the crossed edge; 0: none); in_plane_max m, the largest
     in-plane shift (NaN: rolled at every level); agree (n,) bool, same roll level and face (or
     no roll in both); the verdicts shift_ok (None if the robot rolled at every level), roll_ok."""
+
     shift: np.ndarray
     margin_change: np.ndarray
     rolled: np.ndarray
@@ -41,9 +44,17 @@ class GroundedComparison:
     roll_ok: bool
 
 
-def compare_grounded(levels: ArrayLike, face: int, free_cog: np.ndarray, free_support: np.ndarray,
-                     free_margin: np.ndarray, grounded_cog: np.ndarray, grounded_margin: np.ndarray,
-                     end_face: np.ndarray, tolerance: float = CheckSettings.grounded_tolerance) -> GroundedComparison:
+def compare_grounded(
+    levels: ArrayLike,
+    face: int,
+    free_cog: np.ndarray,
+    free_support: np.ndarray,
+    free_margin: np.ndarray,
+    grounded_cog: np.ndarray,
+    grounded_margin: np.ndarray,
+    end_face: np.ndarray,
+    tolerance: float = CheckSettings.grounded_tolerance,
+) -> GroundedComparison:
     """Compare a grounded sweep with the free one, per pair (n) and level (P), on `face` (1..20).
 
     levels (P,) MPa; free_* and grounded_*: nominal cog (n, P, 3) m, free support (n, P, 3, 3) m,
@@ -67,13 +78,24 @@ def compare_grounded(levels: ArrayLike, face: int, free_cog: np.ndarray, free_su
         out = np.flatnonzero(free_margin[b] < 0)
         if out.size:
             free_p[b], free_f[b] = levels[out[0]], topo.neighbour(face, edge)
-        agree[b] = (r.size == 0 and out.size == 0) or (r.size > 0 and out.size > 0 and r[0] == out[0]
-                                                        and roll_f[b] == free_f[b])
+        agree[b] = (r.size == 0 and out.size == 0) or (
+            r.size > 0 and out.size > 0 and r[0] == out[0] and roll_f[b] == free_f[b]
+        )
     in_plane = np.linalg.norm(shift[..., :2], axis=-1)
     in_plane_max = float(np.nanmax(in_plane)) if np.isfinite(in_plane).any() else float("nan")
-    return GroundedComparison(shift, margin_change, rolled, roll_p, free_p, roll_f, free_f, in_plane_max,
-                              agree, bool(in_plane_max <= tolerance) if np.isfinite(in_plane_max) else None,
-                              bool(agree.all()))
+    return GroundedComparison(
+        shift,
+        margin_change,
+        rolled,
+        roll_p,
+        free_p,
+        roll_f,
+        free_f,
+        in_plane_max,
+        agree,
+        bool(in_plane_max <= tolerance) if np.isfinite(in_plane_max) else None,
+        bool(agree.all()),
+    )
 
 
 @dataclass(frozen=True)
@@ -86,6 +108,7 @@ class GroundedResult(Result):
     (C, N_PAIRS, P) the face at the end of each level (0: none); roll_pressure,
     free_roll_pressure (C, N_PAIRS) MPa and roll_face, free_roll_face (C, N_PAIRS) as in
     `GroundedComparison`; agree (C, N_PAIRS) bool; status of verdicts 4.1 and 4.2."""
+
     levels: np.ndarray
     faces: dict[str, int]
     modes: tuple[str, ...]
@@ -104,9 +127,14 @@ class GroundedResult(Result):
     agree: np.ndarray
 
 
-def check_grounded(params: Params, nominals: Mapping[str, Nominal], setup: SweepSetup,
-                   discard: float, settle: float = CheckSettings.grounded_settle,
-                   tolerance: float = CheckSettings.grounded_tolerance) -> GroundedResult:
+def check_grounded(
+    params: Params,
+    nominals: Mapping[str, Nominal],
+    setup: SweepSetup,
+    discard: float,
+    settle: float = CheckSettings.grounded_settle,
+    tolerance: float = CheckSettings.grounded_tolerance,
+) -> GroundedResult:
     """The paper's assumption (III.A-B: cable forces dominate, gravity does not change the
     shape, the robot rolls when the CoG projection leaves the triangle), measured: the pipeline's
     sweep repeated in the grounded mode (gravity, ground, friction; `settle` s on the ground
@@ -139,8 +167,7 @@ def check_grounded(params: Params, nominals: Mapping[str, Nominal], setup: Sweep
             continue
         faces[contact] = face
         run = simulate_nominal(params, face, idx + 1, setup, discard, mode="grounded", settle=settle)
-        cmp_ = compare_grounded(levels, face, fc[idx], fs[idx], fm[idx], run.cog, run.margin,
-                                run.end_face, tolerance)
+        cmp_ = compare_grounded(levels, face, fc[idx], fs[idx], fm[idx], run.cog, run.margin, run.end_face, tolerance)
         gcog[c, idx] = np.where(cmp_.rolled[..., None], np.nan, run.cog)
         shift[c, idx], dmargin[c, idx] = cmp_.shift, cmp_.margin_change
         rolled[c, idx], endf[c, idx] = cmp_.rolled, run.end_face
@@ -151,9 +178,23 @@ def check_grounded(params: Params, nominals: Mapping[str, Nominal], setup: Sweep
             shift_ok.append(cmp_.shift_ok)
         roll_ok.append(cmp_.roll_ok)
     modes = tuple(sorted({n.mode for n in nominals.values()}))
-    st = {"4.1": status(all(shift_ok)) if shift_ok else SKIP,
-          "4.2": status(all(roll_ok)) if roll_ok else SKIP}
-    return GroundedResult(status=st, levels=levels, faces=faces, modes=modes, settle=settle,
-                          tolerance=tolerance, swept=swept, cog=gcog, shift=shift,
-                          margin_change=dmargin, rolled=rolled, end_face=endf, roll_pressure=rp,
-                          roll_face=rf, free_roll_pressure=frp, free_roll_face=frf, agree=agree)
+    st = {"4.1": status(all(shift_ok)) if shift_ok else SKIP, "4.2": status(all(roll_ok)) if roll_ok else SKIP}
+    return GroundedResult(
+        status=st,
+        levels=levels,
+        faces=faces,
+        modes=modes,
+        settle=settle,
+        tolerance=tolerance,
+        swept=swept,
+        cog=gcog,
+        shift=shift,
+        margin_change=dmargin,
+        rolled=rolled,
+        end_face=endf,
+        roll_pressure=rp,
+        roll_face=rf,
+        free_roll_pressure=frp,
+        free_roll_face=frf,
+        agree=agree,
+    )

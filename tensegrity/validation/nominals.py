@@ -1,6 +1,7 @@
 """The nominal CoG the checks compare: the pipeline's nominal CoG of each contact case
 (`workspace.nominal.Nominal`, read by `io.formats.read_nominal`), and the checks' own sweeps, run
 and averaged as the pipeline does (workspace.sweep, workspace.nominal)."""
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -11,8 +12,8 @@ import numpy as np
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..workspace import nominal as nom
-from ..workspace.mapping import same_levels
 from ..workspace import sweep as sw
+from ..workspace.mapping import same_levels
 from ..workspace.nominal import Nominal
 from ..workspace.sweep import SweepSetup
 
@@ -29,6 +30,7 @@ class NominalRun:
     cog (n, P, 3) m and support (n, P, 3, 3) m in the face's support frame, margin (n, P) m,
     and end_face (n, P), the face the robot rests on at the end of each level
     (`contact.resting_face`; 0: none)."""
+
     pairs: np.ndarray
     cog: np.ndarray
     support: np.ndarray
@@ -36,8 +38,14 @@ class NominalRun:
     end_face: np.ndarray
 
 
-def simulate_nominal(params: Params, face: int | Sequence[int], pairs: Sequence[int], setup: SweepSetup,
-                     discard: float, **override: object) -> NominalRun:
+def simulate_nominal(
+    params: Params,
+    face: int | Sequence[int],
+    pairs: Sequence[int],
+    setup: SweepSetup,
+    discard: float,
+    **override: object,
+) -> NominalRun:
     """Run the staircase of `setup` on `pairs` (1-based, batched) standing on `face` (1..20 or
     three node numbers) and average each level after its first `discard` s as the pipeline does
     (workspace.nominal.nominal); `override` replaces fields of the setup (mode, settle s, dt s,
@@ -46,8 +54,9 @@ def simulate_nominal(params: Params, face: int | Sequence[int], pairs: Sequence[
     setup = replace(setup, **override)
     res = sw.run(params, face, pairs, setup)
     P = len(setup.levels)
-    out = [nom.nominal(res.t, res.level, res.cog[b], res.support[b], P, setup.hold, discard)
-           for b in range(len(res.pairs))]
+    out = [
+        nom.nominal(res.t, res.level, res.cog[b], res.support[b], P, setup.hold, discard) for b in range(len(res.pairs))
+    ]
     last = np.array([np.flatnonzero(res.level == k)[-1] for k in range(P)])
     end_face = res.resting_face[:, last]
     return NominalRun(res.pairs, *(np.stack([o[k] for o in out]) for k in (0, 2, 3)), end_face)

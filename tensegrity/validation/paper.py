@@ -1,5 +1,6 @@
 """Check 1: the paper's statements (III.A, III.C, IV.B) against the pipeline's nominal CoG.
 Numbers and statuses only (`PaperResult`); `validation.summary` words them."""
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -9,7 +10,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import paper
-from ..physics import frames, symmetry as sym, topology as topo
+from ..physics import frames
+from ..physics import symmetry as sym
+from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.topology import CONTACTS
 from ..workspace.nominal import Nominal
@@ -26,8 +29,7 @@ def migration(levels: ArrayLike, cog: np.ndarray, rest: np.ndarray, pressure: fl
     ValueError if `pressure` is outside the levels."""
     levels = np.asarray(levels, float)
     if not levels[0] - LEVEL_TOL <= pressure <= levels[-1] + LEVEL_TOL:
-        raise ValueError(f"pressure {pressure} MPa is outside the swept levels "
-                         f"{levels[0]}..{levels[-1]} MPa")
+        raise ValueError(f"pressure {pressure} MPa is outside the swept levels {levels[0]}..{levels[-1]} MPa")
     xy = np.stack([[np.interp(pressure, levels, c[:, a]) for a in range(2)] for c in cog])
     return np.linalg.norm(xy - rest[:2], axis=1)
 
@@ -50,8 +52,9 @@ def three_fold_orbits(face: int) -> list[tuple[int, ...]]:
     return orbits
 
 
-def orbit_spread(cog: np.ndarray, support: np.ndarray, face: int,
-                 orbit: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
+def orbit_spread(
+    cog: np.ndarray, support: np.ndarray, face: int, orbit: Sequence[int]
+) -> tuple[np.ndarray, np.ndarray]:
     """How unequally the pairs of a 3-fold orbit move the CoG, per level: the largest distance
     (m) between a member's CoG and the first member's, each expressed with y toward the corner
     its rotation carries the reference vertex to (the deformed triangle is not exactly
@@ -67,11 +70,11 @@ def orbit_spread(cog: np.ndarray, support: np.ndarray, face: int,
         s = next(s for s in rots if s.pairs[orbit[0] - 1] == pair - 1)
         corner = nodes.index(s.nodes[ref])
         v = support[pair - 1, :, corner, :2]
-        ang = np.arctan2(v[:, 0], v[:, 1])        # turn the frame so that y points to `corner`
+        ang = np.arctan2(v[:, 0], v[:, 1])  # turn the frame so that y points to `corner`
         c, sn = np.cos(ang), np.sin(ang)
         x, y = cog[pair - 1, :, 0], cog[pair - 1, :, 1]
         rel.append(np.stack([c * x - sn * y, sn * x + c * y, cog[pair - 1, :, 2]], axis=-1))
-    rel = np.array(rel)                               # (members, P, 3)
+    rel = np.array(rel)  # (members, P, 3)
     diff = np.linalg.norm(rel - rel[0], axis=-1).max(axis=0)
     mag = np.linalg.norm(rel[..., :2], axis=-1)
     return diff, mag.max(axis=0) - mag.min(axis=0)
@@ -90,6 +93,7 @@ class PaperResult(Result):
     MPa (NaN: never) and tip_edge (C, N_PAIRS, 2) its nodes (0: none); orbit_pairs (orbits,
     members) of the paper's equilateral face (0 unless that face was given); orbit_difference and orbit_magnitude_spread
     (orbits, P) m (`orbit_spread`); status of verdicts 1.1-1.5."""
+
     levels: np.ndarray
     faces: dict[str, int]
     ranking_pressure: float
@@ -106,10 +110,13 @@ class PaperResult(Result):
     orbit_magnitude_spread: np.ndarray
 
 
-def check_paper(nominals: Mapping[str, Nominal], strut_length: float = Params.strut_length,
-                ranking_pressure: float = CheckSettings.ranking_pressure,
-                tip_tolerance: float = CheckSettings.tip_pressure_tolerance,
-                orbit_tolerance: float = CheckSettings.orbit_tolerance) -> PaperResult:
+def check_paper(
+    nominals: Mapping[str, Nominal],
+    strut_length: float = Params.strut_length,
+    ranking_pressure: float = CheckSettings.ranking_pressure,
+    tip_tolerance: float = CheckSettings.tip_pressure_tolerance,
+    orbit_tolerance: float = CheckSettings.orbit_tolerance,
+) -> PaperResult:
     """The paper's statements against the nominal CoG of the contact cases (`nominals` maps
     'equilateral'/'isosceles' to its `Nominal`, results/nominal/{contact}.nc; strut length m):
 
@@ -152,18 +159,31 @@ def check_paper(nominals: Mapping[str, Nominal], strut_length: float = Params.st
         st["1.1"] = SKIP
     else:
         ranking = np.argsort(-mig[0], kind="stable") + 1
-        st["1.1"] = status(on_paper[eq] and set(ranking[:3]) == set(paper.LARGE_PAIRS)
-                           and set(ranking[3:6]) == set(paper.LESS_PAIRS))
+        st["1.1"] = status(
+            on_paper[eq] and set(ranking[:3]) == set(paper.LARGE_PAIRS) and set(ranking[3:6]) == set(paper.LESS_PAIRS)
+        )
 
     # 1.2, 1.3, 1.4 tipping pressures and edges
     p10, p11 = tipp[0, 10 - 1], tipp[1, 11 - 1]
-    st["1.2"] = SKIP if not swept[0, 10 - 1] else status(bool(
-        on_paper[eq] and abs(p10 - paper.TIP_PRESSURE) <= tip_tolerance
-        and set(edges[0, 10 - 1]) == set(paper.EDGE[10])))
-    st["1.3"] = SKIP if not swept[1, 11 - 1] else status(bool(
-        on_paper[iso] and set(edges[1, 11 - 1]) == set(paper.EDGE[11])))
-    st["1.4"] = (SKIP if not (swept[0, 10 - 1] and swept[1, 11 - 1])
-                 else status(bool(np.isfinite(p11) and (not np.isfinite(p10) or p11 < p10))))
+    st["1.2"] = (
+        SKIP
+        if not swept[0, 10 - 1]
+        else status(
+            bool(
+                on_paper[eq]
+                and abs(p10 - paper.TIP_PRESSURE) <= tip_tolerance
+                and set(edges[0, 10 - 1]) == set(paper.EDGE[10])
+            )
+        )
+    )
+    st["1.3"] = (
+        SKIP if not swept[1, 11 - 1] else status(bool(on_paper[iso] and set(edges[1, 11 - 1]) == set(paper.EDGE[11])))
+    )
+    st["1.4"] = (
+        SKIP
+        if not (swept[0, 10 - 1] and swept[1, 11 - 1])
+        else status(bool(np.isfinite(p11) and (not np.isfinite(p10) or p11 < p10)))
+    )
 
     # 1.5 three-fold orbits
     orbits = three_fold_orbits(topo.face_number(topo.CONTACT_FACES[eq]))
@@ -173,13 +193,24 @@ def check_paper(nominals: Mapping[str, Nominal], strut_length: float = Params.st
     if on_paper[eq]:
         cog, sup, _ = arrays[eq]
         for i, orb in enumerate(orbits):
-            opairs[i, :len(orb)] = orb
+            opairs[i, : len(orb)] = orb
             if np.isfinite(cog[np.array(orb) - 1]).all():
                 odiff[i], ospread[i] = orbit_spread(cog, sup, faces[eq], orb)
-    st["1.5"] = (SKIP if not np.isfinite(odiff).all(axis=1).any()
-                 else status(bool(np.nanmax(odiff) <= orbit_tolerance)))
-    return PaperResult(status=st, levels=levels, faces=faces, ranking_pressure=ranking_pressure,
-                       tip_tolerance=tip_tolerance, orbit_tolerance=orbit_tolerance, swept=swept,
-                       migration=mig, ranking_in_levels=in_levels, ranking=ranking,
-                       tip_pressure=tipp, tip_edge=edges, orbit_pairs=opairs,
-                       orbit_difference=odiff, orbit_magnitude_spread=ospread)
+    st["1.5"] = SKIP if not np.isfinite(odiff).all(axis=1).any() else status(bool(np.nanmax(odiff) <= orbit_tolerance))
+    return PaperResult(
+        status=st,
+        levels=levels,
+        faces=faces,
+        ranking_pressure=ranking_pressure,
+        tip_tolerance=tip_tolerance,
+        orbit_tolerance=orbit_tolerance,
+        swept=swept,
+        migration=mig,
+        ranking_in_levels=in_levels,
+        ranking=ranking,
+        tip_pressure=tipp,
+        tip_edge=edges,
+        orbit_pairs=opairs,
+        orbit_difference=odiff,
+        orbit_magnitude_spread=ospread,
+    )

@@ -2,6 +2,7 @@
 check (`validation.summary`), laid out as summary.md and summary.html (`validation.pages`). The
 checks (`validation.checks`) return numbers; `io.validation_formats` lays them out as
 validation.nc; `stages.validate` reads and writes the files."""
+
 from __future__ import annotations
 
 from collections.abc import Sequence

@@ -6,6 +6,7 @@ went wrong (`io.formats.run.not_arrived` reads the outcomes of run files for the
 `onsuccess` warning). Numbers and statuses only; `validation.summary` words them;
 `io.formats.run.read_run_summaries` reads the files.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -24,6 +25,7 @@ class RunSummary:
     `io.formats.run.read_run_summaries`): its outcome ('arrived', 'stuck', ...) and message, the
     number of rolls, the goal (3,) m (NaN: a run over given edges, such as `paper`) and the
     final CoG (3,) m (NaN: no sample), world frame."""
+
     outcome: str
     message: str
     rolls: int
@@ -45,6 +47,7 @@ class RunsResult(Result):
     outcome and message (the run's `outcome` and `message` attributes), rolls (R,) and
     distance (R,) m, the horizontal distance of the final CoG from the goal (NaN for a run over
     given edges, such as `paper`); status of verdict 6 (not evaluated without runs)."""
+
     runs: tuple[str, ...]
     outcome: tuple[str, ...]
     message: tuple[str, ...]
@@ -66,8 +69,7 @@ def check_runs(runs: Mapping[str, RunSummary]) -> RunsResult:
     rolls = np.array([r.rolls for r in runs.values()], np.int64)
     distance = np.array([r.distance for r in runs.values()], float)
     st = SKIP if not names else PASS if all(o == ARRIVED for o in outcome) else FAIL
-    return RunsResult(status={"6": st}, runs=names, outcome=outcome, message=message, rolls=rolls,
-                      distance=distance)
+    return RunsResult(status={"6": st}, runs=names, outcome=outcome, message=message, rolls=rolls, distance=distance)
 
 
 __all__ = ["ARRIVED", "RunSummary", "RunsResult", "check_runs"]

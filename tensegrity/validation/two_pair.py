@@ -11,6 +11,7 @@
 The files are read by `io.formats.two_pair` and `io.formats.workspace`; the checks take arrays,
 `workspace.nominal.TwoPairNominal` and `workspace.lookup.Workspace`.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -19,7 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..physics import statics, topology as topo
+from ..physics import statics
+from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.topology import CONTACTS
 from ..workspace import two_pair as tp
@@ -29,8 +31,10 @@ from ..workspace.two_pair import TwoPairSetup
 from .common import INFO, SKIP, status
 from .summary import Verdict, label, mm
 
-def check_statics(params: Params, contacts: Mapping[str, TwoPairNominal], combos: np.ndarray,
-                  tol: float) -> tuple[np.ndarray, str]:
+
+def check_statics(
+    params: Params, contacts: Mapping[str, TwoPairNominal], combos: np.ndarray, tol: float
+) -> tuple[np.ndarray, str]:
     """(a): difference (C, K, 3) m between the nominal and the static CoG of the K check
     combinations at grid points (top, top), (low, top), (top, low), NaN where not available;
     `contacts` maps a contact case to its two-pair nominal CoG (results/two_pair/{contact}.nc)."""
@@ -46,12 +50,21 @@ def check_statics(params: Params, contacts: Mapping[str, TwoPairNominal], combos
                 if np.isfinite(cog[i, j]).all():
                     p = np.zeros(topo.N_PAIRS)
                     p[[min(a, b) - 1, max(a, b) - 1]] = lv[i], lv[j]
-                    diff[ci, k, g] = np.linalg.norm(statics.support_cog(statics.equilibrium(params, p), face)[0] - cog[i, j])
+                    diff[ci, k, g] = np.linalg.norm(
+                        statics.support_cog(statics.equilibrium(params, p), face)[0] - cog[i, j]
+                    )
     return diff, SKIP if not np.isfinite(diff).any() else status(bool(np.nanmax(diff) <= tol))
 
 
-def check_direct(params: Params, setup: TwoPairSetup, cog: np.ndarray, staircase: np.ndarray,
-                 faces: Sequence[int], combos: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, str]:
+def check_direct(
+    params: Params,
+    setup: TwoPairSetup,
+    cog: np.ndarray,
+    staircase: np.ndarray,
+    faces: Sequence[int],
+    combos: np.ndarray,
+    tol: float,
+) -> tuple[np.ndarray, np.ndarray, str]:
     """(b): per check face (F,) and combination (K,) the largest CoG difference m of the mapped
     grid from a direct simulation along the same staircase, and along the other order (the
     path dependence), both with the staircase of `setup`; NaN where the grid holds no numbers.
@@ -77,8 +90,9 @@ def check_direct(params: Params, setup: TwoPairSetup, cog: np.ndarray, staircase
     return same, other, SKIP if not np.isfinite(same).any() else status(bool(np.nanmax(same) <= tol))
 
 
-def superposition(contacts: Mapping[str, TwoPairNominal], single: Workspace,
-                  single_tip: np.ndarray) -> dict[str, np.ndarray]:
+def superposition(
+    contacts: Mapping[str, TwoPairNominal], single: Workspace, single_tip: np.ndarray
+) -> dict[str, np.ndarray]:
     """(c): per contact (C,), combination (66,) and grid point (P, P): the in-plane shift of
     the CoG from the unactuated one (the robot's of `single`) measured (m) and predicted by
     adding the two single pairs' shifts of the single-pair workspace `single`
@@ -116,14 +130,32 @@ def superposition(contacts: Mapping[str, TwoPairNominal], single: Workspace,
 
 def _verdicts(tol: float, faces, combos, a, a_st, same, other, b_st, sup) -> list[Verdict]:
     names = ", ".join(f"#{x}+#{y}" for x, y in combos)
-    out = [Verdict("a", f"Two-pair nominal CoG = static equilibrium (scipy) for {names} at three grid corners, both contacts",
-                   "no data" if a_st == SKIP else f"largest {mm(np.nanmax(a))} over {int(np.isfinite(a).sum())} cases",
-                   f"under {mm(tol)}", a_st),
-           Verdict("b", "Mapped two-pair workspace = direct simulation (same staircase) on faces " + ", ".join(label(f) for f in faces),
-                   "no data" if b_st == SKIP else f"largest {mm(np.nanmax(same))} over {int(np.isfinite(same).sum())} combinations x faces",
-                   f"under {mm(tol)}", b_st),
-           Verdict("b2", "Path dependence: the same grid reached along the other staircase order (free robot's undamped wobble)",
-                   "no data" if b_st == SKIP else f"largest {mm(np.nanmax(other))}", "reported, not a check", INFO)]
+    out = [
+        Verdict(
+            "a",
+            f"Two-pair nominal CoG = static equilibrium (scipy) for {names} at three grid corners, both contacts",
+            "no data" if a_st == SKIP else f"largest {mm(np.nanmax(a))} over {int(np.isfinite(a).sum())} cases",
+            f"under {mm(tol)}",
+            a_st,
+        ),
+        Verdict(
+            "b",
+            "Mapped two-pair workspace = direct simulation (same staircase) on faces "
+            + ", ".join(label(f) for f in faces),
+            "no data"
+            if b_st == SKIP
+            else f"largest {mm(np.nanmax(same))} over {int(np.isfinite(same).sum())} combinations x faces",
+            f"under {mm(tol)}",
+            b_st,
+        ),
+        Verdict(
+            "b2",
+            "Path dependence: the same grid reached along the other staircase order (free robot's undamped wobble)",
+            "no data" if b_st == SKIP else f"largest {mm(np.nanmax(other))}",
+            "reported, not a check",
+            INFO,
+        ),
+    ]
     for ci, contact in enumerate(CONTACTS):
         err, meas = sup["error"][ci], sup["measured"][ci]
         if not np.isfinite(err).any():
@@ -131,19 +163,34 @@ def _verdicts(tol: float, faces, combos, a, a_st, same, other, b_st, sup) -> lis
         c, i, j = np.unravel_index(int(np.nanargmax(err)), err.shape)
         a_, b_ = tp.COMBOS[c]
         ratio = meas / np.where(sup["predicted"][ci] > 0.01, sup["predicted"][ci], np.nan)  # shifts over 10 mm
-        out.append(Verdict(f"c1 {contact}", f"Superposition of single-pair shifts against the measured two-pair shift, {contact}",
-                           f"largest error {mm(err[c, i, j])} (#{a_}+#{b_}, shift {mm(meas[c, i, j])} measured, "
-                           f"{mm(sup['predicted'][ci, c, i, j])} predicted); measured/predicted {np.nanmin(ratio):.2f}..{np.nanmax(ratio):.2f} "
-                           f"where over 10 mm is predicted",
-                           "reported", INFO))
+        out.append(
+            Verdict(
+                f"c1 {contact}",
+                f"Superposition of single-pair shifts against the measured two-pair shift, {contact}",
+                f"largest error {mm(err[c, i, j])} (#{a_}+#{b_}, shift {mm(meas[c, i, j])} measured, "
+                f"{mm(sup['predicted'][ci, c, i, j])} predicted); "
+                f"measured/predicted {np.nanmin(ratio):.2f}..{np.nanmax(ratio):.2f} "
+                f"where over 10 mm is predicted",
+                "reported",
+                INFO,
+            )
+        )
         t, best = sup["tip"][ci], sup["single_tip"][ci]
         low = np.flatnonzero(t < best) if np.isfinite(best) else np.array([], int)
         low = low[np.argsort(t[low])]
         words = ", ".join(f"#{tp.COMBOS[k][0]}+#{tp.COMBOS[k][1]} {t[k]:.2f} MPa" for k in low[:6])
-        out.append(Verdict(f"c2 {contact}", f"Combinations tipping at a lower equal pressure than the best single pair, {contact}",
-                           f"{low.size} of {int(np.isfinite(t).sum())} tipping: {words or 'none'}" + ("; ..." if low.size > 6 else ""),
-                           f"best single pair #{sup['single_pair'][ci]} at {best:.2f} MPa" if np.isfinite(best) else "no single pair tips",
-                           INFO))
+        out.append(
+            Verdict(
+                f"c2 {contact}",
+                f"Combinations tipping at a lower equal pressure than the best single pair, {contact}",
+                f"{low.size} of {int(np.isfinite(t).sum())} tipping: {words or 'none'}"
+                + ("; ..." if low.size > 6 else ""),
+                f"best single pair #{sup['single_pair'][ci]} at {best:.2f} MPa"
+                if np.isfinite(best)
+                else "no single pair tips",
+                INFO,
+            )
+        )
     return out
 
 
@@ -155,6 +202,7 @@ class TwoPairCheck:
     """The numbers of checks (a)-(c) and their verdict rows: statics (C, K, 3) m, direct and
     path (F, K) m, superposition (`superposition`), the check combinations (K, 2), faces (F,),
     levels (P,) MPa and the tolerance m."""
+
     rows: list[Verdict]
     statics: np.ndarray
     direct: np.ndarray
@@ -166,9 +214,19 @@ class TwoPairCheck:
     tolerance: float
 
 
-def validate(params: Params, setup: TwoPairSetup, contacts: Mapping[str, TwoPairNominal], cog: np.ndarray,
-             staircase: np.ndarray, single: Workspace, single_tip: np.ndarray, *, combos: ArrayLike,
-             faces: Sequence[int], tolerance: float) -> TwoPairCheck:
+def validate(
+    params: Params,
+    setup: TwoPairSetup,
+    contacts: Mapping[str, TwoPairNominal],
+    cog: np.ndarray,
+    staircase: np.ndarray,
+    single: Workspace,
+    single_tip: np.ndarray,
+    *,
+    combos: ArrayLike,
+    faces: Sequence[int],
+    tolerance: float,
+) -> TwoPairCheck:
     """(a)-(c) on the two-pair nominal CoG of the contact cases (contact -> `TwoPairNominal`,
     results/two_pair/{contact}.nc), the 20-face grid cog and staircase (`check_direct`,
     results/workspace_two_pair.nc) and the single-pair workspace `single` with its tipping
@@ -180,5 +238,4 @@ def validate(params: Params, setup: TwoPairSetup, contacts: Mapping[str, TwoPair
     same, other, b_st = check_direct(params, setup, cog, staircase, faces, combos, tolerance)
     sup = superposition(contacts, single, single_tip)
     rows = _verdicts(tolerance, faces, combos, a, a_st, same, other, b_st, sup)
-    return TwoPairCheck(rows, a, same, other, sup, combos, faces,
-                        next(iter(contacts.values())).levels, tolerance)
+    return TwoPairCheck(rows, a, same, other, sup, combos, faces, next(iter(contacts.values())).levels, tolerance)

@@ -8,11 +8,12 @@ u = p - breaks[i], **highest power first** (the numpy.polyval / scipy PPoly orde
 [pmin, pmax] the end pieces are continued (cubic/polynomial extrapolation); callers should stay
 inside the valid range. Evaluation needs numpy only (no scipy, no pickle).
 """
+
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -20,12 +21,19 @@ from numpy.typing import ArrayLike
 # scipy is imported where splines are fitted, so that evaluating an exported curve (evaluate,
 # from_dict, arrays_to_curves) needs numpy only.
 
-TIE_RTOL = 0.05   # a more complex model must lower the CV RMSE by more than 5 % to win
-TIE_ATOL = 1e-9   # ... and by more than this fraction of max|values| (roundoff on exact data)
+TIE_RTOL = 0.05  # a more complex model must lower the CV RMSE by more than 5 % to win
+TIE_ATOL = 1e-9  # ... and by more than this fraction of max|values| (roundoff on exact data)
 # netCDF dimensions of the arrays made by curves_to_arrays
-ARRAY_DIMS = {"breaks": ("pair", "axis", "break"), "coefs": ("pair", "axis", "piece", "power"),
-              "degree": ("pair", "axis"), "pmin": ("pair", "axis"), "pmax": ("pair", "axis"),
-              "cv_rmse": ("pair", "axis"), "kind": ("pair", "axis"), "model": ("pair", "axis")}
+ARRAY_DIMS = {
+    "breaks": ("pair", "axis", "break"),
+    "coefs": ("pair", "axis", "piece", "power"),
+    "degree": ("pair", "axis"),
+    "pmin": ("pair", "axis"),
+    "pmax": ("pair", "axis"),
+    "cv_rmse": ("pair", "axis"),
+    "kind": ("pair", "axis"),
+    "model": ("pair", "axis"),
+}
 
 
 @dataclass(frozen=True, eq=False)
@@ -33,6 +41,7 @@ class Curve:
     """Piecewise polynomial value(p): breaks (m+1,) MPa increasing, coefs (m, deg+1) in units of
     value/MPa^k, highest power first in u = p - breaks[i]; pmin, pmax (MPa) the data range;
     cv_rmse the cross-validated RMSE (value units, NaN if too few points to validate)."""
+
     kind: str
     breaks: np.ndarray
     coefs: np.ndarray
@@ -70,7 +79,7 @@ def evaluate(curve: Curve | Mapping, pressure: ArrayLike) -> np.ndarray:
     i = np.clip(np.searchsorted(b, p, side="right") - 1, 0, b.size - 2)
     u, ci = p - b[i], c[i]
     y = ci[..., 0]
-    for k in range(1, c.shape[1]):       # Horner, highest power first
+    for k in range(1, c.shape[1]):  # Horner, highest power first
         y = y * u + ci[..., k]
     return y
 
@@ -92,8 +101,13 @@ def _check(pressure, values) -> tuple[np.ndarray, np.ndarray]:
     return p[o], v[o]
 
 
-def cv_select(sizes: Sequence[int], predict: Callable[[int, np.ndarray], np.ndarray],
-              values: np.ndarray, folds: int, tie_rtol: float = TIE_RTOL) -> tuple[int, float]:
+def cv_select(
+    sizes: Sequence[int],
+    predict: Callable[[int, np.ndarray], np.ndarray],
+    values: np.ndarray,
+    folds: int,
+    tie_rtol: float = TIE_RTOL,
+) -> tuple[int, float]:
     """Cross-validated choice among candidate models 0..len(sizes)-1, simplest first (sizes:
     their numbers of parameters), of `values` (n,) at points sorted by their coordinates.
 
@@ -145,17 +159,23 @@ def _least_squares(name: str, p: np.ndarray, v: np.ndarray) -> tuple[str, np.nda
         low = np.polynomial.polynomial.polyfit(p - p[0], v, int(name[4:]))
         return "polynomial", np.array([p[0], p[-1]]), low[::-1][None, :]
     from scipy.interpolate import BSpline, PPoly
+
     base = np.linspace(p[0], p[-1], int(name.split("=")[1]))
     h = base[1] - base[0]
     t = np.r_[base[0] - h * np.arange(3, 0, -1), base, base[-1] + h * np.arange(1, 4)]
     c = np.linalg.lstsq(BSpline.design_matrix(p, t, 3).toarray(), v, rcond=None)[0]
     pp = PPoly.from_spline(BSpline(t, c, 3))
-    return "spline", base, pp.c[:, 3:3 + base.size - 1].T.copy()
+    return "spline", base, pp.c[:, 3 : 3 + base.size - 1].T.copy()
 
 
-def fit_curve(pressure: ArrayLike, values: ArrayLike, max_degree: int = 3,
-              spline_knots: Iterable[int] = (3, 4), folds: int = 5,
-              tie_rtol: float = TIE_RTOL) -> Curve:
+def fit_curve(
+    pressure: ArrayLike,
+    values: ArrayLike,
+    max_degree: int = 3,
+    spline_knots: Iterable[int] = (3, 4),
+    folds: int = 5,
+    tie_rtol: float = TIE_RTOL,
+) -> Curve:
     """Fit value(pressure): pressure (n,) MPa, values (n,) (e.g. CoG in m) -> Curve.
 
     `cv_select` chooses among the candidates (`_candidates`), each fitted and evaluated in its
@@ -197,17 +217,23 @@ def fit_pairs(pressure: ArrayLike, cog: ArrayLike, **opts: Any) -> list[list[Cur
 
 def to_dict(curve: Curve) -> dict:
     """JSON-ready plain numbers (cv_rmse NaN -> None)."""
-    return {"kind": curve.kind, "model": curve.model, "breaks": curve.breaks.tolist(),
-            "coefs": curve.coefs.tolist(), "pmin": curve.pmin, "pmax": curve.pmax,
-            "cv_rmse": None if np.isnan(curve.cv_rmse) else curve.cv_rmse,
-            "coef_order": "highest power first in p - breaks[i]", "pressure_units": "MPa"}
+    return {
+        "kind": curve.kind,
+        "model": curve.model,
+        "breaks": curve.breaks.tolist(),
+        "coefs": curve.coefs.tolist(),
+        "pmin": curve.pmin,
+        "pmax": curve.pmax,
+        "cv_rmse": None if np.isnan(curve.cv_rmse) else curve.cv_rmse,
+        "coef_order": "highest power first in p - breaks[i]",
+        "pressure_units": "MPa",
+    }
 
 
 def from_dict(d: Mapping) -> Curve:
     """Inverse of to_dict."""
     cv = d.get("cv_rmse")
-    return Curve(d["kind"], d["breaks"], d["coefs"], d["pmin"], d["pmax"],
-                 np.nan if cv is None else cv, d["model"])
+    return Curve(d["kind"], d["breaks"], d["coefs"], d["pmin"], d["pmax"], np.nan if cv is None else cv, d["model"])
 
 
 def curves_to_arrays(curves: Sequence[Sequence[Curve]]) -> dict[str, np.ndarray]:
@@ -224,7 +250,7 @@ def curves_to_arrays(curves: Sequence[Sequence[Curve]]) -> dict[str, np.ndarray]
     for j, c in enumerate(flat):
         breaks[j, : c.breaks.size] = c.breaks
         coefs[j, : c.coefs.shape[0]] = 0.0
-        coefs[j, : c.coefs.shape[0], nc - c.coefs.shape[1]:] = c.coefs
+        coefs[j, : c.coefs.shape[0], nc - c.coefs.shape[1] :] = c.coefs
     out = {"breaks": breaks, "coefs": coefs}
     out |= {k: np.array([getattr(c, k) for c in flat]) for k in ("pmin", "pmax", "cv_rmse")}
     out |= {k: np.array([getattr(c, k) for c in flat], dtype=str) for k in ("kind", "model")}
@@ -242,9 +268,17 @@ def arrays_to_curves(arrays: Mapping) -> list[list[Curve]]:
             b = np.asarray(arrays["breaks"][i, a], float)
             b = b[np.isfinite(b)]
             deg = int(arrays["degree"][i, a])
-            c = np.asarray(arrays["coefs"][i, a], float)[: b.size - 1, -(deg + 1):]
-            row.append(Curve(str(arrays["kind"][i, a]), b, c, arrays["pmin"][i, a],
-                             arrays["pmax"][i, a], arrays["cv_rmse"][i, a],
-                             str(arrays["model"][i, a])))
+            c = np.asarray(arrays["coefs"][i, a], float)[: b.size - 1, -(deg + 1) :]
+            row.append(
+                Curve(
+                    str(arrays["kind"][i, a]),
+                    b,
+                    c,
+                    arrays["pmin"][i, a],
+                    arrays["pmax"][i, a],
+                    arrays["cv_rmse"][i, a],
+                    str(arrays["model"][i, a]),
+                )
+            )
         out.append(row)
     return out

@@ -9,6 +9,7 @@ each rising toward +x, and the robot is turned about the strip's normal to set t
 CoG is projected along gravity onto the plane of the deformed contact face (paper Fig. 10); the
 robot tips where that projection leaves the triangle (`frames.first_crossing` of the margin).
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -19,17 +20,18 @@ from numpy.typing import ArrayLike
 
 from ..physics import contact as ct
 from ..physics import dynamics as d
-from ..physics import frames, topology as topo
-from ..physics.schedule import Schedule, check_pressures, hold_step, whole_steps
+from ..physics import frames
+from ..physics import topology as topo
 from ..physics.params import Params
+from ..physics.schedule import Schedule, check_pressures, hold_step, whole_steps
 from ..physics.terrain import Terrain
 
-STRIP = 2.5        # m, width of one slope strip of the test ground
+STRIP = 2.5  # m, width of one slope strip of the test ground
 HALF_LENGTH = 2.0  # m, the strips run from x = -HALF_LENGTH to +HALF_LENGTH
-SPACING = 0.25     # m, height-field cell
-FALLING = 0.01     # m: a CoG projection this far past an edge means the robot is rolling over it
-HOLD = 1.0         # s the top of the ramp is held
-MAX_HOLD = 5.0     # s, longest total time a ramp is held where a support node lifts
+SPACING = 0.25  # m, height-field cell
+FALLING = 0.01  # m: a CoG projection this far past an edge means the robot is rolling over it
+HOLD = 1.0  # s the top of the ramp is held
+MAX_HOLD = 5.0  # s, longest total time a ramp is held where a support node lifts
 
 
 @dataclass(frozen=True)
@@ -40,6 +42,7 @@ class GravitySweep:
     crossed edge's nodes (0: none); cog (S, H, N, P, 3) m and support (S, H, N, P, 3, 3) m in
     the deformed face's support frame, projection (S, H, N, P, 2) m the CoG moved along gravity
     onto the face plane, margin (S, H, N, P) m (positive inside); NaN once the robot rolled."""
+
     face: int
     pairs: np.ndarray
     slopes: np.ndarray
@@ -88,8 +91,7 @@ def heading_of(nodes: np.ndarray, face: int, uphill: ArrayLike = (1.0, 0.0, 0.0)
     return np.degrees(np.arctan2(u[..., 1], u[..., 0]))
 
 
-def place(params: Params, face: int, terrain: Terrain, position: ArrayLike, heading: float,
-          batch: int = 1) -> d.State:
+def place(params: Params, face: int, terrain: Terrain, position: ArrayLike, heading: float, batch: int = 1) -> d.State:
     """`batch` symmetric robots at rest on `face` at `position` (m) of a terrain rising toward
     +x, turned so that the uphill direction has `heading` deg in the face's support frame."""
     s0 = d.stand_on(params, face, terrain, position=position)
@@ -105,6 +107,7 @@ class GravitySetup:
     strut_damping 1/s (the rolling simulations' robot); grid_step MPa, the pressure grid of the
     results; dt s, the time step. Config `locomotion` (ramp, hold, damping), `gravity` and `sim`;
     the defaults are the schema's (pinned by tests/io/test_settings.py)."""
+
     ramp_rate: float = 1.0
     interval: float = 0.02
     lift_tolerance: float = 0.001
@@ -125,8 +128,10 @@ class GravitySetup:
                 raise ValueError(f"gravity setting {name} must be >= 0, got {getattr(self, name)!r}")
         step = self.ramp_rate * self.interval
         if not whole_steps(self.grid_step, step):
-            raise ValueError(f"gravity.grid_step {self.grid_step} MPa is not a whole number of ramp "
-                             f"increments ({step:g} MPa = ramp_rate x interval)")
+            raise ValueError(
+                f"gravity.grid_step {self.grid_step} MPa is not a whole number of ramp "
+                f"increments ({step:g} MPa = ramp_rate x interval)"
+            )
         if not whole_steps(self.interval, self.dt):
             raise ValueError(f"gravity interval {self.interval} s is not a whole number of time steps of {self.dt} s")
 
@@ -139,8 +144,15 @@ class GravitySetup:
         return ramp_levels(self.ramp_rate, self.max_pressure, self.settle, self.interval, hold)
 
 
-def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, slopes: ArrayLike,
-        headings: ArrayLike, setup: GravitySetup, flat_once: bool = True) -> GravitySweep:
+def run(
+    params: Params,
+    face: int | Sequence[int],
+    pairs: ArrayLike,
+    slopes: ArrayLike,
+    headings: ArrayLike,
+    setup: GravitySetup,
+    flat_once: bool = True,
+) -> GravitySweep:
     """The gravity-aware workspace of `face`: each pair of `pairs` on each slope (deg) and
     heading (deg), `settle` s at rest, then the pressure ramped from 0 at ramp_rate MPa/s in
     steps held `interval` s, up to max_pressure MPa (held HOLD s) or until the robot rolls (its
@@ -153,8 +165,9 @@ def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, slopes: Arr
     slopes, headings = np.atleast_1d(np.asarray(slopes, float)), np.atleast_1d(np.asarray(headings, float))
     params = setup.rolling(params)
     terrain, centres = slope_field(slopes)
-    cases = [(i, j) for i in range(slopes.size) for j in range(headings.size)
-             if not (flat_once and slopes[i] == 0 and j > 0)]
+    cases = [
+        (i, j) for i in range(slopes.size) for j in range(headings.size) if not (flat_once and slopes[i] == 0 and j > 0)
+    ]
     N = pairs.size
     state = d.State.concat([place(params, face, terrain, centres[i], headings[j], N) for i, j in cases])
     level, n_settle = setup.levels()
@@ -162,8 +175,9 @@ def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, slopes: Arr
     return _collect(face, pairs, slopes, headings, cases, setup.max_pressure, n_settle, setup.grid_step, rec, gone)
 
 
-def ramp_levels(ramp_rate: float, max_pressure: float, settle: float, interval: float,
-                hold: float = HOLD) -> tuple[np.ndarray, int]:
+def ramp_levels(
+    ramp_rate: float, max_pressure: float, settle: float, interval: float, hold: float = HOLD
+) -> tuple[np.ndarray, int]:
     """Pressure (T,) MPa held over each interval: `settle` s at zero, then the ramp at
     ramp_rate MPa/s up to max_pressure, held `hold` s (a robot just past an edge there
     falls slowly); and the number of settling intervals."""
@@ -174,8 +188,17 @@ def ramp_levels(ramp_rate: float, max_pressure: float, settle: float, interval: 
     return np.concatenate([np.zeros(n_settle), ramp_, top]), n_settle
 
 
-def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: np.ndarray,
-         level: np.ndarray, n_settle: int, setup: GravitySetup, copies: int = 1) -> tuple[dict, np.ndarray]:
+def ramp(
+    params: Params,
+    terrain: Terrain,
+    face: int,
+    state: d.State,
+    pair_of: np.ndarray,
+    level: np.ndarray,
+    n_settle: int,
+    setup: GravitySetup,
+    copies: int = 1,
+) -> tuple[dict, np.ndarray]:
     """Drive robot b of `state` (resting on `face`) with pair pair_of[b] through the pressures
     `level` (L,) MPa, one per setup.interval s (the first n_settle at zero), time step setup.dt
     s, `params` as given (`GravitySetup.rolling` is the caller's). By the controller's rule
@@ -200,12 +223,16 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
         raise ValueError(f"copies = {copies} needs runs of that many robots ({R}) settling at zero pressure")
     T = L + int(np.ceil(MAX_HOLD / interval - 1e-9))
     every = int(round(interval / dt))
-    rec = {"pressure": np.full((R, T), np.nan), "cog": np.full((R, T, 3), np.nan),
-           "support": np.full((R, T, 3, 3), np.nan), "proj": np.full((R, T, 2), np.nan),
-           "margin": np.full((R, T), np.nan)}
+    rec = {
+        "pressure": np.full((R, T), np.nan),
+        "cog": np.full((R, T, 3), np.nan),
+        "support": np.full((R, T, 3, 3), np.nan),
+        "proj": np.full((R, T, 2), np.nan),
+        "margin": np.full((R, T), np.nan),
+    }
     gone = np.full(R, T)
     active = np.arange(R)
-    k = np.zeros(R, np.int64)                    # level index of each robot
+    k = np.zeros(R, np.int64)  # level index of each robot
     holding, held, total = np.zeros(R, bool), np.zeros(R), np.zeros(R)  # in a hold; its time, all holds', s
     base = np.zeros((R, 3))  # clearance of the support nodes at the end of the settling, m
     support = topo.FACES[face - 1]
@@ -220,8 +247,7 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
         state, tr = d.simulate(params, state, Schedule(np.array([interval]), pres[:, None]), terrain, dt, every)
         nodes = tr.nodes(params.strut_length)[:, -1]
         cog, sup, proj, margin = gravity_frame(nodes, face)
-        for name, v in (("pressure", level[ka]), ("cog", cog), ("support", sup), ("proj", proj),
-                        ("margin", margin)):
+        for name, v in (("pressure", level[ka]), ("cog", cog), ("support", sup), ("proj", proj), ("margin", margin)):
             rec[name][active, t] = v
         gap = ct.clearance(nodes, terrain, r)
         resting = ct.resting_face(gap, r)
@@ -231,8 +257,16 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
             base[active] = gap[:, support]
         lifted = (ka >= n_settle) & np.any(gap[:, support] - base[active] > lift_tolerance, axis=1)
         holding[active], held[active], _, total[active] = hold_step(
-            holding[active], held[active], True, lifted, interval, setup.hold_time, rearm=True,
-            spent=total[active], budget=MAX_HOLD)
+            holding[active],
+            held[active],
+            True,
+            lifted,
+            interval,
+            setup.hold_time,
+            rearm=True,
+            spent=total[active],
+            budget=MAX_HOLD,
+        )
         k[active[~holding[active]]] += 1
         off |= k[active] >= L  # through the whole ramp without rolling
         if off.any():
@@ -251,8 +285,7 @@ def ramp(params: Params, terrain: Terrain, face: int, state: d.State, pair_of: n
     return rec, gone
 
 
-def tip(rec: dict, row: int, face: int, n_settle: int,
-        gone: int) -> tuple[float, int, tuple[int, int] | None]:
+def tip(rec: dict, row: int, face: int, n_settle: int, gone: int) -> tuple[float, int, tuple[int, int] | None]:
     """`frames.crossing` of robot `row` of the records `rec` (`ramp`) on `face` between the end
     of the settling (sample n_settle) and its drop (sample `gone`; none if never dropped): the
     tipping pressure MPa, the record's first sample outside and the edge, or (NaN, -1, None)."""
@@ -267,10 +300,16 @@ def _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_
     S, H, N = slopes.size, headings.size, pairs.size
     grid = grid_step * np.arange(1, int(round(max_pressure / grid_step)) + 1)
     P, T = grid.size, rec["pressure"].shape[1]
-    out = {"stood": np.zeros((S, H), bool), "rolled": np.zeros((S, H, N), bool),
-           "tip_pressure": np.full((S, H, N), np.nan), "tip_edge": np.zeros((S, H, N, 2), np.int64),
-           "cog": np.full((S, H, N, P, 3), np.nan), "support": np.full((S, H, N, P, 3, 3), np.nan),
-           "projection": np.full((S, H, N, P, 2), np.nan), "margin": np.full((S, H, N, P), np.nan)}
+    out = {
+        "stood": np.zeros((S, H), bool),
+        "rolled": np.zeros((S, H, N), bool),
+        "tip_pressure": np.full((S, H, N), np.nan),
+        "tip_edge": np.zeros((S, H, N, 2), np.int64),
+        "cog": np.full((S, H, N, P, 3), np.nan),
+        "support": np.full((S, H, N, P, 3, 3), np.nan),
+        "projection": np.full((S, H, N, P, 2), np.nan),
+        "margin": np.full((S, H, N, P), np.nan),
+    }
     for c, (i, j) in enumerate(cases):
         js = range(H) if (slopes[i] == 0 and len([1 for a, _ in cases if a == i]) == 1) else [j]
         rows = np.arange(c * N, (c + 1) * N)
@@ -293,7 +332,6 @@ def _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_
                 out["rolled"][i, jj, n] = rolled
                 if rolled:  # tip_edge (0, 0): none (docs/datasets.md)
                     out["tip_pressure"][i, jj, n], out["tip_edge"][i, jj, n] = p_tip, edge
-                for name, key in (("cog", "cog"), ("support", "support"), ("projection", "proj"),
-                                  ("margin", "margin")):
+                for name, key in (("cog", "cog"), ("support", "support"), ("projection", "proj"), ("margin", "margin")):
                     out[name][i, jj, n, valid] = means[key][valid]
     return GravitySweep(face, pairs, slopes, headings, grid, **out)

@@ -5,10 +5,10 @@ unactuated robot prepended as the 0 MPa point. `predict` places a face's curves 
 frame of the robot's *current*, deformed support triangle and projects the CoG along gravity onto
 the support plane (slopes, paper Fig. 10). No files here: `io.formats.read_workspace` reads one.
 """
+
 from __future__ import annotations
 
 import functools
-
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 
@@ -16,7 +16,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..physics import contact as ct
-from ..physics import frames, topology as topo
+from ..physics import frames
+from ..physics import topology as topo
 
 __all__ = ["Workspace", "Prediction", "predict", "Face", "Action"]
 
@@ -32,6 +33,7 @@ class Workspace:
     Optional measured two-pair curves (`with_two_pair`): combos (C, 2) 1-based pairs ascending,
     combo_cog (20, C, P, 3) m and combo_support (20, C, P, 3, 3) m, both pairs at each level.
     strut_length m: the robot's S (NaN: not known)."""
+
     levels: np.ndarray
     cog: np.ndarray
     support: np.ndarray
@@ -47,12 +49,10 @@ class Workspace:
         if lv.ndim != 1 or lv.size < 1 or np.any(np.diff(lv) <= 0) or lv[0] <= 0:
             raise ValueError("workspace levels must be positive, strictly increasing MPa")
         P = lv.size
-        shapes = {"cog": (20, 12, P, 3), "support": (20, 12, P, 3, 3), "rest_cog": (20, 3),
-                  "rest_support": (20, 3, 3)}
+        shapes = {"cog": (20, 12, P, 3), "support": (20, 12, P, 3, 3), "rest_cog": (20, 3), "rest_support": (20, 3, 3)}
         for name, shape in shapes.items():
             if np.shape(getattr(self, name)) != shape:
-                raise ValueError(f"workspace {name} must have shape {shape}, "
-                                 f"got {np.shape(getattr(self, name))}")
+                raise ValueError(f"workspace {name} must have shape {shape}, got {np.shape(getattr(self, name))}")
         for name in ("cog", "support"):  # NaN: a pair not swept; never inf
             if np.any(np.isinf(getattr(self, name))):
                 raise ValueError(f"workspace {name} holds infinite values")
@@ -62,18 +62,21 @@ class Workspace:
         object.__setattr__(self, "levels", lv)
 
     @classmethod
-    def from_arrays(cls, levels: ArrayLike, cog: ArrayLike, support: ArrayLike,
-                    strut_length: float = 0.5) -> "Workspace":
+    def from_arrays(cls, levels: ArrayLike, cog: ArrayLike, support: ArrayLike, strut_length: float = 0.5) -> Workspace:
         """From cog (20, 12, P, 3) m and support (20, 12, P, 3, 3) m at `levels` (P,) MPa; the
         0 MPa point is the symmetric robot of strut length `strut_length` m
         (`frames.rest_frame`)."""
         rest = [frames.rest_frame(f, strut_length) for f in range(1, topo.N_FACES + 1)]
-        return cls(np.asarray(levels, float), np.asarray(cog, float), np.asarray(support, float),
-                   np.stack([r[0] for r in rest]), np.stack([r[1] for r in rest]),
-                   strut_length=float(strut_length))
+        return cls(
+            np.asarray(levels, float),
+            np.asarray(cog, float),
+            np.asarray(support, float),
+            np.stack([r[0] for r in rest]),
+            np.stack([r[1] for r in rest]),
+            strut_length=float(strut_length),
+        )
 
-    def with_two_pair(self, combos: ArrayLike, levels: ArrayLike, cog: ArrayLike,
-                      support: ArrayLike) -> "Workspace":
+    def with_two_pair(self, combos: ArrayLike, levels: ArrayLike, cog: ArrayLike, support: ArrayLike) -> Workspace:
         """This workspace with the measured two-pair curves of the two-pair workspace
         (`io.two_pair_formats.read_two_pair`): combos (C, 2) 1-based, levels (L,) MPa, cog
         (20, C, L, L, 3) m and support (20, C, L, L, 3, 3) m, [f, c, i, j] = face f+1 with
@@ -99,8 +102,9 @@ class Workspace:
         w = (x - lv[j]) / (lv[j + 1] - lv[j])
         on = []
         for a, rest in ((cog, self.rest_cog), (sup, self.rest_support)):
-            d = np.concatenate([np.broadcast_to(rest[:, None, None], (20, C, 1) + rest.shape[1:]),
-                                a[:, :, k, k]], axis=2)  # (20, C, L+1, ...): both at lv
+            d = np.concatenate(
+                [np.broadcast_to(rest[:, None, None], (20, C, 1) + rest.shape[1:]), a[:, :, k, k]], axis=2
+            )  # (20, C, L+1, ...): both at lv
             wb = w.reshape((-1,) + (1,) * (d.ndim - 3))
             v = d[:, :, j] * (1 - wb) + d[:, :, j + 1] * wb
             v[:, :, x > lv[-1] + 1e-12] = np.nan
@@ -174,8 +178,7 @@ class Workspace:
         f = face - 1
         rest_cog, rest_support = self.rest_cog[f], self.rest_support[f]
         cog = np.concatenate([np.broadcast_to(rest_cog, (12, 1, 3)), self.cog[f]], axis=1)
-        support = np.concatenate([np.broadcast_to(rest_support, (12, 1, 3, 3)), self.support[f]],
-                                 axis=1)
+        support = np.concatenate([np.broadcast_to(rest_support, (12, 1, 3, 3)), self.support[f]], axis=1)
         out_cog, out_support = [], []
         for act in actions:
             c = self.measured(face, act)
@@ -187,8 +190,10 @@ class Workspace:
             out_cog.append(rest_cog + np.sum(cog[idx] - rest_cog, axis=0))
             out_support.append(rest_support + np.sum(support[idx] - rest_support, axis=0))
         n = self.levels.size + 1
-        out = (np.reshape(out_cog, (len(out_cog), n, 3)),
-               np.reshape(out_support, (len(out_support), n, 3, 3)))  # A = 0: empty arrays
+        out = (
+            np.reshape(out_cog, (len(out_cog), n, 3)),
+            np.reshape(out_support, (len(out_support), n, 3, 3)),
+        )  # A = 0: empty arrays
         for a in out:
             a.flags.writeable = False
         return out
@@ -202,6 +207,7 @@ class Prediction:
     the projection and the support triangle in the face's support frame (in-plane x, y);
     margin (A, n) m (positive inside); edge_dist (A, n, 3) m signed distances to the edge lines
     (edge k joins corners k, k+1)."""
+
     pressure: np.ndarray
     cog: np.ndarray
     projection: np.ndarray
@@ -214,8 +220,7 @@ class Prediction:
 _UP = np.array([0.0, 0.0, 1.0])  # the support plane's normal in its own frame
 
 
-def predict(workspace: Workspace, face: Face, nodes: ArrayLike,
-            actions: Iterable[Action]) -> Prediction:
+def predict(workspace: Workspace, face: Face, nodes: ArrayLike, actions: Iterable[Action]) -> Prediction:
     """Where the workspace puts the CoG projection for `actions` (tuples of 1-based pairs) on
     `face` (1..20 or three node numbers), in the support frame of the current triangle of
     `nodes` (12, 3) m, projected along gravity (paper Fig. 10)."""
@@ -224,11 +229,13 @@ def predict(workspace: Workspace, face: Face, nodes: ArrayLike,
     origin, rot = frames.face_frame(p, f)
     gravity = rot @ ct.GRAVITY_DIR  # in the support frame
     if gravity[2] > -1e-6:
-        raise ValueError(f"face {topo.face_label(f)} is not below the robot: gravity does not "
-                         "press it onto its support")
+        raise ValueError(
+            f"face {topo.face_label(f)} is not below the robot: gravity does not press it onto its support"
+        )
     cog, support = workspace.curve(f, actions)
     proj = ct.project_along_gravity(cog, np.zeros(3), _UP, gravity / np.linalg.norm(gravity))
     margin = frames.margin_2d(proj[..., :2], support[..., :2])
     dist = frames.edge_distances(proj[..., :2], support[..., :2])
-    return Prediction(workspace.pressures, origin + cog @ rot, origin + proj @ rot, proj[..., :2],
-                      support[..., :2], margin, dist)
+    return Prediction(
+        workspace.pressures, origin + cog @ rot, origin + proj @ rot, proj[..., :2], support[..., :2], margin, dist
+    )

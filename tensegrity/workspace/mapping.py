@@ -1,4 +1,5 @@
 """Map the canonical workspaces to all 20 faces with the symmetry group (paper III.A)."""
+
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
@@ -6,8 +7,9 @@ from collections.abc import Iterable, Mapping
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..physics import frames, topology as topo
+from ..physics import frames
 from ..physics import symmetry as sym
+from ..physics import topology as topo
 
 CANONICAL = {kind: topo.face_number(nodes) for kind, nodes in topo.CONTACT_FACES.items()}
 
@@ -70,6 +72,7 @@ def map_workspace(levels: ArrayLike, canonical: Mapping[str, tuple]) -> dict[str
     margin = np.full(cog.shape[:-1], np.nan)
     ok = np.isfinite(cog[..., 0])
     margin[ok] = frames.margin_2d(cog[ok][:, :2], support[ok][:, :, :2])
-    tip = np.array([[frames.first_crossing(levels, m)[0] if np.isfinite(m).all() else np.nan
-                     for m in mf] for mf in margin])
+    tip = np.array(
+        [[frames.first_crossing(levels, m)[0] if np.isfinite(m).all() else np.nan for m in mf] for mf in margin]
+    )
     return {"cog": cog, "support": support, "margin": margin, "tip_pressure": tip}

@@ -1,6 +1,7 @@
 """Nominal CoG: the average of the CoG over the samples of each pressure level (paper III.A), and
 the nominal CoG of one contact case as a typed value: `Nominal` (one pair at a time, the file
 results/nominal/{contact}.nc) and `TwoPairNominal` (two pairs, results/two_pair/{contact}.nc)."""
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -9,7 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..physics import frames, topology as topo
+from ..physics import frames
+from ..physics import topology as topo
 from .mapping import all_pairs
 
 MODES = ("free", "grounded")
@@ -23,6 +25,7 @@ class Nominal:
     (12, P, 3, 3) m (mean deformed triangle) in the face's support frame, margin (12, P) m
     (positive inside), all NaN for the pairs not swept (and, in the grounded mode, from the
     level the robot rolled off its face on). Build it from the swept pairs with `of_pairs`."""
+
     contact: str
     face: int
     mode: str
@@ -37,20 +40,38 @@ class Nominal:
             raise ValueError(f"nominal mode must be one of {MODES}, got {self.mode!r}")
         topo.face_number(self.face)  # ValueError unless 1..20
         P = np.shape(self.levels)[0]
-        for name, shape in (("cog", (topo.N_PAIRS, P, 3)), ("support", (topo.N_PAIRS, P, 3, 3)),
-                            ("margin", (topo.N_PAIRS, P))):
+        for name, shape in (
+            ("cog", (topo.N_PAIRS, P, 3)),
+            ("support", (topo.N_PAIRS, P, 3, 3)),
+            ("margin", (topo.N_PAIRS, P)),
+        ):
             got = np.shape(getattr(self, name))
             if got != shape:
                 raise ValueError(f"nominal {name} must have shape {shape}, got {got}")
 
     @classmethod
-    def of_pairs(cls, contact: str, face: int, mode: str, levels: ArrayLike, pairs: ArrayLike,
-                 cog: ArrayLike, support: ArrayLike, margin: ArrayLike) -> "Nominal":
+    def of_pairs(
+        cls,
+        contact: str,
+        face: int,
+        mode: str,
+        levels: ArrayLike,
+        pairs: ArrayLike,
+        cog: ArrayLike,
+        support: ArrayLike,
+        margin: ArrayLike,
+    ) -> Nominal:
         """From the swept 1-based `pairs` (n,): cog (n, P, 3) m, support (n, P, 3, 3) m and
         margin (n, P) m at `levels` (P,) MPa, spread over all pairs (`mapping.all_pairs`)."""
         pairs = np.asarray(pairs)
-        return cls(str(contact), int(face), str(mode), np.asarray(levels, float), pairs,
-                   *(all_pairs(pairs, a) for a in (cog, support, margin)))
+        return cls(
+            str(contact),
+            int(face),
+            str(mode),
+            np.asarray(levels, float),
+            pairs,
+            *(all_pairs(pairs, a) for a in (cog, support, margin)),
+        )
 
 
 @dataclass(frozen=True)
@@ -61,6 +82,7 @@ class TwoPairNominal:
     at levels[j]) cog (66, P, P, 3) m in the face's support frame (NaN: not available), and the
     least equal pressure of both pairs at which the CoG projection leaves the triangle,
     tip_pressure (66,) MPa (NaN: never)."""
+
     contact: str
     face: int
     levels: np.ndarray
@@ -68,8 +90,15 @@ class TwoPairNominal:
     tip_pressure: np.ndarray
 
 
-def nominal(t: ArrayLike, level: ArrayLike, cog: np.ndarray, support: np.ndarray, n_levels: int,
-            hold: float, discard: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def nominal(
+    t: ArrayLike,
+    level: ArrayLike,
+    cog: np.ndarray,
+    support: np.ndarray,
+    n_levels: int,
+    hold: float,
+    discard: float = 0.0,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Average one sweep per level.
 
     t (T,) s; level (T,) index of the level held at each sample (-1 while settling);

@@ -1,6 +1,7 @@
 """Workspace queries from the exported curves: the nominal CoG and margin of any face, pair and
 pressure (docs/design.md §5: the curves of results/curves/curves.json, `io.formats.read_curves`,
 and the workspace of results/workspace.nc, `io.formats.read_workspace`)."""
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -8,7 +9,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..physics import frames, topology as topo
+from ..physics import frames
+from ..physics import topology as topo
 from . import fit, mapping
 from .lookup import Workspace
 
@@ -19,6 +21,7 @@ AXES = ("x", "y", "z")
 class Answer:
     """cog (3,) m and support (3, 3) m in the face's support frame; margin m (positive: the CoG
     projection is inside the triangle); source_pair: the canonical pair whose curve was used."""
+
     face: int
     pair: int
     pressure: float
@@ -29,8 +32,7 @@ class Answer:
     source_pair: int
 
 
-def curve_cog(curves: dict, face: int | Sequence[int], pair: int,
-              pressure: float) -> tuple[np.ndarray, str, int]:
+def curve_cog(curves: dict, face: int | Sequence[int], pair: int, pressure: float) -> tuple[np.ndarray, str, int]:
     """CoG (3,) m of `pair` at `pressure` MPa in the support frame of `face`, from the fitted
     curve of the canonical face of its kind mapped by symmetry."""
     face, pair = topo.face_number(face), topo.check_pair(pair)
@@ -57,8 +59,14 @@ def support_at(workspace: Workspace, face: int, pair: int, pressure: float) -> n
     return np.stack([[np.interp(pressure, p, s[:, c, a]) for a in range(3)] for c in range(3)])
 
 
-def query(curves: dict, workspace: Workspace, face: int | Sequence[int], pair: int,
-          pressure: float, wsname: str = "<workspace>") -> Answer:
+def query(
+    curves: dict,
+    workspace: Workspace,
+    face: int | Sequence[int],
+    pair: int,
+    pressure: float,
+    wsname: str = "<workspace>",
+) -> Answer:
     """Nominal CoG, deformed triangle and margin of `pair` at `pressure` MPa on `face`, from the
     curves document `curves` and the workspace (read and checked by `io.formats`). A NaN or
     out-of-range answer (a pair the workspace lacks, corrupted inputs) raises ValueError naming
@@ -69,10 +77,11 @@ def query(curves: dict, workspace: Workspace, face: int | Sequence[int], pair: i
     margin = float(frames.margin_2d(cog[:2], sup[:, :2]))
     S = workspace.strut_length
     if not np.all(np.isfinite(sup)):
-        raise ValueError(f"workspace {wsname!r} has no support triangle for pair #{pair} on face {face} "
-                         "(not computed)")
+        raise ValueError(f"workspace {wsname!r} has no support triangle for pair #{pair} on face {face} (not computed)")
     if not (np.all(np.isfinite(cog)) and np.max(np.abs(cog)) < S and np.isfinite(margin) and abs(margin) < S):
-        raise ValueError(f"the curves give CoG {cog.tolist()} m, margin {margin} m for pair #{pair} on face "
-                         f"{face} at {pressure} MPa: not within the strut length {S} m (corrupted curves "
-                         f"or workspace {wsname!r}?)")
+        raise ValueError(
+            f"the curves give CoG {cog.tolist()} m, margin {margin} m for pair #{pair} on face "
+            f"{face} at {pressure} MPa: not within the strut length {S} m (corrupted curves "
+            f"or workspace {wsname!r}?)"
+        )
     return Answer(face, pair, float(pressure), cog, sup, margin, kind, src)

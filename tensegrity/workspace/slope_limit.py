@@ -10,6 +10,7 @@ Headings are the uphill direction in the face's support frame, deg (see `gravity
 the free workspace (`lookup.Workspace`; with measured two-pair curves, their combinations are
 tried too: `Workspace.actions`).
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -20,9 +21,10 @@ from numpy.typing import ArrayLike
 
 from ..physics import contact as ct
 from ..physics import dynamics as d
-from ..physics import frames, topology as topo
-from ..physics.schedule import Schedule
+from ..physics import frames
+from ..physics import topology as topo
 from ..physics.params import Params
+from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
 from . import gravity as gv
 from .lookup import Workspace, predict
@@ -36,6 +38,7 @@ class SlopeLimits:
     predicted_gravity, simulated (NaN: not even on flat ground); pair (0: none) and pressure
     MPa of the roll at the simulated limit; limited_by: 'geometry', 'landing', 'pressure range'
     or 'friction'."""
+
     kinds: tuple
     contacts: tuple
     headings: np.ndarray
@@ -69,8 +72,15 @@ def pose(params: Params, face: int, slope: float, heading: float) -> np.ndarray:
     return d.nodes(s.x, s.q, params.strut_length)[0]
 
 
-def _free_ok(look: Workspace, params: Params, face: int, slope: float, heading: float,
-             max_pressure: float, wanted: tuple[bool, bool] = (True, True)) -> tuple[bool, bool, bool]:
+def _free_ok(
+    look: Workspace,
+    params: Params,
+    face: int,
+    slope: float,
+    heading: float,
+    max_pressure: float,
+    wanted: tuple[bool, bool] = (True, True),
+) -> tuple[bool, bool, bool]:
     """(stand, uphill, downhill) possible at this slope and heading by the free workspace.
     wanted: whether uphill and downhill are asked for; one not asked for is reported False
     without its search (the landing check of a downhill roll)."""
@@ -87,8 +97,9 @@ def _free_ok(look: Workspace, params: Params, face: int, slope: float, heading: 
         if (up or not wanted[0]) and (down or not wanted[1]):
             break  # nothing left to find
         # the first sample outside up to max_pressure (ok_p is a prefix: the pressures rise)
-        _, k, e = frames.crossing(pr.pressure[ok_p], pr.margin[a, ok_p], pr.projection_2d[a, ok_p],
-                                  pr.support[a, ok_p], face)
+        _, k, e = frames.crossing(
+            pr.pressure[ok_p], pr.margin[a, ok_p], pr.projection_2d[a, ok_p], pr.support[a, ok_p], face
+        )
         if e is None:
             continue
         along = float(np.dot(direction(pr.support[a, k], face, e), u))
@@ -98,8 +109,7 @@ def _free_ok(look: Workspace, params: Params, face: int, slope: float, heading: 
     return stand, up, down
 
 
-def _lands(look: Workspace, face: int, nodes: np.ndarray, edge: Sequence[int],
-           max_pressure: float) -> bool:
+def _lands(look: Workspace, face: int, nodes: np.ndarray, edge: Sequence[int], max_pressure: float) -> bool:
     """Whether the robot posed `nodes` on `face`, rolled rigidly over `edge`
     (`contact.roll_over`), stands on the landing face, or some pair holds it there (a positive
     margin at some pressure up to max_pressure), by the free workspace."""
@@ -115,8 +125,9 @@ def _last(ok: np.ndarray, slopes: np.ndarray) -> float:
     return float(slopes[n - 1]) if n else float("nan")
 
 
-def predict_free(look: Workspace, params: Params, face: int, headings: np.ndarray,
-                 max_pressure: float, step: float = 1.0) -> np.ndarray:
+def predict_free(
+    look: Workspace, params: Params, face: int, headings: np.ndarray, max_pressure: float, step: float = 1.0
+) -> np.ndarray:
     """Limits (3, H) deg by the free workspace: slopes scanned every `step` deg up to the
     friction angle, or until each limit has failed once; NaN if the free workspace has no pair
     on `face` (a subset of the contacts)."""
@@ -164,24 +175,33 @@ def grid_ok(sw: gv.GravitySweep, look: Workspace, params: Params, max_pressure: 
     return ok, pair
 
 
-def stands(params: Params, faces: Sequence[int], slopes: ArrayLike, headings: ArrayLike,
-           settle: float = 1.0, dt: float = 1e-4) -> np.ndarray:
+def stands(
+    params: Params, faces: Sequence[int], slopes: ArrayLike, headings: ArrayLike, settle: float = 1.0, dt: float = 1e-4
+) -> np.ndarray:
     """Direct simulation: does the unactuated robot b, placed on faces[b] on a slope of
     slopes[b] deg at headings[b] deg, still stand on it after `settle` s? (B,) bool."""
     terrain, centres = gv.slope_field(slopes)
-    state = d.State.concat([gv.place(params, int(f), terrain, centres[b], h)
-                             for b, (f, h) in enumerate(zip(faces, headings))])
+    state = d.State.concat(
+        [gv.place(params, int(f), terrain, centres[b], h) for b, (f, h) in enumerate(zip(faces, headings))]
+    )
     n = int(round(settle / dt))
     _, tr = d.simulate(params, state, Schedule.constant(np.zeros(topo.N_PAIRS), settle), terrain, dt, n)
     nodes = tr.nodes(params.strut_length)[:, -1]
     r = float(params.strut_radius)
     resting = ct.resting_face(ct.clearance(nodes, terrain, r), r)
-    return np.array([resting[b] == f and gv.gravity_frame(nodes[b], int(f))[3] > 0
-                     for b, f in enumerate(faces)])
+    return np.array([resting[b] == f and gv.gravity_frame(nodes[b], int(f))[3] > 0 for b, f in enumerate(faces)])
 
 
-def _sim_ok(look: Workspace, params: Params, kind: int, face: int, slopes: np.ndarray, headings: np.ndarray,
-            pairs: np.ndarray, setup: gv.GravitySetup) -> tuple[np.ndarray, np.ndarray, list]:
+def _sim_ok(
+    look: Workspace,
+    params: Params,
+    kind: int,
+    face: int,
+    slopes: np.ndarray,
+    headings: np.ndarray,
+    pairs: np.ndarray,
+    setup: gv.GravitySetup,
+) -> tuple[np.ndarray, np.ndarray, list]:
     """Direct simulation of limit `kind` (1 uphill, 2 downhill; 0 stand) at slopes[j] and
     headings[j] with pairs[j]: (ok (J,), tip pressure (J,) MPa, failure reason per robot)."""
     J = len(slopes)
@@ -208,17 +228,28 @@ def _sim_ok(look: Workspace, params: Params, kind: int, face: int, slopes: np.nd
                 to, after = ct.roll_over(pose(params, face, slopes[j], headings[j]), face, e)
                 land.append((j, to, float(gv.heading_of(after, to)), e))
     if land:
-        held = stands(params, [t for _, t, _, _ in land], [slopes[j] for j, *_ in land],
-                      [h for _, _, h, _ in land], setup.settle + 0.5, setup.dt)
+        held = stands(
+            params,
+            [t for _, t, _, _ in land],
+            [slopes[j] for j, *_ in land],
+            [h for _, _, h, _ in land],
+            setup.settle + 0.5,
+            setup.dt,
+        )
         for (j, _, _, e), h in zip(land, held):
-            if not h and not _lands(look, face, pose(params, face, slopes[j], headings[j]), e,
-                                    setup.max_pressure):
+            if not h and not _lands(look, face, pose(params, face, slopes[j], headings[j]), e, setup.max_pressure):
                 ok[j], why[j] = False, "landing"
     return ok, tips, why
 
 
-def limits(look: Workspace, params: Params, sweeps: Mapping[str, gv.GravitySweep], setup: gv.GravitySetup,
-           iterations: int = 3, free_step: float = 1.0) -> SlopeLimits:
+def limits(
+    look: Workspace,
+    params: Params,
+    sweeps: Mapping[str, gv.GravitySweep],
+    setup: gv.GravitySetup,
+    iterations: int = 3,
+    free_step: float = 1.0,
+) -> SlopeLimits:
     """The slope limits of every contact case of `sweeps` (see the module docstring), simulated
     with the ramp of `setup` (the gravity-aware workspace's), `iterations` bisection steps, the
     free workspace's slopes scanned in steps of `free_step` deg."""
@@ -236,8 +267,9 @@ def limits(look: Workspace, params: Params, sweeps: Mapping[str, gv.GravitySweep
         free[:, c] = predict_free(look, params, sw.face, sw.headings, setup.max_pressure, free_step)
         ok, best = grid_ok(sw, look, params, setup.max_pressure)
         for kind in range(3):
-            n_ok = [int(np.flatnonzero(~ok[kind, :, j])[0]) if (~ok[kind, :, j]).any() else sw.slopes.size
-                    for j in range(H)]
+            n_ok = [
+                int(np.flatnonzero(~ok[kind, :, j])[0]) if (~ok[kind, :, j]).any() else sw.slopes.size for j in range(H)
+            ]
             js = [j for j in range(H) if n_ok[j] > 0]
             grid[kind, c, js] = [sw.slopes[n_ok[j] - 1] for j in js]
             lo = np.array([sw.slopes[n_ok[j] - 1] for j in js])
@@ -255,7 +287,7 @@ def limits(look: Workspace, params: Params, sweeps: Mapping[str, gv.GravitySweep
             why[kind, c, js] = reason
     stand_lim = sim[0]
     for kind in (1, 2):  # a roll needs the robot to stand first
-        at_stand = sim[kind] >= stand_lim - 0.5 * (first.slopes.max() / 2 ** iterations + 1e-9)
+        at_stand = sim[kind] >= stand_lim - 0.5 * (first.slopes.max() / 2**iterations + 1e-9)
         why[kind] = np.where(at_stand & (why[kind] != "friction"), "geometry", why[kind])
     why[np.isnan(sim)] = "pressure range"
     return SlopeLimits(KINDS, contacts, first.headings, free, grid, sim, pair, pres, why.astype(str))

@@ -1,4 +1,5 @@
 """Pressure sweeps of the actuator pairs on a contact face (paper III.A)."""
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -8,10 +9,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..physics import dynamics as d
-from ..physics import frames, topology as topo
-from ..physics.schedule import Schedule
+from ..physics import frames
+from ..physics import topology as topo
 from ..physics.contact import clearance, resting_face
 from ..physics.params import Params
+from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
 
 MODES = ("free", "grounded")
@@ -23,6 +25,7 @@ class SweepSetup:
     pressure, in `mode` ('free' or 'grounded', `setup`), simulated with time step dt s and
     recorded every record_every steps. The defaults are the schema's `sweep` and `sim` defaults
     (pinned by tests/io/test_settings.py)."""
+
     levels: tuple[float, ...] = (0.4, 0.8, 1.2, 1.6, 2.0, 2.4, 2.8, 3.2, 3.6, 4.0, 4.4, 4.8)
     hold: float = 1.0
     settle: float = 0.0
@@ -38,6 +41,7 @@ class Sweep:
     m world positions; level (T,) index of the level held (-1 while settling); on_face (B, T)
     whether the robot rests on `face`; resting_face (B, T) the face it rests on, 0 for none
     (contact.resting_face; `face` throughout in the free mode)."""
+
     pairs: np.ndarray
     levels: np.ndarray
     face: int
@@ -78,8 +82,19 @@ def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, sweep: Swee
         resting = np.full((len(pairs), tr.t.size), face, np.int64)
     else:
         resting = resting_faces(nodes, terrain, prm.strut_radius)
-    return Sweep(pairs, levels, face, tr.t, tr.pressure[np.arange(len(pairs)), :, pairs - 1],
-                 cog, support, nodes, level, resting == face, resting)
+    return Sweep(
+        pairs,
+        levels,
+        face,
+        tr.t,
+        tr.pressure[np.arange(len(pairs)), :, pairs - 1],
+        cog,
+        support,
+        nodes,
+        level,
+        resting == face,
+        resting,
+    )
 
 
 def resting_faces(nodes: np.ndarray, terrain: Terrain, radius: float | np.ndarray) -> np.ndarray:

@@ -8,6 +8,7 @@ swept (`representatives`); every other combination of that face, and every face,
 mapping (`map_face`, as `workspace.mapping` does for single pairs). A map can send the first
 pair of the source to the second of the target: the grid is transposed then.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -17,10 +18,11 @@ from itertools import combinations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..physics import frames, topology as topo
+from ..physics import frames
 from ..physics import symmetry as sym
-from ..physics.schedule import Schedule, check_pressures, whole_steps
+from ..physics import topology as topo
 from ..physics.params import Params
+from ..physics.schedule import Schedule, check_pressures, whole_steps
 from . import nominal as nom
 from .fit import cv_select
 from .mapping import CANONICAL
@@ -34,6 +36,7 @@ class TwoPairSetup:
     """The two-pair staircase: levels (P,) MPa of each pair, each grid point held `hold` s and
     averaged after its first `discard` s, samples every record_every time steps of dt s. The
     defaults are the schema's `two_pair` and `sim` defaults (pinned by tests/io/test_settings.py)."""
+
     levels: tuple[float, ...] = (0.8, 1.6, 2.4, 3.2, 4.0, 4.8)
     hold: float = 1.0
     discard: float = 0.2
@@ -44,13 +47,17 @@ class TwoPairSetup:
         lv = self.levels
         bad = [i for i in range(1, len(lv)) if lv[i] <= lv[i - 1]]
         if bad:
-            raise ValueError(f"two_pair.levels[{bad[0]}]: {lv[bad[0]]} is not greater than {lv[bad[0] - 1]} "
-                             "(MPa, strictly increasing)")
+            raise ValueError(
+                f"two_pair.levels[{bad[0]}]: {lv[bad[0]]} is not greater than {lv[bad[0] - 1]} "
+                "(MPa, strictly increasing)"
+            )
         if not 0 <= self.discard < self.hold:
             raise ValueError(f"two_pair.discard: {self.discard} s is not in [0, two_pair.hold = {self.hold} s)")
         if not whole_steps(self.hold, self.record_every * self.dt):
-            raise ValueError(f"two_pair.hold: {self.hold} s is not a whole number of recording intervals "
-                             f"(two_pair.record_every x sim.dt = {self.record_every * self.dt:g} s)")
+            raise ValueError(
+                f"two_pair.hold: {self.hold} s is not a whole number of recording intervals "
+                f"(two_pair.record_every x sim.dt = {self.record_every * self.dt:g} s)"
+            )
 
 
 def combo_index(a: int, b: int) -> int:
@@ -106,6 +113,7 @@ def sweep(params: Params, face: int, combos: ArrayLike, setup: TwoPairSetup) -> 
     no such map needs), and margin (n, P, P) m."""
     from ..physics import dynamics as d  # the simulator (numba) only here: mapping, fitting
     from .sweep import setup as mode_setup  # and drawing the two-pair workspace do not load it
+
     combos, levels = np.asarray(combos, int).reshape(-1, 2), np.asarray(setup.levels, float)
     hold, discard, dt, record_every = setup.hold, setup.discard, setup.dt, setup.record_every
     P, n = levels.size, len(combos)
@@ -115,8 +123,11 @@ def sweep(params: Params, face: int, combos: ArrayLike, setup: TwoPairSetup) -> 
     seg = np.searchsorted(np.cumsum(sched.durations), tr.t - 0.5 * dt * record_every)
     nodes = tr.nodes(prm.strut_length)
     tri = nodes[..., topo.FACES[face - 1], :]
-    out = {"cog": np.full((n, 3, P, P, 3), np.nan), "cog_std": np.full((n, 3, P, P, 3), np.nan),
-           "support": np.full((n, 3, P, P, 3, 3), np.nan)}
+    out = {
+        "cog": np.full((n, 3, P, P, 3), np.nan),
+        "cog_std": np.full((n, 3, P, P, 3), np.nan),
+        "support": np.full((n, 3, P, P, 3, 3), np.nan),
+    }
     i, j = grid_order(P).T
     ref_node = topo.FACES[face - 1, topo.FACE_REFERENCE[face - 1]]
     centre = nodes.mean(axis=-2)
@@ -138,8 +149,9 @@ def combos_of(pairs: Sequence[int]) -> np.ndarray:
     return COMBOS[np.isin(COMBOS, np.asarray(pairs, int)).all(axis=1)]
 
 
-def contact_workspace(face: int, reps: ArrayLike, res: Mapping[str, np.ndarray],
-                      levels: ArrayLike) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]:
+def contact_workspace(
+    face: int, reps: ArrayLike, res: Mapping[str, np.ndarray], levels: ArrayLike
+) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]:
     """The two-pair workspace of every combination on the canonical `face` from the sweep `res`
     (`sweep`) of the representatives `reps` (R, 2) at `levels` (P,) MPa: the arrays of
     `map_face` (cog, support, staircase) with the margin, the tipping pressure, its edge and the
@@ -155,17 +167,19 @@ def contact_workspace(face: int, reps: ArrayLike, res: Mapping[str, np.ndarray],
     return ws, swept, std
 
 
-def map_face(src: int, dst: int, reps: ArrayLike, cog: np.ndarray, support: np.ndarray,
-             paths: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def map_face(
+    src: int, dst: int, reps: ArrayLike, cog: np.ndarray, support: np.ndarray, paths: ArrayLike | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Every combination on face `dst` from combinations `reps` (R, 2) on face `src` of the
     same kind: cog (R, 3, P, P, 3) and support (R, 3, P, P, 3, 3) m in src's frames toward each
     corner (`sweep`; NaN: not computed) -> cog (66, P, P, 3), support (66, P, P, 3, 3) m in
     dst's support frame (NaN where nothing maps there) and the staircase order (66, 2) of each:
     the images of `paths` (R, 2) (default reps), the pairs in the order of the grid axes of
     the run the numbers come from (0: none). The nominal of an undamped robot depends a little
-    on the path to a grid point, so a direct sweep reproduces a mapped one in that order. A map s carries the frame of src toward corner k = s^-1(dst's
-    reference corner) onto dst's support frame, flipped in x if s is improper (docs/design.md
-    §1): exact, as the data were averaged in that frame."""
+    on the path to a grid point, so a direct sweep reproduces a mapped one in that order. A map
+    s carries the frame of src toward corner k = s^-1(dst's reference corner) onto dst's support
+    frame, flipped in x if s is improper (docs/design.md §1): exact, as the data were averaged in
+    that frame."""
     index = {tuple(c): k for k, c in enumerate(np.asarray(reps, int).tolist())}
     P = cog.shape[2]
     out_c, out_s = np.full((len(COMBOS), P, P, 3), np.nan), np.full((len(COMBOS), P, P, 3, 3), np.nan)
@@ -201,8 +215,9 @@ def in_corner_frames(face: int, cog: np.ndarray, support: np.ndarray) -> tuple[n
     return c, s
 
 
-def tipping(levels: ArrayLike, cog: np.ndarray, support: np.ndarray, margin: np.ndarray,
-            face: int) -> dict[str, np.ndarray]:
+def tipping(
+    levels: ArrayLike, cog: np.ndarray, support: np.ndarray, margin: np.ndarray, face: int
+) -> dict[str, np.ndarray]:
     """Tipping of n combinations on `face` from their grids cog (n, P, P, 3), support
     (n, P, P, 3, 3) and margin (n, P, P) m at levels (P,) MPa: tip_pressure (n,) MPa, the least
     equal pressure of both pairs at which the CoG projection leaves the triangle, and tip_edge
@@ -211,11 +226,13 @@ def tipping(levels: ArrayLike, cog: np.ndarray, support: np.ndarray, margin: np.
     pressure of the second at which it leaves. NaN where it never leaves or a grid has a NaN."""
     levels = np.asarray(levels, float)
     n, diag = len(margin), np.arange(levels.size)
-    out = {"tip_pressure": np.full(n, np.nan), "tip_edge": np.zeros((n, 2), np.int64),
-           "tip_boundary": np.full((n, levels.size), np.nan)}
+    out = {
+        "tip_pressure": np.full(n, np.nan),
+        "tip_edge": np.zeros((n, 2), np.int64),
+        "tip_boundary": np.full((n, levels.size), np.nan),
+    }
     for c in np.flatnonzero(np.isfinite(margin).reshape(n, -1).all(axis=1)):
-        p, _, edge = frames.crossing(levels, margin[c, diag, diag], cog[c, diag, diag],
-                                     support[c, diag, diag], face)
+        p, _, edge = frames.crossing(levels, margin[c, diag, diag], cog[c, diag, diag], support[c, diag, diag], face)
         out["tip_pressure"][c], out["tip_edge"][c] = p, edge or (0, 0)
         out["tip_boundary"][c] = [frames.first_crossing(levels, m)[0] for m in margin[c]]
     return out
@@ -237,23 +254,27 @@ def map_workspace(levels: ArrayLike, canonical: Mapping[str, tuple]) -> dict[str
     tip_pressure (20, 66) MPa, tip_edge (20, 66, 2) and tip_boundary (20, 66, P) MPa (`tipping`)."""
     levels = np.asarray(levels, float)
     P, F, C = levels.size, topo.N_FACES, len(COMBOS)
-    out = {"cog": np.full((F, C, P, P, 3), np.nan), "support": np.full((F, C, P, P, 3, 3), np.nan),
-           "staircase": np.zeros((F, C, 2), int)}
+    out = {
+        "cog": np.full((F, C, P, P, 3), np.nan),
+        "support": np.full((F, C, P, P, 3, 3), np.nan),
+        "staircase": np.zeros((F, C, 2), int),
+    }
     for f in range(1, F + 1):
         kind = str(topo.FACE_TYPES[f - 1])
         if kind in canonical:
             src = CANONICAL[kind]
             combos, cog, support, paths = canonical[kind]
             out["cog"][f - 1], out["support"][f - 1], out["staircase"][f - 1] = map_face(
-                src, f, combos, *in_corner_frames(src, cog, support), paths)
+                src, f, combos, *in_corner_frames(src, cog, support), paths
+            )
     out["margin"] = margins(out["cog"], out["support"])
-    t = [tipping(levels, out["cog"][f], out["support"][f], out["margin"][f], f + 1)
-         for f in range(F)]
+    t = [tipping(levels, out["cog"][f], out["support"][f], out["margin"][f], f + 1) for f in range(F)]
     out |= {k: np.stack([x[k] for x in t]) for k in t[0]}
     return out
 
 
 # ------------------------------------------------------------------ fitted surfaces
+
 
 def powers(degree: int) -> np.ndarray:
     """Exponents (n, 2) of the monomials p_a^i p_b^j with i + j <= degree, by total degree."""
@@ -283,5 +304,11 @@ def fit_surface(pa: ArrayLike, pb: ArrayLike, values: ArrayLike, max_degree: int
     pw = powers(deg)
     coef = np.linalg.lstsq(design(pa, pb, pw), v, rcond=None)[0]
     lo, hi = float(min(pa.min(), pb.min())), float(max(pa.max(), pb.max()))
-    return {"powers": pw.tolist(), "coefs": coef.tolist(), "degree": deg,
-            "cv_rmse": None if np.isnan(rmse) else rmse, "pmin": lo, "pmax": hi}
+    return {
+        "powers": pw.tolist(),
+        "coefs": coef.tolist(),
+        "degree": deg,
+        "cv_rmse": None if np.isnan(rmse) else rmse,
+        "pmin": lo,
+        "pmax": hi,
+    }

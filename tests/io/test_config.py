@@ -1,8 +1,9 @@
 """tensegrity.io.config: defaults, validation messages, overrides, Params and JSON provenance."""
+
 import json
-from pathlib import Path
 import math
 from dataclasses import fields
+from pathlib import Path
 
 import jsonschema
 import pytest
@@ -115,8 +116,9 @@ def test_bad_config_names_the_key(override, message):
 
 
 def test_zero_allowed_where_documented():
-    zeros = {k: 0.0 for k in ("cable_damping", "gravity", "ground_damping", "friction",
-                               "friction_damping", "strut_damping")}
+    zeros = {
+        k: 0.0 for k in ("cable_damping", "gravity", "ground_damping", "friction", "friction_damping", "strut_damping")
+    }
     cfg = config.load(overrides={"params": zeros, "sweep": {"settle": 0}, "nominal": {"discard": 0}})
     assert cfg["params"]["gravity"] == 0.0
 
@@ -155,8 +157,10 @@ def test_check_files_names_every_file_with_a_duplicate_key(tmp_path):
     config.check_files([good, config.DEFAULT_PATH])
     with pytest.raises(ConfigError) as exc:
         config.check_files([good, bad, worse])
-    assert exc.value.errors == [f"config file {bad} line 3: duplicate key 'cable_stiffness'",
-                                f"config file {worse} line 3: duplicate key 'sim'"]
+    assert exc.value.errors == [
+        f"config file {bad} line 3: duplicate key 'cable_stiffness'",
+        f"config file {worse} line 3: duplicate key 'sim'",
+    ]
     assert config.read_yaml(good) == {"sweep": {"hold": 1.0}}
 
 
@@ -165,18 +169,31 @@ def test_the_snakefile_rereads_every_config_file_strictly():
     assert text.index("check_config_files(workflow.configfiles)") < text.index("validate_config(config)")
 
 
-@pytest.mark.parametrize("dt, interval, ok", [(1e-4, 0.02, True), (5e-5, 0.02, True), (3e-5, 0.02, False),
-                                              (1e-4, 0.00015, False), (1e-4, 0.0001, True), (2e-4, 0.0001, False)])
+@pytest.mark.parametrize(
+    "dt, interval, ok",
+    [
+        (1e-4, 0.02, True),
+        (5e-5, 0.02, True),
+        (3e-5, 0.02, False),
+        (1e-4, 0.00015, False),
+        (1e-4, 0.0001, True),
+        (2e-4, 0.0001, False),
+    ],
+)
 def test_locomotion_interval_must_be_whole_time_steps(dt, interval, ok):
     """Caught before any job runs, as locomotion.settings.RollSettings would in the job."""
     from tensegrity.io.settings import build
     from tensegrity.locomotion.settings import RollSettings
+
     over = {"sim": {"dt": dt}, "locomotion": {"interval": interval}}
     if ok:
         build(RollSettings, config.validate(over))
         return
-    with pytest.raises(ConfigError, match=r"^config key locomotion\.interval: .* is not a whole number of time "
-                                          r"steps sim\.dt"):
+    with pytest.raises(
+        ConfigError,
+        match=r"^config key locomotion\.interval: .* is not a whole number of time "
+        r"steps sim\.dt",
+    ):
         config.validate(over)
     with pytest.raises(ValueError):
         RollSettings(interval=interval, dt=dt)
@@ -188,7 +205,7 @@ def test_runs_need_both_contact_cases():
     for contacts, missing in ((["equilateral"], "isosceles"), (["isosceles"], "equilateral")):
         with pytest.raises(ConfigError) as exc:
             config.validate({"sweep": {"contacts": contacts}})
-        msg, = exc.value.errors
+        (msg,) = exc.value.errors
         assert msg.startswith("config key locomotion.runs:") and f"sweep.contacts = [{contacts[0]}]" in msg
         assert f"leaves out {missing}" in msg and "locomotion='{runs: []}'" in msg
         config.validate({"sweep": {"contacts": contacts}, "locomotion": {"runs": []}})
@@ -197,9 +214,14 @@ def test_runs_need_both_contact_cases():
 
 def test_messages_hold_no_numpy_reprs():
     import numpy as np
-    for bad in ({"sweep": {"pairs": np.array([10, 13])}}, {"sweep": {"hold": np.float64(-1.0)}},
-                {"sweep": {"pairs": [np.int64(13)]}}, {"sweep": {"levels": [np.float64(1.0), np.float64(0.5)]}},
-                {"sim": {"dt": np.float64(1e-4)}, "locomotion": {"interval": np.float64(1.5e-4)}}):
+
+    for bad in (
+        {"sweep": {"pairs": np.array([10, 13])}},
+        {"sweep": {"hold": np.float64(-1.0)}},
+        {"sweep": {"pairs": [np.int64(13)]}},
+        {"sweep": {"levels": [np.float64(1.0), np.float64(0.5)]}},
+        {"sim": {"dt": np.float64(1e-4)}, "locomotion": {"interval": np.float64(1.5e-4)}},
+    ):
         with pytest.raises(ConfigError) as exc:
             config.validate(bad)
         assert "np." not in str(exc.value) and "array(" not in str(exc.value), str(exc.value)
@@ -208,8 +230,13 @@ def test_messages_hold_no_numpy_reprs():
 
 def test_numbers_as_strings_are_converted():
     """Snakemake's nested --config values and PyYAML's `1e-4` arrive as strings."""
-    cfg = config.validate({"sweep": {"levels": ["0.5", "1.0"], "pairs": ["10", "11"], "hold": "2"},
-                           "sim": {"dt": "1e-4", "record_every": "5"}, "fit": {"max_degree": 2.0}})
+    cfg = config.validate(
+        {
+            "sweep": {"levels": ["0.5", "1.0"], "pairs": ["10", "11"], "hold": "2"},
+            "sim": {"dt": "1e-4", "record_every": "5"},
+            "fit": {"max_degree": 2.0},
+        }
+    )
     assert cfg["sweep"]["levels"] == [0.5, 1.0]
     assert cfg["sweep"]["pairs"] == [10, 11] and all(type(p) is int for p in cfg["sweep"]["pairs"])
     assert cfg["sweep"]["hold"] == 2.0 and type(cfg["sweep"]["hold"]) is float
@@ -233,9 +260,11 @@ def test_null_as_a_string_is_none_where_the_schema_allows_it():
 def test_snakemake_command_line_overrides():
     snakemake_cli = pytest.importorskip("snakemake.cli")
     from snakemake.utils import update_config
+
     cfg = file_config()
-    update_config(cfg, snakemake_cli.parse_config(
-        ["sweep={levels: [0.5, 1.0], pairs: [10], mode: grounded}", "sim={dt: 5e-5}"]))
+    update_config(
+        cfg, snakemake_cli.parse_config(["sweep={levels: [0.5, 1.0], pairs: [10], mode: grounded}", "sim={dt: 5e-5}"])
+    )
     out = config.validate(cfg)
     assert out["sweep"]["levels"] == [0.5, 1.0]
     assert out["sweep"]["pairs"] == [10]
@@ -246,6 +275,7 @@ def test_snakemake_command_line_overrides():
 
 def test_snakemake_validate_accepts_the_schema():
     from snakemake.utils import validate
+
     cfg = file_config()
     validate(cfg, str(config.SCHEMA_PATH))
     assert cfg["locomotion"]["max_rolls"] == 80

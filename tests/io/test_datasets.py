@@ -1,4 +1,5 @@
 """tensegrity.io.datasets: contract checks, attributes, atomic and reproducible writes."""
+
 import re
 import time
 
@@ -7,8 +8,7 @@ import pytest
 import xarray as xr
 
 import tensegrity
-from tensegrity.io import config
-from tensegrity.io import datasets
+from tensegrity.io import config, datasets
 
 
 @pytest.fixture(scope="module")
@@ -20,13 +20,18 @@ def sample() -> xr.Dataset:
     rng = np.random.default_rng(0)
     t = np.arange(20) * 1e-3
     return xr.Dataset(
-        {"cog": (("time", "axis"), rng.normal(size=(20, 3)),
-                 {"units": "m", "long_name": "centre of gravity in the support frame"}),
-         "pressure_cmd": (("time",), np.full(20, 0.4), {"units": "MPa", "long_name": "commanded pressure"}),
-         "face": ((), np.int64(3), {"units": "1", "long_name": "contact face number"})},
-        coords={"time": ("time", t, {"units": "s", "long_name": "time"}),
-                "axis": ("axis", ["x", "y", "z"])},
-        attrs={"comment": "kept"})
+        {
+            "cog": (
+                ("time", "axis"),
+                rng.normal(size=(20, 3)),
+                {"units": "m", "long_name": "centre of gravity in the support frame"},
+            ),
+            "pressure_cmd": (("time",), np.full(20, 0.4), {"units": "MPa", "long_name": "commanded pressure"}),
+            "face": ((), np.int64(3), {"units": "1", "long_name": "contact face number"}),
+        },
+        coords={"time": ("time", t, {"units": "s", "long_name": "time"}), "axis": ("axis", ["x", "y", "z"])},
+        attrs={"comment": "kept"},
+    )
 
 
 def test_write_read_round_trip_and_attributes(tmp_path, cfg):
@@ -52,7 +57,9 @@ def test_history_is_appended(tmp_path, cfg):
     ds = sample().assign_attrs(history="created by tensegrity 0.1.0 sweep")
     back = datasets.read(datasets.write(ds, tmp_path / "n.nc", cfg, "t", stage="nominal"))
     assert back.attrs["history"].splitlines() == [
-        "created by tensegrity 0.1.0 sweep", f"created by tensegrity {tensegrity.__version__} nominal"]
+        "created by tensegrity 0.1.0 sweep",
+        f"created by tensegrity {tensegrity.__version__} nominal",
+    ]
 
 
 def test_rewrite_is_byte_identical(tmp_path, cfg):
@@ -64,8 +71,9 @@ def test_rewrite_is_byte_identical(tmp_path, cfg):
     assert a == b == (tmp_path / "a.nc").read_bytes()
 
 
-@pytest.mark.parametrize("var, attr", [("cog", "units"), ("pressure_cmd", "long_name"),
-                                       ("time", "units"), ("face", "long_name")])
+@pytest.mark.parametrize(
+    "var, attr", [("cog", "units"), ("pressure_cmd", "long_name"), ("time", "units"), ("face", "long_name")]
+)
 def test_missing_units_or_long_name(tmp_path, cfg, var, attr):
     ds = sample()
     del ds[var].attrs[attr]

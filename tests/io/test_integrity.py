@@ -1,5 +1,6 @@
 """Corrupted files fail loudly: Fletcher-32 checksums in every dataset, load-time checks of what
 the planner and `tensegrity query` read, and no temporaries left behind by killed writers."""
+
 import json
 import os
 import subprocess
@@ -11,8 +12,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from tensegrity import cli
-from tensegrity import atomic
+from tensegrity import atomic, cli
 from tensegrity.io import config, datasets, formats
 from tensegrity.physics import topology as topo
 from tensegrity.workspace import query
@@ -28,11 +28,16 @@ def cfg():
 
 def sample() -> xr.Dataset:
     return xr.Dataset(
-        {"big": (("i",), PATTERN, {"units": "m", "long_name": "a pattern of 4096 floats"}),
-         "face": ((), np.int64(3), {"units": "1", "long_name": "contact face number"}),
-         "kind": (("axis",), np.array(["a", "b", "c"]), {"long_name": "labels"})},
-        coords={"i": ("i", np.arange(PATTERN.size), {"units": "1", "long_name": "index"}),
-                "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "support-frame axis"})})
+        {
+            "big": (("i",), PATTERN, {"units": "m", "long_name": "a pattern of 4096 floats"}),
+            "face": ((), np.int64(3), {"units": "1", "long_name": "contact face number"}),
+            "kind": (("axis",), np.array(["a", "b", "c"]), {"long_name": "labels"}),
+        },
+        coords={
+            "i": ("i", np.arange(PATTERN.size), {"units": "1", "long_name": "index"}),
+            "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "support-frame axis"}),
+        },
+    )
 
 
 def flip_data(path, nbytes=4096):
@@ -51,8 +56,8 @@ def test_numeric_arrays_have_checksums_coordinates_no_fill(tmp_path, cfg):
     with netCDF4.Dataset(path) as f:
         for name in ("big", "i"):
             assert f[name].filters()["fletcher32"], name
-        assert "_FillValue" not in f["i"].ncattrs()      # CF 2.5.1: coordinates have none
-        assert "_FillValue" in f["big"].ncattrs()        # data variables keep NaN as fill
+        assert "_FillValue" not in f["i"].ncattrs()  # CF 2.5.1: coordinates have none
+        assert "_FillValue" in f["big"].ncattrs()  # data variables keep NaN as fill
     xr.testing.assert_identical(datasets.read(path).drop_attrs(deep=False), sample())
 
 
@@ -80,20 +85,33 @@ def small_workspace(tmp_path, cfg, levels=(1.2, 2.4)):
     cog[:, 9] = rng.normal(scale=0.01, size=(topo.N_FACES, P, 3)) + [0, 0, 0.19]
     sup[:, 9] = tri + rng.normal(scale=1e-3, size=(topo.N_FACES, P, 3, 3))
     margin[:, 9] = 0.05
-    ws = {"cog": cog, "support": sup, "margin": margin,
-          "tip_pressure": np.full((topo.N_FACES, topo.N_PAIRS), np.nan)}
+    ws = {"cog": cog, "support": sup, "margin": margin, "tip_pressure": np.full((topo.N_FACES, topo.N_PAIRS), np.nan)}
     ds = formats.workspace_dataset(np.asarray(levels), ws, 0.5)
-    return datasets.write(ds, tmp_path / "workspace.nc", cfg, "Workspace", stage="map",
-                          allow_nan=formats.WORKSPACE_ALLOW_NAN)
+    return datasets.write(
+        ds, tmp_path / "workspace.nc", cfg, "Workspace", stage="map", allow_nan=formats.WORKSPACE_ALLOW_NAN
+    )
 
 
 def curves_json(tmp_path, levels=(1.2, 2.4)):
     lo, hi = levels[0], levels[-1]
-    axis = lambda v: {"kind": "polynomial", "model": "poly1", "breaks": [lo, hi], "coefs": [[0.0, v]],
-                      "pmin": lo, "pmax": hi, "cv_rmse": None}
-    doc = {"units": {"pressure": "MPa", "cog": "m"},
-           "contacts": {"equilateral": {"face_nodes": [9, 12, 10],
-                                        "pairs": {"10": {"x": axis(0.01), "y": axis(-0.02), "z": axis(0.19)}}}}}
+    axis = lambda v: {
+        "kind": "polynomial",
+        "model": "poly1",
+        "breaks": [lo, hi],
+        "coefs": [[0.0, v]],
+        "pmin": lo,
+        "pmax": hi,
+        "cv_rmse": None,
+    }
+    doc = {
+        "units": {"pressure": "MPa", "cog": "m"},
+        "contacts": {
+            "equilateral": {
+                "face_nodes": [9, 12, 10],
+                "pairs": {"10": {"x": axis(0.01), "y": axis(-0.02), "z": axis(0.19)}},
+            }
+        },
+    }
     p = tmp_path / "curves.json"
     p.write_text(json.dumps(doc))
     return p
@@ -109,13 +127,12 @@ def test_workspace_loads_and_query_answers(tmp_path, cfg):
 def test_query_on_corrupted_workspace_exits_3_naming_the_file(tmp_path, cfg, capsys):
     ws = small_workspace(tmp_path, cfg)
     cj = curves_json(tmp_path)
-    argv = ["query", "--face", "8", "--pair", "10", "--pressure", "1.8", "--curves", str(cj),
-            "--workspace", str(ws)]
+    argv = ["query", "--face", "8", "--pair", "10", "--pressure", "1.8", "--curves", str(cj), "--workspace", str(ws)]
     assert cli.main(argv) == 0
     capsys.readouterr()
     raw = bytearray(ws.read_bytes())
     mid = len(raw) // 2
-    raw[mid:mid + 4096] = bytes(b ^ 0xFF for b in raw[mid:mid + 4096])
+    raw[mid : mid + 4096] = bytes(b ^ 0xFF for b in raw[mid : mid + 4096])
     ws.write_bytes(bytes(raw))
     assert cli.main(argv) == 3
     err = capsys.readouterr().err
@@ -126,23 +143,27 @@ def test_query_on_corrupted_workspace_exits_3_naming_the_file(tmp_path, cfg, cap
 
 
 def _rewrite(ds, path, cfg):
-    return datasets.write(ds, path, cfg, "Workspace",
-                          allow_nan=[v for v in formats.WORKSPACE_ALLOW_NAN if v in ds.variables])
+    return datasets.write(
+        ds, path, cfg, "Workspace", allow_nan=[v for v in formats.WORKSPACE_ALLOW_NAN if v in ds.variables]
+    )
 
 
-@pytest.mark.parametrize("damage, message", [
-    (lambda ds: ds.assign_coords(pressure=("pressure", [2.4, 1.2], ds.pressure.attrs)), "strictly increasing"),
-    (lambda ds: ds.assign_coords(pressure=("pressure", [-1.2, 2.4], ds.pressure.attrs)), "positive"),
-    (lambda ds: ds.assign(cog=ds.cog.where(ds.pair != 10, 1e20)), "'cog' reaches 1e\\+20 m"),
-    (lambda ds: ds.assign(support=ds.support.where(ds.pair != 10, -7.0)), "'support' reaches 7 m"),
-    (lambda ds: ds.assign(cog=ds.cog.where((ds.pair != 10) | (ds.face != 3), np.inf)), "infinite"),
-    (lambda ds: ds.assign(cog=ds.cog.where((ds.pair != 10) | (ds.face != 3))), "NaN at the same"),
-    (lambda ds: ds.isel(face=slice(0, 19)), "coordinate 'face'"),
-    (lambda ds: ds.drop_vars("support"), "no variable 'support'"),
-    (lambda ds: ds.assign(cog=ds.cog.rename(axis="corner").drop_vars("corner")), "'cog' has dimensions"),
-    (lambda ds: ds.assign(margin=ds.margin * 0 + 3.0), "'margin'"),
-    (lambda ds: ds.assign(tip_pressure=xr.full_like(ds.tip_pressure, 9.9)), "'tip_pressure'"),
-])
+@pytest.mark.parametrize(
+    "damage, message",
+    [
+        (lambda ds: ds.assign_coords(pressure=("pressure", [2.4, 1.2], ds.pressure.attrs)), "strictly increasing"),
+        (lambda ds: ds.assign_coords(pressure=("pressure", [-1.2, 2.4], ds.pressure.attrs)), "positive"),
+        (lambda ds: ds.assign(cog=ds.cog.where(ds.pair != 10, 1e20)), "'cog' reaches 1e\\+20 m"),
+        (lambda ds: ds.assign(support=ds.support.where(ds.pair != 10, -7.0)), "'support' reaches 7 m"),
+        (lambda ds: ds.assign(cog=ds.cog.where((ds.pair != 10) | (ds.face != 3), np.inf)), "infinite"),
+        (lambda ds: ds.assign(cog=ds.cog.where((ds.pair != 10) | (ds.face != 3))), "NaN at the same"),
+        (lambda ds: ds.isel(face=slice(0, 19)), "coordinate 'face'"),
+        (lambda ds: ds.drop_vars("support"), "no variable 'support'"),
+        (lambda ds: ds.assign(cog=ds.cog.rename(axis="corner").drop_vars("corner")), "'cog' has dimensions"),
+        (lambda ds: ds.assign(margin=ds.margin * 0 + 3.0), "'margin'"),
+        (lambda ds: ds.assign(tip_pressure=xr.full_like(ds.tip_pressure, 9.9)), "'tip_pressure'"),
+    ],
+)
 def test_workspace_contract_checked_on_load(tmp_path, cfg, damage, message):
     good = datasets.read(small_workspace(tmp_path, cfg))
     bad = _rewrite(damage(good), tmp_path / "bad.nc", cfg)
@@ -151,13 +172,16 @@ def test_workspace_contract_checked_on_load(tmp_path, cfg, damage, message):
     assert "bad.nc" in str(e.value)
 
 
-@pytest.mark.parametrize("damage, message", [
-    (lambda c: c.update(breaks=[2.4, 1.2]), "strictly increasing"),
-    (lambda c: c.update(coefs=[[0.0, float("nan")]]), "finite"),
-    (lambda c: c.update(coefs=[[0.0, 0.1], [0.0, 0.1]]), "1 rows"),
-    (lambda c: c.update(pmax=7.0), "pmin"),
-    (lambda c: c.pop("breaks"), "malformed"),
-])
+@pytest.mark.parametrize(
+    "damage, message",
+    [
+        (lambda c: c.update(breaks=[2.4, 1.2]), "strictly increasing"),
+        (lambda c: c.update(coefs=[[0.0, float("nan")]]), "finite"),
+        (lambda c: c.update(coefs=[[0.0, 0.1], [0.0, 0.1]]), "1 rows"),
+        (lambda c: c.update(pmax=7.0), "pmin"),
+        (lambda c: c.pop("breaks"), "malformed"),
+    ],
+)
 def test_curves_contract_checked_on_load(tmp_path, damage, message):
     p = curves_json(tmp_path)
     doc = json.loads(p.read_text())
@@ -166,7 +190,7 @@ def test_curves_contract_checked_on_load(tmp_path, damage, message):
     with pytest.raises(ValueError, match=message) as e:
         formats.read_curves(p)
     assert "curves.json" in str(e.value)
-    p.write_bytes(b"{\"contacts\": {\x00\xff")
+    p.write_bytes(b'{"contacts": {\x00\xff')
     with pytest.raises(ValueError, match="curves.json.*not valid JSON"):
         formats.read_curves(p)
 
@@ -182,15 +206,17 @@ def test_query_outside_the_workspace_pairs_is_refused(tmp_path, cfg):
 
 # ------------------------------------------------------------- temporaries of killed writers
 
+
 def test_stale_temporaries_are_removed_before_writing(tmp_path, cfg):
     target = tmp_path / "pair10.nc"
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
-                          capture_output=True, text=True).stdout.strip()   # a PID that has exited
-    killed = tmp_path / f".pair10.{dead}.0123abcd.tmp.nc"          # a writer that was killed
-    old = tmp_path / f".pair10.{os.getppid()}.89abcdef.tmp.nc"     # a live PID, but long untouched
-    young = tmp_path / f".pair10.{os.getppid()}.deadbeef.tmp.nc"   # a live writer still at work
-    other = tmp_path / f".pair11.{dead}.0123abcd.tmp.nc"           # another target's
-    unrelated = tmp_path / ".pair10.notes.tmp.nc"                  # not our naming scheme
+    dead = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True
+    ).stdout.strip()  # a PID that has exited
+    killed = tmp_path / f".pair10.{dead}.0123abcd.tmp.nc"  # a writer that was killed
+    old = tmp_path / f".pair10.{os.getppid()}.89abcdef.tmp.nc"  # a live PID, but long untouched
+    young = tmp_path / f".pair10.{os.getppid()}.deadbeef.tmp.nc"  # a live writer still at work
+    other = tmp_path / f".pair11.{dead}.0123abcd.tmp.nc"  # another target's
+    unrelated = tmp_path / ".pair10.notes.tmp.nc"  # not our naming scheme
     for p in (killed, old, young, other, unrelated):
         p.write_bytes(b"\x89HDF partial")
     past = time.time() - 3600

@@ -1,5 +1,6 @@
 """Typed settings from the configuration (`io.settings`): every settings class's defaults are the
 schema's (no drift), every field has a key, and a missing key is an error, never a default."""
+
 from dataclasses import MISSING, fields
 
 import pytest
@@ -59,6 +60,8 @@ def test_the_drift_check_can_fail(monkeypatch):
 def test_keyword_defaults_of_the_public_api_are_the_settings():
     """`plan_roll`'s combine and min_alignment are RollSettings' (so the schema's)."""
     import inspect
+
     from tensegrity.locomotion.plan import plan
+
     sig, s = inspect.signature(plan).parameters, RollSettings()
     assert (sig["combine"].default, sig["min_alignment"].default) == (s.combine, s.min_alignment)

@@ -1,11 +1,13 @@
 """Shared fixtures of the locomotion tests: the workspace computed once per session by the
 independent static solver (tensegrity.physics.statics) at 0.8..4.8 MPa; it agrees with the dynamic
 free-mode workspace of the pipeline to 0.03 mm."""
+
 import numpy as np
 import pytest
 
 from tensegrity import locomotion as lo
-from tensegrity.physics import statics, topology as topo
+from tensegrity.physics import statics
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.workspace import mapping
 

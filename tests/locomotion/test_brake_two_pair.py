@@ -1,8 +1,10 @@
 """Issue 10 item 3: measured two-pair curves in the lookup, braking on slopes, escaping a stuck
 face. The single-pair workspace `ws` (conftest) comes from the independent static solver; the
 two-pair data here too (`statics.equilibrium` with two pairs set), on (9,10,12) only."""
+
 import numpy as np
 import pytest
+from conftest import LEVELS
 
 from tensegrity import locomotion as lo
 from tensegrity.locomotion.brake import Brake, escape, hold
@@ -10,11 +12,10 @@ from tensegrity.locomotion.control import settle_controller
 from tensegrity.locomotion.lockstep import lockstep
 from tensegrity.physics import contact as ct
 from tensegrity.physics import dynamics as d
-from tensegrity.physics import frames, statics, topology as topo
+from tensegrity.physics import frames, statics
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
-
-from conftest import LEVELS
 
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
 ISO = topo.face_number(topo.CONTACT_FACES["isosceles"])  # (10,11,12)
@@ -77,14 +78,19 @@ def test_two_pair_fallback_and_interpolation(ws, measured):
     short = ws.with_two_pair(measured[0], measured[1][:4], measured[2][:, :, :4, :4], measured[3][:, :, :4, :4])
     assert short.measured(EQUI, (6, 10)) is None  # no data above 3.2 MPa
     coarse = [0, 2, 4, 5]  # 0.8, 2.4, 4.0, 4.8 MPa
-    sub = ws.with_two_pair(measured[0], measured[1][coarse], measured[2][:, :, coarse][:, :, :, coarse],
-                           measured[3][:, :, coarse][:, :, :, coarse])
+    sub = ws.with_two_pair(
+        measured[0],
+        measured[1][coarse],
+        measured[2][:, :, coarse][:, :, :, coarse],
+        measured[3][:, :, coarse][:, :, :, coarse],
+    )
     mid = sub.curve(EQUI, [(6, 10)])[0][0, 2]  # 1.6 MPa, between 0.8 and 2.4
     lo_, hi = measured[2][EQUI - 1, 0, 0, 0], measured[2][EQUI - 1, 0, 2, 2]
     assert np.allclose(mid, 0.5 * (lo_ + hi), atol=1e-12)
     low = [1, 3, 5]  # 1.6, 3.2, 4.8 MPa: 0.8 MPa lies between the unactuated robot and 1.6
-    sub = ws.with_two_pair(measured[0], measured[1][low], measured[2][:, :, low][:, :, :, low],
-                           measured[3][:, :, low][:, :, :, low])
+    sub = ws.with_two_pair(
+        measured[0], measured[1][low], measured[2][:, :, low][:, :, :, low], measured[3][:, :, low][:, :, :, low]
+    )
     first = sub.curve(EQUI, [(6, 10)])[0][0, 1]
     assert np.allclose(first, 0.5 * (ws.rest_cog[EQUI - 1] + measured[2][EQUI - 1, 0, 1, 1]), atol=1e-12)
     with pytest.raises(ValueError, match="two-pair cog must have shape"):
@@ -92,6 +98,7 @@ def test_two_pair_fallback_and_interpolation(ws, measured):
 
 
 # --------------------------------------------------------------------------------- braking
+
 
 def _settled_face(brake, terrain, face, yaw):
     s = lo.RollSettings(settle_time=3.0, settle_speed=1e-9, brake=brake is not None)  # 3 s
@@ -133,11 +140,13 @@ def test_landing_pose_puts_the_next_face_on_the_ground():
         nxt = topo.FACES[topo.neighbour(EQUI, edge) - 1]
         on = ct.clearance(p, slope, 0.0)[topo.FACES[EQUI - 1]]  # the strut radius
         assert np.allclose(gap[nxt], on, atol=1e-9) and np.all(gap > on[0] - 1e-9)
-        assert np.allclose(np.linalg.norm(q[:, None] - q[None], axis=-1),
-                           np.linalg.norm(p[:, None] - p[None], axis=-1), atol=1e-12)  # rigid
+        assert np.allclose(
+            np.linalg.norm(q[:, None] - q[None], axis=-1), np.linalg.norm(p[:, None] - p[None], axis=-1), atol=1e-12
+        )  # rigid
 
 
 # ---------------------------------------------------------------------------------- escape
+
 
 def test_escape_orders_actions_that_roll_first(ws):
     p = standing(EQUI)
@@ -153,10 +162,12 @@ def test_escape_from_a_stuck_face(ws):
     ("stuck", see test_stuck_when_the_workspace_cannot_roll_the_robot); the escape tries two
     pairs together as well and rolls it off."""
     low = lo.Workspace.from_arrays(LEVELS[:2], ws.cog[:, :, :2], ws.support[:, :, :2])
-    stuck = lo.roll_to(low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(
-        max_attempts=2, combine=False, max_rolls=1, escape_attempts=0))
+    stuck = lo.roll_to(
+        low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(max_attempts=2, combine=False, max_rolls=1, escape_attempts=0)
+    )
     assert stuck.outcome == "stuck" and stuck.rolls == 0
-    run = lo.roll_to(low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(
-        max_attempts=2, combine=False, max_rolls=1, escape_attempts=4))
+    run = lo.roll_to(
+        low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(max_attempts=2, combine=False, max_rolls=1, escape_attempts=4)
+    )
     assert run.outcome == "step_limit" and run.rolls == 1
     assert len(run.steps[0].attempts) > 2 and len(run.steps[0].used.pairs) == 2

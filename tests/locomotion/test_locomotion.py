@@ -5,22 +5,21 @@ The workspace here is computed once per session by the independent static solver
 pipeline to 0.03 mm. Expected pressures come from it: #10 tips the robot off (9,10,12) at
 4.2 MPa, #11 off (10,11,12) at 2.2 MPa (design.md section 4).
 """
+
 import math
 
 import numpy as np
 import pytest
 import xarray as xr
 
-from tensegrity.physics import contact as ct
-from tensegrity.io import datasets
-from tensegrity.physics import dynamics as d
-from tensegrity.physics import frames, topology as topo
 from tensegrity import cli
 from tensegrity import locomotion as lo
-from tensegrity.io import formats
+from tensegrity.io import datasets, formats
 from tensegrity.io.formats import run as run_formats
-from tensegrity.workspace import mapping
-from tensegrity.physics import statics
+from tensegrity.physics import contact as ct
+from tensegrity.physics import dynamics as d
+from tensegrity.physics import frames
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 
@@ -34,19 +33,25 @@ DAMPED = Params(strut_damping=1.0)  # the rolling runs' default (config locomoti
 
 def as_dataset(ws):
     """The workspace with the contract of results/workspace.nc (design.md section 5)."""
+
     def var(dims, data, units):
         return (dims, data, {"units": units, "long_name": "x"})
+
     return xr.Dataset(
-        {"cog": var(("face", "pair", "pressure", "axis"), ws.cog, "m"),
-         "support": var(("face", "pair", "pressure", "corner", "axis"), ws.support, "m"),
-         "margin": var(("face", "pair", "pressure"),
-                       frames.margin_2d(ws.cog[..., :2], ws.support[..., :2]), "m"),
-         "face_nodes": var(("face", "corner"), topo.FACES + 1, "1")},
-        coords={"face": ("face", np.arange(1, 21), {"units": "1", "long_name": "face"}),
-                "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "pair"}),
-                "pressure": ("pressure", ws.levels, {"units": "MPa", "long_name": "pressure"}),
-                "corner": ("corner", [1, 2, 3], {"units": "1", "long_name": "corner"}),
-                "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "axis"})})
+        {
+            "cog": var(("face", "pair", "pressure", "axis"), ws.cog, "m"),
+            "support": var(("face", "pair", "pressure", "corner", "axis"), ws.support, "m"),
+            "margin": var(("face", "pair", "pressure"), frames.margin_2d(ws.cog[..., :2], ws.support[..., :2]), "m"),
+            "face_nodes": var(("face", "corner"), topo.FACES + 1, "1"),
+        },
+        coords={
+            "face": ("face", np.arange(1, 21), {"units": "1", "long_name": "face"}),
+            "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "pair"}),
+            "pressure": ("pressure", ws.levels, {"units": "MPa", "long_name": "pressure"}),
+            "corner": ("corner", [1, 2, 3], {"units": "1", "long_name": "corner"}),
+            "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "axis"}),
+        },
+    )
 
 
 @pytest.fixture(scope="module")
@@ -66,6 +71,7 @@ def outward(nodes, face, edge):
 
 
 # ------------------------------------------------------------------------- workspace, plan
+
 
 def test_workspace_file_round_trip(ws, ws_path):
     back = formats.read_workspace(ws_path)
@@ -180,9 +186,10 @@ def test_settings_are_checked():
         lo.RollSettings(interval=0.00015)
     with pytest.raises(ValueError, match="max_rolls"):
         lo.RollSettings(max_rolls=2.5)
+    from tensegrity.io import config
     from tensegrity.io.settings import build
     from tensegrity.stages.config import stage_config
-    from tensegrity.io import config
+
     cfg = stage_config(config.validate({"locomotion": {"max_rolls": 7}, "sim": {"dt": 5e-5}}), "locomotion_runs")
     s = build(lo.RollSettings, cfg)
     assert s.max_rolls == 7 and s.dt == 5e-5
@@ -191,6 +198,7 @@ def test_settings_are_checked():
 
 
 # ------------------------------------------------------------------------- rolling (slower)
+
 
 @pytest.fixture(scope="module")
 def paper(ws):
@@ -213,8 +221,13 @@ def test_paper_experiment(paper):
 
 def test_run_dataset_round_trip(paper, tmp_path):
     terrain = Terrain.flat()
-    path = datasets.write(run_formats.run_dataset(paper, terrain, DAMPED, "paper"), tmp_path / "paper.nc", {},
-                          "paper run", allow_nan=run_formats.RUN_ALLOW_NAN)
+    path = datasets.write(
+        run_formats.run_dataset(paper, terrain, DAMPED, "paper"),
+        tmp_path / "paper.nc",
+        {},
+        "paper run",
+        allow_nan=run_formats.RUN_ALLOW_NAN,
+    )
     ds = datasets.read(path)
     assert list(ds["faces"].values) == [EQUI, ISO, NEXT]
     assert ds["step_pair"].values.tolist() == [[10, 0], [11, 0]]
@@ -226,15 +239,15 @@ def test_run_dataset_round_trip(paper, tmp_path):
     assert datasets.strut_radius(ds) == DAMPED.strut_radius and datasets.strut_length(ds) == DAMPED.strut_length
 
 
-
 def test_locomotion_run_stage_writes_the_paper_run(paper, ws_path, tmp_path, capsys):
     """stages.locomotion.locomotion_runs (the workflow's rule): the workspace file in, the run
     dataset out, with the stage's configuration keys merged over the workspace's provenance."""
     from tensegrity.io import config
     from tensegrity.stages.config import stage_config
     from tensegrity.stages.locomotion import locomotion_runs
+
     cfg = stage_config(config.load(), "locomotion_runs")
-    out, = locomotion_runs(cfg, ["paper"], ws_path, [tmp_path / "paper.nc"])
+    (out,) = locomotion_runs(cfg, ["paper"], ws_path, [tmp_path / "paper.nc"])
     ds = datasets.read(out)
     assert ds.attrs["outcome"] == "arrived" and ds.attrs["run"] == "paper"
     assert list(ds["faces"].values) == [EQUI, ISO, NEXT]
@@ -243,6 +256,7 @@ def test_locomotion_run_stage_writes_the_paper_run(paper, ws_path, tmp_path, cap
     assert "run paper: arrived" in capsys.readouterr().out
     with pytest.raises(ValueError, match="unknown locomotion run"):
         locomotion_runs(cfg, ["moon"], ws_path, [tmp_path / "moon.nc"])
+
 
 @pytest.fixture(scope="module")
 def flat_run(ws):
@@ -262,7 +276,7 @@ def test_roll_to_a_goal_on_flat_ground(flat_run):
 def test_runs_are_deterministic_and_batches_equal_single_runs(ws, flat_run):
     s = lo.RollSettings(max_rolls=2)
     single = lo.roll_to(ws, (1.2, 0.7), DAMPED, settings=s)
-    assert np.array_equal(single.record.nodes, flat_run.record.nodes[:len(single.record.t)])
+    assert np.array_equal(single.record.nodes, flat_run.record.nodes[: len(single.record.t)])
     both = lo.roll_many(ws, [(1.2, 0.7), (-0.4, -1.0)], DAMPED, settings=s)
     assert np.array_equal(both[0].record.nodes, single.record.nodes)
     other = lo.roll_to(ws, (-0.4, -1.0), DAMPED, settings=s)
@@ -282,11 +296,13 @@ def test_a_face_change_with_no_node_lifted_is_no_roll(ws):
     tips over). Before, the flip alone released the roll: on 0.05 m terrain, seed 2, the robot
     rocked 2 mm between (1,9,10) and (9,10,12) at 0.2-0.6 MPa, seven attempts in a row: "stuck"."""
     from dataclasses import replace
+
     from tensegrity.locomotion.control import roll_controller
     from tensegrity.locomotion.lockstep import observe
+
     s = lo.RollSettings()
     state = d.stand_on(DAMPED, EQUI, Terrain.flat())
-    obs, = observe(DAMPED, Terrain.flat(), state, s)
+    (obs,) = observe(DAMPED, Terrain.flat(), state, s)
     gen = roll_controller(DAMPED, s, obs, (10,), ws.max_pressure)
     first = next(gen)
     flip = replace(obs, face=topo.neighbour(EQUI, (10, 12)), t=obs.t + s.interval)
@@ -305,11 +321,13 @@ def test_a_robot_that_stays_tipped_gets_the_whole_escalation(ws):
     step (0.02 MPa per hold_time): on 0.05 m terrain, seed 3, attempts crept from 1.3 to 1.7 MPa
     until the safety net released them, short of the 2.0 MPa planned: "stuck"."""
     from dataclasses import replace
+
     from tensegrity.locomotion.control import roll_controller
     from tensegrity.locomotion.lockstep import observe
+
     s = lo.RollSettings()
     state = d.stand_on(DAMPED, EQUI, Terrain.flat())
-    obs, = observe(DAMPED, Terrain.flat(), state, s)
+    (obs,) = observe(DAMPED, Terrain.flat(), state, s)
     gen = roll_controller(DAMPED, s, obs, (10,), ws.max_pressure)
     pres = next(gen)
     gap = obs.gap.copy()
@@ -327,8 +345,9 @@ def test_stuck_when_the_workspace_cannot_roll_the_robot(ws):
     """A workspace swept only to 1.6 MPa rolls nothing off (9,10,12): the run stops "stuck"
     after trying max_attempts candidates, each escalated to 1.6 MPa, and says so."""
     low = lo.Workspace.from_arrays(LEVELS[:2], ws.cog[:, :, :2], ws.support[:, :, :2])
-    run = lo.roll_to(low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(max_attempts=2, combine=False,
-                                                                      escape_attempts=0))
+    run = lo.roll_to(
+        low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(max_attempts=2, combine=False, escape_attempts=0)
+    )
     assert run.outcome == "stuck"
     assert len(run.steps) == 1 and len(run.steps[0].attempts) == 2
     assert all(a.peak_pressure == pytest.approx(1.6) and not a.rolled for a in run.steps[0].attempts)
@@ -378,8 +397,10 @@ def test_command_line_plan(ws_path, capsys):
 
 # ------------------------------------------------------------------------------- figures
 
+
 def test_state_figures_show_the_projection_inside_and_outside(tmp_path):
     from tensegrity.render import locomotion as rl
+
     p = standing(EQUI)
     out = rl.fig_state(p, Terrain.flat(), EQUI, tmp_path / "fig8.png", "stable")
     assert out["stands"] and out["margin"] == pytest.approx(0.0884, abs=1e-4)
@@ -400,13 +421,22 @@ def test_state_figures_show_the_projection_inside_and_outside(tmp_path):
 
 def test_path_figure_and_animation_of_a_run(paper, tmp_path):
     from tensegrity.render import runs as rr
+
     ds = run_formats.run_dataset(paper, Terrain.flat(), DAMPED, "paper")
     terrain, t = run_formats.terrain_from_dataset(ds), ds["time"].values
     step_end = np.searchsorted(t, ds["t_end"].values)  # each step's last sample
     assert np.array_equal(t[step_end], ds["t_end"].values)
-    out = rr.fig_path(ds["nodes"].values, terrain, tmp_path / "top.png", "paper",
-                      faces=ds["next_face"].values, step_end=step_end, goal=ds["goal"].values)
+    out = rr.fig_path(
+        ds["nodes"].values,
+        terrain,
+        tmp_path / "top.png",
+        "paper",
+        faces=ds["next_face"].values,
+        step_end=step_end,
+        goal=ds["goal"].values,
+    )
     assert out["contacts"] == 2 and {"cog track", "contact 1", "contact 2"} <= set(out["actors"])
-    anim = rr.animate(ds["nodes"].values, t, ds["pressure"].values, terrain, tmp_path / "run.gif",
-                      fps=5, speed=10.0, size=(320, 240))
+    anim = rr.animate(
+        ds["nodes"].values, t, ds["pressure"].values, terrain, tmp_path / "run.gif", fps=5, speed=10.0, size=(320, 240)
+    )
     assert anim["frames"] >= 5 and (tmp_path / "run.gif").stat().st_size > 10_000

@@ -1,6 +1,7 @@
 """Issue 10 item 3: rolls tried in simulation before the robot acts on steep slopes
 (`locomotion.lookahead`). What is simulated must be what the run then does: the same state, the
 same controller and brake, so the executed roll equals its prediction to round-off."""
+
 import numpy as np
 import pytest
 
@@ -8,7 +9,8 @@ from tensegrity import locomotion as lo
 from tensegrity.locomotion import lookahead
 from tensegrity.locomotion.control import RollResult
 from tensegrity.locomotion.lockstep import Obs
-from tensegrity.physics import dynamics as d, topology as topo
+from tensegrity.physics import dynamics as d
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 
@@ -31,15 +33,21 @@ def test_the_roll_made_is_the_roll_foreseen(ws):
     via = lookahead.switchback(slope, done.cog_before, run.goal)  # from the settled robot
     assert via is not None and via[0] > 1.5  # straight uphill (+x) first
     assert f"by a switchback: straight uphill toward ({via[0]:.2f}, {via[1]:.2f}) m" in run.message
-    first = step.simulated[lookahead.rank(step.simulated, via, slope, [],
-                                         lookahead.INCLINE_CLIMB_COST, lookahead.SLIDE)[0]]
+    first = step.simulated[
+        lookahead.rank(step.simulated, via, slope, [], lookahead.INCLINE_CLIMB_COST, lookahead.SLIDE)[0]
+    ]
     assert done.pairs == first.pairs
     assert (done.rolled, done.face_after) == (first.rolled, first.face_after)
     assert np.allclose(done.cog_after, first.cog_after, rtol=0, atol=1e-12)
     assert (done.t_start, done.t_end, done.peak_pressure) == (first.t_start, first.t_end, first.peak_pressure)
     # with lookahead off the same run plans blindly: nothing simulated
-    off = lo.roll_to(ws, (0.0, -2.0), DAMPED, Terrain.slope(20.0),
-                     settings=lo.RollSettings(lookahead=0, max_attempts=1, max_rolls=1, escape_attempts=0))
+    off = lo.roll_to(
+        ws,
+        (0.0, -2.0),
+        DAMPED,
+        Terrain.slope(20.0),
+        settings=lo.RollSettings(lookahead=0, max_attempts=1, max_rolls=1, escape_attempts=0),
+    )
     assert off.steps[0].simulated == ()
 
 
@@ -79,8 +87,9 @@ def test_switchback_climbs_first_then_descends_at_the_descent_cone(azimuth):
 
 
 def _res(pairs, rolled, face_after, cog, before=(0.0, 0.0, 0.0)):
-    return RollResult(pairs, rolled, EQUI, face_after, np.nan, 1.0, 0.0, 1.0, np.asarray(before, float),
-                      np.asarray(cog, float))
+    return RollResult(
+        pairs, rolled, EQUI, face_after, np.nan, 1.0, 0.0, 1.0, np.asarray(before, float), np.asarray(cog, float)
+    )
 
 
 def test_rank_puts_landed_rolls_first_and_tumbles_last():
@@ -89,11 +98,13 @@ def test_rank_puts_landed_rolls_first_and_tumbles_last():
     slope = Terrain.slope(20.0)
     goal = np.array([0.0, -2.0, 0.0])  # across the slope, at the start's height
     t = np.tan(np.radians(20.0))
-    res = [_res((1,), False, None, (0.0, -2.0, 0.0)),        # tumbled, right at the goal
-           _res((2,), False, EQUI, (0.0, 0.0, 0.0)),         # did not roll
-           _res((3,), True, 5, (0.0, -0.2, 0.0)),            # 1.8 m away, level
-           _res((4,), True, 6, (-0.1, -0.3, -0.1 * t)),      # 1.70 m away, 0.036 m lower: 1.88
-           _res((5,), True, 7, (0.0, -0.25, 0.0))]           # 1.75 m away, level
+    res = [
+        _res((1,), False, None, (0.0, -2.0, 0.0)),  # tumbled, right at the goal
+        _res((2,), False, EQUI, (0.0, 0.0, 0.0)),  # did not roll
+        _res((3,), True, 5, (0.0, -0.2, 0.0)),  # 1.8 m away, level
+        _res((4,), True, 6, (-0.1, -0.3, -0.1 * t)),  # 1.70 m away, 0.036 m lower: 1.88
+        _res((5,), True, 7, (0.0, -0.25, 0.0)),
+    ]  # 1.75 m away, level
     assert lookahead.rank(res, goal, slope) == [4, 2, 3, 1, 0]
     assert lookahead.rank(res, goal, slope, climb=0.0) == [3, 4, 2, 1, 0]  # height ignored
     # a landing whose CoG moved further than `slide` (1.0 m from (0, 0.8)) is a tumble
@@ -105,8 +116,16 @@ def test_rank_puts_landed_rolls_first_and_tumbles_last():
     assert lookahead.REVISIT_COST > 0.18
     assert lookahead.rank(res, goal, slope, avoid=[7, 9]) == [2, 3, 4, 1, 0]
     with pytest.raises(ValueError, match="no state"):
-        lookahead.foresee(DAMPED, slope, lo.RollSettings(), Obs(0.0, np.zeros((12, 3)),
-                          np.zeros(12), EQUI, np.nan), [(1,)], 4.8, None, {})
+        lookahead.foresee(
+            DAMPED,
+            slope,
+            lo.RollSettings(),
+            Obs(0.0, np.zeros((12, 3)), np.zeros(12), EQUI, np.nan),
+            [(1,)],
+            4.8,
+            None,
+            {},
+        )
 
 
 def test_choose_foresees_every_action_before_giving_up(ws, monkeypatch):
@@ -125,8 +144,9 @@ def test_choose_foresees_every_action_before_giving_up(ws, monkeypatch):
     st = d.stand_on(DAMPED, EQUI, slope)
     obs = Obs(0.0, d.nodes(st.x, st.q, DAMPED.strut_length)[0], np.zeros(12), EQUI, 0.0)
     pl = lo.plan(ws, EQUI, obs.nodes, goal=np.array([0.0, -2.0, 0.0]))
-    todo, simulated = lookahead.choose(ws, DAMPED, slope, s, obs, EQUI, pl, set(),
-                                       np.array([0.0, -2.0, 0.0]), None, dict(goal=np.array([0.0, -2.0])))
+    todo, simulated = lookahead.choose(
+        ws, DAMPED, slope, s, obs, EQUI, pl, set(), np.array([0.0, -2.0, 0.0]), None, dict(goal=np.array([0.0, -2.0]))
+    )
     first, rest = batches
     assert len(first) == 3 and rest and not set(first) & set(rest)
     every = {(int(q),) for q in ws.pairs(EQUI)}

@@ -1,13 +1,14 @@
 """Issue 10 item 3 on slopes: a brake that hands over to the roll (and comes and goes no faster
 than brake_rate), a braked downhill roll that lands and holds. The workspace `ws` (conftest)
 comes from the independent static solver."""
+
 from dataclasses import replace
 
 import numpy as np
 
 from tensegrity import locomotion as lo
 from tensegrity.locomotion.brake import Brake
-from tensegrity.locomotion.control import roll_controller, settle_controller, settle
+from tensegrity.locomotion.control import roll_controller, settle, settle_controller
 from tensegrity.locomotion.lockstep import lockstep, observe
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import topology as topo
@@ -32,7 +33,8 @@ def _braked_roll(ws, pairs, expect):
         _, obs = yield from settle_controller(settling, obs, brake)
         res, obs = yield from roll_controller(DAMPED, s, obs, pairs, ws.max_pressure, brake, expect)
         return res
-    (res, _, rec), = lockstep(DAMPED, SLOPE, state, ctl, s)
+
+    ((res, _, rec),) = lockstep(DAMPED, SLOPE, state, ctl, s)
     return res, rec.pressure[rec.t > res.t_start]
 
 
@@ -69,8 +71,7 @@ def test_a_braked_downhill_roll_lands_and_holds(ws):
     edge = (9, 10)
     nxt = topo.neighbour(EQUI, edge)
     free = lo.roll_over(ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings(brake=False))
-    held = lo.roll_over(ws, [edge], DAMPED, SLOPE,
-                        settings=lo.RollSettings(brake_release_time=0.4, brake_rate=10.0))
+    held = lo.roll_over(ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings(brake_release_time=0.4, brake_rate=10.0))
     slow = lo.roll_over(ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings())
     assert free.faces[0] == EQUI and free.faces[-1] != nxt
     assert held.faces == [EQUI, nxt] and held.outcome == "arrived"
@@ -87,13 +88,12 @@ def test_a_roll_goes_on_from_the_pressures_applied_before(ws):
     s = lo.RollSettings(brake=True)
     state, face = settle(DAMPED, d.stand_on(DAMPED, EQUI, SLOPE), SLOPE)  # it stands unbraked
     brake = Brake(ws, s.brake_margin)
-    obs, = observe(DAMPED, SLOPE, state, s)
+    (obs,) = observe(DAMPED, SLOPE, state, s)
     full = brake.for_face(face, obs.nodes)
     assert face == EQUI and full.max() > 4 * s.brake_rate * s.interval
     pl = lo.plan(ws, face, obs.nodes, direction=(1.0, 0.0))
     for before in (np.zeros(topo.N_PAIRS), 0.5 * full):
-        gen = roll_controller(DAMPED, s, replace(obs, pressure=before), pl.pairs, ws.max_pressure,
-                              brake, pl.pressure)
+        gen = roll_controller(DAMPED, s, replace(obs, pressure=before), pl.pairs, ws.max_pressure, brake, pl.pressure)
         first = next(gen)
         assert np.abs(first - before).max() <= s.brake_rate * s.interval + 1e-9
         assert np.any(first != before)  # on its way to the brake and the roll
@@ -108,7 +108,7 @@ def test_a_roll_planned_at_zero_pressure_lets_the_brake_go(ws):
     s = lo.RollSettings(brake=True)
     state = d.stand_on(DAMPED, EQUI, SLOPE)
     brake = Brake(ws, s.brake_margin)
-    obs, = observe(DAMPED, SLOPE, state, s)
+    (obs,) = observe(DAMPED, SLOPE, state, s)
     full = brake.for_face(EQUI, obs.nodes)
     assert full.max() > 4 * s.brake_rate * s.interval
     obs = replace(obs, face=EQUI, pressure=full)

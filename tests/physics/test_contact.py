@@ -5,6 +5,7 @@ Checked against geometry that is known in closed form: the symmetric robot's sup
 downhill shift h tan(angle) of the CoG projection on a slope, and the tipping angle atan(d/h)
 of a rigid robot pivoting about an edge.
 """
+
 import math
 
 import numpy as np
@@ -13,7 +14,8 @@ from scipy.spatial.transform import Rotation
 
 from tensegrity.physics import contact as ct
 from tensegrity.physics import dynamics as d
-from tensegrity.physics import frames, topology as topo
+from tensegrity.physics import frames
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 

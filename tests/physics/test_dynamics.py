@@ -1,16 +1,16 @@
 """Physics of the simulator (docs/design.md §3), tested as physics."""
+
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from tensegrity.physics import dynamics as d
-from tensegrity.physics import topology as topo
-from tensegrity.physics import kernel
-from tensegrity.physics import statics
+from tensegrity.physics import kernel, statics
 from tensegrity.physics import symmetry as sym
-from tensegrity.physics.schedule import Schedule
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
+from tensegrity.physics.schedule import Schedule
 from tensegrity.physics.terrain import Terrain
 
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
@@ -75,11 +75,12 @@ def test_energy_and_momentum_conserved_without_damping_gravity_or_ground():
         e0 = d.energy(params, s, pres)[0]
         m = params.strut_mass
         p0 = m * s.v.sum(1)[0]
-        It, Ia = m * (params.strut_length ** 2 / 12 + params.strut_radius ** 2 / 4), m * params.strut_radius ** 2 / 2
+        It, Ia = m * (params.strut_length**2 / 12 + params.strut_radius**2 / 4), m * params.strut_radius**2 / 2
 
-        def ang(st):
+        def ang(st, It=It, Ia=Ia, m=m):
             spin = np.einsum("bsij,bsj->bi", d.axes(st.q), st.w * [It, It, Ia])
             return (np.cross(st.x, m * st.v).sum(1) + spin)[0]
+
         l0 = ang(s)
         cur, err = s, 0.0
         for _ in range(50):
@@ -98,7 +99,7 @@ def test_free_fall_matches_g():
     s = replace(s, x=s.x + [0, 0, 5.0])
     _, tr = d.simulate(params, s, Schedule.constant(np.zeros(12), 0.5), Terrain.none(), DT, 1)
     z = tr.cog()[0, :, 2]
-    acc = np.diff(z, 2) / DT ** 2
+    acc = np.diff(z, 2) / DT**2
     np.testing.assert_allclose(acc, -params.gravity, rtol=1e-6)
     np.testing.assert_allclose(z[-1] - z[0], -0.5 * params.gravity * (tr.t[-1] ** 2 - tr.t[0] ** 2), rtol=1e-3)
 
@@ -167,8 +168,10 @@ def test_three_fold_orbit_moves_the_cog_equally_120_degrees_apart(free, free_swe
 
 def test_transformed_robot_simulates_to_the_transformed_motion(free):
     G = sym.group()
-    p0 = d.nodes(*(a[0] for a in (d.stand_on(free, EQUI, Terrain.none()).x,
-                                   d.stand_on(free, EQUI, Terrain.none()).q)), free.strut_length)
+    p0 = d.nodes(
+        *(a[0] for a in (d.stand_on(free, EQUI, Terrain.none()).x, d.stand_on(free, EQUI, Terrain.none()).q)),
+        free.strut_length,
+    )
     pres = np.zeros(12)
     pres[[9, 3]] = [2.0, 1.0]
     nodes0 = np.stack([np.empty((12, 3)) for _ in G])
@@ -194,14 +197,14 @@ def test_halving_dt_moves_the_nominal_cog_less_than_0_05_mm(free, free_sweep):
 
 
 def test_batch_equals_single_runs_with_different_parameters_and_actuation():
-    params = Params(gravity=0.0, cable_stiffness=np.array([1000.0, 800.0]),
-                    strut_mass=np.array([0.2, 0.25]))
+    params = Params(gravity=0.0, cable_stiffness=np.array([1000.0, 800.0]), strut_mass=np.array([0.2, 0.25]))
     s = d.stand_on(params, EQUI, Terrain.none(), batch=2)
     sched = Schedule.staircase([10, 4], [1.0, 2.0], 0.1)
     _, tr = d.simulate(params, s, sched, Terrain.none(), DT)
     for b in range(2):
-        pb = Params(gravity=0.0, cable_stiffness=float(params.cable_stiffness[b]),
-                    strut_mass=float(params.strut_mass[b]))
+        pb = Params(
+            gravity=0.0, cable_stiffness=float(params.cable_stiffness[b]), strut_mass=float(params.strut_mass[b])
+        )
         _, trb = d.simulate(pb, s.take([b]), Schedule(sched.durations, sched.pressure[[b]]), Terrain.none(), DT)
         assert np.array_equal(trb.x[0], tr.x[b])
     assert not np.allclose(tr.x[0], tr.x[1])

@@ -1,21 +1,30 @@
 """Bad input and blown-up runs stop loudly."""
+
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from tensegrity.physics import topology as topo
 from tensegrity.physics import dynamics as d
-from tensegrity.physics.schedule import Schedule
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
+from tensegrity.physics.schedule import Schedule
 from tensegrity.physics.terrain import Terrain
 
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
 
 
-@pytest.mark.parametrize("key,value", [("strut_mass", 0.0), ("strut_length", -0.5),
-                                       ("cable_stiffness", 0.0), ("cable_rest_length", -0.1),
-                                       ("friction", float("nan")), ("cable_damping", -1.0)])
+@pytest.mark.parametrize(
+    "key,value",
+    [
+        ("strut_mass", 0.0),
+        ("strut_length", -0.5),
+        ("cable_stiffness", 0.0),
+        ("cable_rest_length", -0.1),
+        ("friction", float("nan")),
+        ("cable_damping", -1.0),
+    ],
+)
 def test_invalid_parameters_are_named(key, value):
     with pytest.raises(ValueError, match=key):
         Params(**{key: value})

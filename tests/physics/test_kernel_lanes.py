@@ -1,6 +1,7 @@
 """The kernel runs robots side by side in SIMD lanes (kernel.LANES per group; one per group for
 small batches): a robot's trajectory must not depend on its neighbours, its place in the batch,
 the batch size or the number of threads, also when a neighbour fails."""
+
 from dataclasses import replace
 
 import numba
@@ -23,10 +24,29 @@ def run(params, state, pres, terrain, n_rec, every=10, dt=1e-4):
     s = state.copy()
     status, fail = np.zeros(B, np.int64), np.zeros(B, np.int64)
     out_x, out_q = np.full((B, n_rec, 6, 3), np.nan), np.full((B, n_rec, 6, 4), np.nan)
-    kernel.advance(s.x, s.v, s.q, s.w, s.anchor, s.stuck, params.pack(B), np.array(pres, float),
-                   kind, meta, hz, n_rec, every, dt, out_x, out_q, status, fail)
-    return dict(x=s.x, v=s.v, q=s.q, w=s.w, anchor=s.anchor, stuck=s.stuck, out_x=out_x,
-                out_q=out_q, status=status, fail=fail)
+    kernel.advance(
+        s.x,
+        s.v,
+        s.q,
+        s.w,
+        s.anchor,
+        s.stuck,
+        params.pack(B),
+        np.array(pres, float),
+        kind,
+        meta,
+        hz,
+        n_rec,
+        every,
+        dt,
+        out_x,
+        out_q,
+        status,
+        fail,
+    )
+    return dict(
+        x=s.x, v=s.v, q=s.q, w=s.w, anchor=s.anchor, stuck=s.stuck, out_x=out_x, out_q=out_q, status=status, fail=fail
+    )
 
 
 def robots(B, terrain, position=(0.3, -0.2), seed=1):
@@ -47,8 +67,7 @@ def assert_same(a, b, idx):
         np.testing.assert_array_equal(a[k], b[k][idx], err_msg=k)
 
 
-@pytest.mark.parametrize("terrain", [Terrain.random(seed=3), Terrain.slope(10.0)],
-                         ids=["heightfield", "slope"])
+@pytest.mark.parametrize("terrain", [Terrain.random(seed=3), Terrain.slope(10.0)], ids=["heightfield", "slope"])
 def test_a_robot_in_a_batch_equals_the_robot_alone(terrain):
     B = kernel.LANES + 3  # the last group is padded
     params, s, pres = robots(B, terrain)
@@ -86,8 +105,9 @@ def test_a_failing_robot_stops_alone_with_its_own_status():
     assert together["status"][2] == kernel.OFF_TERRAIN
     assert together["fail"][1] < together["fail"][2] < 400
     for b in range(B):
-        one = replace(params, cable_stiffness=params.cable_stiffness[[b]],
-                      cable_rest_length=params.cable_rest_length[[b]])
+        one = replace(
+            params, cable_stiffness=params.cable_stiffness[[b]], cable_rest_length=params.cable_rest_length[[b]]
+        )
         assert_same(run(one, s.take([b]), pres[[b]], terrain, 40, dt=5e-4), together, [b])
 
 

@@ -1,4 +1,5 @@
 """Parameters (physics/params.py): the rest length's one home, replace, and the units."""
+
 import math
 import re
 from dataclasses import fields
@@ -13,8 +14,7 @@ def test_rest_length_gives_the_pretension_in_the_symmetric_state():
     assert rest_length(S, T0, K) == S * math.sqrt(6) / 4 - T0 / K == Params().cable_rest_length
     assert isinstance(rest_length(S, T0, K), float)
     L = rest_length(np.array([0.5, 0.6]), T0, np.array([1000.0, 1200.0]))
-    np.testing.assert_array_equal(L, [0.5 * math.sqrt(6) / 4 - 20 / 1000,
-                                      0.6 * math.sqrt(6) / 4 - 20 / 1200])
+    np.testing.assert_array_equal(L, [0.5 * math.sqrt(6) / 4 - 20 / 1000, 0.6 * math.sqrt(6) / 4 - 20 / 1200])
     batch = Params(strut_length=np.array([0.5, 0.6]), cable_stiffness=np.array([1000.0, 1200.0]))
     np.testing.assert_array_equal(batch.cable_rest_length, L)
 

@@ -1,5 +1,6 @@
 """The rotations of physics.dynamics (numpy, so that a job need not import scipy.spatial) agree
 with SciPy's Rotation, and place the robot as SciPy's did."""
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
@@ -35,8 +36,9 @@ def test_align_is_the_smallest_rotation_of_a_onto_b(b):
             np.testing.assert_allclose(R @ np.cross(a, b), np.cross(a, b), atol=1e-14)
 
 
-@pytest.mark.parametrize("terrain", [None, Terrain.slope(15.0, 30.0), Terrain.random(2, amplitude=0.05)],
-                         ids=["flat", "slope", "rough"])
+@pytest.mark.parametrize(
+    "terrain", [None, Terrain.slope(15.0, 30.0), Terrain.random(2, amplitude=0.05)], ids=["flat", "slope", "rough"]
+)
 def test_stand_on_places_the_robot_as_scipy_did(terrain):
     """The face's outward normal turned onto the ground's downward normal, then yaw about it:
     the old SciPy placement (align_vectors, from_rotvec) node for node."""

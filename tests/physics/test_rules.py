@@ -2,10 +2,12 @@
 crossed edge, the first margin crossing, the on-face rule, the terrain spec, the hold of a ramp
 and the whole-number check, each tested against geometry known in closed form, against the rule
 it replaced or on a worked sequence."""
+
 import numpy as np
 import pytest
 
-from tensegrity.physics import contact, frames, schedule, terrain, topology as topo
+from tensegrity.physics import contact, frames, schedule, terrain
+from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
 
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])
@@ -19,8 +21,8 @@ def test_face_frame_is_orthonormal_with_y_to_the_reference_corner_and_z_into_the
     support = p[topo.FACES[face - 1]]
     np.testing.assert_allclose(origin, support.mean(axis=0), atol=1e-15)
     ref = support[topo.FACE_REFERENCE[face - 1]] - origin
-    assert np.dot(rot[1], ref) == pytest.approx(np.linalg.norm(ref))     # +y through the corner
-    assert np.dot(rot[2], p.mean(axis=0) - origin) > 0                    # +z into the robot
+    assert np.dot(rot[1], ref) == pytest.approx(np.linalg.norm(ref))  # +y through the corner
+    assert np.dot(rot[2], p.mean(axis=0) - origin) > 0  # +z into the robot
 
 
 def test_face_frame_on_a_batch_equals_the_frame_of_each_robot():
@@ -88,9 +90,17 @@ def test_resting_face_is_the_one_on_face_rule():
         np.testing.assert_array_equal(contact.resting_face(batch, np.array([0.01, 0.01])), [face, 0])
 
 
-@pytest.mark.parametrize("spec, kind", [("flat", "plane"), ("none", "none"), ("slope:12", "plane"),
-                                        ("slope:12:90", "plane"), ("random:3", "heightfield"),
-                                        ("random:3:0.05", "heightfield")])
+@pytest.mark.parametrize(
+    "spec, kind",
+    [
+        ("flat", "plane"),
+        ("none", "none"),
+        ("slope:12", "plane"),
+        ("slope:12:90", "plane"),
+        ("random:3", "heightfield"),
+        ("random:3:0.05", "heightfield"),
+    ],
+)
 def test_terrain_spec(spec, kind):
     assert terrain.from_spec(spec).kind == kind
 
@@ -102,8 +112,9 @@ def test_terrain_spec_random_is_the_same_field_every_time():
     assert terrain.from_spec("random:3:0.05").heights.std() > 1.5 * a.heights.std()
 
 
-@pytest.mark.parametrize("spec", ["hill", "slope", "slope:x", "random:1.5", "random:-1",
-                                  "random:2:0", "flat:3", "slope:nan"])
+@pytest.mark.parametrize(
+    "spec", ["hill", "slope", "slope:x", "random:1.5", "random:-1", "random:2:0", "flat:3", "slope:nan"]
+)
 def test_bad_terrain_spec_is_named(spec):
     with pytest.raises(ValueError, match="terrain"):
         terrain.from_spec(spec)
@@ -114,21 +125,21 @@ def _holds(lifted, rearm, budget=np.inf):
     `schedule.hold_step`, for the lifts `lifted` (n, ...) bool."""
     holding, held, armed, spent, out = False, 0.0, True, 0.0, []
     for up in lifted:
-        holding, held, armed, spent = schedule.hold_step(holding, held, armed, up, 0.02, 0.06,
-                                                         rearm, spent, budget)
+        holding, held, armed, spent = schedule.hold_step(holding, held, armed, up, 0.02, 0.06, rearm, spent, budget)
         out.append(holding)
     return np.array(out)
 
 
 def test_hold_step_holds_hold_time_then_rearms_as_asked_within_its_budget():
     up = np.array([0, 1, 1, 1, 1, 1, 0, 1], bool)  # a node lifts, stays up, comes down, lifts
-    held = [0, 1, 1, 1, 0]                           # three intervals (0.06 s), then the ramp
-    assert _holds(up, rearm=False).tolist() == held + [0, 0, 1]      # not again until it is down
-    assert _holds(up, rearm=True).tolist() == held + [1, 1, 1]       # again at once
+    held = [0, 1, 1, 1, 0]  # three intervals (0.06 s), then the ramp
+    assert _holds(up, rearm=False).tolist() == held + [0, 0, 1]  # not again until it is down
+    assert _holds(up, rearm=True).tolist() == held + [1, 1, 1]  # again at once
     assert _holds(up, rearm=True, budget=0.06).tolist() == held + [0, 0, 0]  # 0.06 s in all
-    robots = np.stack([up, ~up, np.roll(up, 2)], axis=1)             # vectorised: each its own
-    np.testing.assert_array_equal(_holds(robots, rearm=False),
-                                  np.stack([_holds(r, rearm=False) for r in robots.T], axis=1))
+    robots = np.stack([up, ~up, np.roll(up, 2)], axis=1)  # vectorised: each its own
+    np.testing.assert_array_equal(
+        _holds(robots, rearm=False), np.stack([_holds(r, rearm=False) for r in robots.T], axis=1)
+    )
 
 
 def test_whole_steps_within_a_millionth_of_a_step():

@@ -1,12 +1,13 @@
 """Static-equilibrium solver (tensegrity.physics.statics): symmetric state, gradient, force balance,
 and the tipping pressures of docs/design.md §4."""
+
 import math
 
 import numpy as np
 import pytest
 
-from tensegrity.physics import topology as topo
 from tensegrity.physics import statics as st
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 
 P = Params()
@@ -89,8 +90,7 @@ def test_solution_does_not_depend_on_the_start():
     pressure = _pressure(p10=3.0)
     rng = np.random.default_rng(2)
     start = topo.reference_nodes(P.strut_length) + 0.01 * rng.standard_normal((12, 3))
-    np.testing.assert_allclose(st.equilibrium(P, pressure, start=start),
-                               st.equilibrium(P, pressure), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(st.equilibrium(P, pressure, start=start), st.equilibrium(P, pressure), rtol=0, atol=1e-9)
 
 
 @pytest.mark.parametrize("face, ref_node", [(EQ_FACE, 9), (ISO_FACE, 10)])
@@ -98,15 +98,17 @@ def test_support_frame_of_the_deformed_face(face, ref_node):
     nodes = st.equilibrium(P, _pressure(p10=2.4))
     cog, tri = st.support_cog(nodes, face)
     np.testing.assert_array_equal(st.support_cog(nodes, topo.face_number(face))[0], cog)
-    np.testing.assert_allclose(tri[:, 2], 0.0, atol=1e-12)       # corners in the face plane
+    np.testing.assert_allclose(tri[:, 2], 0.0, atol=1e-12)  # corners in the face plane
     np.testing.assert_allclose(tri.mean(axis=0), 0.0, atol=1e-12)  # origin at the centroid
     ref = tri[list(topo.FACES[topo.face_number(face) - 1] + 1).index(ref_node)]
-    assert abs(ref[0]) < 1e-12 and ref[1] > 0                    # reference vertex on +y
-    assert cog[2] > 0                                             # z points into the robot
+    assert abs(ref[0]) < 1e-12 and ref[1] > 0  # reference vertex on +y
+    assert cog[2] > 0  # z points into the robot
     # frame is rigid: distances from the CoG to the corners are those in the world
-    np.testing.assert_allclose(np.linalg.norm(tri - cog, axis=1),
-                               np.linalg.norm(nodes[topo.FACES[topo.face_number(face) - 1]]
-                                              - nodes.mean(axis=0), axis=1), atol=1e-12)
+    np.testing.assert_allclose(
+        np.linalg.norm(tri - cog, axis=1),
+        np.linalg.norm(nodes[topo.FACES[topo.face_number(face) - 1]] - nodes.mean(axis=0), axis=1),
+        atol=1e-12,
+    )
 
 
 def test_tipping_pressures():
@@ -116,7 +118,7 @@ def test_tipping_pressures():
 
     def first_crossing(m):
         i = np.flatnonzero(m < 0)
-        assert i.size and i[0] > 0 and np.all(m[:i[0]] > 0)
+        assert i.size and i[0] > 0 and np.all(m[: i[0]] > 0)
         k = i[0]
         return lev[k - 1] + (lev[k] - lev[k - 1]) * m[k - 1] / (m[k - 1] - m[k])
 

@@ -1,8 +1,9 @@
 """The symmetry group computed from the geometry (docs/design.md §1)."""
+
 import numpy as np
 
-from tensegrity.physics import topology as topo
 from tensegrity.physics import symmetry as sym
+from tensegrity.physics import topology as topo
 
 
 def test_order_rotations_and_closure():

@@ -1,8 +1,10 @@
 """Topology and frames (docs/design.md §1-2)."""
+
 import numpy as np
 import pytest
 
-from tensegrity.physics import frames, topology as topo
+from tensegrity.physics import frames
+from tensegrity.physics import topology as topo
 
 
 def test_lengths_of_the_symmetric_state():

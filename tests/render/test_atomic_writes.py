@@ -1,6 +1,7 @@
 """Figures and the animation are written atomically: to a temporary file in the same folder,
 then renamed. A render that fails or is killed while writing leaves no file at the final
 path (nor a partial one over an earlier good file), and no temporary file after a failure."""
+
 import os
 import signal
 import subprocess
@@ -30,8 +31,9 @@ def _png(path) -> dict:
 def test_png_and_gif_leave_no_temporary_file(tmp_path):
     _png(tmp_path / "a.png")
     r = _run()
-    runs.animate(r["nodes"], r["time"], r["pressure"], Terrain.flat(), tmp_path / "a.gif",
-                 fps=10, speed=1.0, size=(160, 120))
+    runs.animate(
+        r["nodes"], r["time"], r["pressure"], Terrain.flat(), tmp_path / "a.gif", fps=10, speed=1.0, size=(160, 120)
+    )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.gif", "a.png"]
     assert Image.open(tmp_path / "a.gif").n_frames == 6
 
@@ -41,6 +43,7 @@ def test_a_failed_png_write_leaves_nothing(tmp_path, monkeypatch):
         with open(filename, "wb") as f:
             f.write(b"\x89PNG\r\n")
         raise OSError("no space left on device")
+
     monkeypatch.setattr(scene.pv.Plotter, "screenshot", broken)
     with pytest.raises(OSError, match="no space"):
         _png(tmp_path / "a.png")
@@ -56,10 +59,10 @@ def test_a_failed_gif_write_keeps_the_earlier_file(tmp_path, monkeypatch):
         with open(fp, "wb") as f:
             f.write(b"GIF89a")
         raise OSError("no space left on device")
+
     monkeypatch.setattr(Image.Image, "save", broken)
     with pytest.raises(OSError, match="no space"):
-        runs.animate(r["nodes"], r["time"], r["pressure"], Terrain.flat(), gif, fps=10,
-                     speed=1.0, size=(160, 120))
+        runs.animate(r["nodes"], r["time"], r["pressure"], Terrain.flat(), gif, fps=10, speed=1.0, size=(160, 120))
     assert [p.name for p in tmp_path.iterdir()] == ["a.gif"]
     assert gif.read_bytes() == b"the earlier, complete animation"
 

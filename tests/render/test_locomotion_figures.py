@@ -1,10 +1,12 @@
 """render.locomotion (Figs. 8-10) and render.runs (path, animation), drawn from arrays: the
 robot is the reference robot set down on a face, moved along x for a synthetic run."""
+
 import imageio.v2 as imageio
 import numpy as np
 import pytest
 
-from tensegrity.physics import frames, topology as topo
+from tensegrity.physics import frames
+from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
 from tensegrity.render import locomotion, runs
 
@@ -25,11 +27,11 @@ def standing():
 
 
 def test_stable_and_rolling_states(tmp_path, standing):
-    out = locomotion.fig_state(standing, Terrain.flat(), EQUI, tmp_path / "fig8.png", "stable",
-                               arrow=[1.0, 0.0, 0.0])
+    out = locomotion.fig_state(standing, Terrain.flat(), EQUI, tmp_path / "fig8.png", "stable", arrow=[1.0, 0.0, 0.0])
     assert out["stands"] and out["edge"] is None and out["margin"] == pytest.approx(0.0884, abs=1e-4)
-    assert {"cog", "cog projection", "gravity line", "support triangle", "target arrow",
-            "inset projection"} <= set(out["actors"])
+    assert {"cog", "cog projection", "gravity line", "support triangle", "target arrow", "inset projection"} <= set(
+        out["actors"]
+    )
     _png_ok(out["path"])
     tipped = standing.copy()  # the upper nodes shifted over edge 10-12
     up = np.setdiff1d(np.arange(12), topo.FACES[EQUI - 1])
@@ -69,18 +71,32 @@ def run(standing):
     nodes = standing[None] + x[:, None, None] * np.array([1.0, 0.0, 0.0])
     pressure = np.zeros((40, 12))
     pressure[:, 9] = 1.0
-    return {"nodes": nodes, "time": 0.1 * np.arange(1, 41), "pressure": pressure,
-            "faces": np.array([EQUI, 0]), "step_end": np.array([19, 39]),
-            "goal": np.array([1.0, 0.2, 0.0])}
+    return {
+        "nodes": nodes,
+        "time": 0.1 * np.arange(1, 41),
+        "pressure": pressure,
+        "faces": np.array([EQUI, 0]),
+        "step_end": np.array([19, 39]),
+        "goal": np.array([1.0, 0.2, 0.0]),
+    }
 
 
 @pytest.mark.parametrize("view", ["top", "3d"])
 def test_path_of_a_run(tmp_path, run, view):
-    out = runs.fig_path(run["nodes"], Terrain.flat(), tmp_path / "p.png", "a run",
-                        faces=run["faces"], step_end=run["step_end"], goal=run["goal"], view=view)
+    out = runs.fig_path(
+        run["nodes"],
+        Terrain.flat(),
+        tmp_path / "p.png",
+        "a run",
+        faces=run["faces"],
+        step_end=run["step_end"],
+        goal=run["goal"],
+        view=view,
+    )
     assert out["contacts"] == 1 and out["view"] == view and out["title"] == "a run"
-    assert {"cog track", "contact 1", "start", "goal", "arrival circle",
-            "robot at the end strut 1-3"} <= set(out["actors"])
+    assert {"cog track", "contact 1", "start", "goal", "arrival circle", "robot at the end strut 1-3"} <= set(
+        out["actors"]
+    )
     assert "contact 2" not in out["actors"]
     assert ("scale bar" in out["actors"]) == (view == "top")
     assert ("robot at the start cables" in out["actors"]) == (view == "3d")
@@ -89,8 +105,16 @@ def test_path_of_a_run(tmp_path, run, view):
 
 def test_3d_path_shows_all_of_its_ground(tmp_path, run):
     """The 3D view was clipped at the top: the ground drawn now fits below the title."""
-    out = runs.fig_path(run["nodes"], Terrain.slope(10.0), tmp_path / "p.png", " ",
-                        faces=run["faces"], step_end=run["step_end"], goal=run["goal"], view="3d")
+    out = runs.fig_path(
+        run["nodes"],
+        Terrain.slope(10.0),
+        tmp_path / "p.png",
+        " ",
+        faces=run["faces"],
+        step_end=run["step_end"],
+        goal=run["goal"],
+        view="3d",
+    )
     img = imageio.imread(out["path"])[..., :3].astype(int)
     white = (img >= 250).all(axis=2)
     assert white[:60].all()  # the title strip (a blank title here) holds no ground
@@ -98,8 +122,7 @@ def test_3d_path_shows_all_of_its_ground(tmp_path, run):
 
 
 def test_path_without_a_goal_and_bad_input(tmp_path, run):
-    out = runs.fig_path(run["nodes"], Terrain.flat(), tmp_path / "p.png", "t",
-                        goal=np.full(3, np.nan))
+    out = runs.fig_path(run["nodes"], Terrain.flat(), tmp_path / "p.png", "t", goal=np.full(3, np.nan))
     assert out["contacts"] == 0 and "goal" not in out["actors"]
     with pytest.raises(ValueError, match="view"):
         runs.fig_path(run["nodes"], Terrain.flat(), tmp_path / "x.png", "t", view="side")
@@ -110,19 +133,26 @@ def test_path_without_a_goal_and_bad_input(tmp_path, run):
 
 
 def test_animation_of_a_run(tmp_path, run):
-    out = runs.animate(run["nodes"], run["time"], run["pressure"], Terrain.flat(),
-                       tmp_path / "run.gif", goal=run["goal"], label="run 'test'", fps=5,
-                       speed=2.0, size=(320, 240))
+    out = runs.animate(
+        run["nodes"],
+        run["time"],
+        run["pressure"],
+        Terrain.flat(),
+        tmp_path / "run.gif",
+        goal=run["goal"],
+        label="run 'test'",
+        fps=5,
+        speed=2.0,
+        size=(320, 240),
+    )
     frames_ = imageio.mimread(out["path"])
     assert out["frames"] == len(frames_) == 10 and out["fps"] == 5
     assert frames_[0].shape[:2] == (240, 320)
     assert not np.array_equal(frames_[0], frames_[-1])  # the robot moved
     with pytest.raises(ValueError, match="pressure"):
-        runs.animate(run["nodes"], run["time"], run["pressure"][:5], Terrain.flat(),
-                     tmp_path / "x.gif")
+        runs.animate(run["nodes"], run["time"], run["pressure"][:5], Terrain.flat(), tmp_path / "x.gif")
     with pytest.raises(ValueError, match="fps"):
-        runs.animate(run["nodes"], run["time"], run["pressure"], Terrain.flat(),
-                     tmp_path / "x.gif", fps=0)
+        runs.animate(run["nodes"], run["time"], run["pressure"], Terrain.flat(), tmp_path / "x.gif", fps=0)
 
 
 def test_track_thinned_within_tolerance():

@@ -1,11 +1,13 @@
 """The paper's figures (render.paper, docs/design.md §7): the scene's contents and that each PNG
 is a real, non-blank picture of the expected size. Synthetic inputs keep the file fast (a few s)."""
+
 import numpy as np
 import pytest
 import pyvista as pv
 from matplotlib.colors import rgb_to_hsv
 
-from tensegrity.physics import frames, topology as topo
+from tensegrity.physics import frames
+from tensegrity.physics import topology as topo
 from tensegrity.render import frame_plots
 from tensegrity.render import paper as render
 from tensegrity.render.scene import AXIS_COLOURS, PAIR_COLOURS, STRUT_COLOURS, WINDOW
@@ -31,7 +33,7 @@ def _check_png(path, min_colours: int = 30) -> np.ndarray:
 def _has_colour(px, hex_colour: str, count: int = 50, tol: float = 0.025) -> bool:
     """At least `count` saturated pixels of the colour's hue (shading changes brightness and
     saturation, not hue)."""
-    rgb = np.array([int(hex_colour[i:i + 2], 16) for i in (1, 3, 5)]) / 255
+    rgb = np.array([int(hex_colour[i : i + 2], 16) for i in (1, 3, 5)]) / 255
     hsv = rgb_to_hsv(px.reshape(-1, 3) / 255)
     dh = np.abs(hsv[:, 0] - rgb_to_hsv(rgb)[0])
     dh = np.minimum(dh, 1 - dh)
@@ -110,8 +112,9 @@ def test_fig5_support_frame(tmp_path, nodes):
     assert np.dot(R[2], nodes.mean(axis=0) - o) > 0  # z points into the robot
     ref = nodes[topo.FACES[out["face"] - 1][topo.FACE_REFERENCE[out["face"] - 1]]]
     assert np.dot(R[1], ref - o) > 0  # y toward the reference vertex
-    assert {"axis x", "axis y", "axis z", "axis labels", "support triangle", "corner labels",
-            "cog"} <= set(out["actors"])
+    assert {"axis x", "axis y", "axis z", "axis labels", "support triangle", "corner labels", "cog"} <= set(
+        out["actors"]
+    )
     assert len([a for a in out["actors"] if a.startswith("strut ")]) == 6
     px = _check_png(out["path"])
     for c in AXIS_COLOURS.values():
@@ -121,12 +124,10 @@ def test_fig5_support_frame(tmp_path, nodes):
 def _staircase_cloud(levels, per_level=200):
     """A CoG path stepping toward an edge with a decaying wobble at each level, m."""
     n = len(levels)
-    nominal = np.column_stack([0.01 * np.arange(1, n + 1), -0.015 * np.arange(1, n + 1),
-                               np.full(n, 0.2)])
+    nominal = np.column_stack([0.01 * np.arange(1, n + 1), -0.015 * np.arange(1, n + 1), np.full(n, 0.2)])
     t = np.linspace(0, 1, per_level)
     wobble = 0.003 * np.exp(-5 * t)[:, None] * np.column_stack([np.cos(40 * t), np.sin(40 * t)])
-    samples = np.concatenate([np.column_stack([m[:2] + wobble, np.full(per_level, m[2])])
-                              for m in nominal])
+    samples = np.concatenate([np.column_stack([m[:2] + wobble, np.full(per_level, m[2])]) for m in nominal])
     pressure = np.repeat(levels, per_level)
     return samples, nominal, pressure
 
@@ -140,9 +141,17 @@ def _triangle(side=0.306):
 def test_fig6_cog_cloud(tmp_path):
     levels = np.round(0.4 * np.arange(1, 7), 2)
     samples, nominal, pressure = _staircase_cloud(levels)
-    out = frame_plots.fig_cog_cloud(samples, nominal, levels, _triangle(), tmp_path / "fig6.png",
-                               pair=10, face_label="(9,10,12)", sample_pressure=pressure,
-                               corner_labels=[9, 12, 10])
+    out = frame_plots.fig_cog_cloud(
+        samples,
+        nominal,
+        levels,
+        _triangle(),
+        tmp_path / "fig6.png",
+        pair=10,
+        face_label="(9,10,12)",
+        sample_pressure=pressure,
+        corner_labels=[9, 12, 10],
+    )
     assert out["title"].startswith("Fig. 6") and "#10" in out["title"]
     assert out["samples"] == len(samples) and out["nominal"] == 6
     assert out["labels"] == ["0.4 MPa", "0.8 MPa", "1.2 MPa", "1.6 MPa", "2 MPa", "2.4 MPa"]
@@ -165,11 +174,11 @@ def test_fig6_rejects_mismatched_pressures(tmp_path):
     levels = np.array([0.4, 0.8])
     samples, nominal, pressure = _staircase_cloud(levels, per_level=10)
     with pytest.raises(ValueError, match="sample_pressure"):
-        frame_plots.fig_cog_cloud(samples, nominal, levels, _triangle(), tmp_path / "x.png", 10,
-                             "(9,10,12)", sample_pressure=pressure[:-1])
+        frame_plots.fig_cog_cloud(
+            samples, nominal, levels, _triangle(), tmp_path / "x.png", 10, "(9,10,12)", sample_pressure=pressure[:-1]
+        )
     with pytest.raises(ValueError, match="nominal"):
-        frame_plots.fig_cog_cloud(samples, nominal[:1], levels, _triangle(), tmp_path / "x.png", 10,
-                             "(9,10,12)")
+        frame_plots.fig_cog_cloud(samples, nominal[:1], levels, _triangle(), tmp_path / "x.png", 10, "(9,10,12)")
 
 
 def test_fig7_workspace(tmp_path):
@@ -179,18 +188,25 @@ def test_fig7_workspace(tmp_path):
         reach = 0.1 if v in (9, 10, 12) else 0.05 if v in (4, 6, 7) else 0.01
         ang = np.radians(30 * v)
         s = np.linspace(0, 1, 13)[:, None]
-        curves[v] = np.column_stack([reach * s * np.cos(ang), reach * s * np.sin(ang),
-                                     0.2 - 0.01 * s])
+        curves[v] = np.column_stack([reach * s * np.cos(ang), reach * s * np.sin(ang), 0.2 - 0.01 * s])
         tips[v] = curves[v][8] if v in (9, 10, 12) else None
     # the deformed support each ring is judged against: shrunk so that the ring is on it
     deformed = {}
     for v in (9, 10, 12):
         q = tips[v][:2]
-        shrink = 1.0 - (frames.edge_distances(q, tri[:, :2]).min()
-                        / frames.edge_distances(np.zeros(2), tri[:, :2]).min())
+        shrink = 1.0 - (
+            frames.edge_distances(q, tri[:, :2]).min() / frames.edge_distances(np.zeros(2), tri[:, :2]).min()
+        )
         deformed[v] = tri * shrink
-    out = frame_plots.fig_workspace(curves, tri, tmp_path / "fig7.png", "Fig. 7 test",
-                               tip_points=tips, corner_labels=[9, 12, 10], tip_supports=deformed)
+    out = frame_plots.fig_workspace(
+        curves,
+        tri,
+        tmp_path / "fig7.png",
+        "Fig. 7 test",
+        tip_points=tips,
+        corner_labels=[9, 12, 10],
+        tip_supports=deformed,
+    )
     for v in (9, 10, 12):
         np.testing.assert_allclose(out["tip_points"][v], 1e3 * tips[v][:2])
         np.testing.assert_allclose(out["tip_supports"][v], 1e3 * deformed[v][:, :2])
@@ -223,8 +239,7 @@ def test_fig7_rejects_unknown_pair(tmp_path):
 
 def test_fig7_curves_drop_sub_pixel_segments():
     """Wide VTK lines of segments shorter than a pixel drew stripes at the curves' ends."""
-    c = np.column_stack([np.r_[np.linspace(0, 10, 11), 10 + np.geomspace(1e-3, 0.5, 30)],
-                         np.zeros(41), np.zeros(41)])
+    c = np.column_stack([np.r_[np.linspace(0, 10, 11), 10 + np.geomspace(1e-3, 0.5, 30)], np.zeros(41), np.zeros(41)])
     thin = frame_plots.drop_close_points(c, 1.0)
     steps = np.linalg.norm(np.diff(thin[:, :2], axis=0), axis=1)
     assert np.all(steps >= 0.5 - 1e-12) and np.array_equal(thin[-1], c[-1])

@@ -1,5 +1,6 @@
 """render.scene and render.plot2d: the shared plumbing (off-screen set-up, the PNG writer) and
 the 2-D helpers of the support-frame plots."""
+
 import os
 import subprocess
 import sys
@@ -12,15 +13,15 @@ from tensegrity.render import plot2d, scene
 
 
 def test_importing_the_figures_changes_no_process_setting_until_a_plotter_is_made():
-    code = ("import os\n"
-            "from tensegrity.render import locomotion, paper, runs, scene\n"
-            "before = os.environ.get('VTK_DEFAULT_OPENGL_WINDOW')\n"
-            "scene.plotter('t').close()\n"
-            "print(before, os.environ.get('VTK_DEFAULT_OPENGL_WINDOW'))\n")
-    env = {k: v for k, v in os.environ.items()
-           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "VTK_DEFAULT_OPENGL_WINDOW")}
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
-                         check=True)
+    code = (
+        "import os\n"
+        "from tensegrity.render import locomotion, paper, runs, scene\n"
+        "before = os.environ.get('VTK_DEFAULT_OPENGL_WINDOW')\n"
+        "scene.plotter('t').close()\n"
+        "print(before, os.environ.get('VTK_DEFAULT_OPENGL_WINDOW'))\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY", "VTK_DEFAULT_OPENGL_WINDOW")}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["None", "vtkEGLRenderWindow"]
     assert "bad X server" not in out.stderr
 
@@ -57,8 +58,8 @@ def test_nice_box_has_round_ticks_around_the_data():
 
 def test_terrain_mesh_of_a_height_field_is_cut_to_the_area_shown():
     from tensegrity.physics.terrain import Terrain
-    t = Terrain(kind="heightfield", origin=np.array([-4.0, -4.0]), spacing=0.25,
-                heights=np.zeros((33, 33)))
+
+    t = Terrain(kind="heightfield", origin=np.array([-4.0, -4.0]), spacing=0.25, heights=np.zeros((33, 33)))
     mesh = scene.terrain_mesh(t, (0.5, 0.3), 1.0)
     b = mesh.bounds
     assert b[0] >= -0.5 - 1e-9 and b[1] <= 1.5 + 1e-9 and b[2] >= -0.7 - 1e-9 and b[3] <= 1.3 + 1e-9

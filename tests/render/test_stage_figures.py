@@ -1,16 +1,20 @@
 """The figure stages (tensegrity.stages.render.cog_cloud, workspace_figure, stages.locomotion._path_figure) on small
 synthetic datasets: what each figure is judged against is drawn, and a grounded robot that
 rolled off its face (NaN from that level on) is drawn up to the roll."""
+
 import numpy as np
 import pytest
 import xarray as xr
 
-from tensegrity.stages import fit as fit_stage, locomotion as loco_stage, render as render_stage
 from tensegrity.io import datasets, formats
-from tensegrity.io.formats import run as run_formats
 from tensegrity.io.config import defaults
-from tensegrity.physics import frames, topology as topo
+from tensegrity.io.formats import run as run_formats
+from tensegrity.physics import frames
+from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
+from tensegrity.stages import fit as fit_stage
+from tensegrity.stages import locomotion as loco_stage
+from tensegrity.stages import render as render_stage
 from tensegrity.workspace import fit
 
 FACE = 8  # (9,10,12), equilateral
@@ -41,15 +45,27 @@ def _nominal(roll_at: int | None = None) -> xr.Dataset:
         for a in (cog, std, sup, margin):
             a[:, roll_at:] = np.nan
         tip = np.array([t if t <= LEVELS[roll_at] else LEVELS[roll_at] for t in tip])
-    return formats.nominal_dataset([9, 10], LEVELS, cog, std, sup, margin, tip, rolled,
-                                   {"contact": "equilateral", "face": FACE,
-                                    "face_nodes": topo.FACES[FACE - 1] + 1,
-                                    "mode": "free" if roll_at is None else "grounded"}, S)
+    return formats.nominal_dataset(
+        [9, 10],
+        LEVELS,
+        cog,
+        std,
+        sup,
+        margin,
+        tip,
+        rolled,
+        {
+            "contact": "equilateral",
+            "face": FACE,
+            "face_nodes": topo.FACES[FACE - 1] + 1,
+            "mode": "free" if roll_at is None else "grounded",
+        },
+        S,
+    )
 
 
 def _write(ds, tmp_path, name):
-    return datasets.write(ds, tmp_path / name, defaults(), "test", stage="nominal",
-                          allow_nan=formats.NOMINAL_ALLOW_NAN)
+    return datasets.write(ds, tmp_path / name, defaults(), "test", stage="nominal", allow_nan=formats.NOMINAL_ALLOW_NAN)
 
 
 def _curves(tmp_path, nominal_path):
@@ -71,8 +87,9 @@ def test_fig7_rings_lie_on_the_dashed_deformed_triangle_at_the_tipping_pressure(
     np.testing.assert_allclose(out["tip_points"][10], at_tp, atol=1e-9)  # the curve at tp
     deformed = out["tip_supports"][10]
     support = nm["support"].sel(pair=10).values
-    np.testing.assert_allclose(deformed, 1e3 * np.array(
-        [[np.interp(tp, LEVELS, support[:, j, a]) for a in range(2)] for j in range(3)]))
+    np.testing.assert_allclose(
+        deformed, 1e3 * np.array([[np.interp(tp, LEVELS, support[:, j, a]) for a in range(2)] for j in range(3)])
+    )
     # on the deformed triangle's boundary, well inside the unactuated one
     assert abs(frames.margin_2d(out["tip_points"][10], deformed)) < 0.05  # mm
     rest = 1e3 * frames.rest_frame(FACE, S)[1][:, :2]
@@ -82,6 +99,7 @@ def test_fig7_rings_lie_on_the_dashed_deformed_triangle_at_the_tipping_pressure(
 def test_fig7_nominal_render_draws_rings_and_a_legend_that_fits(tmp_path, monkeypatch):
     """`tensegrity render nominal.nc` (and workspace.nc): rings and dashed triangles too."""
     from tensegrity.render import frame_plots as paper
+
     npath = _write(_nominal(), tmp_path, "nominal.nc")
     real, seen = paper.fig_workspace, {}
     monkeypatch.setattr(paper, "fig_workspace", lambda *a, **kw: seen.update(real(*a, **kw)) or seen)
@@ -97,14 +115,17 @@ def test_grounded_roll_fig6_and_fig7_draw_the_levels_before_it(tmp_path, monkeyp
     npath = _write(nm, tmp_path, "nominal.nc")
     per = 20
     cog = np.repeat(nm["cog"].sel(pair=10).values, per, axis=0)
-    cog[roll_at * per:] = cog[roll_at * per - 1] + [0.05, -0.3, -0.2]  # rolling away
-    sweep = xr.Dataset({"cog": (("time", "axis"), cog),
-                        "level": (("time",), np.repeat(np.arange(len(LEVELS)), per)),
-                        "pressure_cmd": (("time",), np.repeat(LEVELS, per))},
-                       attrs={"pair": 10, "face": FACE})
+    cog[roll_at * per :] = cog[roll_at * per - 1] + [0.05, -0.3, -0.2]  # rolling away
+    sweep = xr.Dataset(
+        {
+            "cog": (("time", "axis"), cog),
+            "level": (("time",), np.repeat(np.arange(len(LEVELS)), per)),
+            "pressure_cmd": (("time",), np.repeat(LEVELS, per)),
+        },
+        attrs={"pair": 10, "face": FACE},
+    )
     real_read = datasets.read
-    monkeypatch.setattr(render_stage.datasets, "read",
-                        lambda p: sweep if str(p).endswith("sweep.nc") else real_read(p))
+    monkeypatch.setattr(render_stage.datasets, "read", lambda p: sweep if str(p).endswith("sweep.nc") else real_read(p))
     out = render_stage.cog_cloud({}, tmp_path / "sweep.nc", npath, tmp_path / "fig6.png", max_pressure=4.8)
     assert out["labels"] == [f"{p:g} MPa" for p in LEVELS[:roll_at]]
     assert out["samples"] == roll_at * per
@@ -118,18 +139,29 @@ def test_grounded_roll_fig6_and_fig7_draw_the_levels_before_it(tmp_path, monkeyp
     assert (tmp_path / "fig7.png").exists()
 
 
-@pytest.mark.parametrize("terrain, words", [
-    (Terrain.flat(), "on flat ground"),
-    (Terrain(kind="plane", normal=np.array([np.sin(np.radians(10)), 0, np.cos(np.radians(10))])),
-     "on a 10 deg slope"),
-])
+@pytest.mark.parametrize(
+    "terrain, words",
+    [
+        (Terrain.flat(), "on flat ground"),
+        (
+            Terrain(kind="plane", normal=np.array([np.sin(np.radians(10)), 0, np.cos(np.radians(10))])),
+            "on a 10 deg slope",
+        ),
+    ],
+)
 def test_path_titles_name_the_ground(tmp_path, monkeypatch, terrain, words):
     ds = xr.Dataset(attrs={"run": "r", "outcome": "arrived", "rolls": 1})
     seen = {}
     from tensegrity.render import runs
+
     monkeypatch.setattr(run_formats, "terrain_from_dataset", lambda ds: terrain)
     monkeypatch.setattr(runs, "fig_path", lambda *a, **kw: seen.update(title=a[3]) or seen)
-    ds = ds.assign(time=("time", [0.0, 1.0]), t_end=("step", [1.0]), next_face=("step", [8]),
-                   goal=("axis", [1.0, 0.0, 0.0]), nodes=(("time", "node", "axis"), np.zeros((2, 12, 3))))
+    ds = ds.assign(
+        time=("time", [0.0, 1.0]),
+        t_end=("step", [1.0]),
+        next_face=("step", [8]),
+        goal=("axis", [1.0, 0.0, 0.0]),
+        nodes=(("time", "node", "axis"), np.zeros((2, 12, 3))),
+    )
     out = loco_stage._path_figure(ds, tmp_path / "p.png", "top")
     assert words in out["title"]

@@ -1,6 +1,7 @@
 """The table of stages (`stages.config.STAGES`): every key a stage lists is a key of the schema,
 every function it names exists, the Snakemake scripts call the registered functions and no other,
 and `tensegrity stage` reaches every one."""
+
 import ast
 import inspect
 from pathlib import Path
@@ -47,11 +48,20 @@ def test_simulation_stages_read_no_validation_or_figure_key():
 def _script_calls(path: Path) -> set[str]:
     """'module:function' of every `stages.<module>.<function>(...)` call in a workflow script."""
     tree = ast.parse(path.read_text())
-    modules = {a.asname or a.name for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)
-               and n.module == "tensegrity.stages" for a in n.names}
-    return {f"{c.func.value.id}:{c.func.attr}" for c in ast.walk(tree)
-            if isinstance(c, ast.Call) and isinstance(c.func, ast.Attribute)
-            and isinstance(c.func.value, ast.Name) and c.func.value.id in modules}
+    modules = {
+        a.asname or a.name
+        for n in ast.walk(tree)
+        if isinstance(n, ast.ImportFrom) and n.module == "tensegrity.stages"
+        for a in n.names
+    }
+    return {
+        f"{c.func.value.id}:{c.func.attr}"
+        for c in ast.walk(tree)
+        if isinstance(c, ast.Call)
+        and isinstance(c.func, ast.Attribute)
+        and isinstance(c.func.value, ast.Name)
+        and c.func.value.id in modules
+    }
 
 
 def test_the_scripts_call_every_registered_stage_and_no_other():

@@ -2,6 +2,7 @@
 through `io` (`io.formats.read_nominals`, `read_workspace`, `read_run_summaries`) and written
 as validation.nc, summary.md and summary.html; the demonstration runs' files and the
 end-of-workflow warning; the readers hand the checks the files' numbers."""
+
 import re
 from pathlib import Path
 
@@ -14,9 +15,11 @@ from tensegrity.io.formats import run as run_formats
 from tensegrity.io.formats import two_pair as tpf
 from tensegrity.io.formats import workspace as wf
 from tensegrity.io.formats.nominal import read_nominal, read_nominals
-from tensegrity.stages import nominal as nominal_stage, sweep as sweep_stage, validate as validate_stage
-from tensegrity.stages.config import stage_config
 from tensegrity.physics import topology as topo
+from tensegrity.stages import nominal as nominal_stage
+from tensegrity.stages import sweep as sweep_stage
+from tensegrity.stages import validate as validate_stage
+from tensegrity.stages.config import stage_config
 from tensegrity.validation import checks, grounded, summary
 from tensegrity.validation.common import FAIL, PASS, SKIP, CheckError, CheckSettings
 from tensegrity.workspace import two_pair as tp
@@ -30,8 +33,12 @@ REPO = Path(__file__).resolve().parents[2]
 def tiny_stage(tmp_path_factory):
     """The pipeline on #10 and #11 at two levels, then the validate stage on its outputs."""
     tmp = tmp_path_factory.mktemp("stage")
-    cfg = config.load(overrides={"sweep": {"pairs": [10, 11], "levels": [2.0, 2.4], "hold": 0.5},
-                                 "validate": {"statics_pressures": [2.4]}})
+    cfg = config.load(
+        overrides={
+            "sweep": {"pairs": [10, 11], "levels": [2.0, 2.4], "hold": 0.5},
+            "validate": {"statics_pressures": [2.4]},
+        }
+    )
     noms = []
     for contact in ("equilateral", "isosceles"):
         sweeps = sweep_stage.sweep(stage_config(cfg, "sweep"), contact, tmp / "sweeps" / contact)
@@ -72,17 +79,25 @@ def test_a_check_that_raises_is_shown_as_failed(tiny_stage, monkeypatch):
 
     def boom(*a, **k):
         raise RuntimeError("solver diverged")
+
     monkeypatch.setattr(checks, "check_statics", boom)
     monkeypatch.setattr(checks, "check_mapping", boom)
     monkeypatch.setattr(grounded, "check_grounded", boom)
     monkeypatch.setattr(checks, "check_timestep", boom)
-    results = checks.run_checks(settings.params(cfg), settings.build(SweepSetup, cfg), DISCARD, read_nominals(noms),
-                                wf.read_workspace(ws), settings.build(CheckSettings, cfg))
+    results = checks.run_checks(
+        settings.params(cfg),
+        settings.build(SweepSetup, cfg),
+        DISCARD,
+        read_nominals(noms),
+        wf.read_workspace(ws),
+        settings.build(CheckSettings, cfg),
+    )
     assert isinstance(results[1], CheckError) and results[1].status == {"2": FAIL}
     rows = {r.id: r for res in results for r in summary.verdicts(res)}
     assert rows["2"].status == FAIL and rows["2"].measured == "error: RuntimeError: solver diverged"
     assert rows["1.2"].status in (PASS, FAIL)
     from tensegrity.io.formats.validation import workspace_validation_dataset
+
     ds, _ = workspace_validation_dataset(results, [2.0, 2.4], [1, 7, 9, 18], [2.4])
     assert list(ds["check"].values) == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4", "5", "6"]
     assert "statics_difference" not in ds and "tip_pressure" in ds
@@ -90,9 +105,10 @@ def test_a_check_that_raises_is_shown_as_failed(tiny_stage, monkeypatch):
 
 def run_file(path, name, outcome, goal=(1.0, 0.0, np.nan), final=(0.9, 0.1, 0.2), rolls=3):
     """A file shaped like results/locomotion/{run}.nc (only what check 6 reads)."""
-    ds = xr.Dataset({"cog": (("time", "axis"), np.array([[0.0, 0.0, 0.2], final])),
-                     "goal": (("axis",), np.array(goal, float))},
-                    attrs={"run": name, "outcome": outcome, "message": f"{outcome} because", "rolls": rolls})
+    ds = xr.Dataset(
+        {"cog": (("time", "axis"), np.array([[0.0, 0.0, 0.2], final])), "goal": (("axis",), np.array(goal, float))},
+        attrs={"run": name, "outcome": outcome, "message": f"{outcome} because", "rolls": rolls},
+    )
     ds.to_netcdf(path)
     return path
 
@@ -115,11 +131,14 @@ def test_run_files_are_read_as_what_check_6_needs_and_warned_about(tmp_path):
 
 def test_stage_fails_check_6_in_every_output(tiny_stage, tmp_path):
     cfg, noms, ws, _, _ = tiny_stage
-    runs = [run_file(tmp_path / "paper.nc", "paper", "arrived", goal=(np.nan,) * 3),
-            run_file(tmp_path / "slope_up.nc", "slope_up", "no_contact")]
+    runs = [
+        run_file(tmp_path / "paper.nc", "paper", "arrived", goal=(np.nan,) * 3),
+        run_file(tmp_path / "slope_up.nc", "slope_up", "no_contact"),
+    ]
     out = tmp_path / "validation"
-    validate_stage.validate(cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html",
-                            run_paths=runs)
+    validate_stage.validate(
+        cfg, noms, ws, out / "validation.nc", out / "summary.md", out / "summary.html", run_paths=runs
+    )
     ds = datasets.read(out / "validation.nc")
     st = dict(zip(ds["check"].values, ds["status"].values))
     assert st["6"] == FAIL
@@ -164,14 +183,19 @@ def test_the_two_pair_readers_hand_the_checks_the_files_numbers(tmp_path):
     grid and staircases the direct check compares (synthetic numbers)."""
     rng, levels = np.random.default_rng(1), [1.0, 2.0]
     grid = lambda *lead: {
-        "cog": rng.normal(size=(*lead, 66, 2, 2, 3)), "support": rng.normal(size=(*lead, 66, 2, 2, 3, 3)),
-        "margin": rng.normal(size=(*lead, 66, 2, 2)), "tip_pressure": rng.uniform(1, 2, (*lead, 66)),
-        "tip_edge": np.ones((*lead, 66, 2), int), "tip_boundary": np.full((*lead, 66, 2), np.nan),
-        "staircase": np.tile(tp.COMBOS, (*lead, 1, 1))}
+        "cog": rng.normal(size=(*lead, 66, 2, 2, 3)),
+        "support": rng.normal(size=(*lead, 66, 2, 2, 3, 3)),
+        "margin": rng.normal(size=(*lead, 66, 2, 2)),
+        "tip_pressure": rng.uniform(1, 2, (*lead, 66)),
+        "tip_edge": np.ones((*lead, 66, 2), int),
+        "tip_boundary": np.full((*lead, 66, 2), np.nan),
+        "staircase": np.tile(tp.COMBOS, (*lead, 1, 1)),
+    }
     ws = grid()
     face = topo.face_number(topo.CONTACT_FACES["isosceles"])
-    ds = tpf.contact_dataset(levels, tp.COMBOS, ws, np.ones(66), np.zeros((66, 2, 2, 3)),
-                             {"contact": "isosceles", "face": face}, 0.5)
+    ds = tpf.contact_dataset(
+        levels, tp.COMBOS, ws, np.ones(66), np.zeros((66, 2, 2, 3)), {"contact": "isosceles", "face": face}, 0.5
+    )
     ds.to_netcdf(tmp_path / "isosceles.nc")
     n = tpf.read_two_pair_nominals([tmp_path / "isosceles.nc"])["isosceles"]
     assert n.contact == "isosceles" and n.face == face

@@ -1,20 +1,27 @@
 """Study analysis: SALib indices recover known sensitivities; best designs; success rates;
 the figures are drawn and not blank."""
+
 import numpy as np
 import pytest
 
+from tensegrity.io import study_config
 from tensegrity.render import studies as fig
 from tensegrity.studies import analysis as an
-from tensegrity.io import study_config
 from tensegrity.studies import spec
 
 BOX = {"a": {"low": 0.0, "high": 1.0, "units": "m"}}
 
 
 def _study(method, n):
-    return study_config.validate({"parameters": {"cable_stiffness": {"low": 500.0, "high": 1500.0, "units": "N/m"},
-                                         "muscle_gain": {"low": 400.0, "high": 800.0, "units": "N/(MPa m)"}},
-                          "design": {"method": method, "n": n, "seed": 2}})
+    return study_config.validate(
+        {
+            "parameters": {
+                "cable_stiffness": {"low": 500.0, "high": 1500.0, "units": "N/m"},
+                "muscle_gain": {"low": 400.0, "high": 800.0, "units": "N/(MPa m)"},
+            },
+            "design": {"method": method, "n": n, "seed": 2},
+        }
+    )
 
 
 @pytest.mark.parametrize("method, n, index", [("saltelli", 256, "S1"), ("morris", 40, "mu_star"), ("lhs", 100, "S1")])
@@ -44,23 +51,45 @@ def test_best_designs_skip_undefined_objectives():
 
 def test_success_rate_interval_brackets_the_rate():
     p, lo, hi = an.success_rate(np.array([1] * 8))
-    assert p == 1.0 and 0.6 < lo < 0.7 and hi == 1.0      # Wilson: 67.6-100 % for 8 of 8
+    assert p == 1.0 and 0.6 < lo < 0.7 and hi == 1.0  # Wilson: 67.6-100 % for 8 of 8
     p, lo, hi = an.success_rate(np.array([1, 0] * 50))
     assert lo < p == 0.5 < hi and hi - lo == pytest.approx(0.19, abs=0.01)
 
 
 def test_the_study_figures_are_drawn(tmp_path):
     import imageio.v3 as iio
+
     rng = np.random.default_rng(0)
     X = rng.random((20, 2)) * [1000, 400] + [500, 400]
     obj = np.where(X[:, 0] > 600, X[:, 0] / 400, np.nan)
-    paths = [fig.response_map(X[:, 0], X[:, 1], obj, rng.normal(0, 0.01, 20), ("cable_stiffness", "N/m"),
-                              ("muscle_gain", "N/(MPa m)"), an.best_designs(obj, 3), tmp_path / "r.png"),
-             fig.sensitivity_bars(["cable_stiffness", "muscle_gain"], ["best_tip_pressure"], "saltelli",
-                                  {"S1": np.array([[0.9, 0.05]]), "S1_conf": np.array([[0.1, 0.02]])}, tmp_path / "s.png"),
-             fig.robustness(rng.random(20) > 0.2, rng.normal([4.2, 2.2], 0.2, (20, 2)), X,
-                            [("cable_stiffness", "N/m"), ("muscle_gain", "N/(MPa m)")], (0.8, 0.6, 0.9), tmp_path / "b.png")]
+    paths = [
+        fig.response_map(
+            X[:, 0],
+            X[:, 1],
+            obj,
+            rng.normal(0, 0.01, 20),
+            ("cable_stiffness", "N/m"),
+            ("muscle_gain", "N/(MPa m)"),
+            an.best_designs(obj, 3),
+            tmp_path / "r.png",
+        ),
+        fig.sensitivity_bars(
+            ["cable_stiffness", "muscle_gain"],
+            ["best_tip_pressure"],
+            "saltelli",
+            {"S1": np.array([[0.9, 0.05]]), "S1_conf": np.array([[0.1, 0.02]])},
+            tmp_path / "s.png",
+        ),
+        fig.robustness(
+            rng.random(20) > 0.2,
+            rng.normal([4.2, 2.2], 0.2, (20, 2)),
+            X,
+            [("cable_stiffness", "N/m"), ("muscle_gain", "N/(MPa m)")],
+            (0.8, 0.6, 0.9),
+            tmp_path / "b.png",
+        ),
+    ]
     for p in paths:
         img = iio.imread(p)
         assert img.shape[0] > 300 and img.shape[1] > 400
-        assert img[..., :3].std() > 10   # not blank
+        assert img[..., :3].std() > 10  # not blank

@@ -1,12 +1,14 @@
 """Per-design numbers of a study: the batched designs are the pipeline's sweeps and rolls, one
 robot per design; tested against separate runs, the statics and the structure's symmetry."""
+
 import numpy as np
 import pytest
 
 from tensegrity.io.config import load
 from tensegrity.io.settings import build
 from tensegrity.locomotion.settings import RollSettings
-from tensegrity.physics import frames, statics, topology as topo
+from tensegrity.physics import frames, statics
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.studies import evaluate as ev
 from tensegrity.workspace import nominal as nom
@@ -87,8 +89,10 @@ def test_the_papers_statements_are_check_1_on_each_designs_nominal_cog(ws):
     #10, #12 moves the CoG equally (1.5) for every design; the migration is each design's own."""
     contacts = ["equilateral", "isosceles"]
     nominals = ev.nominals(ws, 2, contacts)
-    assert [(n.contact, n.face, n.mode) for n in nominals.values()] == [("equilateral", 8, "free"),
-                                                                        ("isosceles", 20, "free")]
+    assert [(n.contact, n.face, n.mode) for n in nominals.values()] == [
+        ("equilateral", 8, "free"),
+        ("isosceles", 20, "free"),
+    ]
     assert np.isnan(nominals["isosceles"].cog[:8]).all() and np.isfinite(nominals["isosceles"].cog[8:]).all()
     out = ev.paper_statements(DESIGNS, ws, contacts, 2.4, 0.2)
     assert out["status"].tolist() == [[-1, 0, 1, 1, 1], [-1, 0, 0, 0, 1], [-1, 0, 0, 0, 1]]

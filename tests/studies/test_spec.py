@@ -1,16 +1,22 @@
 """Study files: the schema and the checks it cannot express name the bad key; the designs."""
-import numpy as np
-import pytest
+
 from pathlib import Path
 
-from tensegrity.io.config import ConfigError
+import numpy as np
+import pytest
+
 from tensegrity.io import study_config
+from tensegrity.io.config import ConfigError
 from tensegrity.studies import spec
 
 ROOT = Path(__file__).resolve().parents[2]
-BASE = {"parameters": {"cable_stiffness": {"low": 800.0, "high": 1200.0, "units": "N/m"},
-                       "cable_pretension": {"low": 15.0, "high": 25.0, "units": "N"}},
-        "design": {"method": "grid", "levels": 3}}
+BASE = {
+    "parameters": {
+        "cable_stiffness": {"low": 800.0, "high": 1200.0, "units": "N/m"},
+        "cable_pretension": {"low": 15.0, "high": 25.0, "units": "N"},
+    },
+    "design": {"method": "grid", "levels": 3},
+}
 
 
 def _with(**kw):
@@ -20,20 +26,34 @@ def _with(**kw):
     return st
 
 
-@pytest.mark.parametrize("study, key", [
-    (_with(parameters={"cable_stifness": {"low": 1, "high": 2, "units": "N/m"}}), "study key parameters.cable_stifness"),
-    (_with(parameters={"cable_stiffness": {"low": 900.0, "high": 800.0, "units": "N/m"}}), "study key parameters.cable_stiffness.high"),
-    (_with(parameters={"cable_stiffness": {"low": 0.8, "high": 1.2, "units": "kN/m"}}), "study key parameters.cable_stiffness.units"),
-    (_with(design={"method": "latin"}), "study key design.method"),
-    (_with(chunk_size=0), "study key chunk_size"),
-    (_with(workspace={"levels": [1.0, 0.5]}), "study key workspace.levels"),
-    (_with(workspace={"reference_pressure": 9.0}), "study key workspace.reference_pressure"),
-    (_with(roll={"enabled": True}, parameters={"strut_length": {"low": 0.4, "high": 0.6, "units": "m"}}),
-     "study key parameters.strut_length"),
-    (_with(analysis={"response": ["strut_mass"]}), "study key analysis.response"),
-    (_with(colour="red"), "study key colour"),
-    (_with(analysis={"outputs": ["roll_success"]}), "study key analysis.outputs"),
-])
+@pytest.mark.parametrize(
+    "study, key",
+    [
+        (
+            _with(parameters={"cable_stifness": {"low": 1, "high": 2, "units": "N/m"}}),
+            "study key parameters.cable_stifness",
+        ),
+        (
+            _with(parameters={"cable_stiffness": {"low": 900.0, "high": 800.0, "units": "N/m"}}),
+            "study key parameters.cable_stiffness.high",
+        ),
+        (
+            _with(parameters={"cable_stiffness": {"low": 0.8, "high": 1.2, "units": "kN/m"}}),
+            "study key parameters.cable_stiffness.units",
+        ),
+        (_with(design={"method": "latin"}), "study key design.method"),
+        (_with(chunk_size=0), "study key chunk_size"),
+        (_with(workspace={"levels": [1.0, 0.5]}), "study key workspace.levels"),
+        (_with(workspace={"reference_pressure": 9.0}), "study key workspace.reference_pressure"),
+        (
+            _with(roll={"enabled": True}, parameters={"strut_length": {"low": 0.4, "high": 0.6, "units": "m"}}),
+            "study key parameters.strut_length",
+        ),
+        (_with(analysis={"response": ["strut_mass"]}), "study key analysis.response"),
+        (_with(colour="red"), "study key colour"),
+        (_with(analysis={"outputs": ["roll_success"]}), "study key analysis.outputs"),
+    ],
+)
 def test_a_bad_study_names_its_key(study, key):
     with pytest.raises(ConfigError) as e:
         study_config.validate(study)
@@ -42,8 +62,12 @@ def test_a_bad_study_names_its_key(study, key):
 
 def test_a_box_with_an_impossible_corner_is_refused():
     # T0 = 60 N at K = 300 N/m: rest length l0 - T0/K = 0.106 m < Lmin = 0.2 m
-    st = _with(parameters={"cable_stiffness": {"low": 300.0, "high": 1200.0, "units": "N/m"},
-                           "cable_pretension": {"low": 20.0, "high": 60.0, "units": "N"}})
+    st = _with(
+        parameters={
+            "cable_stiffness": {"low": 300.0, "high": 1200.0, "units": "N/m"},
+            "cable_pretension": {"low": 20.0, "high": 60.0, "units": "N"},
+        }
+    )
     with pytest.raises(ConfigError, match="study key parameters: the corner .* is not a valid robot"):
         study_config.validate(st)
 
@@ -64,7 +88,7 @@ def test_samples_are_seeded_inside_the_box(method, n, size):
     X = spec.design_matrix(st)
     assert X.shape == (size, 2) == (spec.n_designs(st), 2)
     assert np.all(X >= [800, 15]) and np.all(X <= [1200, 25])
-    np.testing.assert_array_equal(X, spec.design_matrix(st))          # same study, same designs
+    np.testing.assert_array_equal(X, spec.design_matrix(st))  # same study, same designs
     other = study_config.validate(_with(design={"method": method, "n": n, "seed": 5}))
     assert not np.array_equal(X, spec.design_matrix(other))
     if method == "lhs":  # one sample in each of the n strata of every parameter
@@ -74,6 +98,7 @@ def test_samples_are_seeded_inside_the_box(method, n, size):
 
 def test_design_params_set_only_the_varied_parameters():
     from tensegrity.physics.params import Params
+
     st = study_config.validate(BASE)
     p = spec.design_params(Params(strut_mass=0.3), st, np.array([[900.0, 18.0]]))[0]
     assert (p.cable_stiffness, p.cable_pretension, p.strut_mass) == (900.0, 18.0, 0.3)

@@ -1,12 +1,14 @@
 """Validation of the gravity-aware workspace: a grounded roll of the controller tips the robot at
 the workspace's pressure, and the verdicts follow the numbers."""
+
 import numpy as np
 import pytest
 
 from tensegrity.locomotion.settings import RollSettings
 from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
-from tensegrity.validation import gravity as vg, pages
+from tensegrity.validation import gravity as vg
+from tensegrity.validation import pages
 from tensegrity.validation.common import FAIL, INFO
 from tensegrity.workspace import gravity as gv
 from tensegrity.workspace.nominal import Nominal
@@ -43,7 +45,7 @@ def _free_from(sw: gv.GravitySweep, shift: float = 0.0) -> Nominal:
     for b in range(cog.shape[0]):
         ok = np.flatnonzero(np.isfinite(cog[b, :, 0]))
         centre = support[b, ok[-1]].mean(axis=0)
-        cog[b, ok[-1] + 1:] = centre + 10 * (cog[b, ok[-1]] - centre)
+        cog[b, ok[-1] + 1 :] = centre + 10 * (cog[b, ok[-1]] - centre)
     return Nominal.of_pairs("isosceles", sw.face, "free", sw.pressure[k], sw.pairs, cog, support, margin)
 
 
@@ -52,9 +54,23 @@ def test_check_4_on_the_ramp_compares_what_it_is_given(sweep):
     assert same.in_plane_max == 0.0 and same.shift_ok and same.roll_ok
     moved = vg.flat_comparison(sweep, _free_from(sweep, 0.01), 5e-3)
     assert moved.in_plane_max == pytest.approx(0.01) and not moved.shift_ok
-    rc = vg.RollCheck(*(np.array(v) for v in (["isosceles"] * 2, [0.0, 15.0], [0.0, 90.0], [11, 12],
-                                                [1.8, 1.0], [1.85, 1.3], [1.9, 1.4], [0.05, 0.3],
-                                                [[10, 11], [10, 12]], [1, 2])))
+    rc = vg.RollCheck(
+        *(
+            np.array(v)
+            for v in (
+                ["isosceles"] * 2,
+                [0.0, 15.0],
+                [0.0, 90.0],
+                [11, 12],
+                [1.8, 1.0],
+                [1.85, 1.3],
+                [1.9, 1.4],
+                [0.05, 0.3],
+                [[10, 11], [10, 12]],
+                [1, 2],
+            )
+        )
+    )
     rows, st = vg.verdicts(rc, {"isosceles": same}, 0.1)
     assert st == {"G.1": FAIL, "G.2": INFO, "G.3": INFO}  # G.2, G.3: the paper's assumption, reported
     assert "0.300 MPa" in rows[0].measured and "#12" in rows[0].measured
@@ -72,4 +88,7 @@ def test_near_the_tipping_point_the_ramp_holds_as_the_roll_does():
     rc = vg.check_rolls(params, {"equilateral": held}, [15.0], RollSettings(), 1.0)
     assert held.tip_pressure[0, 0, 0] < steady.tip_pressure[0, 0, 0] - 0.05
     assert rc.difference[0] < 0.1 < abs(rc.roll_tip[0] - steady.tip_pressure[0, 0, 0]), (
-        rc.roll_tip, held.tip_pressure, steady.tip_pressure)
+        rc.roll_tip,
+        held.tip_pressure,
+        steady.tip_pressure,
+    )

@@ -1,12 +1,14 @@
 """Validation of the two-pair workspace (validation.two_pair): the statics check passes on the
 simulated nominal and fails on a displaced one; the verdict tables carry every row."""
+
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from tensegrity.physics.params import Params
-from tensegrity.validation import pages, two_pair as v
+from tensegrity.validation import pages
+from tensegrity.validation import two_pair as v
 from tensegrity.validation.common import FAIL, PASS
 from tensegrity.workspace import two_pair as tp
 from tensegrity.workspace.nominal import TwoPairNominal

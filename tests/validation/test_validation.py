@@ -1,22 +1,23 @@
 """The checks (tensegrity.validation): every check passes on a case where the claim holds and fails
 on one where it does not (a check that cannot fail is a defect). The checks return numbers and
 statuses; `summary` words them. The validate stage itself: tests/stages/test_validate.py."""
+
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from tensegrity.physics import frames, topology as topo
-from tensegrity.workspace import mapping
-from tensegrity.physics import statics
+from tensegrity.physics import frames, statics
+from tensegrity.physics import topology as topo
+from tensegrity.physics.params import Params
 from tensegrity.validation import checks, grounded, paper, summary
 from tensegrity.validation import runs as demo_runs
 from tensegrity.validation.common import FAIL, PASS, SKIP
 from tensegrity.validation.nominals import simulate_nominal
+from tensegrity.workspace import mapping
 from tensegrity.workspace.lookup import Workspace
 from tensegrity.workspace.nominal import Nominal
 from tensegrity.workspace.sweep import SweepSetup
-from tensegrity.physics.params import Params
 
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
 ISO = topo.face_number(topo.CONTACT_FACES["isosceles"])  # (10,11,12)
@@ -65,8 +66,14 @@ def static_nominals():
             nodes[p, k] = start = statics.equilibrium(P, prs, start=start)
     for contact, face in (("equilateral", EQUI), ("isosceles", ISO)):
         cs = [[frames.in_support_frame(nodes[p, k], face) for k in range(len(LEVELS))] for p in range(1, 13)]
-        out[contact] = nominal(contact, face, np.arange(1, 13), LEVELS,
-                               [[c[0] for c in row] for row in cs], [[c[1] for c in row] for row in cs])
+        out[contact] = nominal(
+            contact,
+            face,
+            np.arange(1, 13),
+            LEVELS,
+            [[c[0] for c in row] for row in cs],
+            [[c[1] for c in row] for row in cs],
+        )
     return out
 
 
@@ -135,6 +142,7 @@ def test_orbit_compares_each_member_from_its_own_corner(static_nominals):
 
 # ----------------------------------------------------------------------- 2. statics
 
+
 @pytest.fixture(scope="module")
 def free_run():
     """A short free-mode staircase of #10 and #4 on (9,10,12), averaged as the pipeline does."""
@@ -166,6 +174,7 @@ def test_statics_check_is_not_evaluated_off_the_levels_or_in_the_grounded_mode(f
 
 
 # ------------------------------------------------------------------ 3. mapping
+
 
 @pytest.fixture(scope="module")
 def small_workspace():
@@ -214,6 +223,7 @@ def test_mapping_check_fails_for_a_wrong_map_or_a_small_sample(small_workspace):
 
 
 # ------------------------------------------------------------------ 4. grounded vs free
+
 
 def _synthetic(shift, end_face, free_xy=(0.0, 0.0)):
     """Two levels of one pair on (9,10,12): free CoG at free_xy, grounded CoG moved by shift."""
@@ -271,10 +281,13 @@ def test_grounded_check_reports_where_the_robot_rolled():
 
 # ------------------------------------------------------------------ 5. time step
 
+
 def test_timestep_check_passes_and_fails_when_perturbed():
     setup = SweepSetup(levels=(2.4,), hold=0.5)
     run = simulate_nominal(FREE, EQUI, [10], setup, DISCARD)
-    ok = checks.check_timestep(FREE, {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}, setup, DISCARD, 1e-4)
+    ok = checks.check_timestep(
+        FREE, {"equilateral": from_run("equilateral", EQUI, run, setup.levels)}, setup, DISCARD, 1e-4
+    )
     assert status(ok, "5") == PASS and np.nanmax(ok.difference) < 5e-5
     cog = run.cog + [3e-4, 0, 0]
     bad = {"equilateral": nominal("equilateral", EQUI, run.pairs, setup.levels, cog, run.support)}
@@ -299,10 +312,10 @@ def test_checks_without_a_complete_pair_are_not_evaluated():
 
 # ------------------------------------------------------------------ 6. demonstration runs
 
+
 def run(outcome, goal=(1.0, 0.0, np.nan), final=(0.9, 0.1, 0.2), rolls=3):
     """What check 6 reads of a run file (results/locomotion/{run}.nc)."""
-    return demo_runs.RunSummary(outcome, f"{outcome} because", rolls, np.array(goal, float),
-                                np.array(final, float))
+    return demo_runs.RunSummary(outcome, f"{outcome} because", rolls, np.array(goal, float), np.array(final, float))
 
 
 def test_runs_check_fails_for_a_run_that_did_not_arrive():
@@ -310,11 +323,15 @@ def test_runs_check_fails_for_a_run_that_did_not_arrive():
     bad = run("no_contact", goal=(1.0, 0.0, 0.0), final=(-0.5, 0.0, 0.1))
     edges = run("arrived", goal=(np.nan,) * 3)
     res = demo_runs.check_runs({"paper": edges, "flat": good})
-    assert res.status == {"6": PASS} and np.isnan(res.distance[0]) and res.distance[1] == pytest.approx(0.1414, abs=1e-4)
+    assert (
+        res.status == {"6": PASS} and np.isnan(res.distance[0]) and res.distance[1] == pytest.approx(0.1414, abs=1e-4)
+    )
     res = demo_runs.check_runs({"paper": edges, "flat": good, "slope_up": bad})
     assert res.status == {"6": FAIL} and list(res.arrived) == [True, True, False]
-    row, = summary.verdicts(res)
-    assert row.status == FAIL and "slope_up no_contact (3 rolls, 1.50 m from the goal): no_contact because" in row.measured
+    (row,) = summary.verdicts(res)
+    assert (
+        row.status == FAIL and "slope_up no_contact (3 rolls, 1.50 m from the goal): no_contact because" in row.measured
+    )
     title, header, rows = summary.tables(res)[0]
     assert [r[:2] for r in rows] == [["paper", "arrived"], ["flat", "arrived"], ["slope_up", "no_contact"]]
     assert demo_runs.check_runs({}).status == {"6": SKIP}

@@ -1,5 +1,6 @@
 """Fixtures of the workflow tier: a scratch copy of the workflow and one run of it on the tiny
 configuration, shared by the smoke test and the documentation examples."""
+
 import shutil
 import subprocess
 import sys
@@ -24,8 +25,7 @@ def copy_workflow(tmp: Path) -> Path:
 def tiny(tmp_path_factory) -> Path:
     """A scratch copy in which the whole workflow ran on tests/workflow/tiny.yaml."""
     wd = copy_workflow(tmp_path_factory.mktemp("wf"))
-    r = subprocess.run(SNAKEMAKE + ["--cores", "2", "--configfile", str(TINY)],
-                       cwd=wd, capture_output=True, text=True)
+    r = subprocess.run(SNAKEMAKE + ["--cores", "2", "--configfile", str(TINY)], cwd=wd, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-3000:]
     return wd
 

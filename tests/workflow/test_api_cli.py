@@ -1,4 +1,5 @@
 """The public Python API and the command line."""
+
 import io
 import json
 import subprocess
@@ -10,31 +11,41 @@ import pytest
 import tensegrity
 from tensegrity import cli
 from tensegrity.cli import args as cli_args
-from tensegrity.io import config
-from tensegrity.io import datasets
+from tensegrity.io import config, datasets
 
 
 def test_public_names_resolve_to_their_modules():
     """Every name of the public API is the object of the module `_API` names (lazy import)."""
     import importlib
+
     for name, (module, attr) in tensegrity._API.items():
         assert getattr(tensegrity, name) is getattr(importlib.import_module(f"tensegrity.{module}"), attr), name
     assert set(tensegrity.__all__) == {"__version__", "load_workspace", *tensegrity._API}
     with pytest.raises(AttributeError, match="no attribute 'roll'"):
-        tensegrity.roll
+        _ = tensegrity.roll
 
 
 def test_a_curve_evaluates_without_scipy(tmp_path):
     curve = {"breaks": [0.4, 2.0, 4.8], "coefs": [[1.0, 0.0, 0.5], [2.0, 0.1, 0.3]]}
-    code = ("import sys; sys.modules['sklearn'] = None; sys.modules['scipy'] = None\n"
-            "from tensegrity.workspace import fit\n"
-            f"print(float(fit.evaluate({curve!r}, 3.0)))")
+    code = (
+        "import sys; sys.modules['sklearn'] = None; sys.modules['scipy'] = None\n"
+        "from tensegrity.workspace import fit\n"
+        f"print(float(fit.evaluate({curve!r}, 3.0)))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert float(out.stdout) == pytest.approx(2.0 * 1.0 ** 2 + 0.1 * 1.0 + 0.3)
+    assert float(out.stdout) == pytest.approx(2.0 * 1.0**2 + 0.1 * 1.0 + 0.3)
 
 
-SMALL = ["--set", "sweep.pairs=[9, 10, 11]", "--set", "sweep.levels=[1.2, 2.4, 3.6, 4.8]",
-         "--set", "sweep.hold=0.3", "--set", "nominal.discard=0.1"]
+SMALL = [
+    "--set",
+    "sweep.pairs=[9, 10, 11]",
+    "--set",
+    "sweep.levels=[1.2, 2.4, 3.6, 4.8]",
+    "--set",
+    "sweep.hold=0.3",
+    "--set",
+    "nominal.discard=0.1",
+]
 
 
 @pytest.fixture(scope="module")
@@ -44,15 +55,25 @@ def small_results(tmp_path_factory):
 
     def stage(*argv):
         assert cli.main(["stage", *argv, *SMALL]) == 0
+
     for c in ("equilateral", "isosceles"):
         stage("sweep", f"contact={c}", f"out_dir={d / 'sweeps' / c}")
-        stage("nominal", *(f"sweep_paths={p}" for p in sorted((d / "sweeps" / c).glob("*.nc"))),
-              f"out_path={d / 'nominal' / f'{c}.nc'}")
+        stage(
+            "nominal",
+            *(f"sweep_paths={p}" for p in sorted((d / "sweeps" / c).glob("*.nc"))),
+            f"out_path={d / 'nominal' / f'{c}.nc'}",
+        )
         stage("curves", f"nominal_path={d / 'nominal' / f'{c}.nc'}", f"out_path={d / 'curves' / f'{c}.nc'}")
-    stage("curves_json", *(f"curve_paths={d / 'curves' / f'{c}.nc'}" for c in ("equilateral", "isosceles")),
-          f"out_path={d / 'curves.json'}")
-    stage("workspace", *(f"nominal_paths={d / 'nominal' / f'{c}.nc'}" for c in ("equilateral", "isosceles")),
-          f"out_path={d / 'workspace.nc'}")
+    stage(
+        "curves_json",
+        *(f"curve_paths={d / 'curves' / f'{c}.nc'}" for c in ("equilateral", "isosceles")),
+        f"out_path={d / 'curves.json'}",
+    )
+    stage(
+        "workspace",
+        *(f"nominal_paths={d / 'nominal' / f'{c}.nc'}" for c in ("equilateral", "isosceles")),
+        f"out_path={d / 'workspace.nc'}",
+    )
     return d
 
 
@@ -75,9 +96,22 @@ def test_stage_files_carry_the_keys_their_stage_reads(small_results):
 
 
 def test_query_matches_the_nominal_cog_at_a_swept_level(small_results, capsys):
-    code = cli.main(["query", "--curves", str(small_results / "curves.json"), "--workspace",
-                     str(small_results / "workspace.nc"), "--face", "9,10,12", "--pair", "10",
-                     "--pressure", "2.4", "--json"])
+    code = cli.main(
+        [
+            "query",
+            "--curves",
+            str(small_results / "curves.json"),
+            "--workspace",
+            str(small_results / "workspace.nc"),
+            "--face",
+            "9,10,12",
+            "--pair",
+            "10",
+            "--pressure",
+            "2.4",
+            "--json",
+        ]
+    )
     assert code == 0
     out = json.loads(capsys.readouterr().out)
     nom = datasets.read(small_results / "nominal" / "equilateral.nc")
@@ -102,12 +136,15 @@ def test_query_on_a_mapped_face_agrees_with_the_workspace(small_results):
     assert ans.margin == pytest.approx(canon.margin, abs=1e-9)
 
 
-@pytest.mark.parametrize("argv,needle", [
-    (["simulate", "--pair", "13", "--pressure", "1", "--out", "x.nc"], "unknown pair 13"),
-    (["simulate", "--pair", "10", "--pressure", "-1", "--out", "x.nc"], "pressure"),
-    (["simulate", "--pair", "10", "--pressure", "1", "--out", "x.nc", "--set", "sim.dt=0.1"], "sim.dt"),
-    (["simulate", "--face", "1,2,3", "--pair", "10", "--pressure", "1", "--out", "x.nc"], "unknown face"),
-])
+@pytest.mark.parametrize(
+    "argv,needle",
+    [
+        (["simulate", "--pair", "13", "--pressure", "1", "--out", "x.nc"], "unknown pair 13"),
+        (["simulate", "--pair", "10", "--pressure", "-1", "--out", "x.nc"], "pressure"),
+        (["simulate", "--pair", "10", "--pressure", "1", "--out", "x.nc", "--set", "sim.dt=0.1"], "sim.dt"),
+        (["simulate", "--face", "1,2,3", "--pair", "10", "--pressure", "1", "--out", "x.nc"], "unknown face"),
+    ],
+)
 def test_bad_input_exits_3_naming_the_argument(tmp_path, capsys, monkeypatch, argv, needle):
     monkeypatch.chdir(tmp_path)
     assert cli.main(argv) == cli.EXIT_INPUT
@@ -123,8 +160,7 @@ def test_usage_error_exits_2(capsys):
 
 def test_simulate_writes_a_dataset(tmp_path):
     out = tmp_path / "run.nc"
-    assert cli.main(["simulate", "--pair", "10", "--pressure", "2.0", "--duration", "0.2",
-                     "--out", str(out)]) == 0
+    assert cli.main(["simulate", "--pair", "10", "--pressure", "2.0", "--duration", "0.2", "--out", str(out)]) == 0
     ds = datasets.read(out)
     assert ds["nodes"].dims == ("time", "node", "axis") and ds.sizes["time"] == 200
     assert float(ds["pressure_cmd"].sel(pair=10)[-1]) == 2.0
@@ -148,12 +184,15 @@ def test_render_command_draws_a_dataset_and_refuses_a_foreign_file(small_results
 
 # ---------------------------------------------------------------- one parser per argument kind
 
+
 def test_numbers_after_an_option_may_be_negative():
-    assert cli_args.join_negative_values(["roll", "--goal", "-1.2,1.5", "--yaw", "-30"]) == \
-        ["roll", "--goal=-1.2,1.5", "--yaw=-30"]
+    assert cli_args.join_negative_values(["roll", "--goal", "-1.2,1.5", "--yaw", "-30"]) == [
+        "roll",
+        "--goal=-1.2,1.5",
+        "--yaw=-30",
+    ]
     assert cli_args.join_negative_values(["plan", "--face", "9,10,12", "-h"]) == ["plan", "--face", "9,10,12", "-h"]
-    args = cli.build_parser().parse_args(cli_args.join_negative_values(
-        ["plan", "--goal", "-1.2,-0.5", "--yaw", "-30"]))
+    args = cli.build_parser().parse_args(cli_args.join_negative_values(["plan", "--goal", "-1.2,-0.5", "--yaw", "-30"]))
     assert args.goal == [-1.2, -0.5] and args.yaw == -30
     args = cli.build_parser().parse_args(cli_args.join_negative_values(["plan", "--direction", "-90"]))
     np.testing.assert_allclose(args.direction, [0.0, -1.0], atol=1e-15)
@@ -171,8 +210,13 @@ def test_the_same_terrain_spec_builds_the_same_ground_under_every_command():
         assert sim.terrain.origin == other.terrain.origin and sim.terrain.spacing == other.terrain.spacing
 
 
-@pytest.mark.parametrize("cmd", [["simulate", "--pair", "10", "--pressure", "1", "--out", "x.nc"],
-                                 ["roll", "--goal", "1,1", "--workspace", "missing.nc"]])
+@pytest.mark.parametrize(
+    "cmd",
+    [
+        ["simulate", "--pair", "10", "--pressure", "1", "--out", "x.nc"],
+        ["roll", "--goal", "1,1", "--workspace", "missing.nc"],
+    ],
+)
 def test_a_fractional_face_is_refused_by_every_command(tmp_path, monkeypatch, capsys, cmd):
     """Regression: `roll --face 9.5` was truncated to face 9."""
     monkeypatch.chdir(tmp_path)
@@ -190,6 +234,7 @@ def test_durations_are_checked_and_named(capsys, option, value):
 
 def test_config_show_and_check(tmp_path, capsys):
     import yaml
+
     assert cli.main(["config", "show"]) == 0
     assert yaml.safe_load(capsys.readouterr().out) == config.load()
     bad = tmp_path / "bad.yaml"
@@ -204,21 +249,36 @@ def test_render_draws_the_reference_support_of_the_datasets_strut_length(tmp_pat
     from tensegrity.io import formats
     from tensegrity.physics import frames
     from tensegrity.render import frame_plots as paper
+
     P, n = 2, 1
-    ds = formats.nominal_dataset([10], [1.0, 2.0], np.full((n, P, 3), 0.1), np.zeros((n, P, 3)),
-                                 np.zeros((n, P, 3, 3)), np.full((n, P), 0.05), np.array([np.nan]),
-                                 np.zeros((n, P), np.int8),
-                                 {"contact": "equilateral", "face": 8, "face_nodes": [9, 12, 10], "mode": "free"}, 0.8)
+    ds = formats.nominal_dataset(
+        [10],
+        [1.0, 2.0],
+        np.full((n, P, 3), 0.1),
+        np.zeros((n, P, 3)),
+        np.zeros((n, P, 3, 3)),
+        np.full((n, P), 0.05),
+        np.array([np.nan]),
+        np.zeros((n, P), np.int8),
+        {"contact": "equilateral", "face": 8, "face_nodes": [9, 12, 10], "mode": "free"},
+        0.8,
+    )
     path = datasets.write(ds, tmp_path / "n.nc", {}, "test", stage="nominal", allow_nan=formats.NOMINAL_ALLOW_NAN)
     seen = {}
     monkeypatch.setattr(paper, "fig_workspace", lambda lines, support, out, **kw: seen.update(support=support))
     from tensegrity.stages.render import render_dataset
+
     render_dataset(path, tmp_path / "n.png")
     np.testing.assert_allclose(seen["support"], frames.rest_frame(8, 0.8)[1])
     assert not np.allclose(seen["support"], frames.rest_frame(8, 0.5)[1])
     # a file written before the geometry was stored in it: the strut length of its provenance
-    old = datasets.write(ds.drop_vars(["strut_length", "rest_cog", "rest_support"]), tmp_path / "old.nc",
-                         {"params": {"strut_length": 0.7}}, "test", allow_nan=formats.NOMINAL_ALLOW_NAN)
+    old = datasets.write(
+        ds.drop_vars(["strut_length", "rest_cog", "rest_support"]),
+        tmp_path / "old.nc",
+        {"params": {"strut_length": 0.7}},
+        "test",
+        allow_nan=formats.NOMINAL_ALLOW_NAN,
+    )
     assert datasets.strut_length(old) == 0.7 and datasets.strut_length(path) == 0.8
 
 
@@ -238,13 +298,15 @@ def test_progress_counts_simulated_seconds_on_a_terminal_only(monkeypatch, termi
     from tensegrity.physics import dynamics as d
     from tensegrity.physics.params import Params
     from tensegrity.physics.terrain import Terrain
+
     err = _Terminal() if terminal else io.StringIO()
     monkeypatch.setattr(sys, "stderr", err)
     params, flat, s = Params(), Terrain.flat(), RollSettings()
 
     def hold_three(b, obs):
         for _ in range(3):
-            obs = yield np.zeros(12)
+            yield np.zeros(12)
+
     with progress.bar(None, "test") as bar:
         lockstep(params, flat, d.stand_on(params, 1, flat), hold_three, s, bar.update)
         if terminal:  # a disabled bar counts nothing

@@ -13,27 +13,39 @@ relative pressure in MPa and the simulation time has no epoch. Everything else m
 curve files score 100 %; `test_every_dataset_scores_100_percent` turns into a failure (XPASS) the
 day the contract changes so that the allowance can go.
 """
+
 import json
 import re
 from pathlib import Path
 
 import pytest
 
-checker = pytest.importorskip("compliance_checker.runner", reason="compliance-checker is not installed "
-                              "(a test-only dependency pinned in environment.txt)")
+checker = pytest.importorskip(
+    "compliance_checker.runner",
+    reason="compliance-checker is not installed (a test-only dependency pinned in environment.txt)",
+)
 
 pytestmark = [pytest.mark.filterwarnings("ignore:The ioos_sos checker is deprecated:DeprecationWarning")]
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = ROOT / "tests" / "workflow" / "tiny.yaml"
-DATASETS = ["results/workspace.nc", "results/validation/validation.nc", "results/curves/curves.json",
-            "results/locomotion/paper.nc", "results/locomotion/slope_down.nc"]
+DATASETS = [
+    "results/workspace.nc",
+    "results/validation/validation.nc",
+    "results/curves/curves.json",
+    "results/locomotion/paper.nc",
+    "results/locomotion/slope_down.nc",
+]
 
-KNOWN = [re.compile(p) for p in (
-    r"^Coordinate variable 'time' should have standard_name='time', found: 'None'$",
-    r"^Coordinate variable 'pressure' should have standard_name='air_pressure', found: 'None'$",
-    r"^\w+'s spatio-temporal dimensions are not in the recommended order T, Z, Y, X .*"
-    r"\b(pressure|statics_pressure) \(Z\)")]
+KNOWN = [
+    re.compile(p)
+    for p in (
+        r"^Coordinate variable 'time' should have standard_name='time', found: 'None'$",
+        r"^Coordinate variable 'pressure' should have standard_name='air_pressure', found: 'None'$",
+        r"^\w+'s spatio-temporal dimensions are not in the recommended order T, Z, Y, X .*"
+        r"\b(pressure|statics_pressure) \(Z\)",
+    )
+]
 
 
 @pytest.fixture(scope="module")
@@ -46,9 +58,14 @@ def cf_report(path: Path, tmp: Path) -> dict:
     """The checker's JSON report of `path` against CF-1.10."""
     out = tmp / (path.name + ".json")
     checker.CheckSuite.load_all_available_checkers()
-    checker.ComplianceChecker.run_checker(str(path), checker_names=["cf:1.10"], verbose=0,
-                                          criteria="normal", output_filename=str(out),
-                                          output_format="json")
+    checker.ComplianceChecker.run_checker(
+        str(path),
+        checker_names=["cf:1.10"],
+        verbose=0,
+        criteria="normal",
+        output_filename=str(out),
+        output_format="json",
+    )
     return json.loads(out.read_text())["cf:1.10"]
 
 
@@ -78,8 +95,11 @@ def test_datasets_are_cf_compliant(run, tmp_path):
     print(json.dumps(scores, indent=1))
 
 
-@pytest.mark.xfail(strict=True, reason="the contract's `time` and `pressure` dimensions meet the checker's "
-                   "name heuristics (standard_name time / air_pressure); see the module docstring")
+@pytest.mark.xfail(
+    strict=True,
+    reason="the contract's `time` and `pressure` dimensions meet the checker's "
+    "name heuristics (standard_name time / air_pressure); see the module docstring",
+)
 def test_every_dataset_scores_100_percent(run, tmp_path):
     for path in netcdf_files(run):
         rep = cf_report(path, tmp_path)

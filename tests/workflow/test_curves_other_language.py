@@ -7,6 +7,7 @@ written as plain text (C has no JSON reader). Both must agree with the Python ev
 (`tensegrity.workspace.fit.evaluate`) to 1e-12 m at many pressures across each valid range,
 including the breaks themselves and the ends.
 """
+
 import json
 import shutil
 import subprocess
@@ -100,8 +101,10 @@ def compare(doc: dict, results: list[tuple[str, str, str, list, list]]) -> None:
     assert len(seen) >= 2 * 3 * 2
 
 
-@pytest.mark.skipif(shutil.which("node") is None and shutil.which("cc") is None,
-                    reason="neither node nor cc is installed: no second language to evaluate curves.json with")
+@pytest.mark.skipif(
+    shutil.which("node") is None and shutil.which("cc") is None,
+    reason="neither node nor cc is installed: no second language to evaluate curves.json with",
+)
 @pytest.mark.parametrize("language", ["javascript", "c"])
 def test_curves_json_in_another_language(doc_path, tmp_path, language):
     doc = json.loads(doc_path.read_text())
@@ -127,14 +130,13 @@ def test_curves_json_in_another_language(doc_path, tmp_path, language):
             lines += [repr(float(x)) for x in c["breaks"]]
             lines += [repr(float(x)) for row in c["coefs"] for x in row]
             lines += [str(len(ps))] + [repr(float(p)) for p in ps]
-        r = subprocess.run([str(exe)], input="\n".join(lines) + "\n", capture_output=True, text=True,
-                           timeout=60)
+        r = subprocess.run([str(exe)], input="\n".join(lines) + "\n", capture_output=True, text=True, timeout=60)
         assert r.returncode == 0, r.stderr
         vals = [float(v) for v in r.stdout.split()]
         out, k = [], 0
         for contact, pair, axis, c in items:
             n = len(pressures(c))
-            out.append((contact, pair, axis, pressures(c), vals[k:k + n]))
+            out.append((contact, pair, axis, pressures(c), vals[k : k + n]))
             k += n
         assert k == len(vals)
     compare(doc, out)

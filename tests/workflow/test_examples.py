@@ -18,6 +18,7 @@ the grounded mode (see `_snakemake_argv`). A block whose command repeats an earl
 repeats README's subset, finer levels and grounded mode) is not run twice.
 README's two set-up commands are what CI itself runs, so they are not repeated.
 """
+
 import os
 import re
 import shlex
@@ -40,15 +41,18 @@ def _blocks(doc: str) -> list[tuple[str, str, int]]:
     text = (ROOT / doc).read_text()
     out = []
     for m in re.finditer(r"^```(\w*)\n(.*?)^```", text, flags=re.S | re.M):
-        out.append((m.group(1), m.group(2), text[:m.start()].count("\n") + 1))
+        out.append((m.group(1), m.group(2), text[: m.start()].count("\n") + 1))
     return out
 
 
 def _commands(block: str) -> list[str]:
     """Shell commands of a block: continuation lines joined, comments dropped."""
     joined = re.sub(r"\\\n\s*", " ", block)
-    return [line.split(" #")[0].strip() for line in joined.splitlines()
-            if line.strip() and not line.lstrip().startswith("#")]
+    return [
+        line.split(" #")[0].strip()
+        for line in joined.splitlines()
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
 
 
 EXAMPLES = [(doc, lang, text, line) for doc in DOCS for lang, text, line in _blocks(doc)]
@@ -85,8 +89,16 @@ def _snakemake_argv(argv: list[str]) -> list[str]:
         i += 1
     # a design study (README "Design studies") runs its first 2 designs only
     args = [a for b in args for a in ([b, "study_limit=2"] if b.startswith("study=") else [b])]
-    out = [sys.executable, "-m", "snakemake", *args, "--configfile", str(TINY),
-           *([] if "--report" in argv else [str(NO_GIF)]), *files]
+    out = [
+        sys.executable,
+        "-m",
+        "snakemake",
+        *args,
+        "--configfile",
+        str(TINY),
+        *([] if "--report" in argv else [str(NO_GIF)]),
+        *files,
+    ]
     if "--report" not in argv:
         omit = []
         if "mode: grounded" in " ".join(argv):
@@ -134,8 +146,7 @@ def _run_key(text: str) -> tuple | None:
     cmds = _commands(text)
     if not any(_is_run(c) for c in cmds):
         return None
-    return tuple(" ".join(re.sub(r"--cores \d+", "", re.sub(r"^\S*snakemake", "snakemake", c)).split())
-                 for c in cmds)
+    return tuple(" ".join(re.sub(r"--cores \d+", "", re.sub(r"^\S*snakemake", "snakemake", c)).split()) for c in cmds)
 
 
 _FIRST_RUN: dict = {}
@@ -144,22 +155,34 @@ for _doc, _lang, _text, _line in EXAMPLES:
         _FIRST_RUN.setdefault(_run_key(_text), f"{_doc}:{_line}")
 
 
-@pytest.mark.parametrize("doc, lang, text, line", EXAMPLES,
-                         ids=[f"{d}:{n}" for d, _, _, n in EXAMPLES])
+@pytest.mark.parametrize("doc, lang, text, line", EXAMPLES, ids=[f"{d}:{n}" for d, _, _, n in EXAMPLES])
 def test_example_runs(request, workflow_copy, doc, lang, text, line):
     if lang == "text":  # sample output, not a command
         return
     if lang == "yaml":  # a configuration fragment: it must validate
         from tensegrity.io import config
+
         config.validate(yaml.safe_load(text))
         return
     if lang == "python":
         # the config/README snippets name a file and Snakemake's dict without making them
-        prelude = ("import yaml, types; open('my.yaml', 'w').write('sweep: {hold: 0.5}\\n')\n"
-                   "snakemake_config_dict = {}\nconfig = {}\n"
-                   "workflow = types.SimpleNamespace(configfiles=['my.yaml'])\n") if doc.startswith("config/") else ""
-        r = subprocess.run([sys.executable, "-c", prelude + text], cwd=request.getfixturevalue("tiny"), capture_output=True,
-                           text=True, env=_env(), timeout=300)
+        prelude = (
+            (
+                "import yaml, types; open('my.yaml', 'w').write('sweep: {hold: 0.5}\\n')\n"
+                "snakemake_config_dict = {}\nconfig = {}\n"
+                "workflow = types.SimpleNamespace(configfiles=['my.yaml'])\n"
+            )
+            if doc.startswith("config/")
+            else ""
+        )
+        r = subprocess.run(
+            [sys.executable, "-c", prelude + text],
+            cwd=request.getfixturevalue("tiny"),
+            capture_output=True,
+            text=True,
+            env=_env(),
+            timeout=300,
+        )
         assert r.returncode == 0, f"{doc}:{line}\n{r.stderr[-3000:]}"
         return
     key = _run_key(text)
@@ -179,6 +202,7 @@ def test_example_runs(request, workflow_copy, doc, lang, text, line):
         assert code in allowed, f"{doc}:{line}: {cmd}\n{out[-3000:]}"
         if _is_run(cmd):  # a run that did not arrive is named at the end (and fails check 6)
             from tensegrity.io.formats.run import not_arrived
+
             bad = not_arrived(sorted((cwd / "results" / "locomotion").glob("*.nc")))
             for name, outcome, _ in bad:
                 assert f"  {name}: {outcome} (" in out, f"{doc}:{line}: {name} did not arrive, unnamed"
@@ -189,11 +213,31 @@ def test_example_runs(request, workflow_copy, doc, lang, text, line):
 
 BENCHMARKS = {
     "bench_step.py": ["--seconds", "0.01"],
-    "bench_locomotion.py": ["--workspace", "{tiny}/results/workspace.nc", "--two-pair",
-                            "{tiny}/results/workspace_two_pair.nc", "--directions", "2",
-                            "--distance", "0.6", "--only", "flat", "slope", "--slopes", "15", "--steps"],
-    "bench_slope_reach.py": ["--workspace", "{tiny}/results/workspace.nc", "--slopes", "20",
-                             "--headings", "1", "--no-combos"],
+    "bench_locomotion.py": [
+        "--workspace",
+        "{tiny}/results/workspace.nc",
+        "--two-pair",
+        "{tiny}/results/workspace_two_pair.nc",
+        "--directions",
+        "2",
+        "--distance",
+        "0.6",
+        "--only",
+        "flat",
+        "slope",
+        "--slopes",
+        "15",
+        "--steps",
+    ],
+    "bench_slope_reach.py": [
+        "--workspace",
+        "{tiny}/results/workspace.nc",
+        "--slopes",
+        "20",
+        "--headings",
+        "1",
+        "--no-combos",
+    ],
     "calibration.py": ["--quick"],
     "bench_study.py": ["--designs", "2", "--hold", "0.05"],
     "bench_mujoco.py": ["--seconds", "0.01", "--batch", "2", "--repeat", "1"],
@@ -210,13 +254,28 @@ def _benchmark_env(name: str, tmp_path_factory) -> dict:
     environment.txt) is installed with pip into a temporary folder on PYTHONPATH if missing, as
     test_slurm.py does with the SLURM plugin (a few seconds; 30 MB); skipped if pip cannot."""
     import importlib.util
+
     env = _env()
     if name != "bench_mujoco.py" or importlib.util.find_spec("mujoco") is not None:
         return env
     target = tmp_path_factory.mktemp("mujoco")
-    r = subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--target",
-                        str(target), "-r", str(ROOT / "benchmarks" / "requirements-mujoco.txt")],
-                       capture_output=True, text=True, timeout=300)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "--quiet",
+            "--no-deps",
+            "--target",
+            str(target),
+            "-r",
+            str(ROOT / "benchmarks" / "requirements-mujoco.txt"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     if r.returncode != 0:
         pytest.skip(f"MuJoCo could not be installed with pip: {r.stderr.strip()[-500:]}")
     env["PYTHONPATH"] = os.pathsep.join(p for p in (str(target), env.get("PYTHONPATH")) if p)
@@ -226,9 +285,14 @@ def _benchmark_env(name: str, tmp_path_factory) -> dict:
 @pytest.mark.parametrize("name", sorted(BENCHMARKS))
 def test_benchmark_runs_with_tiny_arguments(tiny, tmp_path_factory, name):
     args = [a.format(tiny=tiny) for a in BENCHMARKS[name]]
-    r = subprocess.run([sys.executable, str(ROOT / "benchmarks" / name), *args], cwd=ROOT,
-                       capture_output=True, text=True, env=_benchmark_env(name, tmp_path_factory),
-                       timeout=600)
+    r = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / name), *args],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env=_benchmark_env(name, tmp_path_factory),
+        timeout=600,
+    )
     assert r.returncode == 0, r.stderr[-3000:]
     assert r.stdout.strip(), "a benchmark prints figures"
     if name == "bench_mujoco.py":  # the same scheme in MuJoCo: free-mode nodes agree to round-off
@@ -239,9 +303,10 @@ def test_benchmark_runs_with_tiny_arguments(tiny, tmp_path_factory, name):
 def test_bench_mujoco_without_mujoco_says_what_to_install():
     """Without MuJoCo the benchmark stops at once, non-zero, naming the requirements file."""
     script = str(ROOT / "benchmarks" / "bench_mujoco.py")
-    code = ("import runpy, sys; sys.modules['mujoco'] = None; sys.argv = [sys.argv[0]]; "
-            f"runpy.run_path({script!r}, run_name='__main__')")
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=_env(),
-                       timeout=120)
+    code = (
+        "import runpy, sys; sys.modules['mujoco'] = None; sys.argv = [sys.argv[0]]; "
+        f"runpy.run_path({script!r}, run_name='__main__')"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=_env(), timeout=120)
     assert r.returncode != 0 and not r.stdout
     assert "pip install -r benchmarks/requirements-mujoco.txt" in r.stderr, r.stderr

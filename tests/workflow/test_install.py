@@ -1,5 +1,6 @@
 """A non-editable install, run from outside the checkout: the configuration schema ships as
 package data, so `tensegrity config show` and `config check` work anywhere."""
+
 import os
 import subprocess
 import sys
@@ -17,22 +18,42 @@ def installed(tmp_path_factory):
     build = tmp_path_factory.mktemp("src")
     # a copy of the package sources: the build never writes into the checkout
     subprocess.run(["cp", "-r", str(ROOT / "tensegrity"), str(ROOT / "pyproject.toml"), str(build)], check=True)
-    r = subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--no-build-isolation",
-                        "--target", str(site), str(build)], capture_output=True, text=True)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "-q",
+            "--no-deps",
+            "--no-build-isolation",
+            "--target",
+            str(site),
+            str(build),
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 0, r.stderr[-2000:]
     return site
 
 
 def _run(site, cwd, *args):
     env = {**os.environ, "PYTHONPATH": str(site)}
-    return subprocess.run([sys.executable, "-m", "tensegrity.cli", *args], cwd=cwd, env=env,
-                          capture_output=True, text=True, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "tensegrity.cli", *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=120
+    )
 
 
 def test_the_installed_package_is_used(installed, tmp_path):
     env = {**os.environ, "PYTHONPATH": str(installed)}
-    r = subprocess.run([sys.executable, "-c", "import tensegrity; print(tensegrity.__file__)"],
-                       cwd=tmp_path, env=env, capture_output=True, text=True)
+    r = subprocess.run(
+        [sys.executable, "-c", "import tensegrity; print(tensegrity.__file__)"],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+    )
     assert r.stdout.strip().startswith(str(installed))
 
 
@@ -40,6 +61,7 @@ def test_config_show_outside_the_checkout(installed, tmp_path):
     r = _run(installed, tmp_path, "config", "show")
     assert r.returncode == 0, r.stderr
     import yaml
+
     shown = yaml.safe_load(r.stdout)
     assert shown["params"]["strut_length"] == 0.5 and shown["sim"]["dt"] == 1e-4
     assert set(shown) >= {"params", "sim", "sweep", "nominal", "fit", "validate", "locomotion"}

@@ -1,6 +1,7 @@
 """stages.job, the body of every workflow script: the log gets the output, a success ends the
 process at once with status 0 and everything written, a failure exits non-zero with the
 traceback in the log."""
+
 import subprocess
 import sys
 from pathlib import Path
@@ -23,8 +24,9 @@ print("never reached", file=sys.stderr)
 
 def _run(tmp_path: Path, how: str) -> tuple[subprocess.CompletedProcess, Path]:
     base = tmp_path / how
-    p = subprocess.run([sys.executable, "-c", BODY, str(base), how], capture_output=True, text=True,
-                       cwd=ROOT, timeout=120)
+    p = subprocess.run(
+        [sys.executable, "-c", BODY, str(base), how], capture_output=True, text=True, cwd=ROOT, timeout=120
+    )
     return p, base
 
 

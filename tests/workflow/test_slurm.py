@@ -10,6 +10,7 @@ temporary folder put on the runs' PYTHONPATH. Needs root; skipped otherwise, or 
 TENSEGRITY_SKIP_SLURM=1. Takes about 2 minutes on 2 cores. A tiny design study (issue 12) goes
 through the cluster too and must give the same bytes as locally.
 """
+
 import collections
 import os
 import re
@@ -80,9 +81,23 @@ def plugin_env(tmp_path_factory) -> dict:
     if subprocess.run(probe, capture_output=True).returncode == 0:
         return env
     target = tmp_path_factory.mktemp("slurm-plugin")
-    r = subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target",
-                        str(target), "-r", str(ROOT / "workflow/profiles/slurm/requirements.txt")],
-                       capture_output=True, text=True, timeout=600)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "-q",
+            "--no-deps",
+            "--target",
+            str(target),
+            "-r",
+            str(ROOT / "workflow/profiles/slurm/requirements.txt"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     if r.returncode != 0:
         pytest.skip(f"the SLURM executor plugin could not be installed: {r.stderr.strip()[-500:]}")
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(target), env.get("PYTHONPATH")]))
@@ -98,13 +113,15 @@ def cluster():
     USERS.mkdir(parents=True, exist_ok=True)
     me = USERS / str(os.getpid())
     me.touch()
-    r = subprocess.run(["bash", str(SCRIPTS / "start_cluster.sh")], capture_output=True, text=True,
-                       timeout=900)
+    r = subprocess.run(["bash", str(SCRIPTS / "start_cluster.sh")], capture_output=True, text=True, timeout=900)
     if r.returncode == 3:
         pytest.skip(f"SLURM packages could not be installed: {r.stderr.strip()[-500:]}")
     if r.returncode != 0:
-        pytest.fail(f"tests/workflow/slurm/start_cluster.sh failed (exit {r.returncode}):\n"
-                    f"{r.stdout[-2000:]}\n{r.stderr[-3000:]}", pytrace=False)
+        pytest.fail(
+            f"tests/workflow/slurm/start_cluster.sh failed (exit {r.returncode}):\n"
+            f"{r.stdout[-2000:]}\n{r.stderr[-3000:]}",
+            pytrace=False,
+        )
     print(r.stdout)
     try:
         yield not was_running, before
@@ -160,8 +177,7 @@ def runs(cluster, plugin_env, tmp_path_factory, tiny):
     made every target of the SLURM run with the same configuration)."""
     slurm = _copy(tmp_path_factory.mktemp("slurm"))
     # the relative profile path, from the scratch copy, as a user types it from the repo root
-    log = _snakemake(slurm, "--workflow-profile", "workflow/profiles/slurm", timeout=600,
-                     env=plugin_env)
+    log = _snakemake(slurm, "--workflow-profile", "workflow/profiles/slurm", timeout=600, env=plugin_env)
     return slurm, log, tiny
 
 
@@ -171,8 +187,9 @@ def test_jobs_went_through_slurm(runs):
     assert collections.Counter(submitted.values()) == SUBMITTED, log[-3000:]
     # slurmctld keeps finished jobs for MinJobAge = 300 s, so squeue still lists them
     ids = ",".join(map(str, submitted))
-    q = subprocess.run(["squeue", "-h", "-t", "all", "-j", ids, "-o", "%i %T %C"],
-                       capture_output=True, text=True, check=True).stdout.split("\n")
+    q = subprocess.run(
+        ["squeue", "-h", "-t", "all", "-j", ids, "-o", "%i %T %C"], capture_output=True, text=True, check=True
+    ).stdout.split("\n")
     seen = {int(i): (state, int(cpus)) for i, state, cpus in (line.split() for line in q if line)}
     assert set(seen) == set(submitted), q
     for job, rule in submitted.items():
@@ -204,8 +221,14 @@ STUDY_FILES = ["chunks/chunk0000.nc", "chunks/chunk0001.nc", "designs.nc", "anal
 
 def _study(wd: Path, *args: str, env: dict | None = None) -> str:
     shutil.copy(STUDY, wd / "config" / "studies" / "tiny_study.yaml")
-    cmd = SNAKEMAKE + ["study", *args, "--config", "study=tiny_study",
-                       "--configfile", str(ROOT / "tests/workflow/tiny.yaml")]
+    cmd = SNAKEMAKE + [
+        "study",
+        *args,
+        "--config",
+        "study=tiny_study",
+        "--configfile",
+        str(ROOT / "tests/workflow/tiny.yaml"),
+    ]
     r = subprocess.run(cmd, cwd=wd, capture_output=True, text=True, timeout=600, env=env)
     assert r.returncode == 0, f"{' '.join(args)}:\n{(r.stdout + r.stderr)[-3000:]}"
     return r.stdout + r.stderr
@@ -216,10 +239,10 @@ def test_a_design_study_runs_through_slurm_as_locally(runs, plugin_env):
     log = _study(slurm, "--workflow-profile", "workflow/profiles/slurm", env=plugin_env)
     _study(local, "--cores", "2")
     submitted = collections.Counter(rule for _, rule in SUBMIT_LINE.findall(log))
-    assert submitted == {"study_chunk": 2}, log[-3000:]   # merge and analysis are local rules
+    assert submitted == {"study_chunk": 2}, log[-3000:]  # merge and analysis are local rules
     for f in STUDY_FILES:
         a, b = (wd / "results/studies/tiny_study" / f for wd in (slurm, local))
-        assert a.read_bytes() == b.read_bytes(), f     # same bytes: deterministic, wherever it ran
+        assert a.read_bytes() == b.read_bytes(), f  # same bytes: deterministic, wherever it ran
 
 
 def test_stop_cluster_puts_the_machine_back(cluster, runs):
@@ -230,8 +253,7 @@ def test_stop_cluster_puts_the_machine_back(cluster, runs):
         pytest.skip("the cluster was running before this module: not stopped here")
     if not _last_user():
         pytest.skip("another test session uses the cluster: not stopped here")
-    r = subprocess.run(["bash", str(SCRIPTS / "stop_cluster.sh")], capture_output=True, text=True,
-                       timeout=120)
+    r = subprocess.run(["bash", str(SCRIPTS / "stop_cluster.sh")], capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stdout + r.stderr
     assert not any(_running(p) for p in PIDFILES)
     # the machine's own slurm.conf as it was, none written by a (possibly older) start_cluster.sh

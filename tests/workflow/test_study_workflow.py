@@ -2,6 +2,7 @@
 workspace of 2 pairs x 4 levels x 2 contacts and the paper's roll sequence per design) run by
 Snakemake with `--config study=tiny_study -- study`: its files, a finished chunk that is never
 recomputed, the same bytes on a re-run, and a bad study stopped before any job runs."""
+
 import json
 import shutil
 import subprocess
@@ -11,8 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tensegrity.io import datasets
-from tensegrity.io import study_config
+from tensegrity.io import datasets, study_config
 from tensegrity.studies import spec
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -22,13 +22,19 @@ OUT = Path("results/studies/tiny_study")
 
 
 def _snakemake(wd: Path, *args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", "--configfile", str(TINY), *args],
-                          cwd=wd, capture_output=True, text=True, timeout=600)
+    return subprocess.run(
+        [sys.executable, "-m", "snakemake", "--cores", "2", "--configfile", str(TINY), *args],
+        cwd=wd,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
 
 
 @pytest.fixture(scope="module")
 def study_run(tmp_path_factory):
     from conftest import copy_workflow
+
     wd = copy_workflow(tmp_path_factory.mktemp("study"))
     shutil.copy(STUDY, wd / "config" / "studies" / "tiny_study.yaml")
     r = _snakemake(wd, "--config", "study=tiny_study", "--", "study")
@@ -85,6 +91,7 @@ def test_the_study_target_needs_a_study_name(study_run):
 def test_a_bad_study_stops_before_any_job_naming_every_bad_key(tmp_path):
     import yaml
     from conftest import copy_workflow
+
     wd = copy_workflow(tmp_path)
     st = yaml.safe_load(STUDY.read_text())
     st["parameters"]["cable_stiffness"].update(units="kN/m", low=2000.0)
@@ -99,8 +106,12 @@ def test_a_bad_study_stops_before_any_job_naming_every_bad_key(tmp_path):
 def test_the_command_line_refuses_a_bad_study_naming_the_key(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("parameters: {cable_stiffness: {low: 1, high: 2, units: kN}}\ndesign: {method: grid}\n")
-    r = subprocess.run([sys.executable, "-m", "tensegrity.cli", "study", str(bad), "--out", str(tmp_path / "out")],
-                       capture_output=True, text=True, timeout=120)
+    r = subprocess.run(
+        [sys.executable, "-m", "tensegrity.cli", "study", str(bad), "--out", str(tmp_path / "out")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert r.returncode != 0 and "study key parameters.cable_stiffness.units" in r.stderr
     assert not (tmp_path / "out").exists()
 
@@ -110,6 +121,7 @@ def test_the_study_datasets_are_cf_compliant(study_run, tmp_path):
     """The IOOS checker against CF-1.10, with the allowance of test_cf_compliance (pressure)."""
     pytest.importorskip("compliance_checker.runner")
     from test_cf_compliance import KNOWN, cf_report, findings
+
     for name in ("designs.nc", "analysis.nc"):
         bad = [m for m in findings(cf_report(study_run / OUT / name, tmp_path)) if not any(k.search(m) for k in KNOWN)]
         assert not bad, (name, bad)

@@ -1,5 +1,6 @@
 """Smoke test: the whole workflow on tests/workflow/tiny.yaml in a scratch copy, and a bad config that
 stops before any job runs and writes nothing."""
+
 import shutil
 import subprocess
 import sys
@@ -17,13 +18,20 @@ SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 def test_tiny_workflow_makes_every_output(tiny):
     res = tiny / "results"
     for contact in ("equilateral", "isosceles"):
-        assert sorted(p.name for p in (res / "sweeps" / contact).glob("*.nc")) == \
-            [f"pair{p:02d}.nc" for p in (4, 9, 10, 11, 12)]
+        assert sorted(p.name for p in (res / "sweeps" / contact).glob("*.nc")) == [
+            f"pair{p:02d}.nc" for p in (4, 9, 10, 11, 12)
+        ]
     ws = datasets.read(res / "workspace.nc")
     assert ws["cog"].dims == ("face", "pair", "pressure", "axis")
     assert np.isfinite(ws["cog"].sel(pair=10, face=8)).all()
-    for name in ("fig1_robot", "fig4_pairs", "fig5_support_frame", "fig6_cog_cloud",
-                 "fig7_workspace_equilateral", "fig7_workspace_isosceles"):
+    for name in (
+        "fig1_robot",
+        "fig4_pairs",
+        "fig5_support_frame",
+        "fig6_cog_cloud",
+        "fig7_workspace_equilateral",
+        "fig7_workspace_isosceles",
+    ):
         assert (res / "figures" / f"{name}.png").stat().st_size > 20_000
     assert (res / "curves" / "curves.json").stat().st_size > 1000
     assert (res / "validation" / "summary.md").exists()
@@ -37,24 +45,30 @@ def test_tiny_workflow_makes_every_output(tiny):
 
 def test_rerun_gives_identical_numbers(tiny, workflow_copy):
     wd = workflow_copy
-    r = subprocess.run(SNAKEMAKE + ["results/workspace.nc", "--cores", "2", "--configfile",
-                                    str(ROOT / "tests/workflow/tiny.yaml")], cwd=wd, capture_output=True, text=True)
+    r = subprocess.run(
+        SNAKEMAKE + ["results/workspace.nc", "--cores", "2", "--configfile", str(ROOT / "tests/workflow/tiny.yaml")],
+        cwd=wd,
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 0, r.stderr[-3000:]
     a, b = datasets.read(tiny / "results/workspace.nc"), datasets.read(wd / "results/workspace.nc")
     assert a.equals(b)
 
 
-@pytest.mark.parametrize("override,key", [
-    ("sweep={pairs: [13]}", "sweep.pairs[0]"),
-    ("sweep={levels: [0.4, .nan]}", "sweep.levels[1]"),
-    ("bogus=1", "bogus"),
-])
+@pytest.mark.parametrize(
+    "override,key",
+    [
+        ("sweep={pairs: [13]}", "sweep.pairs[0]"),
+        ("sweep={levels: [0.4, .nan]}", "sweep.levels[1]"),
+        ("bogus=1", "bogus"),
+    ],
+)
 def test_bad_config_stops_before_any_job(workflow_copy, override, key):
     """(Snakemake takes about 10 s to exit on any error in a Snakefile; tests/test_config.py
     covers the other bad values without it.)"""
     wd = workflow_copy
-    r = subprocess.run(SNAKEMAKE + ["--cores", "1", "--config", override], cwd=wd,
-                       capture_output=True, text=True)
+    r = subprocess.run(SNAKEMAKE + ["--cores", "1", "--config", override], cwd=wd, capture_output=True, text=True)
     assert r.returncode != 0
     assert f"config key {key}" in r.stdout + r.stderr
     assert not (wd / "results").exists()
@@ -66,9 +80,20 @@ def test_a_run_that_does_not_arrive_warns_and_fails_check_6(tiny, tmp_path):
     figures and the validation re-run (about 20 s)."""
     wd = tmp_path / "wf"
     shutil.copytree(tiny, wd, symlinks=True)
-    r = subprocess.run(SNAKEMAKE + ["--cores", "2", "--configfile", str(ROOT / "tests/workflow/tiny.yaml"),
-                                    "--config", "locomotion={max_rolls: 1, animation_run: null}"],
-                       cwd=wd, capture_output=True, text=True)
+    r = subprocess.run(
+        SNAKEMAKE
+        + [
+            "--cores",
+            "2",
+            "--configfile",
+            str(ROOT / "tests/workflow/tiny.yaml"),
+            "--config",
+            "locomotion={max_rolls: 1, animation_run: null}",
+        ],
+        cwd=wd,
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 0, r.stderr[-3000:]
     assert "WARNING: 2 demonstration run(s) did not arrive" in r.stderr
     assert "  paper: step_limit (step limit of 1 rolls reached)" in r.stderr
@@ -96,10 +121,21 @@ def test_duplicate_key_in_a_config_file_stops_before_any_job(workflow_copy, wher
 
 
 def test_report_holds_every_figure_and_the_validation_table(tiny):
-    r = subprocess.run(SNAKEMAKE + ["--report", "report.html", "--configfile", str(ROOT / "tests/workflow/tiny.yaml")],
-                       cwd=tiny, capture_output=True, text=True)
+    r = subprocess.run(
+        SNAKEMAKE + ["--report", "report.html", "--configfile", str(ROOT / "tests/workflow/tiny.yaml")],
+        cwd=tiny,
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 0, r.stderr[-3000:]
     html = (tiny / "report.html").read_text()
-    for name in ("fig1_robot.png", "fig4_pairs.png", "fig5_support_frame.png", "fig6_cog_cloud.png",
-                 "fig7_workspace_equilateral.png", "fig7_workspace_isosceles.png", "summary.html"):
+    for name in (
+        "fig1_robot.png",
+        "fig4_pairs.png",
+        "fig5_support_frame.png",
+        "fig6_cog_cloud.png",
+        "fig7_workspace_equilateral.png",
+        "fig7_workspace_isosceles.png",
+        "summary.html",
+    ):
         assert name in html

@@ -1,6 +1,7 @@
 """Fast tests of tensegrity.workspace.fit: exported curves against scikit-learn's pipelines of
 the same models (an independent least-squares fit; scikit-learn is a test-only dependency), model
 choice, serialisation round trips and input checks."""
+
 import json
 
 import numpy as np
@@ -15,22 +16,24 @@ def sklearn_model(model: str):
     from sklearn.linear_model import LinearRegression
     from sklearn.pipeline import make_pipeline
     from sklearn.preprocessing import PolynomialFeatures, SplineTransformer
+
     if model.startswith("poly"):
         features = PolynomialFeatures(int(model[4:]), include_bias=False)
     else:
-        features = SplineTransformer(n_knots=int(model.split("=")[1]), degree=3, knots="uniform",
-                                     extrapolation="continue")
+        features = SplineTransformer(
+            n_knots=int(model.split("=")[1]), degree=3, knots="uniform", extrapolation="continue"
+        )
     return make_pipeline(features, LinearRegression())
 
-P = np.linspace(0.4, 4.8, 12)             # the default sweep levels, MPa
-Q = np.linspace(P[0], P[-1], 200)          # evaluation pressures across the range
-QUAD = 0.05 + 0.02 * P - 0.004 * P**2      # exact quadratic CoG, m (order 0.1)
-SAT = 0.12 * (1 - np.exp(-P / 0.8))        # saturating CoG, m: no low-degree polynomial fits
-TOL = 1e-9                                 # m; float64 roundoff on 0.1 m values is ~1e-16
+
+P = np.linspace(0.4, 4.8, 12)  # the default sweep levels, MPa
+Q = np.linspace(P[0], P[-1], 200)  # evaluation pressures across the range
+QUAD = 0.05 + 0.02 * P - 0.004 * P**2  # exact quadratic CoG, m (order 0.1)
+SAT = 0.12 * (1 - np.exp(-P / 0.8))  # saturating CoG, m: no low-degree polynomial fits
+TOL = 1e-9  # m; float64 roundoff on 0.1 m values is ~1e-16
 
 
-@pytest.mark.parametrize("values, kind", [(QUAD, "polynomial"), (SAT, "spline"),
-                                          (0.1 * np.minimum(P, 2.6), "spline")])
+@pytest.mark.parametrize("values, kind", [(QUAD, "polynomial"), (SAT, "spline"), (0.1 * np.minimum(P, 2.6), "spline")])
 def test_export_matches_estimator(values, kind):
     curve = F.fit_curve(P, values)
     est = sklearn_model(curve.model).fit(P[:, None], values)
@@ -43,11 +46,16 @@ def test_export_matches_estimator(values, kind):
     assert curve.breaks[0] == P[0] and curve.breaks[-1] == P[-1]
 
 
-@pytest.mark.parametrize("opts, model", [({"max_degree": 3, "spline_knots": ()}, "poly3"),
-                                         ({"max_degree": 0, "spline_knots": (3,)}, "spline k=3"),
-                                         ({"max_degree": 0, "spline_knots": (4,)}, "spline k=4")])
+@pytest.mark.parametrize(
+    "opts, model",
+    [
+        ({"max_degree": 3, "spline_knots": ()}, "poly3"),
+        ({"max_degree": 0, "spline_knots": (3,)}, "spline k=3"),
+        ({"max_degree": 0, "spline_knots": (4,)}, "spline k=4"),
+    ],
+)
 def test_export_restricted_candidates(opts, model):
-    v = 0.1 * np.sin(P)                    # smooth, not representable by any candidate
+    v = 0.1 * np.sin(P)  # smooth, not representable by any candidate
     curve = F.fit_curve(P, v, **opts)
     est = sklearn_model(model).fit(P[:, None], v)
     assert curve.model == model
@@ -55,15 +63,16 @@ def test_export_restricted_candidates(opts, model):
     np.testing.assert_allclose(F.evaluate(curve, Q), est.predict(Q[:, None]), rtol=0, atol=TOL)
 
 
-@pytest.mark.parametrize("values, model", [(QUAD + 2e-3 * np.sin(7 * P), "poly2"),
-                                           (SAT + 1e-4 * np.cos(5 * P), "spline k=4")])
+@pytest.mark.parametrize(
+    "values, model", [(QUAD + 2e-3 * np.sin(7 * P), "poly2"), (SAT + 1e-4 * np.cos(5 * P), "spline k=4")]
+)
 def test_cv_rmse_is_sklearns_cross_validation(values, model):
     # the winner's score: held-out predictions of folds rank mod 5, as scikit-learn makes them
     from sklearn.model_selection import PredefinedSplit, cross_val_predict
+
     curve = F.fit_curve(P, values)
     assert curve.model == model
-    pred = cross_val_predict(sklearn_model(model), P[:, None], values,
-                             cv=PredefinedSplit(np.arange(P.size) % 5))
+    pred = cross_val_predict(sklearn_model(model), P[:, None], values, cv=PredefinedSplit(np.arange(P.size) % 5))
     assert curve.cv_rmse == pytest.approx(np.sqrt(np.mean((pred - values) ** 2)), rel=1e-9)
 
 
@@ -103,7 +112,7 @@ def test_tie_tolerance_is_relative():
     s3 = F.fit_curve(P, v, max_degree=3, spline_knots=(), tie_rtol=0.0)
     assert s3.model == "poly3" and 0.95 * s2 < s3.cv_rmse < s2
     assert F.fit_curve(P, v, max_degree=3, spline_knots=()).model == "poly2"
-    assert F.fit_curve(P, v).model == "poly2"          # the splines do worse here
+    assert F.fit_curve(P, v).model == "poly2"  # the splines do worse here
 
 
 def test_fit_is_deterministic_and_order_free():
@@ -121,23 +130,29 @@ def test_dict_json_round_trip():
         curve = F.fit_curve(P, values)
         d = json.loads(json.dumps(F.to_dict(curve), allow_nan=False))
         back = F.from_dict(d)
-        assert (back.kind, back.model, back.pmin, back.pmax, back.cv_rmse) == \
-            (curve.kind, curve.model, curve.pmin, curve.pmax, curve.cv_rmse)
+        assert (back.kind, back.model, back.pmin, back.pmax, back.cv_rmse) == (
+            curve.kind,
+            curve.model,
+            curve.pmin,
+            curve.pmax,
+            curve.cv_rmse,
+        )
         np.testing.assert_array_equal(F.evaluate(back, Q), F.evaluate(curve, Q))
-        np.testing.assert_array_equal(F.evaluate(d, Q), F.evaluate(curve, Q))   # plain dict
-    two = F.fit_curve([1.0, 2.0], [0.1, 0.2])          # too few points to validate: NaN -> null
+        np.testing.assert_array_equal(F.evaluate(d, Q), F.evaluate(curve, Q))  # plain dict
+    two = F.fit_curve([1.0, 2.0], [0.1, 0.2])  # too few points to validate: NaN -> null
     assert np.isnan(F.from_dict(json.loads(json.dumps(F.to_dict(two)))).cv_rmse)
 
 
 def test_arrays_round_trip():
-    cog = np.stack([np.c_[QUAD, SAT, 0.1 * np.minimum(P, 2.6)],
-                    np.c_[0.01 * P, QUAD[::-1], 0.1 * np.tanh(P - 2.5)]])   # (2, 12, 3)
+    cog = np.stack(
+        [np.c_[QUAD, SAT, 0.1 * np.minimum(P, 2.6)], np.c_[0.01 * P, QUAD[::-1], 0.1 * np.tanh(P - 2.5)]]
+    )  # (2, 12, 3)
     curves = F.fit_pairs(P, cog)
     arr = F.curves_to_arrays(curves)
     assert arr["coefs"].shape[:2] == (2, 3) and arr["pmin"].shape == (2, 3)
     assert set(arr) == set(F.ARRAY_DIMS)
     assert all(arr[k].ndim == len(F.ARRAY_DIMS[k]) for k in arr)
-    assert np.isnan(arr["breaks"]).any()                  # pieces padded with NaN
+    assert np.isnan(arr["breaks"]).any()  # pieces padded with NaN
     back = F.arrays_to_curves(arr)
     for row, row_back in zip(curves, back):
         for c, b in zip(row, row_back):
@@ -147,13 +162,16 @@ def test_arrays_round_trip():
             np.testing.assert_array_equal(F.evaluate(b, Q), F.evaluate(c, Q))
 
 
-@pytest.mark.parametrize("pressure, values, match", [
-    (P, np.r_[QUAD[:-1], np.nan], "values contain NaN"),
-    (np.r_[P[:-1], np.nan], QUAD, "pressure contain NaN"),
-    (P, QUAD[:-1], "different lengths"),
-    ([1.0], [0.1], "at least 2 points"),
-    ([1.0, 1.0, 1.0], [0.1, 0.2, 0.3], "2 distinct"),
-])
+@pytest.mark.parametrize(
+    "pressure, values, match",
+    [
+        (P, np.r_[QUAD[:-1], np.nan], "values contain NaN"),
+        (np.r_[P[:-1], np.nan], QUAD, "pressure contain NaN"),
+        (P, QUAD[:-1], "different lengths"),
+        ([1.0], [0.1], "at least 2 points"),
+        ([1.0, 1.0, 1.0], [0.1, 0.2, 0.3], "2 distinct"),
+    ],
+)
 def test_bad_input_raises(pressure, values, match):
     with pytest.raises(ValueError, match=match):
         F.fit_curve(pressure, values)

@@ -1,19 +1,22 @@
 """The gravity-aware workspace and the slope limit as physics: the heading does not matter on
 flat ground, the slope-0 strip is flat ground, a slope toward the edge a pair tips over lowers
 its tipping pressure, and the unactuated robot's standing limit is the geometric one."""
+
 import numpy as np
 import pytest
 
 from tensegrity.io import config
 from tensegrity.io.formats import gravity as gf
-from tensegrity.physics import dynamics as d, frames, topology as topo
+from tensegrity.physics import dynamics as d
+from tensegrity.physics import frames
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 from tensegrity.workspace import gravity as gv
 from tensegrity.workspace import slope_limit as sl
 
 pytestmark = pytest.mark.unit
-EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])   # (9,10,12)
+EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
 P = Params()
 G = gv.GravitySetup(strut_damping=0.0)  # the ramp of the undamped robot P
 
@@ -102,8 +105,11 @@ def test_the_dataset_round_trips_and_the_config_names_bad_keys(flat):
     assert all(ds[v].attrs["units"] and ds[v].attrs["long_name"] for v in ds.data_vars)
     assert ds.attrs["max_pressure_setting"] == G.max_pressure
     # the cross-key checks stop the configuration before any job; the settings check themselves
-    for bad, key in (({"grid_step": 0.25}, "gravity.grid_step"), ({"validate_slopes": [7]}, "gravity.validate_slopes"),
-                     ({"slopes": [15, 0], "validate_slopes": [0]}, "gravity.slopes")):
+    for bad, key in (
+        ({"grid_step": 0.25}, "gravity.grid_step"),
+        ({"validate_slopes": [7]}, "gravity.validate_slopes"),
+        ({"slopes": [15, 0], "validate_slopes": [0]}, "gravity.slopes"),
+    ):
         with pytest.raises(config.ConfigError, match=key):
             config.validate({"gravity": bad})
     with pytest.raises(ValueError, match="gravity.grid_step"):

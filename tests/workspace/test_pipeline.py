@@ -1,12 +1,12 @@
 """Nominal averaging, tipping, and the symmetry mapping of the workspace."""
+
 import numpy as np
 import pytest
 
-from tensegrity.physics import frames, topology as topo
-from tensegrity.workspace import mapping
-from tensegrity.workspace import nominal
-from tensegrity.workspace import sweep
+from tensegrity.physics import frames
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
+from tensegrity.workspace import mapping, nominal, sweep
 
 LEVELS = [1.2, 3.6]
 PAIRS = [1, 4, 9, 10, 11, 12]
@@ -61,13 +61,15 @@ def canonical():
     out = {}
     for kind, face in topo.CONTACT_FACES.items():
         res = sweep.run(Params(), face, PAIRS, sweep.SweepSetup(levels=tuple(LEVELS), hold=0.6))
-        out[kind] = [nominal.nominal(res.t, res.level, res.cog[b], res.support[b], 2, 0.6, 0.2)
-                     for b in range(len(PAIRS))]
+        out[kind] = [
+            nominal.nominal(res.t, res.level, res.cog[b], res.support[b], 2, 0.6, 0.2) for b in range(len(PAIRS))
+        ]
     return out
 
 
-@pytest.mark.parametrize("face", [topo.face_number((1, 6, 5)), topo.face_number((1, 10, 9)),
-                                  topo.face_number((3, 4, 8))])
+@pytest.mark.parametrize(
+    "face", [topo.face_number((1, 6, 5)), topo.face_number((1, 10, 9)), topo.face_number((3, 4, 8))]
+)
 def test_mapped_workspace_equals_a_direct_simulation_on_that_face(canonical, face):
     kind = str(topo.FACE_TYPES[face - 1])
     cog = np.full((12, 2, 3), np.nan)

@@ -1,10 +1,11 @@
 """The two-pair workspace (issue 10): symmetry reduction, mapping against direct sweeps,
 statics, the reader contract, the fitted surfaces' evaluator, bad configuration."""
+
 import numpy as np
 import pytest
 
+from tensegrity.io.config import ConfigError, defaults, params_from_config, validate
 from tensegrity.io.formats import two_pair as tpf
-from tensegrity.io.config import ConfigError, defaults, merge, params_from_config, validate
 from tensegrity.physics import statics
 from tensegrity.workspace import two_pair as tp
 
@@ -82,7 +83,10 @@ def test_reader_contract(tmp_path, iso):
     ws = tp.map_workspace(LEVELS, {"isosceles": (tp.COMBOS, cog, support, path)})
     ds = tpf.workspace_dataset(LEVELS, tp.COMBOS[::-1], {k: v[:, ::-1] for k, v in ws.items()}, {}, 0.5)
     from tensegrity.io import datasets
-    f = datasets.write(ds, tmp_path / "w.nc", defaults(), "test", allow_nan=[k for k in tpf.ALLOW_NAN if k != "cog_std"])
+
+    f = datasets.write(
+        ds, tmp_path / "w.nc", defaults(), "test", allow_nan=[k for k in tpf.ALLOW_NAN if k != "cog_std"]
+    )
     combos, levels, c, s = tpf.read_two_pair(f)
     assert combos.dtype.kind == "i" and combos.shape == (66, 2) and np.array_equal(combos, tp.COMBOS)
     assert np.array_equal(levels, LEVELS) and c.shape == (20, 66, 2, 2, 3) and s.shape == (20, 66, 2, 2, 3, 3)
@@ -99,22 +103,29 @@ def test_json_evaluator_matches_the_fit():
     assert surf["degree"] == 2  # the cross term needs degree 2; degree 3 does not pay
     doc = tpf.surfaces_document({"isosceles": ([10, 11, 12], [[10, 11]], [[surf, surf, surf]])})
     import json
+
     back = json.loads(json.dumps(doc))["contacts"]["isosceles"]["combos"]["10,11"]["y"]
     design = np.stack([pa.ravel() ** i * pb.ravel() ** j for i, j in surf["powers"]], -1)
     np.testing.assert_allclose(tpf.evaluate_surface(back, pa, pb).ravel(), design @ surf["coefs"], atol=1e-15)
     assert np.abs(tpf.evaluate_surface(back, pa, pb) - v).max() < 1e-5
 
 
-@pytest.mark.parametrize("section, key", [({"hold": -1.0}, "two_pair.hold"),
-                                          ({"check_combos": [[3, 3]]}, "two_pair.check_combos")])
+@pytest.mark.parametrize(
+    "section, key", [({"hold": -1.0}, "two_pair.hold"), ({"check_combos": [[3, 3]]}, "two_pair.check_combos")]
+)
 def test_schema_names_the_bad_key(section, key):
     with pytest.raises(ConfigError, match=key.replace(".", r"\.")):
         validate({"two_pair": section})
 
 
-@pytest.mark.parametrize("section, key", [({"levels": [2.4, 1.2]}, "two_pair.levels"),
-                                          ({"hold": 0.3, "discard": 0.3}, "two_pair.discard"),
-                                          ({"hold": 0.0333}, "two_pair.hold")])
+@pytest.mark.parametrize(
+    "section, key",
+    [
+        ({"levels": [2.4, 1.2]}, "two_pair.levels"),
+        ({"hold": 0.3, "discard": 0.3}, "two_pair.discard"),
+        ({"hold": 0.0333}, "two_pair.hold"),
+    ],
+)
 def test_stage_check_names_the_bad_key(tmp_path, section, key):
     with pytest.raises(ConfigError, match=key.replace(".", r"\.")):  # before any job
         validate({"two_pair": section})

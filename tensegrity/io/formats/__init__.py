@@ -12,16 +12,34 @@ back, the reader (`read_*`) with its contract check.
 - `simulation`: the output of `tensegrity simulate`.
 The names of the light modules (no simulator, no validation) are available here too.
 """
+
 from .common import AXES, coords, rest_vars
 from .curves import CURVES_ALLOW_NAN, check_curves, curves_dataset, curves_document, read_curves
 from .nominal import NOMINAL_ALLOW_NAN, nominal_dataset, nominal_from_dataset, read_nominal, read_nominals
 from .simulation import simulation_dataset
 from .sweep import SWEEP_FILE, sweep_dataset
-from .workspace import (WORKSPACE_ALLOW_NAN, check_workspace, read_workspace, workspace_dataset,
-                        workspace_from_dataset)
+from .workspace import WORKSPACE_ALLOW_NAN, check_workspace, read_workspace, workspace_dataset, workspace_from_dataset
 
-__all__ = ["AXES", "coords", "rest_vars", "CURVES_ALLOW_NAN", "check_curves", "curves_dataset",
-           "curves_document", "read_curves", "NOMINAL_ALLOW_NAN", "nominal_dataset", "nominal_from_dataset",
-           "read_nominal", "read_nominals", "simulation_dataset",
-           "SWEEP_FILE", "sweep_dataset", "WORKSPACE_ALLOW_NAN", "check_workspace", "read_workspace",
-           "workspace_dataset", "workspace_from_dataset"]
+__all__ = [
+    "AXES",
+    "coords",
+    "rest_vars",
+    "CURVES_ALLOW_NAN",
+    "check_curves",
+    "curves_dataset",
+    "curves_document",
+    "read_curves",
+    "NOMINAL_ALLOW_NAN",
+    "nominal_dataset",
+    "nominal_from_dataset",
+    "read_nominal",
+    "read_nominals",
+    "simulation_dataset",
+    "SWEEP_FILE",
+    "sweep_dataset",
+    "WORKSPACE_ALLOW_NAN",
+    "check_workspace",
+    "read_workspace",
+    "workspace_dataset",
+    "workspace_from_dataset",
+]

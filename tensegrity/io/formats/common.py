@@ -1,12 +1,13 @@
 """What every file of the workspace pipeline shares (docs/datasets.md): the coordinates, one
 long_name each, and the robot's geometry (strut length and rest state) stored in the file."""
+
 from __future__ import annotations
 
 import numpy as np
-import xarray as xr
 from numpy.typing import ArrayLike
 
-from ...physics import frames, topology as topo
+from ...physics import frames
+from ...physics import topology as topo
 from .. import datasets
 
 AXES = ["x", "y", "z"]
@@ -15,9 +16,11 @@ AXES = ["x", "y", "z"]
 def coords(pairs: ArrayLike | None = None, levels: ArrayLike | None = None) -> dict:
     """The coordinates every workspace file shares, one long_name each: axis, corner, node, and
     optionally pair (1-based) and pressure (MPa)."""
-    c = {"axis": ("axis", AXES, {"long_name": "support-frame axis", "units": "1"}),
-         "corner": ("corner", [1, 2, 3], {"units": "1", "long_name": "support triangle corner"}),
-         "node": ("node", np.arange(1, topo.N_NODES + 1), {"units": "1", "long_name": "node number"})}
+    c = {
+        "axis": ("axis", AXES, {"long_name": "support-frame axis", "units": "1"}),
+        "corner": ("corner", [1, 2, 3], {"units": "1", "long_name": "support triangle corner"}),
+        "node": ("node", np.arange(1, topo.N_NODES + 1), {"units": "1", "long_name": "node number"}),
+    }
     if pairs is not None:
         c["pair"] = ("pair", np.asarray(pairs), {"units": "1", "long_name": "actuator pair number"})
     if levels is not None:
@@ -34,8 +37,18 @@ def rest_vars(strut_length: float, faces: ArrayLike | int) -> dict:
     rest = [frames.rest_frame(int(f), strut_length) for f in np.atleast_1d(faces)]
     cog, sup = np.stack([r[0] for r in rest]), np.stack([r[1] for r in rest])
     lead = () if one else ("face",)
-    return {**datasets.geometry_vars(strut_length),
-            "rest_cog": var((*lead, "axis"), cog[0] if one else cog, "m",
-                            "centre of gravity of the unactuated symmetric robot in the support frame"),
-            "rest_support": var((*lead, "corner", "axis"), sup[0] if one else sup, "m",
-                                "support triangle of the unactuated symmetric robot in the support frame")}
+    return {
+        **datasets.geometry_vars(strut_length),
+        "rest_cog": var(
+            (*lead, "axis"),
+            cog[0] if one else cog,
+            "m",
+            "centre of gravity of the unactuated symmetric robot in the support frame",
+        ),
+        "rest_support": var(
+            (*lead, "corner", "axis"),
+            sup[0] if one else sup,
+            "m",
+            "support triangle of the unactuated symmetric robot in the support frame",
+        ),
+    }

@@ -1,5 +1,6 @@
 """results/curves/{contact}.nc and results/curves/curves.json: the fitted curves as plain numbers
 (docs/datasets.md), and the reader of curves.json with its contract check."""
+
 from __future__ import annotations
 
 import json
@@ -18,15 +19,29 @@ CURVES_ALLOW_NAN = ["breaks", "coefs", "cv_rmse"]
 
 def curves_dataset(arrays: dict, pair: ArrayLike, axis: ArrayLike, attrs: dict) -> xr.Dataset:
     """The fitted curves of one contact case (workspace.fit.curves_to_arrays) as plain numbers."""
-    units = {"breaks": "MPa", "coefs": "m", "degree": "1", "pmin": "MPa", "pmax": "MPa",
-             "cv_rmse": "m", "kind": "", "model": ""}
-    names = {"breaks": "piece boundaries of the piecewise polynomial (NaN padded)",
-             "coefs": "coefficients of the polynomial in u = (p - breaks[piece]) / (1 MPa), "
-                      "highest power first (NaN padded)",
-             "degree": "polynomial degree", "pmin": "lowest pressure of the valid range",
-             "pmax": "highest pressure of the valid range", "cv_rmse": "cross-validated RMSE of the fit",
-             "kind": "polynomial or spline", "model": "chosen model"}
+    units = {
+        "breaks": "MPa",
+        "coefs": "m",
+        "degree": "1",
+        "pmin": "MPa",
+        "pmax": "MPa",
+        "cv_rmse": "m",
+        "kind": "",
+        "model": "",
+    }
+    names = {
+        "breaks": "piece boundaries of the piecewise polynomial (NaN padded)",
+        "coefs": "coefficients of the polynomial in u = (p - breaks[piece]) / (1 MPa), "
+        "highest power first (NaN padded)",
+        "degree": "polynomial degree",
+        "pmin": "lowest pressure of the valid range",
+        "pmax": "highest pressure of the valid range",
+        "cv_rmse": "cross-validated RMSE of the fit",
+        "kind": "polynomial or spline",
+        "model": "chosen model",
+    }
     from ...workspace.fit import ARRAY_DIMS
+
     data = {}
     for k, a in arrays.items():
         spec = {"long_name": names[k]}
@@ -40,15 +55,20 @@ def curves_document(contacts: dict) -> dict:
     """results/curves/curves.json: `contacts` maps a contact case to (face_nodes, pairs (n,),
     curves [n][3] of workspace.fit.Curve); plain numbers, evaluable in any language."""
     from ...workspace.fit import to_dict
-    doc = {"units": {"pressure": "MPa", "cog": "m"},
-           "evaluate": "find piece i with breaks[i] <= p < breaks[i+1] (clamp to the end pieces); "
-                       "value = sum(coefs[i][k] * (p - breaks[i])**(deg - k))",
-           "contacts": {}}
+
+    doc = {
+        "units": {"pressure": "MPa", "cog": "m"},
+        "evaluate": "find piece i with breaks[i] <= p < breaks[i+1] (clamp to the end pieces); "
+        "value = sum(coefs[i][k] * (p - breaks[i])**(deg - k))",
+        "contacts": {},
+    }
     for contact, (face_nodes, pairs, curves) in contacts.items():
         doc["contacts"][contact] = {
             "face_nodes": [int(n) for n in face_nodes],
-            "pairs": {str(int(p)): {ax: to_dict(curves[i][j]) for j, ax in enumerate(AXES)}
-                      for i, p in enumerate(pairs)}}
+            "pairs": {
+                str(int(p)): {ax: to_dict(curves[i][j]) for j, ax in enumerate(AXES)} for i, p in enumerate(pairs)
+            },
+        }
     return doc
 
 

@@ -5,6 +5,7 @@ read back into the package's arrays:
   contact case), read back by `sweeps_from_dataset`.
 - results/slope_limit.nc: `slope_limit_dataset` (from `workspace.slope_limit.SlopeLimits`).
 """
+
 from __future__ import annotations
 
 import os
@@ -22,18 +23,29 @@ if TYPE_CHECKING:
     from ...workspace.gravity import GravitySetup, GravitySweep
     from ...workspace.slope_limit import SlopeLimits
 
-__all__ = ["GRAVITY_ALLOW_NAN", "gravity_dataset", "sweeps_from_dataset", "read_gravity", "SLOPE_LIMIT_ALLOW_NAN",
-           "slope_limit_dataset"]
+__all__ = [
+    "GRAVITY_ALLOW_NAN",
+    "gravity_dataset",
+    "sweeps_from_dataset",
+    "read_gravity",
+    "SLOPE_LIMIT_ALLOW_NAN",
+    "slope_limit_dataset",
+]
 
 GRAVITY_ALLOW_NAN = ["tip_pressure", "cog", "support", "projection", "margin"]
 _DIMS = ("contact", "slope", "heading", "pair")
 
 
 def _case_coords(contacts, slopes, headings) -> dict:
-    return {"contact": ("contact", list(contacts), {"long_name": "contact case (canonical face type)"}),
-            "slope": ("slope", np.asarray(slopes, float), {"units": "degree", "long_name": "ground slope angle"}),
-            "heading": ("heading", np.asarray(headings, float),
-                        {"units": "degree", "long_name": "uphill direction in the contact face's support frame, from +x toward +y"})}
+    return {
+        "contact": ("contact", list(contacts), {"long_name": "contact case (canonical face type)"}),
+        "slope": ("slope", np.asarray(slopes, float), {"units": "degree", "long_name": "ground slope angle"}),
+        "heading": (
+            "heading",
+            np.asarray(headings, float),
+            {"units": "degree", "long_name": "uphill direction in the contact face's support frame, from +x toward +y"},
+        ),
+    }
 
 
 _SETTINGS = ("ramp_rate", "interval", "lift_tolerance", "hold_time", "settle", "max_pressure")
@@ -53,41 +65,88 @@ def gravity_dataset(sweeps: Mapping[str, GravitySweep], setup: GravitySetup) -> 
 
     def stack(name):
         return np.stack([getattr(s, name) for s in sweeps.values()])
+
     proj = stack("projection")
     proj = np.concatenate([proj, np.where(np.isnan(proj[..., :1]), np.nan, 0.0)], axis=-1)
     P = (*_DIMS, "pressure")
     return xr.Dataset(
-        {"face": var(("contact",), [s.face for s in sweeps.values()], "1", "contact face number"),
-         "face_nodes": var(("contact", "corner"), [topo.FACES[s.face - 1] + 1 for s in sweeps.values()], "1",
-                           "node numbers of the contact face's corners (support-frame corner order)"),
-         "stood": var(_DIMS[:3], stack("stood").astype(np.int8), "1",
-                      "1 if the unactuated robot stays on the face at this slope and heading"),
-         "rolled": var(_DIMS, stack("rolled").astype(np.int8), "1",
-                       "1 if ramping this pair rolled the robot off the face within the pressure range"),
-         "tip_pressure": var(_DIMS, stack("tip_pressure"), "MPa",
-                             "pressure at which the CoG projection along gravity left the support triangle (NaN: no roll)"),
-         "tip_edge": var((*_DIMS, "end"), stack("tip_edge"), "1", "nodes of the edge the robot rolled over (0: none)"),
-         "cog": var((*P, "axis"), stack("cog"), "m", "centre of gravity in the deformed face's support frame"),
-         "support": var((*P, "corner", "axis"), stack("support"), "m", "deformed support triangle in the support frame"),
-         "projection": var((*P, "axis"), proj, "m", "CoG projected along gravity onto the face plane, support frame"),
-         "margin": var(P, stack("margin"), "m",
-                       "signed distance of the CoG projection along gravity to the triangle boundary (positive inside)")},
-        coords={**coords(first.pairs, first.pressure), **_case_coords(sweeps, first.slopes, first.headings),
-                "end": ("end", [1, 2], {"units": "1", "long_name": "end of an edge"})},
-        attrs=attrs)
+        {
+            "face": var(("contact",), [s.face for s in sweeps.values()], "1", "contact face number"),
+            "face_nodes": var(
+                ("contact", "corner"),
+                [topo.FACES[s.face - 1] + 1 for s in sweeps.values()],
+                "1",
+                "node numbers of the contact face's corners (support-frame corner order)",
+            ),
+            "stood": var(
+                _DIMS[:3],
+                stack("stood").astype(np.int8),
+                "1",
+                "1 if the unactuated robot stays on the face at this slope and heading",
+            ),
+            "rolled": var(
+                _DIMS,
+                stack("rolled").astype(np.int8),
+                "1",
+                "1 if ramping this pair rolled the robot off the face within the pressure range",
+            ),
+            "tip_pressure": var(
+                _DIMS,
+                stack("tip_pressure"),
+                "MPa",
+                "pressure at which the CoG projection along gravity left the support triangle (NaN: no roll)",
+            ),
+            "tip_edge": var(
+                (*_DIMS, "end"), stack("tip_edge"), "1", "nodes of the edge the robot rolled over (0: none)"
+            ),
+            "cog": var((*P, "axis"), stack("cog"), "m", "centre of gravity in the deformed face's support frame"),
+            "support": var(
+                (*P, "corner", "axis"), stack("support"), "m", "deformed support triangle in the support frame"
+            ),
+            "projection": var(
+                (*P, "axis"), proj, "m", "CoG projected along gravity onto the face plane, support frame"
+            ),
+            "margin": var(
+                P,
+                stack("margin"),
+                "m",
+                "signed distance of the CoG projection along gravity to the triangle boundary (positive inside)",
+            ),
+        },
+        coords={
+            **coords(first.pairs, first.pressure),
+            **_case_coords(sweeps, first.slopes, first.headings),
+            "end": ("end", [1, 2], {"units": "1", "long_name": "end of an edge"}),
+        },
+        attrs=attrs,
+    )
 
 
 def sweeps_from_dataset(ds: xr.Dataset) -> dict[str, GravitySweep]:
     """contact -> GravitySweep of a results/workspace_gravity.nc dataset."""
     from ...workspace.gravity import GravitySweep
+
     out = {}
     for c, contact in enumerate(ds["contact"].values.astype(str)):
-        v = {k: ds[k].values[c] for k in ("stood", "rolled", "tip_pressure", "tip_edge", "cog",
-                                          "support", "projection", "margin")}
-        out[contact] = GravitySweep(int(ds["face"].values[c]), ds["pair"].values, ds["slope"].values,
-                                    ds["heading"].values, ds["pressure"].values,
-                                    v["stood"].astype(bool), v["rolled"].astype(bool), v["tip_pressure"],
-                                    v["tip_edge"], v["cog"], v["support"], v["projection"][..., :2], v["margin"])
+        v = {
+            k: ds[k].values[c]
+            for k in ("stood", "rolled", "tip_pressure", "tip_edge", "cog", "support", "projection", "margin")
+        }
+        out[contact] = GravitySweep(
+            int(ds["face"].values[c]),
+            ds["pair"].values,
+            ds["slope"].values,
+            ds["heading"].values,
+            ds["pressure"].values,
+            v["stood"].astype(bool),
+            v["rolled"].astype(bool),
+            v["tip_pressure"],
+            v["tip_edge"],
+            v["cog"],
+            v["support"],
+            v["projection"][..., :2],
+            v["margin"],
+        )
     return out
 
 
@@ -106,16 +165,38 @@ def slope_limit_dataset(lim: SlopeLimits, attrs: dict) -> xr.Dataset:
     var = datasets.var
     dims = ("kind", "contact", "heading")
     return xr.Dataset(
-        {"predicted_free": var(dims, lim.predicted_free, "degree",
-                               "steepest slope predicted from the free workspace projected along gravity (NaN: none)"),
-         "predicted_gravity": var(dims, lim.predicted_gravity, "degree",
-                                  "steepest slope of the gravity-aware workspace's slope grid (NaN: none)"),
-         "simulated": var(dims, lim.simulated, "degree", "steepest slope found by direct simulation (bisection; NaN: none)"),
-         "pair": var(dims, lim.pair, "1", "pair that rolls the robot at the limit (0: none, or standing)"),
-         "pressure": var(dims, lim.pressure, "MPa", "its tipping pressure at the simulated limit (NaN: none)"),
-         "limited_by": (dims, lim.limited_by.astype(str),
-                        {"long_name": "what sets the limit: geometry, pressure range, friction or grid"})},
-        coords={"kind": ("kind", list(lim.kinds), {"long_name": "stand, roll uphill, roll downhill under control"}),
-                "contact": ("contact", list(lim.contacts), {"long_name": "contact case (canonical face type)"}),
-                "heading": ("heading", lim.headings, {"units": "degree", "long_name": "uphill direction in the contact face's support frame"})},
-        attrs=attrs)
+        {
+            "predicted_free": var(
+                dims,
+                lim.predicted_free,
+                "degree",
+                "steepest slope predicted from the free workspace projected along gravity (NaN: none)",
+            ),
+            "predicted_gravity": var(
+                dims,
+                lim.predicted_gravity,
+                "degree",
+                "steepest slope of the gravity-aware workspace's slope grid (NaN: none)",
+            ),
+            "simulated": var(
+                dims, lim.simulated, "degree", "steepest slope found by direct simulation (bisection; NaN: none)"
+            ),
+            "pair": var(dims, lim.pair, "1", "pair that rolls the robot at the limit (0: none, or standing)"),
+            "pressure": var(dims, lim.pressure, "MPa", "its tipping pressure at the simulated limit (NaN: none)"),
+            "limited_by": (
+                dims,
+                lim.limited_by.astype(str),
+                {"long_name": "what sets the limit: geometry, pressure range, friction or grid"},
+            ),
+        },
+        coords={
+            "kind": ("kind", list(lim.kinds), {"long_name": "stand, roll uphill, roll downhill under control"}),
+            "contact": ("contact", list(lim.contacts), {"long_name": "contact case (canonical face type)"}),
+            "heading": (
+                "heading",
+                lim.headings,
+                {"units": "degree", "long_name": "uphill direction in the contact face's support frame"},
+            ),
+        },
+        attrs=attrs,
+    )

@@ -1,15 +1,14 @@
 """results/nominal/{contact}.nc: the nominal CoG of one contact case (docs/datasets.md), its
 builder and its reader (a `workspace.nominal.Nominal`)."""
+
 from __future__ import annotations
 
 import os
 from collections.abc import Sequence
 
-import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ...physics import topology as topo
 from ...workspace.nominal import Nominal
 from .. import datasets
 from .common import coords, rest_vars
@@ -17,24 +16,52 @@ from .common import coords, rest_vars
 NOMINAL_ALLOW_NAN = ["tip_pressure", "cog", "cog_std", "support", "margin"]
 
 
-def nominal_dataset(pairs: ArrayLike, levels: ArrayLike, cog: ArrayLike, std: ArrayLike, sup: ArrayLike,
-                    margin: ArrayLike, tip: ArrayLike, rolled: ArrayLike, attrs: dict,
-                    strut_length: float) -> xr.Dataset:
+def nominal_dataset(
+    pairs: ArrayLike,
+    levels: ArrayLike,
+    cog: ArrayLike,
+    std: ArrayLike,
+    sup: ArrayLike,
+    margin: ArrayLike,
+    tip: ArrayLike,
+    rolled: ArrayLike,
+    attrs: dict,
+    strut_length: float,
+) -> xr.Dataset:
     """The nominal file of one contact case: per pair (n,) and level (P,) MPa the nominal CoG,
     its spread and the mean support (m, support frame), the margin (m), the tipping pressure
     (MPa) and where the grounded robot rolled off; the robot's strut length and rest state on
     the face (`rest_vars`); `attrs` of the sweep files."""
     var = datasets.var
     return xr.Dataset(
-        {"cog": var(("pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the support frame"),
-         "cog_std": var(("pair", "pressure", "axis"), std, "m", "standard deviation of the CoG over the level (oscillation)"),
-         "support": var(("pair", "pressure", "corner", "axis"), sup, "m", "mean deformed support triangle in the support frame"),
-         "margin": var(("pair", "pressure"), margin, "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
-         "tip_pressure": var(("pair",), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never)"),
-         "rolled": var(("pair", "pressure"), rolled, "1", "1 from the level at which the grounded robot rolled off the face (always 0 in the free mode)"),
-         **rest_vars(strut_length, int(attrs["face"]))},
+        {
+            "cog": var(("pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the support frame"),
+            "cog_std": var(
+                ("pair", "pressure", "axis"), std, "m", "standard deviation of the CoG over the level (oscillation)"
+            ),
+            "support": var(
+                ("pair", "pressure", "corner", "axis"), sup, "m", "mean deformed support triangle in the support frame"
+            ),
+            "margin": var(
+                ("pair", "pressure"),
+                margin,
+                "m",
+                "signed distance of the CoG projection to the support triangle boundary (positive inside)",
+            ),
+            "tip_pressure": var(
+                ("pair",), tip, "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never)"
+            ),
+            "rolled": var(
+                ("pair", "pressure"),
+                rolled,
+                "1",
+                "1 from the level at which the grounded robot rolled off the face (always 0 in the free mode)",
+            ),
+            **rest_vars(strut_length, int(attrs["face"])),
+        },
         coords=coords(pairs, levels),
-        attrs=attrs)
+        attrs=attrs,
+    )
 
 
 def nominal_from_dataset(ds: xr.Dataset) -> Nominal:
@@ -44,10 +71,15 @@ def nominal_from_dataset(ds: xr.Dataset) -> Nominal:
     mode. ValueError naming the file if one is missing."""
     try:
         return Nominal.of_pairs(
-            ds.attrs["contact"], int(ds.attrs["face"]), ds.attrs["mode"], ds["pressure"].values,
-            ds["pair"].values, ds["cog"].transpose("pair", "pressure", "axis").values,
+            ds.attrs["contact"],
+            int(ds.attrs["face"]),
+            ds.attrs["mode"],
+            ds["pressure"].values,
+            ds["pair"].values,
+            ds["cog"].transpose("pair", "pressure", "axis").values,
             ds["support"].transpose("pair", "pressure", "corner", "axis").values,
-            ds["margin"].transpose("pair", "pressure").values)
+            ds["margin"].transpose("pair", "pressure").values,
+        )
     except (KeyError, ValueError) as e:
         src = ds.encoding.get("source", "<dataset>")
         raise ValueError(f"{src!r} is not a nominal CoG file: {e}") from e

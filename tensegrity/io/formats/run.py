@@ -3,6 +3,7 @@ the builder (`run_dataset`, written by `datasets.write(..., allow_nan=RUN_ALLOW_
 readers the figures use (`terrain_from_dataset`, `run_sample`) and the one validation uses
 (`read_run_summaries`).
 """
+
 from __future__ import annotations
 
 import os
@@ -22,8 +23,16 @@ if TYPE_CHECKING:  # imported where used: importing io.run_formats loads no simu
     from ...locomotion.outcome import Run
     from ...physics.params import Params
 
-__all__ = ["RUN_ALLOW_NAN", "run_dataset", "terrain_from_dataset", "run_sample", "run_name", "run_summary",
-           "read_run_summaries", "not_arrived"]
+__all__ = [
+    "RUN_ALLOW_NAN",
+    "run_dataset",
+    "terrain_from_dataset",
+    "run_sample",
+    "run_name",
+    "run_summary",
+    "read_run_summaries",
+    "not_arrived",
+]
 
 RUN_ALLOW_NAN = ("planned_pressure", "tip_pressure", "goal")  # NaN: no roll predicted / none / no goal
 
@@ -40,62 +49,115 @@ def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "") -> x
     used = [st.used for st in steps]
     pairs = np.zeros((n, 2), np.int64)
     for i, r in enumerate(used):
-        pairs[i, :len(r.pairs)] = r.pairs
+        pairs[i, : len(r.pairs)] = r.pairs
     edge = np.array([st.plan.edge for st in steps], np.int64).reshape(n, 2)
     return xr.Dataset(
-        {"nodes": var(("time", "node", "axis"), rec.nodes, "m", "node positions, world frame"),
-         "cog": var(("time", "axis"), rec.cog, "m", "centre of gravity, world frame"),
-         "pressure": var(("time", "pair"), rec.pressure, "MPa", "pressure applied to each actuator pair"),
-         "contact_face": var(("time",), rec.face, "1", "face resting on the terrain (0: none)"),
-         "face": var(("step",), np.array([st.face for st in steps], np.int64), "1", "face the step started on"),
-         "next_face": var(("step",), np.array([st.face_after or 0 for st in steps], np.int64), "1",
-                          "face the robot settled on after the step (0: none)"),
-         "predicted_face": var(("step",), np.array([st.plan.next_face for st in steps], np.int64), "1",
-                               "face the plan predicted (across the planned edge)"),
-         "step_pair": var(("step", "slot"), pairs, "1", "actuator pair(s) driven in the step's rolling attempt (0: none)"),
-         "planned_pressure": var(("step",), np.array([st.plan.pressure for st in steps]), "MPa",
-                                 "least rolling pressure predicted by the workspace (NaN: no roll predicted)"),
-         "tip_pressure": var(("step",), np.array([r.tip_pressure for r in used]), "MPa",
-                             "pressure held when the robot tipped in the simulation (NaN: it did not roll)"),
-         "peak_pressure": var(("step",), np.array([r.peak_pressure for r in used]), "MPa",
-                              "highest pressure applied in the step's last attempt"),
-         "edge": var(("step", "end"), edge, "1", "nodes of the planned edge"),
-         "alignment": var(("step",), np.array([st.plan.alignment for st in steps]), "1",
-                          "cosine between the planned edge's outward direction and the target direction"),
-         "reach": var(("step",), np.array([st.plan.reach for st in steps]), "m",
-                      "predicted margin at the workspace's highest level (negative: outside)"),
-         "attempts": var(("step",), np.array([len(st.attempts) for st in steps], np.int64), "1",
-                         "candidates tried in the step"),
-         "t_start": var(("step",), np.array([st.attempts[0].t_start for st in steps]), "s", "start of the step"),
-         "t_end": var(("step",), np.array([r.t_end for r in used]), "s", "end of the step (settled)"),
-         "position": var(("step", "axis"), np.array([r.cog_after for r in used]).reshape(n, 3), "m",
-                         "centre of gravity after the step, world frame"),
-         "faces": var(("visit",), np.array(run.faces, np.int64), "1", "contact faces visited, in order"),
-         "goal": var(("axis",), run.goal, "m", "goal, world frame (NaN: a run over given edges)"),
-         "start": var(("axis",), run.start, "m", "centre of gravity at the start, world frame"),
-         "terrain_heights": var(("tx", "ty"), terrain.heights, "m",
-                                "height field of the terrain (kind heightfield)"),
-         **datasets.geometry_vars(float(params.strut_length), float(params.strut_radius))},
-        coords={"time": ("time", rec.t, {"units": "s", "long_name": "time"}),
-                "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"}),
-                "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "actuator pair number"}),
-                "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "world axis"}),
-                "step": ("step", np.arange(1, n + 1), {"units": "1", "long_name": "step number"}),
-                "slot": ("slot", [1, 2], {"units": "1", "long_name": "pair slot (two pairs when combined)"}),
-                "end": ("end", [1, 2], {"units": "1", "long_name": "edge end"}),
-                "visit": ("visit", np.arange(1, len(run.faces) + 1), {"units": "1", "long_name": "visit number"})},
-        attrs={"run": name, "outcome": run.outcome, "message": run.message, "rolls": run.rolls,
-               "terrain_kind": terrain.kind, "terrain_normal": terrain.normal,
-               "terrain_offset": float(terrain.offset), "terrain_origin": np.asarray(terrain.origin, float),
-               "terrain_spacing": float(terrain.spacing)})
+        {
+            "nodes": var(("time", "node", "axis"), rec.nodes, "m", "node positions, world frame"),
+            "cog": var(("time", "axis"), rec.cog, "m", "centre of gravity, world frame"),
+            "pressure": var(("time", "pair"), rec.pressure, "MPa", "pressure applied to each actuator pair"),
+            "contact_face": var(("time",), rec.face, "1", "face resting on the terrain (0: none)"),
+            "face": var(("step",), np.array([st.face for st in steps], np.int64), "1", "face the step started on"),
+            "next_face": var(
+                ("step",),
+                np.array([st.face_after or 0 for st in steps], np.int64),
+                "1",
+                "face the robot settled on after the step (0: none)",
+            ),
+            "predicted_face": var(
+                ("step",),
+                np.array([st.plan.next_face for st in steps], np.int64),
+                "1",
+                "face the plan predicted (across the planned edge)",
+            ),
+            "step_pair": var(
+                ("step", "slot"), pairs, "1", "actuator pair(s) driven in the step's rolling attempt (0: none)"
+            ),
+            "planned_pressure": var(
+                ("step",),
+                np.array([st.plan.pressure for st in steps]),
+                "MPa",
+                "least rolling pressure predicted by the workspace (NaN: no roll predicted)",
+            ),
+            "tip_pressure": var(
+                ("step",),
+                np.array([r.tip_pressure for r in used]),
+                "MPa",
+                "pressure held when the robot tipped in the simulation (NaN: it did not roll)",
+            ),
+            "peak_pressure": var(
+                ("step",),
+                np.array([r.peak_pressure for r in used]),
+                "MPa",
+                "highest pressure applied in the step's last attempt",
+            ),
+            "edge": var(("step", "end"), edge, "1", "nodes of the planned edge"),
+            "alignment": var(
+                ("step",),
+                np.array([st.plan.alignment for st in steps]),
+                "1",
+                "cosine between the planned edge's outward direction and the target direction",
+            ),
+            "reach": var(
+                ("step",),
+                np.array([st.plan.reach for st in steps]),
+                "m",
+                "predicted margin at the workspace's highest level (negative: outside)",
+            ),
+            "attempts": var(
+                ("step",), np.array([len(st.attempts) for st in steps], np.int64), "1", "candidates tried in the step"
+            ),
+            "t_start": var(("step",), np.array([st.attempts[0].t_start for st in steps]), "s", "start of the step"),
+            "t_end": var(("step",), np.array([r.t_end for r in used]), "s", "end of the step (settled)"),
+            "position": var(
+                ("step", "axis"),
+                np.array([r.cog_after for r in used]).reshape(n, 3),
+                "m",
+                "centre of gravity after the step, world frame",
+            ),
+            "faces": var(("visit",), np.array(run.faces, np.int64), "1", "contact faces visited, in order"),
+            "goal": var(("axis",), run.goal, "m", "goal, world frame (NaN: a run over given edges)"),
+            "start": var(("axis",), run.start, "m", "centre of gravity at the start, world frame"),
+            "terrain_heights": var(
+                ("tx", "ty"), terrain.heights, "m", "height field of the terrain (kind heightfield)"
+            ),
+            **datasets.geometry_vars(float(params.strut_length), float(params.strut_radius)),
+        },
+        coords={
+            "time": ("time", rec.t, {"units": "s", "long_name": "time"}),
+            "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"}),
+            "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "actuator pair number"}),
+            "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "world axis"}),
+            "step": ("step", np.arange(1, n + 1), {"units": "1", "long_name": "step number"}),
+            "slot": ("slot", [1, 2], {"units": "1", "long_name": "pair slot (two pairs when combined)"}),
+            "end": ("end", [1, 2], {"units": "1", "long_name": "edge end"}),
+            "visit": ("visit", np.arange(1, len(run.faces) + 1), {"units": "1", "long_name": "visit number"}),
+        },
+        attrs={
+            "run": name,
+            "outcome": run.outcome,
+            "message": run.message,
+            "rolls": run.rolls,
+            "terrain_kind": terrain.kind,
+            "terrain_normal": terrain.normal,
+            "terrain_offset": float(terrain.offset),
+            "terrain_origin": np.asarray(terrain.origin, float),
+            "terrain_spacing": float(terrain.spacing),
+        },
+    )
 
 
 def terrain_from_dataset(ds: xr.Dataset) -> Terrain:
     """The terrain a run dataset (results/locomotion/{run}.nc) was simulated on: kind, normal,
     offset (m), origin (m), spacing (m) from the attributes, heights (m) from terrain_heights."""
-    return Terrain(kind=str(ds.attrs["terrain_kind"]), normal=np.asarray(ds.attrs["terrain_normal"], float),
-                   offset=float(ds.attrs["terrain_offset"]), origin=tuple(np.asarray(ds.attrs["terrain_origin"], float)),
-                   spacing=float(ds.attrs["terrain_spacing"]), heights=ds["terrain_heights"].values)
+    return Terrain(
+        kind=str(ds.attrs["terrain_kind"]),
+        normal=np.asarray(ds.attrs["terrain_normal"], float),
+        offset=float(ds.attrs["terrain_offset"]),
+        origin=tuple(np.asarray(ds.attrs["terrain_origin"], float)),
+        spacing=float(ds.attrs["terrain_spacing"]),
+        heights=ds["terrain_heights"].values,
+    )
 
 
 def run_sample(ds: xr.Dataset, terrain: Terrain, step: int, which: str) -> tuple[int, np.ndarray]:
@@ -103,12 +165,22 @@ def run_sample(ds: xr.Dataset, terrain: Terrain, step: int, which: str) -> tuple
     'stable' or 'rolling' (`locomotion.outcome.sample`); ValueError naming the run if the step
     never leaves its face."""
     from ...locomotion.outcome import sample
+
     t = ds["time"].values
     k0 = int(np.searchsorted(t, ds["t_start"].values[step - 1]))
     k1 = int(np.searchsorted(t, ds["t_end"].values[step - 1]))
     try:
-        k = sample(ds["nodes"].values, ds["pressure"].values.max(axis=1), k0, k1, int(ds["face"].values[step - 1]),
-                   float(ds["tip_pressure"].values[step - 1]), terrain, strut_radius(ds), which)
+        k = sample(
+            ds["nodes"].values,
+            ds["pressure"].values.max(axis=1),
+            k0,
+            k1,
+            int(ds["face"].values[step - 1]),
+            float(ds["tip_pressure"].values[step - 1]),
+            terrain,
+            strut_radius(ds),
+            which,
+        )
     except ValueError:
         raise ValueError(f"step {step} of run {ds.attrs.get('run')!r} never leaves its face") from None
     return k, ds["nodes"].values[k]
@@ -125,8 +197,13 @@ def run_summary(ds: xr.Dataset) -> RunSummary:
     the file holds none)."""
     goal = np.asarray(ds["goal"].values, float) if "goal" in ds else np.full(3, np.nan)
     cog = np.asarray(ds["cog"].values, float) if "cog" in ds else np.empty((0, 3))
-    return RunSummary(str(ds.attrs.get("outcome", "unknown")), str(ds.attrs.get("message", "")),
-                      int(ds.attrs.get("rolls", 0)), goal, cog[-1] if cog.shape[0] else np.full(3, np.nan))
+    return RunSummary(
+        str(ds.attrs.get("outcome", "unknown")),
+        str(ds.attrs.get("message", "")),
+        int(ds.attrs.get("rolls", 0)),
+        goal,
+        cog[-1] if cog.shape[0] else np.full(3, np.nan),
+    )
 
 
 def read_run_summaries(paths: Iterable[str | os.PathLike]) -> dict[str, RunSummary]:
@@ -143,6 +220,7 @@ def not_arrived(paths: Iterable[str | os.PathLike]) -> list[tuple[str, str, str]
     arrive; files that do not exist are left out (a workflow that did not make them). Reads
     the global attributes only, with netCDF4."""
     import netCDF4
+
     out = []
     for p in paths:
         if not Path(p).is_file():

@@ -1,13 +1,16 @@
 """The output of `tensegrity simulate --out FILE` (docs/datasets.md, "Simulation")."""
+
 from __future__ import annotations
 
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ...physics import frames, topology as topo
+from ...physics import frames
+from ...physics import topology as topo
 from .. import datasets
 from .common import coords
+
 
 def simulation_dataset(t: ArrayLike, nodes: np.ndarray, pressure: np.ndarray, face: int, attrs: dict) -> xr.Dataset:
     """The output of `tensegrity simulate`: node positions (T, 12, 3) m world at times t (T,) s,
@@ -17,10 +20,13 @@ def simulation_dataset(t: ArrayLike, nodes: np.ndarray, pressure: np.ndarray, fa
     cog, sup = frames.in_support_frame(nodes, face)
     c = coords(np.arange(1, topo.N_PAIRS + 1))
     return xr.Dataset(
-        {"cog": var(("time", "axis"), cog, "m", "centre of gravity in the start face's support frame"),
-         "cog_world": var(("time", "axis"), nodes.mean(axis=-2), "m", "centre of gravity, world frame"),
-         "support": var(("time", "corner", "axis"), sup, "m", "start face corners in its support frame"),
-         "nodes": var(("time", "node", "axis"), nodes, "m", "node positions, world frame"),
-         "pressure_cmd": var(("time", "pair"), pressure, "MPa", "pair pressures commanded")},
+        {
+            "cog": var(("time", "axis"), cog, "m", "centre of gravity in the start face's support frame"),
+            "cog_world": var(("time", "axis"), nodes.mean(axis=-2), "m", "centre of gravity, world frame"),
+            "support": var(("time", "corner", "axis"), sup, "m", "start face corners in its support frame"),
+            "nodes": var(("time", "node", "axis"), nodes, "m", "node positions, world frame"),
+            "pressure_cmd": var(("time", "pair"), pressure, "MPa", "pair pressures commanded"),
+        },
         coords={"time": ("time", np.asarray(t, float), {"units": "s", "long_name": "time"}), **c},
-        attrs={"face": face, "face_nodes": topo.FACES[face - 1] + 1, **attrs})
+        attrs={"face": face, "face_nodes": topo.FACES[face - 1] + 1, **attrs},
+    )

@@ -11,6 +11,7 @@ Grid dimensions: `level_a` (the first pair's level) and `level_b` (the second's)
 the same levels, given in MPa by the data variables `pressure_a` and `pressure_b`. (A coordinate
 in pressure units would be taken for an atmospheric vertical axis by the CF checker.)
 """
+
 from __future__ import annotations
 
 import os
@@ -32,13 +33,47 @@ _GRID = ("level_a", "level_b")
 
 def _grid_vars(lead: tuple[str, ...], ws: Mapping[str, np.ndarray]) -> dict:
     var = datasets.var
-    out = {"cog": var((*lead, *_GRID, "axis"), ws["cog"], "m", "nominal centre of gravity in the face's support frame"),
-           "support": var((*lead, *_GRID, "corner", "axis"), ws["support"], "m", "deformed support triangle in the face's support frame"),
-           "margin": var((*lead, *_GRID), ws["margin"], "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
-           "tip_pressure": var(lead, ws["tip_pressure"], "MPa", "least equal pressure of both pairs at which the CoG projection leaves the triangle (NaN: never or not available)"),
-           "tip_edge": var((*lead, "end"), ws["tip_edge"], "1", "nodes of the edge crossed at the first equal-pressure grid point outside (0: none)"),
-           "tip_boundary": var((*lead, "level_a"), ws["tip_boundary"], "MPa", "least pressure of the second pair at which the CoG projection leaves the triangle, the first held at pressure_a (NaN: never)"),
-           "staircase_pairs": var((*lead, "member"), ws["staircase"], "1", "pairs in the order of the grid axes of the staircase the numbers come from (0: none)")}
+    out = {
+        "cog": var((*lead, *_GRID, "axis"), ws["cog"], "m", "nominal centre of gravity in the face's support frame"),
+        "support": var(
+            (*lead, *_GRID, "corner", "axis"),
+            ws["support"],
+            "m",
+            "deformed support triangle in the face's support frame",
+        ),
+        "margin": var(
+            (*lead, *_GRID),
+            ws["margin"],
+            "m",
+            "signed distance of the CoG projection to the support triangle boundary (positive inside)",
+        ),
+        "tip_pressure": var(
+            lead,
+            ws["tip_pressure"],
+            "MPa",
+            "least equal pressure of both pairs at which the CoG projection leaves the triangle "
+            "(NaN: never or not available)",
+        ),
+        "tip_edge": var(
+            (*lead, "end"),
+            ws["tip_edge"],
+            "1",
+            "nodes of the edge crossed at the first equal-pressure grid point outside (0: none)",
+        ),
+        "tip_boundary": var(
+            (*lead, "level_a"),
+            ws["tip_boundary"],
+            "MPa",
+            "least pressure of the second pair at which the CoG projection leaves the triangle, "
+            "the first held at pressure_a (NaN: never)",
+        ),
+        "staircase_pairs": var(
+            (*lead, "member"),
+            ws["staircase"],
+            "1",
+            "pairs in the order of the grid axes of the staircase the numbers come from (0: none)",
+        ),
+    }
     return out
 
 
@@ -49,19 +84,37 @@ def _coords(levels: ArrayLike) -> dict:
     c["member"] = ("member", [1, 2], {"units": "1", "long_name": "member of the combination"})
     c["end"] = ("end", [1, 2], {"units": "1", "long_name": "edge end"})
     for g in _GRID:
-        c[g] = (g, np.arange(1, P + 1), {"units": "1", "long_name": f"index of the pressure level of the {'first' if g == 'level_a' else 'second'} pair"})
+        c[g] = (
+            g,
+            np.arange(1, P + 1),
+            {
+                "units": "1",
+                "long_name": f"index of the pressure level of the {'first' if g == 'level_a' else 'second'} pair",
+            },
+        )
     return c
 
 
 def _level_vars(levels: ArrayLike, combos: ArrayLike) -> dict:
     var = datasets.var
-    return {"pressure_a": var(("level_a",), levels, "MPa", "muscle pressure of the first pair of the combination"),
-            "pressure_b": var(("level_b",), levels, "MPa", "muscle pressure of the second pair of the combination"),
-            "combo_pairs": var(("combo", "member"), combos, "1", "actuator pair numbers of the combination (first < second)")}
+    return {
+        "pressure_a": var(("level_a",), levels, "MPa", "muscle pressure of the first pair of the combination"),
+        "pressure_b": var(("level_b",), levels, "MPa", "muscle pressure of the second pair of the combination"),
+        "combo_pairs": var(
+            ("combo", "member"), combos, "1", "actuator pair numbers of the combination (first < second)"
+        ),
+    }
 
 
-def contact_dataset(levels: ArrayLike, combos: ArrayLike, ws: Mapping[str, np.ndarray], swept: ArrayLike,
-                    cog_std: np.ndarray, attrs: dict, strut_length: float) -> xr.Dataset:
+def contact_dataset(
+    levels: ArrayLike,
+    combos: ArrayLike,
+    ws: Mapping[str, np.ndarray],
+    swept: ArrayLike,
+    cog_std: np.ndarray,
+    attrs: dict,
+    strut_length: float,
+) -> xr.Dataset:
     """results/two_pair/{contact}.nc: the 66 combinations on one canonical face. ws as
     `workspace.two_pair.map_workspace` gives for one face (cog (66, P, P, 3), ...); swept (66,)
     1 where the combination was simulated (else mapped by the face's stabiliser); cog_std
@@ -69,20 +122,35 @@ def contact_dataset(levels: ArrayLike, combos: ArrayLike, ws: Mapping[str, np.nd
     strut length and rest state on the face (`formats.rest_vars`)."""
     var = datasets.var
     data = _grid_vars(("combo",), ws) | _level_vars(levels, combos)
-    data["swept"] = var(("combo",), np.asarray(swept, np.int8), "1", "1: simulated, 0: mapped from a simulated combination by the face's stabiliser")
-    data["cog_std"] = var(("combo", *_GRID, "axis"), cog_std, "m", "standard deviation of the CoG over the grid point's hold (oscillation; NaN: mapped)")
+    data["swept"] = var(
+        ("combo",),
+        np.asarray(swept, np.int8),
+        "1",
+        "1: simulated, 0: mapped from a simulated combination by the face's stabiliser",
+    )
+    data["cog_std"] = var(
+        ("combo", *_GRID, "axis"),
+        cog_std,
+        "m",
+        "standard deviation of the CoG over the grid point's hold (oscillation; NaN: mapped)",
+    )
     data |= rest_vars(strut_length, int(attrs["face"]))
     return xr.Dataset(data, coords=_coords(levels), attrs=attrs)
 
 
-def workspace_dataset(levels: ArrayLike, combos: ArrayLike, ws: Mapping[str, np.ndarray], attrs: dict,
-                      strut_length: float) -> xr.Dataset:
+def workspace_dataset(
+    levels: ArrayLike, combos: ArrayLike, ws: Mapping[str, np.ndarray], attrs: dict, strut_length: float
+) -> xr.Dataset:
     """results/workspace_two_pair.nc: `workspace.two_pair.map_workspace` on all 20 faces, with
     the robot's strut length and rest state on every face (`formats.rest_vars`)."""
     var = datasets.var
     data = _grid_vars(("face", "combo"), ws) | _level_vars(levels, combos)
-    data["face_nodes"] = var(("face", "corner"), topo.FACES + 1, "1", "node numbers of the face's corners (support-frame corner order)")
-    data["reference_corner"] = var(("face",), topo.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)")
+    data["face_nodes"] = var(
+        ("face", "corner"), topo.FACES + 1, "1", "node numbers of the face's corners (support-frame corner order)"
+    )
+    data["reference_corner"] = var(
+        ("face",), topo.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)"
+    )
     data |= rest_vars(strut_length, np.arange(1, topo.N_FACES + 1))
     c = _coords(levels) | {"face": ("face", np.arange(1, topo.N_FACES + 1), {"units": "1", "long_name": "face number"})}
     return xr.Dataset(data, coords=c, attrs=attrs)
@@ -100,9 +168,13 @@ def read_contacts(paths: Sequence[str | os.PathLike]) -> tuple[np.ndarray, dict[
 
 def two_pair_nominal(ds: xr.Dataset) -> TwoPairNominal:
     """The `TwoPairNominal` of a two-pair contact dataset (results/two_pair/{contact}.nc)."""
-    return TwoPairNominal(str(ds.attrs["contact"]), int(ds.attrs["face"]),
-                          np.asarray(ds["pressure_a"].values, float),
-                          ds["cog"].transpose("combo", *_GRID, "axis").values, ds["tip_pressure"].values)
+    return TwoPairNominal(
+        str(ds.attrs["contact"]),
+        int(ds.attrs["face"]),
+        np.asarray(ds["pressure_a"].values, float),
+        ds["cog"].transpose("combo", *_GRID, "axis").values,
+        ds["tip_pressure"].values,
+    )
 
 
 def read_two_pair_nominals(paths: Sequence[str | os.PathLike]) -> dict[str, TwoPairNominal]:
@@ -116,8 +188,10 @@ def read_two_pair_grid(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]
     support frame and staircase_pairs (20, 66, 2), the pairs in the order of the grid axes of
     the staircase the numbers come from (0: none)."""
     ds = datasets.read(path)
-    return (ds["cog"].transpose("face", "combo", *_GRID, "axis").values,
-            ds["staircase_pairs"].transpose("face", "combo", "member").values)
+    return (
+        ds["cog"].transpose("face", "combo", *_GRID, "axis").values,
+        ds["staircase_pairs"].transpose("face", "combo", "member").values,
+    )
 
 
 def read_two_pair(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -145,18 +219,25 @@ def read_two_pair(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.n
 
 # ------------------------------------------------------------ results/curves/two_pair.json
 
+
 def surfaces_document(contacts: Mapping[str, tuple]) -> dict:
     """results/curves/two_pair.json: `contacts` maps a contact case to (face_nodes (3,), combos
     (n, 2), surfaces [n][3] of `workspace.two_pair.fit_surface` dicts, per axis x, y, z)."""
-    doc = {"units": {"pressure": "MPa", "cog": "m"}, "frame": "support frame of the contact face (docs/design.md section 2)",
-           "evaluate": "value = sum over k of coefs[k] * pa**powers[k][0] * pb**powers[k][1]; pa: pressure (MPa) "
-                       "of the first pair of the combination (the smaller number), pb of the second; valid "
-                       "for pmin <= pa, pb <= pmax",
-           "contacts": {}}
+    doc = {
+        "units": {"pressure": "MPa", "cog": "m"},
+        "frame": "support frame of the contact face (docs/design.md section 2)",
+        "evaluate": "value = sum over k of coefs[k] * pa**powers[k][0] * pb**powers[k][1]; pa: pressure (MPa) "
+        "of the first pair of the combination (the smaller number), pb of the second; valid "
+        "for pmin <= pa, pb <= pmax",
+        "contacts": {},
+    }
     for contact, (face_nodes, combos, surfaces) in contacts.items():
         doc["contacts"][contact] = {
             "face_nodes": [int(n) for n in face_nodes],
-            "combos": {f"{a},{b}": dict(zip("xyz", surfaces[i])) for i, (a, b) in enumerate(np.asarray(combos).tolist())}}
+            "combos": {
+                f"{a},{b}": dict(zip("xyz", surfaces[i])) for i, (a, b) in enumerate(np.asarray(combos).tolist())
+            },
+        }
     return doc
 
 

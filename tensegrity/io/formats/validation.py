@@ -5,6 +5,7 @@ units and long names, as netCDF datasets built from the checks' results.
 - results/validation/two_pair.nc: `two_pair_validation_dataset` (`validation.two_pair`).
 - results/validation/gravity.nc: `gravity_validation_dataset` (`validation.gravity`).
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -28,94 +29,175 @@ from ...workspace import two_pair as tp
 from .. import datasets
 
 AXES = ("x", "y", "z")
-_CP = ("contact", "pair")                    # dimensions of the per-pair numbers
-_CPP = (*_CP, "pressure")                     # ... per level
-_CPPA = (*_CPP, "axis")                       # ... per level and axis
+_CP = ("contact", "pair")  # dimensions of the per-pair numbers
+_CPP = (*_CP, "pressure")  # ... per level
+_CPPA = (*_CPP, "axis")  # ... per level and axis
 
 
 def _paper_vars(r: PaperResult) -> dict:
     return {
-        "migration": datasets.var(_CP, r.migration, "m", "in-plane distance of the nominal CoG from the "
-                                  f"unactuated CoG at {r.ranking_pressure:g} MPa", pressure_MPa=r.ranking_pressure),
-        "tip_pressure": datasets.var(_CP, r.tip_pressure, "MPa", "least pressure at which the CoG projection "
-                                     "leaves the support triangle (NaN: never)"),
-        "tip_edge": datasets.var((*_CP, "end"), r.tip_edge, "1",
-                                 "nodes of the edge the CoG projection crosses first (0: none)"),
-        "paper_tip_pressure": datasets.var((), paper.TIP_PRESSURE, "MPa", "paper's pressure at which #10 rolls "
-                                           "the robot off (9,10,12) (III.C)", tolerance_MPa=r.tip_tolerance),
+        "migration": datasets.var(
+            _CP,
+            r.migration,
+            "m",
+            f"in-plane distance of the nominal CoG from the unactuated CoG at {r.ranking_pressure:g} MPa",
+            pressure_MPa=r.ranking_pressure,
+        ),
+        "tip_pressure": datasets.var(
+            _CP,
+            r.tip_pressure,
+            "MPa",
+            "least pressure at which the CoG projection leaves the support triangle (NaN: never)",
+        ),
+        "tip_edge": datasets.var(
+            (*_CP, "end"), r.tip_edge, "1", "nodes of the edge the CoG projection crosses first (0: none)"
+        ),
+        "paper_tip_pressure": datasets.var(
+            (),
+            paper.TIP_PRESSURE,
+            "MPa",
+            "paper's pressure at which #10 rolls the robot off (9,10,12) (III.C)",
+            tolerance_MPa=r.tip_tolerance,
+        ),
         "orbit_pairs": datasets.var(("orbit", "member"), r.orbit_pairs, "1", "pairs of each 3-fold orbit of (9,10,12)"),
-        "orbit_difference": datasets.var(("orbit", "pressure"), r.orbit_difference, "m",
-                                         "largest difference between the orbit members' CoG, each seen from the "
-                                         "corner its rotation carries the reference vertex to",
-                                         goal_m=r.orbit_tolerance),
-        "orbit_magnitude_spread": datasets.var(("orbit", "pressure"), r.orbit_magnitude_spread, "m",
-                                               "spread of the orbit members' in-plane CoG distance from the centroid"),
+        "orbit_difference": datasets.var(
+            ("orbit", "pressure"),
+            r.orbit_difference,
+            "m",
+            "largest difference between the orbit members' CoG, each seen from the "
+            "corner its rotation carries the reference vertex to",
+            goal_m=r.orbit_tolerance,
+        ),
+        "orbit_magnitude_spread": datasets.var(
+            ("orbit", "pressure"),
+            r.orbit_magnitude_spread,
+            "m",
+            "spread of the orbit members' in-plane CoG distance from the centroid",
+        ),
     }
 
 
 def _statics_vars(r: StaticsResult) -> dict:
-    return {"statics_cog": datasets.var((*_CP, "statics_pressure", "axis"), r.cog, "m",
-                                        "CoG of the free-mode static equilibrium in the support frame"),
-            "statics_difference": datasets.var((*_CP, "statics_pressure"), r.difference, "m",
-                                               "distance between the nominal CoG and the static-equilibrium CoG",
-                                               goal_m=r.tolerance)}
+    return {
+        "statics_cog": datasets.var(
+            (*_CP, "statics_pressure", "axis"),
+            r.cog,
+            "m",
+            "CoG of the free-mode static equilibrium in the support frame",
+        ),
+        "statics_difference": datasets.var(
+            (*_CP, "statics_pressure"),
+            r.difference,
+            "m",
+            "distance between the nominal CoG and the static-equilibrium CoG",
+            goal_m=r.tolerance,
+        ),
+    }
 
 
 def _mapping_vars(r: MappingResult) -> dict:
     dims = ("sample_face", "pair", "pressure")
     return {
-        "sample_face_type": (("sample_face",), np.array([str(topo.FACE_TYPES[f - 1]) for f in r.faces]),
-                             {"long_name": "kind of the sample face"}),
-        "direct_cog": datasets.var((*dims, "axis"), r.cog, "m", "nominal CoG of a direct simulation standing "
-                                   "on the sample face, in its support frame"),
-        "mapping_difference": datasets.var(dims, r.difference, "m", "distance between the mapped and the "
-                                           "directly simulated nominal CoG", goal_m=r.tolerance),
-        "mapping_support_difference": datasets.var(dims, r.support_difference, "m", "largest corner distance "
-                                                   "between the mapped and the directly simulated support "
-                                                   "triangle", goal_m=r.tolerance)}
+        "sample_face_type": (
+            ("sample_face",),
+            np.array([str(topo.FACE_TYPES[f - 1]) for f in r.faces]),
+            {"long_name": "kind of the sample face"},
+        ),
+        "direct_cog": datasets.var(
+            (*dims, "axis"),
+            r.cog,
+            "m",
+            "nominal CoG of a direct simulation standing on the sample face, in its support frame",
+        ),
+        "mapping_difference": datasets.var(
+            dims,
+            r.difference,
+            "m",
+            "distance between the mapped and the directly simulated nominal CoG",
+            goal_m=r.tolerance,
+        ),
+        "mapping_support_difference": datasets.var(
+            dims,
+            r.support_difference,
+            "m",
+            "largest corner distance between the mapped and the directly simulated support triangle",
+            goal_m=r.tolerance,
+        ),
+    }
 
 
 def _grounded_vars(r: GroundedResult) -> dict:
     v = datasets.var
     return {
-        "grounded_cog": v(_CPPA, r.cog, "m", "nominal CoG in the grounded mode, support frame (NaN once the "
-                          "robot rolled)"),
-        "grounded_shift": v(_CPPA, r.shift, "m", "grounded minus free nominal CoG, support frame (NaN once "
-                            "the robot rolled)", goal_m=r.tolerance),
-        "grounded_margin_change": v(_CPP, r.margin_change, "m", "grounded minus free margin of the CoG "
-                                    "projection (NaN once rolled)"),
-        "grounded_rolled": v(_CPP, r.rolled.astype(np.int8), "1", "1 if the grounded robot has left its "
-                             "contact face by the end of the level"),
-        "grounded_face": v(_CPP, r.end_face, "1", "face of the three lowest nodes at the end of the level "
-                           "(0: none)"),
-        "grounded_roll_pressure": v(_CP, r.roll_pressure, "MPa", "level at which the grounded robot first "
-                                    "left its face (NaN: never)"),
+        "grounded_cog": v(
+            _CPPA, r.cog, "m", "nominal CoG in the grounded mode, support frame (NaN once the robot rolled)"
+        ),
+        "grounded_shift": v(
+            _CPPA,
+            r.shift,
+            "m",
+            "grounded minus free nominal CoG, support frame (NaN once the robot rolled)",
+            goal_m=r.tolerance,
+        ),
+        "grounded_margin_change": v(
+            _CPP, r.margin_change, "m", "grounded minus free margin of the CoG projection (NaN once rolled)"
+        ),
+        "grounded_rolled": v(
+            _CPP,
+            r.rolled.astype(np.int8),
+            "1",
+            "1 if the grounded robot has left its contact face by the end of the level",
+        ),
+        "grounded_face": v(_CPP, r.end_face, "1", "face of the three lowest nodes at the end of the level (0: none)"),
+        "grounded_roll_pressure": v(
+            _CP, r.roll_pressure, "MPa", "level at which the grounded robot first left its face (NaN: never)"
+        ),
         "grounded_roll_face": v(_CP, r.roll_face, "1", "face the grounded robot rolled onto (0: none)"),
-        "free_roll_pressure": v(_CP, r.free_roll_pressure, "MPa", "first level at which the free nominal "
-                                "CoG projection is outside the triangle"),
+        "free_roll_pressure": v(
+            _CP,
+            r.free_roll_pressure,
+            "MPa",
+            "first level at which the free nominal CoG projection is outside the triangle",
+        ),
         "free_roll_face": v(_CP, r.free_roll_face, "1", "face across the edge the free CoG projection crosses"),
         "grounded_settle": v((), r.settle, "s", "time on the ground at zero pressure before the first level"),
     }
 
 
 def _timestep_vars(r: TimestepResult) -> dict:
-    return {"half_dt_cog": datasets.var(_CPPA, r.cog, "m", "nominal CoG at half the time step, support frame",
-                                        dt_s=r.dt / 2),
-            "timestep_difference": datasets.var(_CPP, r.difference, "m", "distance between the nominal CoG "
-                                                "at dt and at dt/2", goal_m=r.tolerance)}
+    return {
+        "half_dt_cog": datasets.var(
+            _CPPA, r.cog, "m", "nominal CoG at half the time step, support frame", dt_s=r.dt / 2
+        ),
+        "timestep_difference": datasets.var(
+            _CPP, r.difference, "m", "distance between the nominal CoG at dt and at dt/2", goal_m=r.tolerance
+        ),
+    }
 
 
 def _runs_vars(r: RunsResult) -> dict:
     if not r.runs:
         return {}
-    return {"run_outcome": (("run",), np.array(r.outcome, dtype=str),
-                            {"long_name": "how the demonstration run ended (arrived, stuck, no_contact, "
-                                          "step_limit, off_terrain, sim_error)"}),
-            "run_arrived": datasets.var(("run",), r.arrived.astype(np.int8), "1",
-                                        "1 if the demonstration run arrived, else 0"),
-            "run_rolls": datasets.var(("run",), r.rolls, "1", "rolls of the demonstration run"),
-            "run_distance_to_goal": datasets.var(("run",), r.distance, "m", "horizontal distance of the final "
-                                                 "CoG from the goal (NaN: a run over given edges)")}
+    return {
+        "run_outcome": (
+            ("run",),
+            np.array(r.outcome, dtype=str),
+            {
+                "long_name": "how the demonstration run ended (arrived, stuck, no_contact, "
+                "step_limit, off_terrain, sim_error)"
+            },
+        ),
+        "run_arrived": datasets.var(
+            ("run",), r.arrived.astype(np.int8), "1", "1 if the demonstration run arrived, else 0"
+        ),
+        "run_rolls": datasets.var(("run",), r.rolls, "1", "rolls of the demonstration run"),
+        "run_distance_to_goal": datasets.var(
+            ("run",),
+            r.distance,
+            "m",
+            "horizontal distance of the final CoG from the goal (NaN: a run over given edges)",
+        ),
+    }
 
 
 # result type -> (its variables, the variables where NaN means 'not computed')
@@ -123,8 +205,10 @@ _VARIABLES = {
     PaperResult: (_paper_vars, ("migration", "tip_pressure", "orbit_difference", "orbit_magnitude_spread")),
     StaticsResult: (_statics_vars, ("statics_cog", "statics_difference")),
     MappingResult: (_mapping_vars, ("direct_cog", "mapping_difference", "mapping_support_difference")),
-    GroundedResult: (_grounded_vars, ("grounded_cog", "grounded_shift", "grounded_margin_change",
-                                      "grounded_roll_pressure", "free_roll_pressure")),
+    GroundedResult: (
+        _grounded_vars,
+        ("grounded_cog", "grounded_shift", "grounded_margin_change", "grounded_roll_pressure", "free_roll_pressure"),
+    ),
     TimestepResult: (_timestep_vars, ("half_dt_cog", "timestep_difference")),
     RunsResult: (_runs_vars, ("run_distance_to_goal",)),
 }
@@ -140,8 +224,9 @@ def variables(result: Result) -> tuple[dict, tuple[str, ...]]:
     return {}, ()
 
 
-def workspace_validation_dataset(results: Sequence[Result], levels: ArrayLike, faces: Sequence[int],
-               statics_pressures: Sequence[float]) -> tuple[xr.Dataset, list[str]]:
+def workspace_validation_dataset(
+    results: Sequence[Result], levels: ArrayLike, faces: Sequence[int], statics_pressures: Sequence[float]
+) -> tuple[xr.Dataset, list[str]]:
     """All checks' numbers and verdicts as one dataset, and the names of the variables that may
     hold NaN. levels (P,) MPa, the sample faces (F,) of check 3 and the pressures (S,) MPa of
     check 2 are coordinates. Verdicts are on the dimension `check`: status (string), passed
@@ -152,30 +237,50 @@ def workspace_validation_dataset(results: Sequence[Result], levels: ArrayLike, f
         more, nan = variables(r)
         data.update(more)
         allow += list(nan)
-    data["passed"] = datasets.var(("check",), np.array([1 if r.status == PASS else 0 if r.status == FAIL else -1
-                                                        for r in rows], np.int8), "1",
-                                  "1: passed, 0: failed, -1: not evaluated")
+    data["passed"] = datasets.var(
+        ("check",),
+        np.array([1 if r.status == PASS else 0 if r.status == FAIL else -1 for r in rows], np.int8),
+        "1",
+        "1: passed, 0: failed, -1: not evaluated",
+    )
     for key in ("statement", "measured", "reference", "status"):
-        data[key] = (("check",), np.array([getattr(r, key) for r in rows], dtype=str),
-                     {"long_name": {"statement": "what is checked", "measured": "measured value, with units",
-                                    "reference": "the paper's value or the goal",
-                                    "status": f"{PASS}, {FAIL} or {SKIP}"}[key]})
+        data[key] = (
+            ("check",),
+            np.array([getattr(r, key) for r in rows], dtype=str),
+            {
+                "long_name": {
+                    "statement": "what is checked",
+                    "measured": "measured value, with units",
+                    "reference": "the paper's value or the goal",
+                    "status": f"{PASS}, {FAIL} or {SKIP}",
+                }[key]
+            },
+        )
     coords = {
         "check": ("check", np.array([r.id for r in rows], dtype=str), {"long_name": "check number"}),
         "contact": ("contact", np.array(CONTACTS), {"long_name": "contact case"}),
         "pair": ("pair", np.arange(1, topo.N_PAIRS + 1), {"units": "1", "long_name": "actuator pair number"}),
         "pressure": ("pressure", np.asarray(levels, float), {"units": "MPa", "long_name": "muscle pressure"}),
-        "statics_pressure": ("statics_pressure", np.asarray(statics_pressures, float),
-                             {"units": "MPa", "long_name": "pressure of the statics check"}),
-        "sample_face": ("sample_face", np.asarray(faces, np.int64),
-                        {"units": "1", "long_name": "face number of the mapping check"}),
+        "statics_pressure": (
+            "statics_pressure",
+            np.asarray(statics_pressures, float),
+            {"units": "MPa", "long_name": "pressure of the statics check"},
+        ),
+        "sample_face": (
+            "sample_face",
+            np.asarray(faces, np.int64),
+            {"units": "1", "long_name": "face number of the mapping check"},
+        ),
         "axis": ("axis", np.array(AXES), {"long_name": "support-frame axis"}),
         "end": ("end", np.array([1, 2]), {"units": "1", "long_name": "edge end"}),
     }
     run_results = [r for r in results if isinstance(r, RunsResult)]
     if run_results:
-        coords["run"] = ("run", np.array(run_results[0].runs, dtype=str),
-                         {"long_name": "demonstration run (results/locomotion/{run}.nc)"})
+        coords["run"] = (
+            "run",
+            np.array(run_results[0].runs, dtype=str),
+            {"long_name": "demonstration run (results/locomotion/{run}.nc)"},
+        )
     if "orbit_pairs" in data:
         n_orb, size = data["orbit_pairs"][1].shape
         coords["orbit"] = ("orbit", np.arange(1, n_orb + 1), {"units": "1", "long_name": "3-fold orbit number"})
@@ -185,8 +290,15 @@ def workspace_validation_dataset(results: Sequence[Result], levels: ArrayLike, f
     return ds, [a for a in allow if a in ds]
 
 
-TWO_PAIR_ALLOW_NAN = ["statics_difference", "direct_difference", "path_difference", "superposition_error",
-                      "measured_shift", "tip_pressure", "single_tip_pressure"]
+TWO_PAIR_ALLOW_NAN = [
+    "statics_difference",
+    "direct_difference",
+    "path_difference",
+    "superposition_error",
+    "measured_shift",
+    "tip_pressure",
+    "single_tip_pressure",
+]
 
 
 def two_pair_validation_dataset(r: TwoPairCheck) -> xr.Dataset:
@@ -194,49 +306,115 @@ def two_pair_validation_dataset(r: TwoPairCheck) -> xr.Dataset:
     (`validation.two_pair.validate`) and the verdicts."""
     var = datasets.var
     sup, P = r.superposition, r.superposition["error"].shape[-1]
-    return xr.Dataset({
-        "statics_difference": var(("contact", "check", "point"), r.statics, "m", "nominal minus static-equilibrium CoG distance (a)"),
-        "direct_difference": var(("face", "check"), r.direct, "m", "largest CoG distance of the mapped grid from a direct simulation along the same staircase (b)"),
-        "path_difference": var(("face", "check"), r.path, "m", "largest CoG distance of the mapped grid from a direct simulation along the other staircase order (b2)"),
-        "check_pairs": var(("check", "member"), r.combos, "1", "actuator pairs of the check combinations"),
-        "superposition_error": var(("contact", "combo", "level_a", "level_b"), sup["error"], "m", "in-plane distance of the summed single-pair shifts from the measured two-pair CoG shift (c)"),
-        "measured_shift": var(("contact", "combo", "level_a", "level_b"), sup["measured"], "m", "in-plane CoG shift from the unactuated robot, two pairs"),
-        "tip_pressure": var(("contact", "combo"), sup["tip"], "MPa", "least equal pressure of both pairs at which the CoG leaves the triangle"),
-        "single_tip_pressure": var(("contact",), sup["single_tip"], "MPa", "least tipping pressure of any single pair"),
-        "pressure_a": var(("level_a",), r.levels, "MPa", "muscle pressure of the first pair"),
-        "verdict": (("verdict",), np.array([f"{v.id}: {v.status}: {v.measured}" for v in r.rows]), {"long_name": "verdicts"})},
-        coords={"contact": ("contact", list(CONTACTS), {"long_name": "contact case"}),
-                "face": ("face", r.faces, {"units": "1", "long_name": "face number"}),
-                "check": ("check", np.arange(1, len(r.combos) + 1), {"units": "1", "long_name": "check combination"}),
-                "member": ("member", [1, 2], {"units": "1", "long_name": "member of the combination"}),
-                "point": ("point", [1, 2, 3], {"units": "1", "long_name": "grid corner: (top, top), (low, top), (top, low)"}),
-                "combo": ("combo", np.arange(1, len(tp.COMBOS) + 1), {"units": "1", "long_name": "combination number"}),
-                "level_a": ("level_a", np.arange(1, P + 1), {"units": "1", "long_name": "level index of the first pair"}),
-                "level_b": ("level_b", np.arange(1, P + 1), {"units": "1", "long_name": "level index of the second pair"})})
+    return xr.Dataset(
+        {
+            "statics_difference": var(
+                ("contact", "check", "point"), r.statics, "m", "nominal minus static-equilibrium CoG distance (a)"
+            ),
+            "direct_difference": var(
+                ("face", "check"),
+                r.direct,
+                "m",
+                "largest CoG distance of the mapped grid from a direct simulation along the same staircase (b)",
+            ),
+            "path_difference": var(
+                ("face", "check"),
+                r.path,
+                "m",
+                "largest CoG distance of the mapped grid from a direct simulation along the other staircase order (b2)",
+            ),
+            "check_pairs": var(("check", "member"), r.combos, "1", "actuator pairs of the check combinations"),
+            "superposition_error": var(
+                ("contact", "combo", "level_a", "level_b"),
+                sup["error"],
+                "m",
+                "in-plane distance of the summed single-pair shifts from the measured two-pair CoG shift (c)",
+            ),
+            "measured_shift": var(
+                ("contact", "combo", "level_a", "level_b"),
+                sup["measured"],
+                "m",
+                "in-plane CoG shift from the unactuated robot, two pairs",
+            ),
+            "tip_pressure": var(
+                ("contact", "combo"),
+                sup["tip"],
+                "MPa",
+                "least equal pressure of both pairs at which the CoG leaves the triangle",
+            ),
+            "single_tip_pressure": var(
+                ("contact",), sup["single_tip"], "MPa", "least tipping pressure of any single pair"
+            ),
+            "pressure_a": var(("level_a",), r.levels, "MPa", "muscle pressure of the first pair"),
+            "verdict": (
+                ("verdict",),
+                np.array([f"{v.id}: {v.status}: {v.measured}" for v in r.rows]),
+                {"long_name": "verdicts"},
+            ),
+        },
+        coords={
+            "contact": ("contact", list(CONTACTS), {"long_name": "contact case"}),
+            "face": ("face", r.faces, {"units": "1", "long_name": "face number"}),
+            "check": ("check", np.arange(1, len(r.combos) + 1), {"units": "1", "long_name": "check combination"}),
+            "member": ("member", [1, 2], {"units": "1", "long_name": "member of the combination"}),
+            "point": (
+                "point",
+                [1, 2, 3],
+                {"units": "1", "long_name": "grid corner: (top, top), (low, top), (top, low)"},
+            ),
+            "combo": ("combo", np.arange(1, len(tp.COMBOS) + 1), {"units": "1", "long_name": "combination number"}),
+            "level_a": ("level_a", np.arange(1, P + 1), {"units": "1", "long_name": "level index of the first pair"}),
+            "level_b": ("level_b", np.arange(1, P + 1), {"units": "1", "long_name": "level index of the second pair"}),
+        },
+    )
 
 
-GRAVITY_ALLOW_NAN = ["workspace_tip_pressure", "roll_tip_pressure", "lift_tip_pressure", "difference",
-                     "in_plane_shift_max"]
+GRAVITY_ALLOW_NAN = [
+    "workspace_tip_pressure",
+    "roll_tip_pressure",
+    "lift_tip_pressure",
+    "difference",
+    "in_plane_shift_max",
+]
 
 
-def gravity_validation_dataset(rc: RollCheck, flat: Mapping[str, GroundedComparison | None],
-                               status: Mapping[str, str]) -> xr.Dataset:
+def gravity_validation_dataset(
+    rc: RollCheck, flat: Mapping[str, GroundedComparison | None], status: Mapping[str, str]
+) -> xr.Dataset:
     """results/validation/gravity.nc: the grounded rolls of check G.1 (`validation.gravity.
     check_rolls`), the in-plane CoG shift on flat ground per contact case (G.2, NaN: not
     compared) and the status of each check."""
     var = datasets.var
     return xr.Dataset(
-        {"contact_of_roll": (("roll",), rc.contact, {"long_name": "contact case of the roll"}),
-         "slope": var(("roll",), rc.slope, "degree", "ground slope"),
-         "heading": var(("roll",), rc.heading, "degree", "uphill direction in the face's support frame"),
-         "pair": var(("roll",), rc.pair, "1", "pair driven"),
-         "workspace_tip_pressure": var(("roll",), rc.workspace_tip, "MPa", "tipping pressure of the gravity-aware workspace"),
-         "roll_tip_pressure": var(("roll",), rc.roll_tip, "MPa", "pressure of the grounded roll at which its CoG projection along gravity left the triangle"),
-         "lift_tip_pressure": var(("roll",), rc.lift_tip, "MPa", "pressure held when a support node lifted in the roll (NaN: no roll)"),
-         "difference": var(("roll",), rc.difference, "MPa", "absolute difference of the two tipping pressures"),
-         "rolled_to": var(("roll",), rc.rolled_to, "1", "face the roll ended on (0: none)"),
-         "in_plane_shift_max": var(("contact",), [flat[c].in_plane_max if flat.get(c) else np.nan for c in CONTACTS],
-                                   "m", "largest in-plane CoG shift on flat ground against the free nominal CoG"),
-         "status": (("check",), [status[k] for k in sorted(status)], {"long_name": "verdict of each check"})},
-        coords={"check": ("check", sorted(status), {"long_name": "check number"}),
-                "contact": ("contact", list(CONTACTS), {"long_name": "contact case"})})
+        {
+            "contact_of_roll": (("roll",), rc.contact, {"long_name": "contact case of the roll"}),
+            "slope": var(("roll",), rc.slope, "degree", "ground slope"),
+            "heading": var(("roll",), rc.heading, "degree", "uphill direction in the face's support frame"),
+            "pair": var(("roll",), rc.pair, "1", "pair driven"),
+            "workspace_tip_pressure": var(
+                ("roll",), rc.workspace_tip, "MPa", "tipping pressure of the gravity-aware workspace"
+            ),
+            "roll_tip_pressure": var(
+                ("roll",),
+                rc.roll_tip,
+                "MPa",
+                "pressure of the grounded roll at which its CoG projection along gravity left the triangle",
+            ),
+            "lift_tip_pressure": var(
+                ("roll",), rc.lift_tip, "MPa", "pressure held when a support node lifted in the roll (NaN: no roll)"
+            ),
+            "difference": var(("roll",), rc.difference, "MPa", "absolute difference of the two tipping pressures"),
+            "rolled_to": var(("roll",), rc.rolled_to, "1", "face the roll ended on (0: none)"),
+            "in_plane_shift_max": var(
+                ("contact",),
+                [flat[c].in_plane_max if flat.get(c) else np.nan for c in CONTACTS],
+                "m",
+                "largest in-plane CoG shift on flat ground against the free nominal CoG",
+            ),
+            "status": (("check",), [status[k] for k in sorted(status)], {"long_name": "verdict of each check"}),
+        },
+        coords={
+            "check": ("check", sorted(status), {"long_name": "check number"}),
+            "contact": ("contact", list(CONTACTS), {"long_name": "contact case"}),
+        },
+    )

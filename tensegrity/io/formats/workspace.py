@@ -1,5 +1,6 @@
 """results/workspace.nc: the workspace of all 20 faces (docs/datasets.md), its contract check
 and its reader, a `Workspace` for planning (and its tipping pressures, `tip_pressures`)."""
+
 from __future__ import annotations
 
 import os
@@ -24,16 +25,52 @@ def workspace_dataset(levels: ArrayLike, ws: dict, strut_length: float) -> xr.Da
     robot's strut length and rest state on every face (`rest_vars`)."""
     var = datasets.var
     return xr.Dataset(
-        {"cog": var(("face", "pair", "pressure", "axis"), ws["cog"], "m", "nominal centre of gravity in the face's support frame"),
-         "support": var(("face", "pair", "pressure", "corner", "axis"), ws["support"], "m", "deformed support triangle in the face's support frame"),
-         "margin": var(("face", "pair", "pressure"), ws["margin"], "m", "signed distance of the CoG projection to the support triangle boundary (positive inside)"),
-         "tip_pressure": var(("face", "pair"), ws["tip_pressure"], "MPa", "least pressure at which the CoG projection leaves the triangle (NaN: never or not computed)"),
-         "face_nodes": var(("face", "corner"), topo.FACES + 1, "1", "node numbers of the face's corners (support-frame corner order)"),
-         "face_type": (("face",), topo.FACE_TYPES.astype(str), {"long_name": "equilateral (3 cables) or isosceles (2 cables and a gap)"}),
-         "reference_corner": var(("face",), topo.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)"),
-         **rest_vars(strut_length, np.arange(1, topo.N_FACES + 1))},
-        coords={**coords(np.arange(1, topo.N_PAIRS + 1), levels),
-                "face": ("face", np.arange(1, topo.N_FACES + 1), {"units": "1", "long_name": "face number"})})
+        {
+            "cog": var(
+                ("face", "pair", "pressure", "axis"),
+                ws["cog"],
+                "m",
+                "nominal centre of gravity in the face's support frame",
+            ),
+            "support": var(
+                ("face", "pair", "pressure", "corner", "axis"),
+                ws["support"],
+                "m",
+                "deformed support triangle in the face's support frame",
+            ),
+            "margin": var(
+                ("face", "pair", "pressure"),
+                ws["margin"],
+                "m",
+                "signed distance of the CoG projection to the support triangle boundary (positive inside)",
+            ),
+            "tip_pressure": var(
+                ("face", "pair"),
+                ws["tip_pressure"],
+                "MPa",
+                "least pressure at which the CoG projection leaves the triangle (NaN: never or not computed)",
+            ),
+            "face_nodes": var(
+                ("face", "corner"),
+                topo.FACES + 1,
+                "1",
+                "node numbers of the face's corners (support-frame corner order)",
+            ),
+            "face_type": (
+                ("face",),
+                topo.FACE_TYPES.astype(str),
+                {"long_name": "equilateral (3 cables) or isosceles (2 cables and a gap)"},
+            ),
+            "reference_corner": var(
+                ("face",), topo.FACE_REFERENCE + 1, "1", "corner of the reference vertex (the support frame's +y)"
+            ),
+            **rest_vars(strut_length, np.arange(1, topo.N_FACES + 1)),
+        },
+        coords={
+            **coords(np.arange(1, topo.N_PAIRS + 1), levels),
+            "face": ("face", np.arange(1, topo.N_FACES + 1), {"units": "1", "long_name": "face number"}),
+        },
+    )
 
 
 def check_workspace(ds: xr.Dataset, source: str | os.PathLike | None = None) -> None:
@@ -49,8 +86,7 @@ def check_workspace(ds: xr.Dataset, source: str | os.PathLike | None = None) -> 
     def bad(what: str) -> ValueError:
         return ValueError(f"workspace {src!r} is not a valid workspace (corrupted?): {what}")
 
-    need = {"cog": ("face", "pair", "pressure", "axis"),
-            "support": ("face", "pair", "pressure", "corner", "axis")}
+    need = {"cog": ("face", "pair", "pressure", "axis"), "support": ("face", "pair", "pressure", "corner", "axis")}
     for name, dims in need.items():
         if name not in ds.variables:
             raise bad(f"no variable {name!r}")
@@ -60,16 +96,30 @@ def check_workspace(ds: xr.Dataset, source: str | os.PathLike | None = None) -> 
             raise bad(f"{name!r} has dtype {ds[name].dtype}, expected float")
     expect = {"face": np.arange(1, topo.N_FACES + 1), "axis": np.array(AXES), "corner": np.arange(1, 4)}
     for dim, values in expect.items():
-        if dim not in ds.coords or ds.sizes[dim] != values.size or \
-                not np.array_equal(np.sort(np.asarray(ds[dim].values).astype(values.dtype)), values):
+        if (
+            dim not in ds.coords
+            or ds.sizes[dim] != values.size
+            or not np.array_equal(np.sort(np.asarray(ds[dim].values).astype(values.dtype)), values)
+        ):
             raise bad(f"coordinate {dim!r} must be {values.tolist()}")
     pairs = np.asarray(ds["pair"].values) if "pair" in ds.coords else np.array([])
-    if pairs.size == 0 or pairs.dtype.kind not in "iu" or len(set(pairs.tolist())) != pairs.size \
-            or pairs.min() < 1 or pairs.max() > topo.N_PAIRS:
+    if (
+        pairs.size == 0
+        or pairs.dtype.kind not in "iu"
+        or len(set(pairs.tolist())) != pairs.size
+        or pairs.min() < 1
+        or pairs.max() > topo.N_PAIRS
+    ):
         raise bad(f"coordinate 'pair' must be distinct pair numbers 1..{topo.N_PAIRS}, got {pairs.tolist()}")
     lv = np.asarray(ds["pressure"].values) if "pressure" in ds.coords else np.array([])
-    if lv.ndim != 1 or lv.size == 0 or lv.dtype.kind != "f" or not np.all(np.isfinite(lv)) \
-            or lv[0] <= 0 or np.any(np.diff(lv) <= 0):
+    if (
+        lv.ndim != 1
+        or lv.size == 0
+        or lv.dtype.kind != "f"
+        or not np.all(np.isfinite(lv))
+        or lv[0] <= 0
+        or np.any(np.diff(lv) <= 0)
+    ):
         raise bad(f"levels 'pressure' must be finite, positive and strictly increasing MPa, got {lv.tolist()}")
     S = datasets.strut_length(ds)
     if not (np.isfinite(S) and S > 0):
@@ -103,6 +153,7 @@ def workspace_from_dataset(ds: xr.Dataset) -> Workspace:
     (`datasets.strut_length`, m). Checked first (`check_workspace`): a dataset that breaks the
     contract raises ValueError naming its file."""
     from ...workspace.lookup import Workspace
+
     check_workspace(ds)
     order = {"face": np.arange(1, 21), "pair": np.arange(1, 13), "axis": ["x", "y", "z"]}
     sel = {k: v for k, v in order.items() if k in ds.dims}
@@ -125,4 +176,5 @@ def read_workspace(path: str | os.PathLike, two_pair: str | os.PathLike | None =
     if two_pair is None:
         return ws
     from .two_pair import read_two_pair
+
     return ws.with_two_pair(*read_two_pair(two_pair))
