@@ -14,7 +14,6 @@ triangle under a node). A robot that fails keeps the state and step count of its
 group stops when all of its robots have failed. A robot's results do not depend on its group:
 the same bits alone, in any lane, with any number of threads (tests/physics/test_kernel_lanes).
 """
-
 from __future__ import annotations
 
 import numba as nb
@@ -35,50 +34,26 @@ WIDE_FROM = 3  # smaller batches run one robot per group (and per thread): faste
 CABLE_PAIR = np.ascontiguousarray(topo.CABLE_PAIR.astype(np.int64))
 
 # Columns of the packed parameter array prm (B, NP) (params.NAMES); the actuator's from _LAW on.
-_STRUT_LENGTH, _STRUT_RADIUS, _STRUT_MASS, _LAW, _GRAVITY = (
-    IDX[k] for k in ("strut_length", "strut_radius", "strut_mass", actuator.NAMES[0], "gravity")
-)
-(_GROUND_STIFFNESS, _GROUND_DAMPING, _FRICTION, _FRICTION_STIFFNESS, _FRICTION_DAMPING, _STRUT_DAMPING, _MAX_SPEED) = (
-    IDX[k]
-    for k in (
-        "ground_stiffness",
-        "ground_damping",
-        "friction",
-        "friction_stiffness",
-        "friction_damping",
-        "strut_damping",
-        "max_speed",
-    )
-)
+_STRUT_LENGTH, _STRUT_RADIUS, _STRUT_MASS, _LAW, _GRAVITY = (IDX[k] for k in (
+    "strut_length", "strut_radius", "strut_mass", actuator.NAMES[0], "gravity"))
+(_GROUND_STIFFNESS, _GROUND_DAMPING, _FRICTION, _FRICTION_STIFFNESS, _FRICTION_DAMPING,
+ _STRUT_DAMPING, _MAX_SPEED) = (IDX[k] for k in (
+    "ground_stiffness", "ground_damping", "friction", "friction_stiffness", "friction_damping",
+    "strut_damping", "max_speed"))
 
 
 # The working arrays of a group of L lanes (shapes before the lane axis): state X, V, W, Q;
 # anchors AN, stuck flags ST; nodes P, U, contact forces G; rotations Rm; cables T; constants
 # C; muscles act; per lane (fastest squared speed, on terrain, alive).
-_SHAPES = (
-    (6, 3),
-    (6, 3),
-    (6, 3),
-    (6, 4),
-    (12, 3),
-    (12,),
-    (12, 3),
-    (12, 3),
-    (12, 3),
-    (6, 3, 3),
-    (24, 4),
-    (ks.NC,),
-    (24,),
-    (3,),
-)
+_SHAPES = ((6, 3), (6, 3), (6, 3), (6, 4), (12, 3), (12,), (12, 3), (12, 3), (12, 3), (6, 3, 3),
+           (24, 4), (ks.NC,), (24,), (3,))
 _W = [stack_array(*s, LANES) for s in _SHAPES]
 _1 = [stack_array(*s, 1) for s in _SHAPES]
 _WIDE, _ONE = (0,) * LANES, (0,)  # lane markers (kernel.stages)
 (_wX, _wV, _wW, _wQ, _wAN, _wST, _wP, _wU, _wG, _wRm, _wT, _wC, _wact, _wlane) = _W
 (_1X, _1V, _1W, _1Q, _1AN, _1ST, _1P, _1U, _1G, _1Rm, _1T, _1C, _1act, _1lane) = _1
-(_rX, _rV, _rW, _rQ, _rRm, _rP, _rU, _rG, _rAN, _rST, _ron, _rE, _rTF, _rTN, _rFN, _rC, _ract, _rfast) = [
-    stack_array(*s) for s in kr.SHAPES
-]  # one robot alone (kernel.robot)
+(_rX, _rV, _rW, _rQ, _rRm, _rP, _rU, _rG, _rAN, _rST, _ron, _rE, _rTF, _rTN, _rFN, _rC, _ract,
+ _rfast) = [stack_array(*s) for s in kr.SHAPES]  # one robot alone (kernel.robot)
 
 
 @jit(**ks.INLINE)
@@ -91,7 +66,8 @@ def _constants(prm, b, dt, C, act, pres, l):
     C[ks.HL, l] = 0.5 * S
     linear = ks.law_constants(prm, b, _LAW, C, ks.LAW, l)
     C[ks.R, l], C[ks.KN, l], C[ks.CN, l] = r, prm[b, _GROUND_STIFFNESS], prm[b, _GROUND_DAMPING]
-    C[ks.MU, l], C[ks.KT, l], C[ks.CT, l] = (prm[b, _FRICTION], prm[b, _FRICTION_STIFFNESS], prm[b, _FRICTION_DAMPING])
+    C[ks.MU, l], C[ks.KT, l], C[ks.CT, l] = (prm[b, _FRICTION], prm[b, _FRICTION_STIFFNESS],
+                                             prm[b, _FRICTION_DAMPING])
     C[ks.DT_M, l], C[ks.DT_I, l], C[ks.GYRO, l] = dt / m, dt / It, (Ia - It) / It
     C[ks.DS, l], C[ks.GRAV, l] = prm[b, _STRUT_DAMPING], prm[b, _GRAVITY]
     C[ks.VMAX2, l] = prm[b, _MAX_SPEED] ** 2
@@ -101,7 +77,8 @@ def _constants(prm, b, dt, C, act, pres, l):
 
 
 @jit(**ks.JIT)  # not inlined: rare, and it would crowd the step loop
-def _retire(g, l, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST, lane):
+def _retire(g, l, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST,
+            lane):
     """Writes the state of lane l of group g (robot g*L + l) back, with its status `code` and
     its number of completed steps; the lane is then no longer alive."""
     b = g * X.shape[-1] + l
@@ -161,29 +138,8 @@ def _load(g, x, v, q, w, anchor, stuck, prm, pres, dt, work, lanes):
 
 
 @jit(**ks.INLINE)
-def _run(
-    g,
-    x,
-    v,
-    q,
-    w,
-    anchor,
-    stuck,
-    prm,
-    pres,
-    kind,
-    meta,
-    hz,
-    n_rec,
-    every,
-    dt,
-    out_x,
-    out_q,
-    status,
-    fail_step,
-    work,
-    lanes,
-):
+def _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
+         status, fail_step, work, lanes):
     """Group g of `advance` (same arguments, then the tuple of working arrays of _SHAPES): loads
     its robots into the lanes, steps them, records after every block, retires a lane at its
     failure and writes the live ones back at the end."""
@@ -205,27 +161,8 @@ def _run(
                 if off:  # before the step: the robot keeps its state
                     for l in range(L):
                         if lane[1, l] == 0.0 and lane[2, l] != 0.0:
-                            _retire(
-                                g,
-                                l,
-                                OFF_TERRAIN,
-                                step,
-                                x,
-                                v,
-                                q,
-                                w,
-                                anchor,
-                                stuck,
-                                status,
-                                fail_step,
-                                X,
-                                V,
-                                Q,
-                                W,
-                                AN,
-                                ST,
-                                lane,
-                            )
+                            _retire(g, l, OFF_TERRAIN, step, x, v, q, w, anchor, stuck, status,
+                                    fail_step, X, V, Q, W, AN, ST, lane)
                             n_alive -= 1
             ks.integrate(X, V, Q, W, T, G, Rm, C, dt, lane[0], lanes)
             step += 1
@@ -235,27 +172,9 @@ def _run(
             if bad:
                 for l in range(L):
                     if lane[2, l] != 0.0 and not lane[0, l] <= C[ks.VMAX2, l]:
-                        _retire(
-                            g,
-                            l,
-                            NON_FINITE if lane[0, l] != lane[0, l] else TOO_FAST,
-                            step,
-                            x,
-                            v,
-                            q,
-                            w,
-                            anchor,
-                            stuck,
-                            status,
-                            fail_step,
-                            X,
-                            V,
-                            Q,
-                            W,
-                            AN,
-                            ST,
-                            lane,
-                        )
+                        _retire(g, l, NON_FINITE if lane[0, l] != lane[0, l] else TOO_FAST, step,
+                                x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST,
+                                lane)
                         n_alive -= 1
             if n_alive == 0:
                 break
@@ -264,67 +183,29 @@ def _run(
         _record(g, rec, X, Q, lane, out_x, out_q, lanes)
     for l in range(L):
         if lane[2, l] != 0.0:
-            _retire(g, l, OK, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST, lane)
+            _retire(g, l, OK, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN,
+                    ST, lane)
 
 
 @jit(**ks.JIT)
-def _group_wide(
-    g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q, status, fail_step
-):
+def _group_wide(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x,
+                out_q, status, fail_step):
     """`_run` for robots g*LANES ... g*LANES + LANES - 1."""
-    _run(
-        g,
-        x,
-        v,
-        q,
-        w,
-        anchor,
-        stuck,
-        prm,
-        pres,
-        kind,
-        meta,
-        hz,
-        n_rec,
-        every,
-        dt,
-        out_x,
-        out_q,
-        status,
-        fail_step,
-        (_wX(), _wV(), _wW(), _wQ(), _wAN(), _wST(), _wP(), _wU(), _wG(), _wRm(), _wT(), _wC(), _wact(), _wlane()),
-        _WIDE,
-    )
+    _run(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
+         status, fail_step, (_wX(), _wV(), _wW(), _wQ(), _wAN(), _wST(), _wP(), _wU(), _wG(),
+                             _wRm(), _wT(), _wC(), _wact(), _wlane()), _WIDE)
 
 
 @jit(**ks.JIT)
-def _group_one(
-    b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q, status, fail_step
-):
+def _group_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x,
+               out_q, status, fail_step):
     """`_run` for robot b alone, stepped in the layout of `kernel.robot` (the group layout of
     one lane loads, records and retires it)."""
-    work = (_1X(), _1V(), _1W(), _1Q(), _1AN(), _1ST(), _1P(), _1U(), _1G(), _1Rm(), _1T(), _1C(), _1act(), _1lane())
+    work = (_1X(), _1V(), _1W(), _1Q(), _1AN(), _1ST(), _1P(), _1U(), _1G(), _1Rm(), _1T(),
+            _1C(), _1act(), _1lane())
     X, V, W, Q, AN, ST, P, U, G, Rm, T, C, act, lane = work
-    S = (
-        _rX(),
-        _rV(),
-        _rW(),
-        _rQ(),
-        _rRm(),
-        _rP(),
-        _rU(),
-        _rG(),
-        _rAN(),
-        _rST(),
-        _ron(),
-        _rE(),
-        _rTF(),
-        _rTN(),
-        _rFN(),
-        _rC(),
-        _ract(),
-        _rfast(),
-    )
+    S = (_rX(), _rV(), _rW(), _rQ(), _rRm(), _rP(), _rU(), _rG(), _rAN(), _rST(), _ron(), _rE(),
+         _rTF(), _rTN(), _rFN(), _rC(), _ract(), _rfast())
     linear = _load(b, x, v, q, w, anchor, stuck, prm, pres, dt, work, _ONE)[0]
     kr.load(S, X, V, W, Q, AN, ST, C, act)
     step, code = 0, OK
@@ -345,68 +226,34 @@ def _group_one(
         kr.store(S, X, V, W, Q, AN, ST)
         _record(b, rec, X, Q, lane, out_x, out_q, _ONE, False)
     kr.store(S, X, V, W, Q, AN, ST)
-    _retire(b, 0, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST, lane)
+    _retire(b, 0, code, step, x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST,
+            lane)
 
 
 @jit(parallel=True, nogil=True, **ks.JIT)
-def _advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q, status, fail_step):
+def _advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
+             out_x, out_q, status, fail_step):
     """`advance`: the groups in parallel threads."""
     B = x.shape[0]
     if B < WIDE_FROM:
         for b in nb.prange(B):
-            _group_one(
-                b,
-                x,
-                v,
-                q,
-                w,
-                anchor,
-                stuck,
-                prm,
-                pres,
-                kind,
-                meta,
-                hz,
-                n_rec,
-                every,
-                dt,
-                out_x,
-                out_q,
-                status,
-                fail_step,
-            )
+            _group_one(b, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
+                       out_x, out_q, status, fail_step)
     else:
         for g in nb.prange((B + LANES - 1) // LANES):
-            _group_wide(
-                g,
-                x,
-                v,
-                q,
-                w,
-                anchor,
-                stuck,
-                prm,
-                pres,
-                kind,
-                meta,
-                hz,
-                n_rec,
-                every,
-                dt,
-                out_x,
-                out_q,
-                status,
-                fail_step,
-            )
+            _group_wide(g, x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
+                        out_x, out_q, status, fail_step)
 
 
-def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q, status, fail_step):
+def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
+            out_x, out_q, status, fail_step):
     """Advance all robots in place (module docstring). State x, v (B, 6, 3) m, m/s; q (B, 6, 4);
     w (B, 6, 3) rad/s body; anchor (B, 12, 3) m, stuck (B, 12) bool; prm (B, NP); pres (B, 12)
     MPa; terrain kind (NO_TERRAIN, PLANE, HEIGHTFIELD), meta (7,), hz (nx, ny) m (Terrain.packed);
     dt s; out_x (B, n_rec, 6, 3) m, out_q (B, n_rec, 6, 4); status, fail_step (B,) int64.
     The first call loads the group functions before `_advance` (`compiling.callees_first`)."""
-    args = (x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q, status, fail_step)
+    args = (x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
+            status, fail_step)
     if not _advance.overloads:
         callees_first(_advance, (_group_one, _group_wide), args)
     _advance(*args)

@@ -1,7 +1,6 @@
 """How the kernel (`kernel/`) is compiled and cached by numba: `jit` (numba's cache, watching every
 source file the kernel is compiled from), `stack_array` (working arrays on the stack) and
 `callees_first` (cached code that runs the same machine code as freshly compiled code)."""
-
 from __future__ import annotations
 
 import hashlib
@@ -26,11 +25,10 @@ WATCHED.append(Path(__file__).parents[1] / "actuator.py")
 def _watching(locator):
     """numba's cache locator class `locator`, with a source stamp that also covers WATCHED:
     numba would only watch the file of the function it compiles and load stale code."""
-
     class Locator(locator):
         def get_source_stamp(self):
-            return super().get_source_stamp(), *(hashlib.sha256(p.read_bytes()).digest() for p in WATCHED)
-
+            return super().get_source_stamp(), *(hashlib.sha256(p.read_bytes()).digest()
+                                                for p in WATCHED)
     Locator.__name__ = Locator.__qualname__ = locator.__name__
     return Locator
 
@@ -46,12 +44,10 @@ class _Cache(caching.FunctionCache):
 def jit(**options: object) -> Callable[[Callable], Dispatcher]:
     """nb.njit(**options) (kernel.stages.JIT, INLINE or EXACT), cached by `_Cache`: every
     compiled function of the kernel folder."""
-
     def wrap(f):
         d = nb.njit(**{**options, "cache": False})(f)
         d._cache = _Cache(d.py_func)
         return d
-
     return wrap
 
 
@@ -68,30 +64,18 @@ def stack_array(*shape: int) -> Callable:
             block = cgutils.alloca_once(builder, llir.ArrayType(f8, int(np.prod(shape))))
             block.align = 64  # a cache line: whole-register loads never straddle two
             data = builder.bitcast(block, f8.as_pointer())
-            strides = [8 * int(np.prod(shape[k + 1 :])) for k in range(len(shape))]
+            strides = [8 * int(np.prod(shape[k + 1:])) for k in range(len(shape))]
             ary = context.make_array(arrty)(context, builder)
             intp = lambda n: context.get_constant(types.intp, n)  # noqa: E731
-            context.populate_array(
-                ary,
-                data=data,
-                shape=[intp(n) for n in shape],
-                itemsize=intp(8),
-                strides=[intp(s) for s in strides],
-                meminfo=None,
-            )
+            context.populate_array(ary, data=data, shape=[intp(n) for n in shape], itemsize=intp(8),
+                                   strides=[intp(s) for s in strides], meminfo=None)
             return ary._getvalue()
-
         return arrty(), codegen
-
     return make
 
 
-def callees_first(
-    caller: Dispatcher,
-    callees: Iterable[Dispatcher],
-    args: Sequence,
-    lead: Iterable[types.Type] = (types.int64, types.uint64),
-) -> Dispatcher:
+def callees_first(caller: Dispatcher, callees: Iterable[Dispatcher], args: Sequence,
+                  lead: Iterable[types.Type] = (types.int64, types.uint64)) -> Dispatcher:
     """`caller` (a dispatcher), after compiling or loading from the cache each of `callees` for
     the types of (an index of a type in `lead`,) + `args` (how `caller` calls them; a prange index
     is int64 or uint64). Returns `caller`.

@@ -4,7 +4,6 @@ model C1-C4), laid out as `kernel.stages` (lane index last, branch-free lane loo
 lane, `ground_forces` every node of a group of lanes. `Terrain.height_and_normal` is the NumPy
 twin of `terrain_contact` (tests/physics/test_twins.py).
 """
-
 from __future__ import annotations
 
 import math
@@ -74,9 +73,8 @@ def ground_node(n, l, P, U, G, AN, ST, C, on, kind, meta, hz):
     slide = kt * dmag > cap  # sliding: drag the anchor along
     sc = cap / (kt * dmag) if slide else 1.0
     ddx, ddy, ddz = ddx * sc, ddy * sc, ddz * sc
-    ftx, fty, ftz = _stick_force(
-        ddx, ddy, ddz, U[n, 0, l] - un * nx, U[n, 1, l] - un * ny, U[n, 2, l] - un * nz, kt, C[CT, l], cap
-    )
+    ftx, fty, ftz = _stick_force(ddx, ddy, ddz, U[n, 0, l] - un * nx, U[n, 1, l] - un * ny,
+                                 U[n, 2, l] - un * nz, kt, C[CT, l], cap)
     # the updates as selects, not branches: the lane loop vectorises
     AN[n, 0, l] = (px - ddx if slide else ax) if touch else AN[n, 0, l]
     AN[n, 1, l] = (py - ddy if slide else ay) if touch else AN[n, 1, l]

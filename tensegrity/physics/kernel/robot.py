@@ -12,7 +12,6 @@ G, AN (1, 3, 16), ST (1, 16), on (16,); cable ends E (4, 3, 16 -> 24: P1, P2, U1
 forces TF (3, 24), the forces of a node's cables TN (4, 3, 16), their sums FN (3, 16); constants
 C (NC, 24) (the robot's, in every lane), act (24,); end speeds (8,).
 """
-
 from __future__ import annotations
 
 import llvmlite.ir as llir
@@ -25,26 +24,9 @@ from . import stages as ks
 from .compiling import jit
 from .stages import DT_I, DT_M, GRAV, HL, INLINE, NC, R
 
-SHAPES = (
-    (1, 3, 8),
-    (1, 3, 8),
-    (1, 3, 8),
-    (1, 4, 8),
-    (1, 3, 3, 8),
-    (1, 3, 16),
-    (1, 3, 16),
-    (1, 3, 16),
-    (1, 3, 16),
-    (1, 16),
-    (16,),
-    (4, 3, 24),
-    (3, 24),
-    (4, 3, 16),
-    (3, 16),
-    (NC, 24),
-    (24,),
-    (8,),
-)
+SHAPES = ((1, 3, 8), (1, 3, 8), (1, 3, 8), (1, 4, 8), (1, 3, 3, 8), (1, 3, 16), (1, 3, 16),
+          (1, 3, 16), (1, 3, 16), (1, 16), (16,), (4, 3, 24), (3, 24), (4, 3, 16), (3, 16),
+          (NC, 24), (24,), (8,))
 
 NODE_LANE = np.empty(12, np.int64)  # node -> its lane
 NODE_LANE[ks.STRUT_A], NODE_LANE[ks.STRUT_B] = np.arange(6), 8 + np.arange(6)
@@ -72,7 +54,8 @@ def take(idx, n_src, rows):
             d = context.make_array(sig.args[0])(context, builder, args[0]).data
             s = context.make_array(sig.args[1])(context, builder, args[1]).data
             vs, v8 = llir.VectorType(f8, n_src), llir.VectorType(f8, 8)
-            mask = {c: llir.Constant(llir.VectorType(llir.IntType(32), 8), idx[c : c + 8]) for c in range(0, m, 8)}
+            mask = {c: llir.Constant(llir.VectorType(llir.IntType(32), 8), idx[c:c + 8])
+                    for c in range(0, m, 8)}
             at = lambda p, n: builder.gep(p, [context.get_constant(types.intp, n)])  # noqa: E731
             for r in range(rows):
                 v = builder.load(builder.bitcast(at(s, r * n_src), vs.as_pointer()), align=8)
@@ -80,9 +63,7 @@ def take(idx, n_src, rows):
                     w = builder.shuffle_vector(v, llir.Constant(vs, llir.Undefined), mask[c])
                     builder.store(w, builder.bitcast(at(d, r * m + c), v8.as_pointer()), align=8)
             return context.get_dummy_value()
-
         return types.none(dst, src), codegen
-
     return shuffle
 
 
@@ -93,17 +74,9 @@ _SLOT0, _SLOT1, _SLOT2, _SLOT3 = (take(SLOT[c], 24, 3) for c in range(4))
 @jit(**INLINE)
 def _cable(j, E, C, act, TF, linear):
     TF[0, j], TF[1, j], TF[2, j] = ks.cable_force(
-        E[1, 0, j] - E[0, 0, j],
-        E[1, 1, j] - E[0, 1, j],
-        E[1, 2, j] - E[0, 2, j],
-        E[3, 0, j] - E[2, 0, j],
-        E[3, 1, j] - E[2, 1, j],
-        E[3, 2, j] - E[2, 2, j],
-        C,
-        j,
-        act[j],
-        linear,
-    )[1:]
+        E[1, 0, j] - E[0, 0, j], E[1, 1, j] - E[0, 1, j], E[1, 2, j] - E[0, 2, j],
+        E[3, 0, j] - E[2, 0, j], E[3, 1, j] - E[2, 1, j], E[3, 2, j] - E[2, 2, j],
+        C, j, act[j], linear)[1:]
 
 
 @jit(**INLINE)
@@ -177,23 +150,9 @@ def step(S, linear, kind, meta, hz, dt):
         if not _ground(P, U, G, AN, ST, C, on, kc.HEIGHTFIELD, meta, hz):
             return -1.0
     for i in range(8):
-        fast[i] = ks.strut(
-            0,
-            i,
-            X,
-            V,
-            Q,
-            W,
-            Rm,
-            C,
-            dt,
-            FN[0, i] + G[0, 0, i],
-            FN[1, i] + G[0, 1, i],
-            FN[2, i] + G[0, 2, i],
-            FN[0, 8 + i] + G[0, 0, 8 + i],
-            FN[1, 8 + i] + G[0, 1, 8 + i],
-            FN[2, 8 + i] + G[0, 2, 8 + i],
-        )
+        fast[i] = ks.strut(0, i, X, V, Q, W, Rm, C, dt, FN[0, i] + G[0, 0, i],
+                           FN[1, i] + G[0, 1, i], FN[2, i] + G[0, 2, i], FN[0, 8 + i] + G[0, 0, 8 + i],
+                           FN[1, 8 + i] + G[0, 1, 8 + i], FN[2, 8 + i] + G[0, 2, 8 + i])
     fastest = 0.0
     for i in range(6):
         fastest = ks.faster(fast[i], fastest)

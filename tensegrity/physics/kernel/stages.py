@@ -10,7 +10,6 @@ Per-lane constants are the rows of C (NC, L) named below. Booleans are stored as
 The last argument of a stage, `lanes`, is a tuple of L zeros: its length is a compile-time
 constant, so that LLVM vectorises each lane loop exactly once and for its true length.
 """
-
 from __future__ import annotations
 
 import math
@@ -118,17 +117,9 @@ def _cable(j, l, P, U, C, act, T, linear):
     """`cable_forces` for cable j of lane l."""
     n1, n2 = CABLE_NODES[j, 0], CABLE_NODES[j, 1]
     T[j, 0, l], T[j, 1, l], T[j, 2, l], T[j, 3, l] = cable_force(
-        P[n2, 0, l] - P[n1, 0, l],
-        P[n2, 1, l] - P[n1, 1, l],
-        P[n2, 2, l] - P[n1, 2, l],
-        U[n2, 0, l] - U[n1, 0, l],
-        U[n2, 1, l] - U[n1, 1, l],
-        U[n2, 2, l] - U[n1, 2, l],
-        C,
-        l,
-        act[j, l],
-        linear,
-    )
+        P[n2, 0, l] - P[n1, 0, l], P[n2, 1, l] - P[n1, 1, l], P[n2, 2, l] - P[n1, 2, l],
+        U[n2, 0, l] - U[n1, 0, l], U[n2, 1, l] - U[n1, 1, l], U[n2, 2, l] - U[n1, 2, l],
+        C, l, act[j, l], linear)
 
 
 @jit(**INLINE)
@@ -228,21 +219,8 @@ def integrate(X, V, Q, W, T, G, Rm, C, dt, fastest, lanes):
     for i in range(6):
         na, nb_ = STRUT_A[i], STRUT_B[i]
         for l in range(len(lanes)):
-            sp = strut(
-                i,
-                l,
-                X,
-                V,
-                Q,
-                W,
-                Rm,
-                C,
-                dt,
-                _node_force(T, G, na, 0, l),
-                _node_force(T, G, na, 1, l),
-                _node_force(T, G, na, 2, l),
-                _node_force(T, G, nb_, 0, l),
-                _node_force(T, G, nb_, 1, l),
-                _node_force(T, G, nb_, 2, l),
-            )
+            sp = strut(i, l, X, V, Q, W, Rm, C, dt, _node_force(T, G, na, 0, l),
+                       _node_force(T, G, na, 1, l), _node_force(T, G, na, 2, l),
+                       _node_force(T, G, nb_, 0, l), _node_force(T, G, nb_, 1, l),
+                       _node_force(T, G, nb_, 2, l))
             fastest[l] = faster(sp, fastest[l])
