@@ -1,7 +1,7 @@
 """Figures of a robot standing or rolling on a terrain, drawn off-screen with PyVista (paper
 Figs. 8-10; docs/design.md §7): a stable state with the CoG projection inside the support
 triangle (Fig. 8), a rolling state with it outside (Fig. 9) and the slope case (Fig. 10).
-The path and animation of a whole run are in render.runs.
+The path and animation of a whole run are in render.runs and render.animation.
 
 Drawing only, from arrays: node positions (12, 3) m in the world frame, a face and a
 `Terrain`; nothing here reads a file (tensegrity.stages.locomotion_states picks the samples
@@ -24,7 +24,8 @@ from ..physics import frames
 from ..physics import topology as topo
 from ..physics.terrain import Terrain
 from . import plot2d
-from .scene import add_terrain, finish, lines, node_labels, plotter, robot, strut_length, tube
+from .scene import finish, lines, node_labels, plotter, robot, strut_length, tube
+from .terrain import add_terrain
 
 __all__ = ["fig_state", "fig_slope"]
 

@@ -1,5 +1,6 @@
 """The paper's figures of the robot (docs/design.md §7): Fig. 1 and 4 (the robot, its actuator
-pairs) and Fig. 5 (the support frame). Figs. 6 and 7 are in `frame_plots`.
+pairs) and Fig. 5 (the support frame). Figs. 6 and 7 are in `cog_cloud` and
+`face_workspace`.
 
 Pure drawing functions on numpy arrays: each writes one PNG (scene.WINDOW px) and returns a
 dict saying what was drawn, so that tests can check the scene. Lengths are taken in m; the

@@ -2,7 +2,8 @@
 
 The support plane is the x-y plane of the scene, seen along -z with a parallel projection; the
 figures draw in mm. Helpers: the view and camera of a renderer, round axis boxes, clipping of
-the support triangle to a view, discs, axes and corner labels.
+the support triangle to a view, discs, axes and corner labels, and the figures' points checked,
+dashed and thinned.
 A `box` is a view region (xmin, xmax, ymin, ymax) in the figure's length unit.
 """
 
@@ -28,6 +29,9 @@ __all__ = [
     "disc",
     "axes_2d",
     "corner_labels",
+    "check_points",
+    "dashed",
+    "drop_close_points",
 ]
 
 Box = tuple[float, float, float, float]
@@ -213,3 +217,34 @@ def corner_labels(
     pl.add_point_labels(
         np.column_stack([pos, np.full(3, z)]), [str(s) for s in labels], font_size=font_size, name=name, **LABEL
     )
+
+
+def check_points(a: ArrayLike, name: str, n: int | None = None) -> np.ndarray:
+    """`a` as a finite (k, 3) float array in m, k = n if given; else a ValueError naming it `name`."""
+    a = np.asarray(a, float)
+    if a.ndim != 2 or a.shape[1] != 3 or (n is not None and len(a) != n) or not np.all(np.isfinite(a)):
+        want = f"({n}, 3)" if n is not None else "(n, 3)"
+        raise ValueError(f"{name} must be a finite {want} array in m, got shape {a.shape}")
+    return a
+
+
+def dashed(a: np.ndarray, b: np.ndarray, dash: float) -> np.ndarray:
+    """Dashes (k, 2, 2) along segment a-b (2,): `dash` long, separated by gaps as long."""
+    n = max(1, int(np.linalg.norm(b - a) / (2 * dash)))
+    t = np.linspace(0.0, 1.0, 2 * n + 1)
+    return np.stack([a + t[:-1:2, None] * (b - a), a + t[1::2, None] * (b - a)], axis=1)
+
+
+def drop_close_points(c: np.ndarray, step: float) -> np.ndarray:
+    """The points (m, 2+) of a curve, without those closer than `step` to the last kept one
+    (the end is always kept): wide VTK lines of sub-pixel segments draw stripes."""
+    keep = [0]
+    for i in range(1, len(c)):
+        if np.linalg.norm(c[i, :2] - c[keep[-1], :2]) >= step:
+            keep.append(i)
+    if keep[-1] != len(c) - 1:
+        if len(keep) > 1 and np.linalg.norm(c[-1, :2] - c[keep[-1], :2]) < step:
+            keep[-1] = len(c) - 1
+        else:
+            keep.append(len(c) - 1)
+    return c[keep]

@@ -1,5 +1,6 @@
-"""The path of a rolling run over its terrain (from above and in 3D) and an animation of the
-run (GIF), drawn off-screen with PyVista (docs/design.md §7).
+"""The path of a rolling run over its terrain (from above and in 3D), drawn off-screen with
+PyVista (docs/design.md §7), and what it shares with the run's animation (render.animation):
+the run's arrays checked, the ground shown, the oblique camera, the track's and goal's colours.
 
 Drawing only, from arrays: the node positions of the run's samples (T, 12, 3) m in the world
 frame, the faces it settled on, a goal and a `Terrain`; nothing here reads a file or knows a
@@ -17,21 +18,10 @@ from numpy.typing import ArrayLike
 
 from ..physics import topology as topo
 from ..physics.terrain import Terrain
-from .files import atomic
-from .scene import (
-    CABLE_COLOUR,
-    LABEL,
-    STRUT_COLOURS,
-    WINDOW,
-    add_terrain,
-    finish,
-    fit_camera,
-    plotter,
-    robot,
-    terrain_mesh,
-)
+from .scene import LABEL, WINDOW, finish, fit_camera, plotter, robot
+from .terrain import add_terrain, terrain_mesh
 
-__all__ = ["fig_path", "animate"]
+__all__ = ["fig_path"]
 
 PATH = "#111111"  # the CoG track
 GOAL = "#e6194b"
@@ -41,7 +31,7 @@ GOAL = "#e6194b"
 TRACK_TOLERANCE = 0.001  # m
 
 
-def _check_run(nodes) -> tuple[np.ndarray, np.ndarray]:
+def check_run(nodes: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Node positions (T, 12, 3) m as floats, and the CoG track (T, 3) m (mean of the nodes).
     NaN samples are let through: a run that failed is still drawn up to its failure."""
     nodes = np.asarray(nodes, float)
@@ -50,7 +40,7 @@ def _check_run(nodes) -> tuple[np.ndarray, np.ndarray]:
     return nodes, nodes.mean(axis=1)
 
 
-def _goal(goal) -> np.ndarray | None:
+def goal_or_none(goal: ArrayLike | None) -> np.ndarray | None:
     """The goal (3,) m, or None for none (None or NaN)."""
     if goal is None:
         return None
@@ -58,7 +48,7 @@ def _goal(goal) -> np.ndarray | None:
     return goal if np.all(np.isfinite(goal)) else None
 
 
-def _area(cog: np.ndarray, goal: np.ndarray | None) -> tuple[np.ndarray, float]:
+def area_shown(cog: np.ndarray, goal: np.ndarray | None) -> tuple[np.ndarray, float]:
     """Centre (2,) m and half-width (m) of the ground shown: the CoG track and the goal,
     plus 0.6 m."""
     pts = cog[:, :2] if goal is None else np.vstack([cog[:, :2], goal[None, :2]])
@@ -90,7 +80,7 @@ def rdp_indices(points: np.ndarray, tol: float) -> np.ndarray:
     return np.flatnonzero(keep)
 
 
-def _oblique_camera(pl: pv.Plotter, centre, cog: np.ndarray, distance: float) -> None:
+def oblique_camera(pl: pv.Plotter, centre: ArrayLike, cog: np.ndarray, distance: float) -> None:
     """Look at the run from the -x, -y side, 40 deg up, from `distance` m (3D path, animation)."""
     c = np.array([centre[0], centre[1], float(np.nanmean(cog[:, 2]))])
     d = np.array([-0.55, -0.75, 0.62])
@@ -164,12 +154,12 @@ def fig_path(
     """
     if view not in ("top", "3d"):
         raise ValueError(f"unknown view {view!r}: use 'top' or '3d'")
-    nodes, cog = _check_run(nodes)
+    nodes, cog = check_run(nodes)
     faces, step_end = np.asarray(faces, int).reshape(-1), np.asarray(step_end, int).reshape(-1)
     if faces.shape != step_end.shape:
         raise ValueError(f"faces {faces.shape} and step_end {step_end.shape} differ in length")
-    goal = _goal(goal)
-    centre, extent = _area(cog, goal)
+    goal = goal_or_none(goal)
+    centre, extent = area_shown(cog, goal)
     pl = plotter(title)
     # 3d: only the ground near the run, all of it in the picture (below the title)
     ground = 1.45 * extent if view == "top" else 1.1 * extent
@@ -202,7 +192,7 @@ def fig_path(
     robot(pl, nodes[-1], name="robot at the end")
     if view == "3d":
         robot(pl, nodes[0], opacity=0.35, name="robot at the start")
-        _oblique_camera(pl, centre, cog, 2.6 * extent)
+        oblique_camera(pl, centre, cog, 2.6 * extent)
         fit_camera(
             pl,
             np.vstack([terrain_mesh(terrain, centre, ground).points, nodes[0], nodes[-1], track]),
@@ -219,126 +209,3 @@ def fig_path(
         name="legend",
     )
     return finish(pl, path, title, contacts=contacts, view=view)
-
-
-def _title(pl: pv.Plotter, longest: str, width: int) -> pv.Text:
-    """A text actor centred at the top of the picture (`width` px wide), in the largest font
-    (at most 24) in which the text `longest` fits 96 % of the width. Unlike a corner annotation
-    (`add_text` at a named position), which finds its font size again whenever its text
-    changes (20 ms of a 35 ms frame), it keeps one size: the title of a frame does not jump."""
-    title = pl.add_text(longest, position=(0.5, 0.99), viewport=True, font_size=12, color="black", name="title")
-    title.prop.justification_horizontal, title.prop.justification_vertical = "center", "top"
-    box = np.zeros(4)
-    for size in range(24, 7, -1):
-        title.prop.font_size = size
-        title.GetBoundingBox(pl.renderer, box)
-        if box[1] - box[0] <= 0.96 * width:
-            break
-    return title
-
-
-def animate(
-    nodes: np.ndarray,
-    time: np.ndarray,
-    pressure: np.ndarray,
-    terrain: Terrain,
-    path: str | Path,
-    *,
-    goal: ArrayLike | None = None,
-    label: str = "",
-    fps: int = 10,
-    speed: float = 8.0,
-    size: tuple[int, int] = (640, 480),
-) -> dict:
-    """An animation (GIF) of a run: the robot rolling over its terrain toward the goal, the
-    CoG track so far, and in each frame's title `label`, the time and the pressures applied.
-    The meshes and the title are built once and changed in place, so a frame costs one
-    render; every frame is mapped to one palette (made from the first frame and the scene's
-    colours) instead of being quantized on its own, and the GIF is written to a temporary file
-    in the same folder and renamed, so a run killed midway leaves no file at `path`.
-
-    nodes: (T, 12, 3) world, m; time: (T,) s, increasing; pressure: (T, 12) MPa per pair;
-    goal: (3,) world, m (None or NaN: none); label: e.g. "run 'paper'"; fps: frames per
-    second; speed: playback speed relative to simulated time; size: (width, height) px.
-    Returns {"path", "frames", "fps"}.
-    """
-    from PIL import Image
-
-    if not (fps >= 1 and speed > 0):
-        raise ValueError(f"fps must be >= 1 and speed > 0, got {fps!r}, {speed!r}")
-    nodes, cog = _check_run(nodes)
-    t, pres = np.asarray(time, float), np.asarray(pressure, float)
-    if t.shape != (len(nodes),) or pres.shape != (len(nodes), topo.N_PAIRS):
-        raise ValueError(
-            f"time {t.shape} and pressure {pres.shape} must be ({len(nodes)},) "
-            f"and ({len(nodes)}, 12) for {len(nodes)} samples"
-        )
-    goal = _goal(goal)
-    frames = np.unique(np.clip(np.searchsorted(t, np.arange(t[0], t[-1] + 1e-9, speed / fps)), 0, len(t) - 1))
-    centre, extent = _area(cog, goal)
-    pl = plotter(None, size=size)
-    for r in pl.renderers:  # smoothing costs time in software and shows little in a GIF
-        r.UseFXAAOff()
-    ground = terrain_mesh(terrain, centre, extent)
-    pl.add_mesh(ground, color="#cfc8b4", name="terrain")  # one colour: a small GIF
-    if terrain.kind == "heightfield":
-        pl.add_mesh(ground.extract_all_edges(), color="#8a8270", name="terrain grid")
-    if goal is not None:
-        pl.add_mesh(pv.Sphere(radius=0.05, center=goal + [0, 0, 0.02]), color=GOAL, name="goal")
-
-    def segments(seg: np.ndarray) -> pv.PolyData:  # lines only: one cell per segment
-        return pv.PolyData(nodes[frames[0]].copy(), lines=np.hstack([np.full((len(seg), 1), 2), seg]).ravel())
-
-    robot_struts, cables = segments(topo.STRUTS), segments(topo.CABLES)
-    robot_struts.cell_data["strut"] = np.arange(topo.N_STRUTS)
-    trail = np.repeat(cog[frames[0]][None] + [0, 0, 0.02], len(frames), axis=0)
-    track = pv.lines_from_points(trail.copy())
-    pl.add_mesh(
-        robot_struts,
-        scalars="strut",
-        cmap=STRUT_COLOURS,
-        show_scalar_bar=False,
-        render_lines_as_tubes=True,
-        line_width=9,
-        name="struts",
-    )
-    pl.add_mesh(cables, color=CABLE_COLOUR, render_lines_as_tubes=True, line_width=2, name="cables")
-    pl.add_mesh(track, color=PATH, line_width=3, name="track")
-    _oblique_camera(pl, centre, cog, 2.4 * extent)
-    pl.renderer.ResetCameraClippingRange()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    head = f"{label}  " if label else ""
-    titles = []
-    for i in frames:
-        act = ", ".join(f"#{k + 1} {pres[i, k]:.1f} MPa" for k in np.flatnonzero(pres[i] > 0)) or "released"
-        titles.append(f"{head}t = {t[i]:5.1f} s ({speed:g}x)  {act}")
-    title = _title(pl, max(titles, key=len), size[0])
-    # The palette: the robot's, track's and goal's colours in four shades (the tubes are lit),
-    # then the rest of the first frame's colours (mostly the terrain), 256 in all.
-    key = np.array([[int(c[k : k + 2], 16) for k in (1, 3, 5)] for c in [*STRUT_COLOURS, CABLE_COLOUR, GOAL]], float)
-    shades = np.vstack(
-        [key * f for f in (0.45, 0.7, 1.0)] + [key + 0.35 * (255 - key)] + [[[0, 0, 0], [255, 255, 255]]]
-    )
-    shades = np.clip(np.rint(shades), 0, 255).astype(np.uint8)
-    palette, images = None, []
-    for n, i in enumerate(frames):
-        robot_struts.points = nodes[i]
-        cables.points = nodes[i]
-        trail[n:] = cog[i] + [0, 0, 0.02]
-        track.points = trail
-        title.input = titles[n]
-        pl.render()
-        rgb = np.ascontiguousarray(pl.screenshot(return_img=True)[..., :3])
-        if palette is None:
-            rest = Image.fromarray(rgb).quantize(256 - len(shades), method=Image.Quantize.MEDIANCUT)
-            colours = np.vstack([shades, np.reshape(rest.getpalette()[: 3 * (256 - len(shades))], (-1, 3))]).astype(
-                np.uint8
-            )
-            palette = Image.new("P", (1, 1))
-            palette.putpalette(colours.ravel().tolist())
-        images.append(Image.fromarray(rgb).quantize(palette=palette, dither=Image.Dither.NONE))
-    pl.close()
-    with atomic(path) as tmp:
-        images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:], duration=1000.0 / fps, loop=0)
-    return {"path": str(path), "frames": len(frames), "fps": fps}

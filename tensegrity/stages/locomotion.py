@@ -155,11 +155,11 @@ def path_figures(
 def animation(cfg: dict, run_path: str | os.PathLike, gif: str | os.PathLike) -> dict:
     """Stage `animation`: a GIF of one run at locomotion.animation_fps frames per second,
     locomotion.animation_speed times faster than simulated time. Returns {"path", "frames", "fps"}."""
-    from ..render import runs as run_figures
+    from ..render.animation import animate
 
     loc = cfg["locomotion"]
     ds = datasets.read(run_path)
-    return run_figures.animate(
+    return animate(
         ds["nodes"].values,
         ds["time"].values,
         ds["pressure"].values,

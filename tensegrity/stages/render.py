@@ -46,8 +46,8 @@ def cog_cloud(
     """Stage `cog_cloud`: Fig. 6, the CoG point cloud and nominal CoGs of one pair, levels up to
     max_pressure (MPa). A grounded robot that rolled off its face (`rolled`) is drawn only at
     the levels before the roll, and the title says so. Returns what the figure drew
-    (render.frame_plots.fig_cog_cloud)."""
-    from ..render import frame_plots
+    (render.cog_cloud.fig_cog_cloud)."""
+    from ..render import cog_cloud as fig6
 
     sw_ds, nm = datasets.read(sweep_path), datasets.read(nominal_path)
     pair, face = int(sw_ds.attrs["pair"]), int(sw_ds.attrs["face"])
@@ -68,7 +68,7 @@ def cog_cloud(
             f"Fig. 6  CoG path when #{pair} works, face {topo.face_label(face)}, "
             f"{levels[0]:g}-{levels[keep][-1]:g} MPa: it rolled off at {levels[n_stood]:g} MPa"
         )
-    return frame_plots.fig_cog_cloud(
+    return fig6.fig_cog_cloud(
         sw_ds["cog"].values[sel],
         cog[keep],
         levels[keep],
@@ -90,8 +90,8 @@ def workspace_figure(
     curve leaves its deformed triangle (the curve at the tipping pressure) and that deformed
     triangle, dashed (the nominal support interpolated at the tipping pressure). A grounded robot
     that rolled off its face before its CoG left the triangle gets no ring; the title names those
-    pairs. Returns what the figure drew (render.frame_plots.fig_workspace)."""
-    from ..render import frame_plots
+    pairs. Returns what the figure drew (render.face_workspace.fig_workspace)."""
+    from ..render import face_workspace as fig7
     from ..workspace import fit
 
     cv, nm = datasets.read(curves_path), datasets.read(nominal_path)
@@ -108,7 +108,7 @@ def workspace_figure(
         tp = float(nm["tip_pressure"].sel(pair=pair))
         if np.isfinite(tp) and tp <= c[0].pmax + 1e-9:
             tips[int(pair)] = np.array([float(fit.evaluate(c[a], tp)) for a in range(3)])
-            tip_supports[int(pair)] = frame_plots.at_pressure(levels, nm["support"].sel(pair=pair).values, tp)
+            tip_supports[int(pair)] = fig7.at_pressure(levels, nm["support"].sel(pair=pair).values, tp)
         elif np.isfinite(tp):  # grounded: rolled off at tp before its CoG left the triangle
             rolled[int(pair)] = tp
     title = (
@@ -123,7 +123,7 @@ def workspace_figure(
             + (f"-{max(rolled.values()):g}" if max(rolled.values()) > min(rolled.values()) else "")
             + " MPa"
         )
-    return frame_plots.fig_workspace(
+    return fig7.fig_workspace(
         lines, rest_support, out, tip_points=tips, tip_supports=tip_supports, title=title, corner_labels=_corners(face)
     )
 
@@ -155,7 +155,7 @@ def render_dataset(path: str | os.PathLike, out: str | os.PathLike, face: int | 
     """Render any dataset of the toolkit to a PNG: a sweep (its CoG cloud), a nominal file or
     the workspace (the workspace of its face, or of `face`), a locomotion run (its path from
     above), a `tensegrity simulate` output (the robot at the end). Returns what was drawn."""
-    from ..render import frame_plots
+    from ..render import cog_cloud as fig6
     from ..render import paper as figures
 
     ds = datasets.read(path)
@@ -164,7 +164,7 @@ def render_dataset(path: str | os.PathLike, out: str | os.PathLike, face: int | 
         sel = ds["level"].values >= 0
         levels = ds["levels"].values
         mean = np.array([ds["cog"].values[ds["level"].values == k].mean(0) for k in range(levels.size)])
-        frame_plots.fig_cog_cloud(
+        fig6.fig_cog_cloud(
             ds["cog"].values[sel],
             mean,
             levels,
@@ -198,7 +198,7 @@ def _render_nominal(ds, face: int, strut_length: float, out: str | os.PathLike, 
     """Fig. 7 drawn from the nominal CoGs of `ds` (a nominal file or one face of the workspace):
     each pair's levels it stood at, a red ring at the tipping pressure (the nominal CoG
     interpolated there) and the deformed support there, dashed."""
-    from ..render import frame_plots
+    from ..render import face_workspace as fig7
 
     rest_cog, rest_support = frames.rest_frame(face, strut_length)
     levels = ds["pressure"].values
@@ -211,9 +211,9 @@ def _render_nominal(ds, face: int, strut_length: float, out: str | os.PathLike, 
         lines[int(p)] = np.vstack([rest_cog[None], cog[:n]])
         tp = float(ds["tip_pressure"].sel(pair=p)) if "tip_pressure" in ds else float("nan")
         if np.isfinite(tp) and tp <= levels[n - 1] + 1e-9:
-            tips[int(p)] = frame_plots.at_pressure(levels[:n], cog[:n], tp)
-            tip_supports[int(p)] = frame_plots.at_pressure(levels[:n], ds["support"].sel(pair=p).values[:n], tp)
-    frame_plots.fig_workspace(
+            tips[int(p)] = fig7.at_pressure(levels[:n], cog[:n], tp)
+            tip_supports[int(p)] = fig7.at_pressure(levels[:n], ds["support"].sel(pair=p).values[:n], tp)
+    fig7.fig_workspace(
         lines, rest_support, out, title=title, tip_points=tips, tip_supports=tip_supports, corner_labels=_corners(face)
     )
     return "workspace: nominal CoG per pair"

@@ -28,7 +28,7 @@ from ..workspace import gravity as gv
 from ..workspace.nominal import Nominal
 from .common import INFO, LEVEL_TOL, SKIP, CheckSettings, status
 from .grounded import GroundedComparison, compare_grounded
-from .summary import Table, Verdict, edge_label, label, mm
+from .words import Table, Verdict, edge_label, label, mm
 
 TITLE = "Validation of the gravity-aware workspace"
 

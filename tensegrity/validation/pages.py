@@ -7,7 +7,7 @@ import html
 from collections.abc import Sequence
 
 from .common import FAIL, INFO, PASS, SKIP
-from .summary import Table, Verdict
+from .words import Table, Verdict
 
 _COLOUR = {PASS.upper(): "#1a7f37", FAIL.upper(): "#cf222e", SKIP.upper(): "#9a6700"}
 _STYLE = (

@@ -29,7 +29,7 @@ from ..workspace.lookup import Workspace
 from ..workspace.nominal import TwoPairNominal
 from ..workspace.two_pair import TwoPairSetup
 from .common import INFO, SKIP, status
-from .summary import Verdict, label, mm
+from .words import Verdict, label, mm
 
 
 def check_statics(

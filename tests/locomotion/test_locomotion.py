@@ -420,6 +420,7 @@ def test_state_figures_show_the_projection_inside_and_outside(tmp_path):
 
 
 def test_path_figure_and_animation_of_a_run(paper, tmp_path):
+    from tensegrity.render import animation
     from tensegrity.render import runs as rr
 
     ds = run_formats.run_dataset(paper, Terrain.flat(), DAMPED, "paper")
@@ -436,7 +437,7 @@ def test_path_figure_and_animation_of_a_run(paper, tmp_path):
         goal=ds["goal"].values,
     )
     assert out["contacts"] == 2 and {"cog track", "contact 1", "contact 2"} <= set(out["actors"])
-    anim = rr.animate(
+    anim = animation.animate(
         ds["nodes"].values, t, ds["pressure"].values, terrain, tmp_path / "run.gif", fps=5, speed=10.0, size=(320, 240)
     )
     assert anim["frames"] >= 5 and (tmp_path / "run.gif").stat().st_size > 10_000

@@ -14,7 +14,7 @@ from PIL import Image
 
 from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
-from tensegrity.render import runs, scene
+from tensegrity.render import animation, scene
 
 
 def _run(n: int = 6) -> dict:
@@ -31,7 +31,7 @@ def _png(path) -> dict:
 def test_png_and_gif_leave_no_temporary_file(tmp_path):
     _png(tmp_path / "a.png")
     r = _run()
-    runs.animate(
+    animation.animate(
         r["nodes"], r["time"], r["pressure"], Terrain.flat(), tmp_path / "a.gif", fps=10, speed=1.0, size=(160, 120)
     )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.gif", "a.png"]
@@ -62,7 +62,7 @@ def test_a_failed_gif_write_keeps_the_earlier_file(tmp_path, monkeypatch):
 
     monkeypatch.setattr(Image.Image, "save", broken)
     with pytest.raises(OSError, match="no space"):
-        runs.animate(r["nodes"], r["time"], r["pressure"], Terrain.flat(), gif, fps=10, speed=1.0, size=(160, 120))
+        animation.animate(r["nodes"], r["time"], r["pressure"], Terrain.flat(), gif, fps=10, speed=1.0, size=(160, 120))
     assert [p.name for p in tmp_path.iterdir()] == ["a.gif"]
     assert gif.read_bytes() == b"the earlier, complete animation"
 
@@ -77,14 +77,14 @@ def test_a_render_killed_while_writing_leaves_no_file_at_the_final_path(tmp_path
         import numpy as np
         from tensegrity.physics import topology as topo
         from tensegrity.physics.terrain import Terrain
-        from tensegrity.render import runs, scene
+        from tensegrity.render import animation, scene
         nodes = topo.reference_nodes(0.5)
         if {kind!r} == "png":
             pl = scene.plotter("killed")
             scene.robot(pl, nodes)
             scene.finish(pl, {str(out)!r}, "killed")
         else:
-            runs.animate(np.stack([nodes] * 3), np.arange(1.0, 4.0), np.zeros((3, 12)),
+            animation.animate(np.stack([nodes] * 3), np.arange(1.0, 4.0), np.zeros((3, 12)),
                          Terrain.flat(), {str(out)!r}, fps=1, speed=1.0, size=(160, 120))
     """)
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)

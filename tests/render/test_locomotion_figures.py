@@ -1,5 +1,5 @@
-"""render.locomotion (Figs. 8-10) and render.runs (path, animation), drawn from arrays: the
-robot is the reference robot set down on a face, moved along x for a synthetic run."""
+"""render.locomotion (Figs. 8-10), render.runs (path) and render.animation (GIF), drawn from
+arrays: the robot is the reference robot set down on a face, moved along x for a synthetic run."""
 
 import imageio.v2 as imageio
 import numpy as np
@@ -8,7 +8,7 @@ import pytest
 from tensegrity.physics import frames
 from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
-from tensegrity.render import locomotion, runs
+from tensegrity.render import animation, locomotion, runs
 
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])
 ISO = topo.face_number(topo.CONTACT_FACES["isosceles"])
@@ -133,7 +133,7 @@ def test_path_without_a_goal_and_bad_input(tmp_path, run):
 
 
 def test_animation_of_a_run(tmp_path, run):
-    out = runs.animate(
+    out = animation.animate(
         run["nodes"],
         run["time"],
         run["pressure"],
@@ -150,9 +150,9 @@ def test_animation_of_a_run(tmp_path, run):
     assert frames_[0].shape[:2] == (240, 320)
     assert not np.array_equal(frames_[0], frames_[-1])  # the robot moved
     with pytest.raises(ValueError, match="pressure"):
-        runs.animate(run["nodes"], run["time"], run["pressure"][:5], Terrain.flat(), tmp_path / "x.gif")
+        animation.animate(run["nodes"], run["time"], run["pressure"][:5], Terrain.flat(), tmp_path / "x.gif")
     with pytest.raises(ValueError, match="fps"):
-        runs.animate(run["nodes"], run["time"], run["pressure"], Terrain.flat(), tmp_path / "x.gif", fps=0)
+        animation.animate(run["nodes"], run["time"], run["pressure"], Terrain.flat(), tmp_path / "x.gif", fps=0)
 
 
 def test_track_thinned_within_tolerance():

@@ -8,7 +8,7 @@ from matplotlib.colors import rgb_to_hsv
 
 from tensegrity.physics import frames
 from tensegrity.physics import topology as topo
-from tensegrity.render import frame_plots
+from tensegrity.render import cog_cloud, face_workspace, plot2d
 from tensegrity.render import paper as render
 from tensegrity.render.scene import AXIS_COLOURS, PAIR_COLOURS, STRUT_COLOURS, WINDOW
 
@@ -141,7 +141,7 @@ def _triangle(side=0.306):
 def test_fig6_cog_cloud(tmp_path):
     levels = np.round(0.4 * np.arange(1, 7), 2)
     samples, nominal, pressure = _staircase_cloud(levels)
-    out = frame_plots.fig_cog_cloud(
+    out = cog_cloud.fig_cog_cloud(
         samples,
         nominal,
         levels,
@@ -166,7 +166,7 @@ def test_fig6_cog_cloud(tmp_path):
     assert {"cog samples", "nominal labels", "legend", "context triangle fill"} <= set(out["actors"])
     assert len([a for a in out["actors"] if a.startswith("nominal ring")]) == 6
     px = _check_png(out["path"])
-    for c in frame_plots.level_colours(6)[[0, -1]]:
+    for c in cog_cloud.level_colours(6)[[0, -1]]:
         assert _has_colour(px, "#" + "".join(f"{int(round(255 * v)):02x}" for v in c))
 
 
@@ -174,11 +174,11 @@ def test_fig6_rejects_mismatched_pressures(tmp_path):
     levels = np.array([0.4, 0.8])
     samples, nominal, pressure = _staircase_cloud(levels, per_level=10)
     with pytest.raises(ValueError, match="sample_pressure"):
-        frame_plots.fig_cog_cloud(
+        cog_cloud.fig_cog_cloud(
             samples, nominal, levels, _triangle(), tmp_path / "x.png", 10, "(9,10,12)", sample_pressure=pressure[:-1]
         )
     with pytest.raises(ValueError, match="nominal"):
-        frame_plots.fig_cog_cloud(samples, nominal[:1], levels, _triangle(), tmp_path / "x.png", 10, "(9,10,12)")
+        cog_cloud.fig_cog_cloud(samples, nominal[:1], levels, _triangle(), tmp_path / "x.png", 10, "(9,10,12)")
 
 
 def test_fig7_workspace(tmp_path):
@@ -198,7 +198,7 @@ def test_fig7_workspace(tmp_path):
             frames.edge_distances(q, tri[:, :2]).min() / frames.edge_distances(np.zeros(2), tri[:, :2]).min()
         )
         deformed[v] = tri * shrink
-    out = frame_plots.fig_workspace(
+    out = face_workspace.fig_workspace(
         curves,
         tri,
         tmp_path / "fig7.png",
@@ -232,15 +232,15 @@ def test_fig7_workspace(tmp_path):
 
 def test_fig7_rejects_unknown_pair(tmp_path):
     with pytest.raises(ValueError, match="pair"):
-        frame_plots.fig_workspace({13: np.zeros((3, 3))}, _triangle(), tmp_path / "x.png", "t")
+        face_workspace.fig_workspace({13: np.zeros((3, 3))}, _triangle(), tmp_path / "x.png", "t")
     with pytest.raises(ValueError, match="empty"):
-        frame_plots.fig_workspace({}, _triangle(), tmp_path / "x.png", "t")
+        face_workspace.fig_workspace({}, _triangle(), tmp_path / "x.png", "t")
 
 
 def test_fig7_curves_drop_sub_pixel_segments():
     """Wide VTK lines of segments shorter than a pixel drew stripes at the curves' ends."""
     c = np.column_stack([np.r_[np.linspace(0, 10, 11), 10 + np.geomspace(1e-3, 0.5, 30)], np.zeros(41), np.zeros(41)])
-    thin = frame_plots.drop_close_points(c, 1.0)
+    thin = plot2d.drop_close_points(c, 1.0)
     steps = np.linalg.norm(np.diff(thin[:, :2], axis=0), axis=1)
     assert np.all(steps >= 0.5 - 1e-12) and np.array_equal(thin[-1], c[-1])
     assert np.array_equal(thin[0], c[0]) and len(thin) < 15
@@ -249,6 +249,6 @@ def test_fig7_curves_drop_sub_pixel_segments():
 def test_values_at_a_pressure_skip_nan_levels():
     levels = np.array([1.0, 2.0, 3.0])
     values = np.array([[0.0, 0.0], [1.0, 2.0], [np.nan, np.nan]])
-    np.testing.assert_allclose(frame_plots.at_pressure(levels, values, 1.5), [0.5, 1.0])
-    np.testing.assert_allclose(frame_plots.at_pressure(levels, values, 2.5), [1.0, 2.0])  # held
-    assert np.isnan(frame_plots.at_pressure(levels, np.full((3, 2), np.nan), 1.0)).all()
+    np.testing.assert_allclose(face_workspace.at_pressure(levels, values, 1.5), [0.5, 1.0])
+    np.testing.assert_allclose(face_workspace.at_pressure(levels, values, 2.5), [1.0, 2.0])  # held
+    assert np.isnan(face_workspace.at_pressure(levels, np.full((3, 2), np.nan), 1.0)).all()

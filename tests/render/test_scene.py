@@ -1,5 +1,5 @@
-"""render.scene and render.plot2d: the shared plumbing (off-screen set-up, the PNG writer) and
-the 2-D helpers of the support-frame plots."""
+"""render.scene, render.plot2d and render.terrain: the shared plumbing (off-screen set-up, the
+PNG writer), the 2-D helpers of the support-frame plots and the terrain mesh."""
 
 import os
 import subprocess
@@ -15,7 +15,7 @@ from tensegrity.render import plot2d, scene
 def test_importing_the_figures_changes_no_process_setting_until_a_plotter_is_made():
     code = (
         "import os\n"
-        "from tensegrity.render import locomotion, paper, runs, scene\n"
+        "from tensegrity.render import animation, cog_cloud, face_workspace, locomotion, paper, runs, scene\n"
         "before = os.environ.get('VTK_DEFAULT_OPENGL_WINDOW')\n"
         "scene.plotter('t').close()\n"
         "print(before, os.environ.get('VTK_DEFAULT_OPENGL_WINDOW'))\n"
@@ -58,9 +58,10 @@ def test_nice_box_has_round_ticks_around_the_data():
 
 def test_terrain_mesh_of_a_height_field_is_cut_to_the_area_shown():
     from tensegrity.physics.terrain import Terrain
+    from tensegrity.render import terrain
 
     t = Terrain(kind="heightfield", origin=np.array([-4.0, -4.0]), spacing=0.25, heights=np.zeros((33, 33)))
-    mesh = scene.terrain_mesh(t, (0.5, 0.3), 1.0)
+    mesh = terrain.terrain_mesh(t, (0.5, 0.3), 1.0)
     b = mesh.bounds
     assert b[0] >= -0.5 - 1e-9 and b[1] <= 1.5 + 1e-9 and b[2] >= -0.7 - 1e-9 and b[3] <= 1.3 + 1e-9
     assert "height (m)" in mesh.point_data and mesh.n_cells > 0

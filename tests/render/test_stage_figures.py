@@ -98,7 +98,7 @@ def test_fig7_rings_lie_on_the_dashed_deformed_triangle_at_the_tipping_pressure(
 
 def test_fig7_nominal_render_draws_rings_and_a_legend_that_fits(tmp_path, monkeypatch):
     """`tensegrity render nominal.nc` (and workspace.nc): rings and dashed triangles too."""
-    from tensegrity.render import frame_plots as paper
+    from tensegrity.render import face_workspace as paper
 
     npath = _write(_nominal(), tmp_path, "nominal.nc")
     real, seen = paper.fig_workspace, {}

@@ -248,7 +248,7 @@ def test_render_draws_the_reference_support_of_the_datasets_strut_length(tmp_pat
     strut length the dataset was made with."""
     from tensegrity.io import formats
     from tensegrity.physics import frames
-    from tensegrity.render import frame_plots as paper
+    from tensegrity.render import face_workspace as paper
 
     P, n = 2, 1
     ds = formats.nominal_dataset(
