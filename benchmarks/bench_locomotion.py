@@ -142,7 +142,7 @@ def steps(runs: list[lo.Run], headings: np.ndarray) -> None:
     """Every step of every run: the face and its type, the heading of +x (uphill on the slopes)
     in its support frame when the roll began, the action, the tip pressure and the CoG's change."""
     from tensegrity.physics import topology as topo
-    from tensegrity.workspace.gravity import heading_of
+    from tensegrity.workspace.slopes import heading_of
 
     for r, h in zip(runs, headings):
         print(f"  goal at {h:.0f} deg: {r.outcome}, faces {r.faces}")

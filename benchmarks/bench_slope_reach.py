@@ -40,8 +40,8 @@ from tensegrity.locomotion.lockstep import lockstep
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
-from tensegrity.workspace import gravity as gv
 from tensegrity.workspace import mapping
+from tensegrity.workspace.slopes import heading_of, place
 
 
 def gaits(landings: list, headings: np.ndarray, longest: int = 6) -> None:
@@ -60,7 +60,7 @@ def gaits(landings: list, headings: np.ndarray, longest: int = 6) -> None:
         """The state of the robot `nodes` resting on `face`, its pose seen from a start of
         `parity`: the face's kind, the canonical heading of uphill to the nearest sample, parity."""
         diag = mapping.face_map(face)[2]  # x flips (-1) where the face mirrors the canonical one
-        h = np.radians(float(gv.heading_of(nodes, face)))
+        h = np.radians(float(heading_of(nodes, face)))
         hc = np.degrees(np.arctan2(np.sin(h) * diag[1], np.cos(h) * diag[0]))  # canonical frame
         b = int(np.round(hc % 360.0 / (360.0 / n))) % n
         return sid[str(topo.FACE_TYPES[face - 1]), b, parity * int(diag[0])]
@@ -154,7 +154,7 @@ def main() -> None:
     rows = []
     for sl in a.slopes:
         terrain = Terrain.slope(sl)
-        state = d.State.concat([gv.place(params, f, terrain, (0.0, 0.0), h, len(actions)) for _, f, h in poses])
+        state = d.State.concat([place(params, f, terrain, (0.0, 0.0), h, len(actions)) for _, f, h in poses])
 
         def ctl(b, obs, terrain=terrain):
             brake = Brake(ws, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None

@@ -84,7 +84,7 @@ def two_pair_surfaces(cfg: dict, contact_paths: Sequence[str | os.PathLike], out
     """Stage `two_pair_surfaces`: a polynomial surface per combination with data and axis of
     each contact case (degree up to fit.max_degree by fit.folds-fold cross-validation) as
     results/curves/two_pair.json (plain numbers; `io.two_pair_formats.evaluate_surface`)."""
-    from ..workspace import two_pair as tp
+    from ..workspace.surfaces import fit_surface
 
     levels, src = tpf.read_contacts(contact_paths)
     f = cfg["fit"]
@@ -93,7 +93,7 @@ def two_pair_surfaces(cfg: dict, contact_paths: Sequence[str | os.PathLike], out
     for contact, ds in sorted(src.items()):
         cog = ds["cog"].values
         rows = [c for c in range(cog.shape[0]) if np.isfinite(cog[c]).all()]
-        surf = [[tp.fit_surface(pa, pb, cog[c, ..., a], f["max_degree"], f["folds"]) for a in range(3)] for c in rows]
+        surf = [[fit_surface(pa, pb, cog[c, ..., a], f["max_degree"], f["folds"]) for a in range(3)] for c in rows]
         contacts[contact] = (ds.attrs["face_nodes"], ds["combo_pairs"].values[rows], surf)
     doc = tpf.surfaces_document(contacts)
     return atomic.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))

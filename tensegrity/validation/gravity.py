@@ -26,6 +26,7 @@ from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace import gravity as gv
 from ..workspace.nominal import Nominal
+from ..workspace.slopes import gravity_frame, place
 from .common import INFO, LEVEL_TOL, SKIP, CheckSettings, status
 from .grounded import GroundedComparison, compare_grounded
 from .words import Table, Verdict, edge_label, label, mm
@@ -74,9 +75,7 @@ def check_rolls(
                     continue
                 n = int(np.nanargmin(tips))
                 terrain = Terrain.slope(float(a))
-                state, face = settle(
-                    params, gv.place(params, sw.face, terrain, (0.0, 0.0), float(h)), terrain, settings
-                )
+                state, face = settle(params, place(params, sw.face, terrain, (0.0, 0.0), float(h)), terrain, settings)
                 if face != sw.face:
                     continue
                 res = roll(params, state, terrain, int(sw.pairs[n]), max_pressure, settings)
@@ -112,10 +111,10 @@ def check_rolls(
 def crossing(record: Record, face: int, pair: int) -> float:
     """Pressure (MPa, NaN: none) of a roll's `record` (lockstep.Record) at which the CoG
     projection along gravity left the triangle of `face` while the pressure of `pair` rose
-    (`gravity.gravity_frame`, `frames.first_crossing`): the quantity the workspace measures."""
+    (`slopes.gravity_frame`, `frames.first_crossing`): the quantity the workspace measures."""
     p = record.pressure[:, pair - 1]
     k = int(np.flatnonzero(p >= p.max() - 1e-12)[-1]) + 1  # up to the end of the hold at the peak
-    margin = gv.gravity_frame(record.nodes[:k], face)[3]
+    margin = gravity_frame(record.nodes[:k], face)[3]
     return frames.first_crossing(p[:k], margin)[0]
 
 

@@ -2,12 +2,11 @@
 the ground and friction, on flat ground and on slopes, with the pressure raised slowly (a ramp
 at a few MPa/s, quasi-static, not the staircase) until the robot rolls.
 
-The slope's heading is the uphill direction in the contact face's support frame (deg from the
-frame's x axis toward y; docs/design.md §2). Every robot of a contact case (pairs x slopes x
-headings) runs in one batch: the ground is a height field of planar strips, one strip per slope,
-each rising toward +x, and the robot is turned about the strip's normal to set the heading. The
-CoG is projected along gravity onto the plane of the deformed contact face (paper Fig. 10); the
-robot tips where that projection leaves the triangle (`frames.first_crossing` of the margin).
+Every robot of a contact case (pairs x slopes x headings) runs in one batch on the slope ground
+of `workspace.slopes` (one planar strip per slope; the robot turned to set the heading, the
+uphill direction in the contact face's support frame). The CoG is projected along gravity onto
+the plane of the deformed contact face (paper Fig. 10); the robot tips where that projection
+leaves the triangle (`frames.first_crossing` of the margin).
 """
 
 from __future__ import annotations
@@ -25,10 +24,8 @@ from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.schedule import Schedule, check_pressures, hold_step, whole_steps
 from ..physics.terrain import Terrain
+from .slopes import gravity_frame, place, slope_field
 
-STRIP = 2.5  # m, width of one slope strip of the test ground
-HALF_LENGTH = 2.0  # m, the strips run from x = -HALF_LENGTH to +HALF_LENGTH
-SPACING = 0.25  # m, height-field cell
 FALLING = 0.01  # m: a CoG projection this far past an edge means the robot is rolling over it
 HOLD = 1.0  # s the top of the ramp is held
 MAX_HOLD = 5.0  # s, longest total time a ramp is held where a support node lifts
@@ -56,47 +53,6 @@ class GravitySweep:
     support: np.ndarray
     projection: np.ndarray
     margin: np.ndarray
-
-
-def slope_field(slopes: ArrayLike) -> tuple[Terrain, np.ndarray]:
-    """Ground with one planar strip per slope (deg, rising toward +x), STRIP m wide; returns the
-    terrain and the strip centres (S, 2) m."""
-    slopes = np.atleast_1d(np.asarray(slopes, float))
-    if np.any(~np.isfinite(slopes)) or np.any(np.abs(slopes) >= 60):
-        raise ValueError(f"slopes {slopes.tolist()} deg must be finite and within (-60, 60)")
-    x = np.arange(-HALF_LENGTH, HALF_LENGTH + 1e-9, SPACING)
-    y = np.arange(-STRIP / 2, STRIP * (slopes.size - 0.5) + 1e-9, SPACING)
-    strip = np.clip(np.floor(y / STRIP + 0.5).astype(int), 0, slopes.size - 1)
-    heights = np.tan(np.radians(slopes[strip]))[None, :] * x[:, None]
-    centres = np.stack([np.zeros(slopes.size), STRIP * np.arange(slopes.size)], axis=1)
-    return Terrain(kind="heightfield", origin=(x[0], y[0]), spacing=SPACING, heights=heights), centres
-
-
-def gravity_frame(nodes: np.ndarray, face: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """For node positions (..., 12, 3) m on `face`: cog (..., 3) m and support (..., 3, 3) m in
-    the deformed face's support frame, the CoG projected along gravity onto the face plane
-    (..., 2) m and its signed margin (...,) m (paper Fig. 10, `frames.margin_2d`)."""
-    origin, rot = frames.face_frame(nodes, face)
-    cog, support = frames.in_support_frame(nodes, face, (origin, rot))
-    g = np.einsum("...ij,j->...i", rot, ct.GRAVITY_DIR)  # gravity in the support frame
-    proj = ct.project_along_gravity(cog, np.zeros(3), np.eye(3)[2], g)[..., :2]  # onto z = 0
-    return cog, support, proj, frames.margin_2d(proj, support[..., :2])
-
-
-def heading_of(nodes: np.ndarray, face: int, uphill: ArrayLike = (1.0, 0.0, 0.0)) -> np.ndarray:
-    """Heading (...,) deg of the world direction `uphill` in the support frame of `face` on
-    node positions (..., 12, 3) m."""
-    _, rot = frames.face_frame(nodes, face)
-    u = np.einsum("...ij,j->...i", rot, np.asarray(uphill, float))
-    return np.degrees(np.arctan2(u[..., 1], u[..., 0]))
-
-
-def place(params: Params, face: int, terrain: Terrain, position: ArrayLike, heading: float, batch: int = 1) -> d.State:
-    """`batch` symmetric robots at rest on `face` at `position` (m) of a terrain rising toward
-    +x, turned so that the uphill direction has `heading` deg in the face's support frame."""
-    s0 = d.stand_on(params, face, terrain, position=position)
-    h0 = float(heading_of(d.nodes(s0.x, s0.q, params.strut_length)[0], face))
-    return d.stand_on(params, face, terrain, batch, position=position, yaw_deg=h0 - heading)
 
 
 @dataclass(frozen=True)

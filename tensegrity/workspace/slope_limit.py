@@ -28,6 +28,7 @@ from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
 from . import gravity as gv
 from .lookup import Workspace, predict
+from .slopes import gravity_frame, heading_of, place, slope_field
 
 KINDS = ("stand", "uphill", "downhill")
 
@@ -68,7 +69,7 @@ def direction(support: np.ndarray, face: int, edge: Sequence[int]) -> np.ndarray
 def pose(params: Params, face: int, slope: float, heading: float) -> np.ndarray:
     """Nodes (12, 3) m of the unactuated symmetric robot on `face` on a plane of `slope` deg
     rising toward +x, uphill at `heading` deg in the face's support frame."""
-    s = gv.place(params, face, Terrain.slope(slope), (0.0, 0.0), heading)
+    s = place(params, face, Terrain.slope(slope), (0.0, 0.0), heading)
     return d.nodes(s.x, s.q, params.strut_length)[0]
 
 
@@ -180,16 +181,16 @@ def stands(
 ) -> np.ndarray:
     """Direct simulation: does the unactuated robot b, placed on faces[b] on a slope of
     slopes[b] deg at headings[b] deg, still stand on it after `settle` s? (B,) bool."""
-    terrain, centres = gv.slope_field(slopes)
+    terrain, centres = slope_field(slopes)
     state = d.State.concat(
-        [gv.place(params, int(f), terrain, centres[b], h) for b, (f, h) in enumerate(zip(faces, headings))]
+        [place(params, int(f), terrain, centres[b], h) for b, (f, h) in enumerate(zip(faces, headings))]
     )
     n = int(round(settle / dt))
     _, tr = d.simulate(params, state, Schedule.constant(np.zeros(topo.N_PAIRS), settle), terrain, dt, n)
     nodes = tr.nodes(params.strut_length)[:, -1]
     r = float(params.strut_radius)
     resting = ct.resting_face(ct.clearance(nodes, terrain, r), r)
-    return np.array([resting[b] == f and gv.gravity_frame(nodes[b], int(f))[3] > 0 for b, f in enumerate(faces)])
+    return np.array([resting[b] == f and gravity_frame(nodes[b], int(f))[3] > 0 for b, f in enumerate(faces)])
 
 
 def _sim_ok(
@@ -208,8 +209,8 @@ def _sim_ok(
     if kind == 0:
         ok = stands(params, [face] * J, slopes, headings, setup.settle + 0.5, setup.dt)
         return ok, np.full(J, np.nan), ["geometry"] * J
-    terrain, centres = gv.slope_field(slopes)
-    state = d.State.concat([gv.place(params, face, terrain, centres[j], headings[j]) for j in range(J)])
+    terrain, centres = slope_field(slopes)
+    state = d.State.concat([place(params, face, terrain, centres[j], headings[j]) for j in range(J)])
     level, n_settle = setup.levels()
     rec, gone = gv.ramp(params, terrain, face, state, np.asarray(pairs), level, n_settle, setup)
     ok, tips, why, land = np.zeros(J, bool), np.full(J, np.nan), ["pressure range"] * J, []
@@ -226,7 +227,7 @@ def _sim_ok(
             ok[j], tips[j] = True, p
             if kind == 2:
                 to, after = ct.roll_over(pose(params, face, slopes[j], headings[j]), face, e)
-                land.append((j, to, float(gv.heading_of(after, to)), e))
+                land.append((j, to, float(heading_of(after, to)), e))
     if land:
         held = stands(
             params,

@@ -24,7 +24,6 @@ from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.schedule import Schedule, check_pressures, whole_steps
 from . import nominal as nom
-from .fit import cv_select
 from .mapping import CANONICAL
 
 COMBOS = np.array(list(combinations(range(1, topo.N_PAIRS + 1), 2)))  # (66, 2), 1-based, sorted
@@ -271,44 +270,3 @@ def map_workspace(levels: ArrayLike, canonical: Mapping[str, tuple]) -> dict[str
     t = [tipping(levels, out["cog"][f], out["support"][f], out["margin"][f], f + 1) for f in range(F)]
     out |= {k: np.stack([x[k] for x in t]) for k in t[0]}
     return out
-
-
-# ------------------------------------------------------------------ fitted surfaces
-
-
-def powers(degree: int) -> np.ndarray:
-    """Exponents (n, 2) of the monomials p_a^i p_b^j with i + j <= degree, by total degree."""
-    return np.array([(i, t - i) for t in range(degree + 1) for i in range(t, -1, -1)])
-
-
-def fit_surface(pa: ArrayLike, pb: ArrayLike, values: ArrayLike, max_degree: int = 3, folds: int = 5) -> dict:
-    """Least-squares polynomial value(p_a, p_b) (MPa) of total degree 1..max_degree chosen by
-    cross-validation as a curve is (`workspace.fit.cv_select`, points sorted by (p_a, p_b)),
-    refit on all points. Returns plain numbers: powers (n, 2), coefs (n,) in value/MPa^(i+j), degree,
-    cv_rmse (value units, NaN if nothing could be validated), pmin, pmax (MPa)."""
-    pa, pb, v = (np.asarray(x, float).ravel() for x in (pa, pb, values))
-    if not (pa.size == pb.size == v.size) or pa.size < 3 or not np.all(np.isfinite(np.r_[pa, pb, v])):
-        raise ValueError(f"fit_surface needs >= 3 finite points of equal count, got {pa.size}, {pb.size}, {v.size}")
-    o = np.lexsort((pb, pa))
-    pa, pb, v = pa[o], pb[o], v[o]
-    design = lambda a, b, pw: a[:, None] ** pw[:, 0] * b[:, None] ** pw[:, 1]
-    degrees = range(1, int(max_degree) + 1)
-
-    def predict(c: int, train: np.ndarray) -> np.ndarray:
-        pw = powers(degrees[c])
-        coef = np.linalg.lstsq(design(pa[train], pb[train], pw), v[train], rcond=None)[0]
-        return design(pa[~train], pb[~train], pw) @ coef
-
-    c, rmse = cv_select([len(powers(d)) for d in degrees], predict, v, folds)
-    deg = degrees[c] if degrees else 1
-    pw = powers(deg)
-    coef = np.linalg.lstsq(design(pa, pb, pw), v, rcond=None)[0]
-    lo, hi = float(min(pa.min(), pb.min())), float(max(pa.max(), pb.max()))
-    return {
-        "powers": pw.tolist(),
-        "coefs": coef.tolist(),
-        "degree": deg,
-        "cv_rmse": None if np.isnan(rmse) else rmse,
-        "pmin": lo,
-        "pmax": hi,
-    }

@@ -1,5 +1,5 @@
-"""The rotations of physics.dynamics (numpy, so that a job need not import scipy.spatial) agree
-with SciPy's Rotation, and place the robot as SciPy's did."""
+"""The rotations of physics.state, as dynamics offers them (numpy, so that a job need not import
+scipy.spatial) agree with SciPy's Rotation, and place the robot as SciPy's did."""
 
 import numpy as np
 import pytest

@@ -14,6 +14,7 @@ from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 from tensegrity.workspace import gravity as gv
 from tensegrity.workspace import slope_limit as sl
+from tensegrity.workspace.slopes import heading_of, place, slope_field
 
 pytestmark = pytest.mark.unit
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
@@ -32,10 +33,10 @@ def flat():
 
 
 def test_heading_turns_the_robot_as_asked():
-    terrain, centres = gv.slope_field([0.0, 12.0])
+    terrain, centres = slope_field([0.0, 12.0])
     for h in (0.0, 75.0, 250.0):
-        s = gv.place(P, EQUI, terrain, centres[1], h)
-        got = float(gv.heading_of(d.nodes(s.x, s.q, P.strut_length)[0], EQUI))
+        s = place(P, EQUI, terrain, centres[1], h)
+        got = float(heading_of(d.nodes(s.x, s.q, P.strut_length)[0], EQUI))
         assert (got - h + 180) % 360 - 180 == pytest.approx(0.0, abs=1e-6)
 
 
@@ -51,7 +52,7 @@ def test_on_flat_ground_the_heading_does_not_matter(flat):
 def test_the_zero_slope_strip_is_flat_ground(flat):
     """The same ramp on the plane z = 0 (no height field) tips #10 at the same pressure, and
     earlier than the free workspace's 4.2 MPa (gravity sags the robot toward the edge)."""
-    state = gv.place(P, EQUI, Terrain.flat(), (0.0, 0.0), 0.0)
+    state = place(P, EQUI, Terrain.flat(), (0.0, 0.0), 0.0)
     level, n = gv.ramp_levels(1.0, 4.4, 0.5, 0.02)
     rec, gone = gv.ramp(P, Terrain.flat(), EQUI, state, np.array([10]), level, n, G)
     tip, _, edge = gv.tip(rec, 0, EQUI, n, gone[0])
@@ -123,8 +124,8 @@ def test_a_settling_shared_by_copies_gives_the_same_numbers():
     """`ramp(copies=)` settles the first of each run of equal robots and copies it: the same
     records, bit for bit, as settling every robot (two placements, three pairs each; one of
     them on a slope too steep to stand on, dropped during the settling)."""
-    terrain, centres = gv.slope_field([0.0, 40.0])
-    state = d.State.concat([gv.place(P, EQUI, terrain, centres[i], 30.0, 3) for i in range(2)])
+    terrain, centres = slope_field([0.0, 40.0])
+    state = d.State.concat([place(P, EQUI, terrain, centres[i], 30.0, 3) for i in range(2)])
     level, n = gv.ramp_levels(1.0, 1.0, 0.2, 0.02)
     pairs = np.tile([10, 11, 4], 2)
     one = gv.ramp(P, terrain, EQUI, state, pairs, level, n, G)

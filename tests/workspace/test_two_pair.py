@@ -7,6 +7,7 @@ import pytest
 from tensegrity.io.config import ConfigError, defaults, params_from_config, validate
 from tensegrity.io.formats import two_pair as tpf
 from tensegrity.physics import statics
+from tensegrity.workspace import surfaces
 from tensegrity.workspace import two_pair as tp
 
 EQ, ISO = 8, 20
@@ -99,7 +100,7 @@ def test_json_evaluator_matches_the_fit():
     rng = np.random.default_rng(0)
     pa, pb = np.meshgrid([0.8, 1.6, 2.4, 3.2], [0.8, 1.6, 2.4, 3.2], indexing="ij")
     v = 0.01 + 0.003 * pa - 0.002 * pb + 0.0007 * pa * pb + 1e-6 * rng.standard_normal(pa.shape)
-    surf = tp.fit_surface(pa, pb, v, max_degree=3, folds=4)
+    surf = surfaces.fit_surface(pa, pb, v, max_degree=3, folds=4)
     assert surf["degree"] == 2  # the cross term needs degree 2; degree 3 does not pay
     doc = tpf.surfaces_document({"isosceles": ([10, 11, 12], [[10, 11]], [[surf, surf, surf]])})
     import json

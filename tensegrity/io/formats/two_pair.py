@@ -222,7 +222,7 @@ def read_two_pair(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.n
 
 def surfaces_document(contacts: Mapping[str, tuple]) -> dict:
     """results/curves/two_pair.json: `contacts` maps a contact case to (face_nodes (3,), combos
-    (n, 2), surfaces [n][3] of `workspace.two_pair.fit_surface` dicts, per axis x, y, z)."""
+    (n, 2), surfaces [n][3] of `workspace.surfaces.fit_surface` dicts, per axis x, y, z)."""
     doc = {
         "units": {"pressure": "MPa", "cog": "m"},
         "frame": "support frame of the contact face (docs/design.md section 2)",
