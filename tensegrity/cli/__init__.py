@@ -18,22 +18,10 @@ import numpy as np
 
 from . import args as cli_args
 from . import progress
+from .locomotion import cmd_plan, cmd_roll
 
 EXIT_USAGE, EXIT_INPUT, EXIT_SIM = 2, 3, 4
 START = "9,10,12"  # the paper's start face (paper.START_FACE), as the command line writes it
-
-
-def _load_cfg(args: argparse.Namespace) -> dict:
-    from ..io import config
-
-    return config.load(args.config, overrides=args.set or None)
-
-
-def _stage_cfg(args: argparse.Namespace, stage: str) -> dict:
-    """The keys of the resolved configuration that `stage` reads, as its rule passes them."""
-    from ..stages.config import stage_config
-
-    return stage_config(_load_cfg(args), stage)
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
@@ -43,7 +31,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
     with progress.bar(args.duration, "simulate") as bar:
         path = simulate(
-            _stage_cfg(args, "simulate"),
+            cli_args.stage_cfg(args, "simulate"),
             args.face,
             args.pair,
             args.pressure,
@@ -107,7 +95,7 @@ def cmd_stage(args: argparse.Namespace) -> int:
     if not args.arguments:
         print(describe(args.stage))
         return 0
-    out = call(args.stage, _stage_cfg(args, args.stage), args.arguments)
+    out = call(args.stage, cli_args.stage_cfg(args, args.stage), args.arguments)
     for p in out if isinstance(out, list) else [out]:
         print(p if isinstance(p, (str, Path)) else json.dumps(p, default=str))
     return 0
@@ -141,92 +129,12 @@ def cmd_render(args: argparse.Namespace) -> int:
     return 0
 
 
-def _two_pair_file(args: argparse.Namespace) -> str | None:
-    """The two-pair workspace of plan and roll: --two-pair FILE, none with --two-pair none, else
-    workspace_two_pair.nc beside the workspace file if it exists (the pipeline's runs use it)."""
-    if args.two_pair == "none":
-        return None
-    if args.two_pair:
-        return args.two_pair
-    beside = Path(args.workspace).with_name("workspace_two_pair.nc")
-    return str(beside) if beside.is_file() else None
-
-
-def _locomotion_setup(args: argparse.Namespace):
-    """Configuration keys, start face, terrain, parameters, settings and workspace of plan and
-    roll: those of the pipeline's demonstration runs (stage `locomotion_runs`)."""
-    from ..io import formats, settings
-    from ..locomotion.settings import RollSettings
-    from ..physics.topology import face_number
-
-    cfg = _stage_cfg(args, "locomotion_runs")
-    face = face_number(args.face)  # bad input first, before any file is read
-    two_pair = _two_pair_file(args)
-    ws = formats.read_workspace(args.workspace, two_pair)
-    print(
-        f"workspace {args.workspace}; two pairs: "
-        + (
-            f"measured curves of {two_pair}"
-            if two_pair
-            else "superposed single-pair curves"
-            + (
-                " (--two-pair none)"
-                if args.two_pair == "none"
-                else f" ({Path(args.workspace).with_name('workspace_two_pair.nc')} not found)"
-            )
-        ),
-        flush=True,
-    )
-    return cfg, face, args.terrain, settings.params(cfg), settings.build(RollSettings, cfg), ws
-
-
-def cmd_plan(args: argparse.Namespace) -> int:
-    """Choose the pair(s) and pressure that roll the robot toward a target, from the workspace."""
-    from ..locomotion.control import settle
-    from ..locomotion.plan import plan
-    from ..physics import contact as ct
-    from ..physics import dynamics as d
-
-    _, face, terrain, params, s, ws = _locomotion_setup(args)
-    params = s.rolling(params)
-    state, _ = settle(params, d.stand_on(params, face, terrain, yaw_deg=args.yaw), terrain, s)
-    nodes = d.nodes(state.x, state.q, params.strut_length)[0]
-    here = ct.face_from_gaps(ct.clearance(nodes, terrain, float(params.strut_radius)), s.contact_tolerance)
-    target = {"goal": args.goal} if args.goal is not None else {"direction": args.direction}
-    print(plan(ws, here, nodes, terrain=terrain, combine=s.combine, min_alignment=s.min_alignment, **target))
-    return 0
-
-
-def cmd_roll(args: argparse.Namespace) -> int:
-    """Roll the robot toward a goal in the dynamic simulator; exit 1 if it did not arrive."""
-    from ..io import datasets
-    from ..io.formats.run import RUN_ALLOW_NAN, run_dataset
-    from ..locomotion.outcome import describe
-    from ..locomotion.runs import roll_to
-    from ..stages import provenance
-
-    cfg, face, terrain, params, s, ws = _locomotion_setup(args)
-    with progress.bar(None, "roll") as bar:
-        run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw, progress=bar.update)
-    print(describe(run, "roll"))
-    if args.out:
-        datasets.write(
-            run_dataset(run, terrain, s.rolling(params), "roll"),
-            args.out,
-            provenance(cfg, args.workspace),
-            f"Rolling locomotion run: {run.outcome}",
-            stage="locomotion",
-            allow_nan=RUN_ALLOW_NAN,
-        )
-    return 0 if run.outcome == "arrived" else 1
-
-
 def cmd_study(args: argparse.Namespace) -> int:
     """Run a design study (config/studies/NAME.yaml or a YAML path) without Snakemake: every chunk
     not yet written, the merge and the analysis, into results/studies/NAME (docs/datasets.md)."""
     from .study import run
 
-    return run(_load_cfg(args), args.study, args.out, args.limit)
+    return run(cli_args.load_cfg(args), args.study, args.out, args.limit)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -1,6 +1,7 @@
 """Command-line values of the `tensegrity` command (`cli`): numbers, faces, terrains, points and
 headings parsed by argparse, with messages that name the option; negative numbers after an
-option (`--goal -1.2,1.5`) are joined to it before parsing (`join_negative_values`)."""
+option (`--goal -1.2,1.5`) are joined to it before parsing (`join_negative_values`); the
+configuration that --config and --set name (`load_cfg`, `stage_cfg`)."""
 
 from __future__ import annotations
 
@@ -124,3 +125,18 @@ def stage_arguments_first(argv: list[str], valued: tuple[str, ...] = ("--config"
         (opts if tok.startswith("-") else args).append(tok)
         i += 1
     return argv[:2] + args + opts
+
+
+def load_cfg(args: argparse.Namespace) -> dict:
+    """The resolved configuration (`io.config.load`): the --config file, else config/config.yaml,
+    with the --set overrides."""
+    from ..io import config
+
+    return config.load(args.config, overrides=args.set or None)
+
+
+def stage_cfg(args: argparse.Namespace, stage: str) -> dict:
+    """The keys of the resolved configuration that `stage` reads, as its rule passes them."""
+    from ..stages.config import stage_config
+
+    return stage_config(load_cfg(args), stage)

@@ -214,6 +214,6 @@ def _json_default(obj: Any) -> Any:
 def to_json(cfg: Mapping) -> str:
     """The configuration as JSON with sorted keys, for provenance attributes; deterministic.
     Raises ValueError on NaN or infinity (validate first)."""
-    from .config import plain
+    from .schema_checks import plain
 
     return json.dumps(plain(cfg), sort_keys=True, allow_nan=False, default=_json_default)

@@ -19,6 +19,7 @@ from ..physics.schedule import whole_steps
 from ..studies.spec import NOT_IN_ROLLS, UNITS
 from . import config as cfgmod
 from .config import ConfigError
+from .schema_checks import check_against, filling_validator
 
 SCHEMA_PATH = Path(__file__).with_name("study.schema.yaml")
 STUDY_DIR = Path("config", "studies")
@@ -27,7 +28,7 @@ STUDY_DIR = Path("config", "studies")
 @functools.lru_cache(maxsize=1)
 def _validator():
     s = cfgmod.read_yaml(SCHEMA_PATH)
-    return cfgmod.filling_validator(s), s
+    return filling_validator(s), s
 
 
 def _study_key(messages: list[str]) -> list[str]:
@@ -101,7 +102,7 @@ def validate(study: Mapping | None, base: Params | None = None, dt: float | None
             return [f"config key parameters.{err.instance}: not a parameter a study can vary ({hint})"]
         return None
 
-    inst, errors = cfgmod.check_against(val, sch, study, unknown_parameter)
+    inst, errors = check_against(val, sch, study, unknown_parameter)
     if errors:
         raise ConfigError(_study_key(errors))
     errors = _semantic(inst, base or Params(), dt)

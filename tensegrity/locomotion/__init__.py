@@ -7,8 +7,8 @@
   `lockstep` simulates a batch of robots, one controller each.
 - `brake`: the actuation that holds the robot on a face (slopes) and the escape order of
   actions off a face where the planned candidates failed.
-- `runs`: `roll_to`, `roll_many`, `roll_over` (plan, roll, repeat); `outcome`: the `Run` and
-  its `Step`s they return, and `describe`, a run in words.
+- `runs`: `roll_to`, `roll_many`, `roll_over` (plan, roll, repeat; `drive`: the controller of
+  one run); `outcome`: the `Run` and its `Step`s they return, and `describe`, a run in words.
 - `demos`: the workflow's demonstration runs (`DEMOS`, `demo_setup`).
 
 Files are read and written elsewhere: `io.formats` (workspace, run datasets) and

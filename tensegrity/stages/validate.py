@@ -13,8 +13,10 @@ from pathlib import Path
 from .. import atomic
 from ..io import datasets, settings
 from ..io.formats import gravity as gf
+from ..io.formats import gravity_validation as gvf
 from ..io.formats import run as run_formats
 from ..io.formats import two_pair as tpf
+from ..io.formats import two_pair_validation as tpvf
 from ..io.formats import validation as vf
 from ..io.formats import workspace as wf
 from ..io.formats.nominal import read_nominals
@@ -127,12 +129,12 @@ def validate_two_pair(
     )
     prov = provenance(cfg, *contact_paths, two_pair_path, workspace_path)
     path = datasets.write(
-        vf.two_pair_validation_dataset(r),
+        tpvf.two_pair_validation_dataset(r),
         nc_path,
         prov,
         v.TITLE,
         stage="validate_two_pair",
-        allow_nan=vf.TWO_PAIR_ALLOW_NAN,
+        allow_nan=tpvf.TWO_PAIR_ALLOW_NAN,
     )
     return [
         path,
@@ -171,12 +173,12 @@ def validate_gravity(
         f"grounded rolls with the controller's settings (config locomotion) up to {float(g['max_pressure']):g} MPa."
     )
     path = datasets.write(
-        vf.gravity_validation_dataset(rc, flat, status),
+        gvf.gravity_validation_dataset(rc, flat, status),
         nc_path,
         provenance(cfg, gravity_path),
         vg.TITLE,
         stage="validate_gravity",
-        allow_nan=vf.GRAVITY_ALLOW_NAN,
+        allow_nan=gvf.GRAVITY_ALLOW_NAN,
     )
     return [
         path,

@@ -8,7 +8,8 @@ back, the reader (`read_*`) with its contract check.
 - `curves`: results/curves/{contact}.nc, curves.json;   `workspace`: results/workspace.nc;
 - `two_pair`: results/two_pair/{contact}.nc, workspace_two_pair.nc, curves/two_pair.json;
 - `gravity`: results/workspace_gravity.nc, slope_limit.nc;   `run`: results/locomotion/{run}.nc;
-- `validation`: results/validation/*.nc;   `study`: results/studies/<name>/*.nc;
+- `validation`: results/validation/validation.nc;   `two_pair_validation`: validation/two_pair.nc;
+- `gravity_validation`: results/validation/gravity.nc;   `study`: results/studies/<name>/*.nc;
 - `simulation`: the output of `tensegrity simulate`.
 The names of the light modules (no simulator, no validation) are available here too.
 """

@@ -1,14 +1,14 @@
-"""The validation files (docs/datasets.md, "Validation"): every number of every check, with
-units and long names, as netCDF datasets built from the checks' results.
+"""The validation file of the workspace (docs/datasets.md, "Validation"): every number of every
+check, with units and long names, as a netCDF dataset built from the checks' results.
 
 - results/validation/validation.nc: `workspace_validation_dataset` (`validation.checks`).
-- results/validation/two_pair.nc: `two_pair_validation_dataset` (`validation.two_pair`).
-- results/validation/gravity.nc: `gravity_validation_dataset` (`validation.gravity`).
+
+The two-pair and gravity validation files: `two_pair_validation`, `gravity_validation`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 
 import numpy as np
 import xarray as xr
@@ -20,12 +20,9 @@ from ...physics.topology import CONTACTS
 from ...validation import summary
 from ...validation.checks import MappingResult, StaticsResult, TimestepResult
 from ...validation.common import FAIL, PASS, SKIP, Result
-from ...validation.gravity import RollCheck
-from ...validation.grounded import GroundedComparison, GroundedResult
+from ...validation.grounded import GroundedResult
 from ...validation.paper import PaperResult
 from ...validation.runs import RunsResult
-from ...validation.two_pair import TwoPairCheck
-from ...workspace import two_pair as tp
 from .. import datasets
 
 AXES = ("x", "y", "z")
@@ -288,133 +285,3 @@ def workspace_validation_dataset(
     used = {d for v in data.values() for d in v[0]}
     ds = xr.Dataset(data, coords={k: v for k, v in coords.items() if k in used})
     return ds, [a for a in allow if a in ds]
-
-
-TWO_PAIR_ALLOW_NAN = [
-    "statics_difference",
-    "direct_difference",
-    "path_difference",
-    "superposition_error",
-    "measured_shift",
-    "tip_pressure",
-    "single_tip_pressure",
-]
-
-
-def two_pair_validation_dataset(r: TwoPairCheck) -> xr.Dataset:
-    """results/validation/two_pair.nc: the numbers of checks (a)-(c) of the two-pair workspace
-    (`validation.two_pair.validate`) and the verdicts."""
-    var = datasets.var
-    sup, P = r.superposition, r.superposition["error"].shape[-1]
-    return xr.Dataset(
-        {
-            "statics_difference": var(
-                ("contact", "check", "point"), r.statics, "m", "nominal minus static-equilibrium CoG distance (a)"
-            ),
-            "direct_difference": var(
-                ("face", "check"),
-                r.direct,
-                "m",
-                "largest CoG distance of the mapped grid from a direct simulation along the same staircase (b)",
-            ),
-            "path_difference": var(
-                ("face", "check"),
-                r.path,
-                "m",
-                "largest CoG distance of the mapped grid from a direct simulation along the other staircase order (b2)",
-            ),
-            "check_pairs": var(("check", "member"), r.combos, "1", "actuator pairs of the check combinations"),
-            "superposition_error": var(
-                ("contact", "combo", "level_a", "level_b"),
-                sup["error"],
-                "m",
-                "in-plane distance of the summed single-pair shifts from the measured two-pair CoG shift (c)",
-            ),
-            "measured_shift": var(
-                ("contact", "combo", "level_a", "level_b"),
-                sup["measured"],
-                "m",
-                "in-plane CoG shift from the unactuated robot, two pairs",
-            ),
-            "tip_pressure": var(
-                ("contact", "combo"),
-                sup["tip"],
-                "MPa",
-                "least equal pressure of both pairs at which the CoG leaves the triangle",
-            ),
-            "single_tip_pressure": var(
-                ("contact",), sup["single_tip"], "MPa", "least tipping pressure of any single pair"
-            ),
-            "pressure_a": var(("level_a",), r.levels, "MPa", "muscle pressure of the first pair"),
-            "verdict": (
-                ("verdict",),
-                np.array([f"{v.id}: {v.status}: {v.measured}" for v in r.rows]),
-                {"long_name": "verdicts"},
-            ),
-        },
-        coords={
-            "contact": ("contact", list(CONTACTS), {"long_name": "contact case"}),
-            "face": ("face", r.faces, {"units": "1", "long_name": "face number"}),
-            "check": ("check", np.arange(1, len(r.combos) + 1), {"units": "1", "long_name": "check combination"}),
-            "member": ("member", [1, 2], {"units": "1", "long_name": "member of the combination"}),
-            "point": (
-                "point",
-                [1, 2, 3],
-                {"units": "1", "long_name": "grid corner: (top, top), (low, top), (top, low)"},
-            ),
-            "combo": ("combo", np.arange(1, len(tp.COMBOS) + 1), {"units": "1", "long_name": "combination number"}),
-            "level_a": ("level_a", np.arange(1, P + 1), {"units": "1", "long_name": "level index of the first pair"}),
-            "level_b": ("level_b", np.arange(1, P + 1), {"units": "1", "long_name": "level index of the second pair"}),
-        },
-    )
-
-
-GRAVITY_ALLOW_NAN = [
-    "workspace_tip_pressure",
-    "roll_tip_pressure",
-    "lift_tip_pressure",
-    "difference",
-    "in_plane_shift_max",
-]
-
-
-def gravity_validation_dataset(
-    rc: RollCheck, flat: Mapping[str, GroundedComparison | None], status: Mapping[str, str]
-) -> xr.Dataset:
-    """results/validation/gravity.nc: the grounded rolls of check G.1 (`validation.gravity.
-    check_rolls`), the in-plane CoG shift on flat ground per contact case (G.2, NaN: not
-    compared) and the status of each check."""
-    var = datasets.var
-    return xr.Dataset(
-        {
-            "contact_of_roll": (("roll",), rc.contact, {"long_name": "contact case of the roll"}),
-            "slope": var(("roll",), rc.slope, "degree", "ground slope"),
-            "heading": var(("roll",), rc.heading, "degree", "uphill direction in the face's support frame"),
-            "pair": var(("roll",), rc.pair, "1", "pair driven"),
-            "workspace_tip_pressure": var(
-                ("roll",), rc.workspace_tip, "MPa", "tipping pressure of the gravity-aware workspace"
-            ),
-            "roll_tip_pressure": var(
-                ("roll",),
-                rc.roll_tip,
-                "MPa",
-                "pressure of the grounded roll at which its CoG projection along gravity left the triangle",
-            ),
-            "lift_tip_pressure": var(
-                ("roll",), rc.lift_tip, "MPa", "pressure held when a support node lifted in the roll (NaN: no roll)"
-            ),
-            "difference": var(("roll",), rc.difference, "MPa", "absolute difference of the two tipping pressures"),
-            "rolled_to": var(("roll",), rc.rolled_to, "1", "face the roll ended on (0: none)"),
-            "in_plane_shift_max": var(
-                ("contact",),
-                [flat[c].in_plane_max if flat.get(c) else np.nan for c in CONTACTS],
-                "m",
-                "largest in-plane CoG shift on flat ground against the free nominal CoG",
-            ),
-            "status": (("check",), [status[k] for k in sorted(status)], {"long_name": "verdict of each check"}),
-        },
-        coords={
-            "check": ("check", sorted(status), {"long_name": "check number"}),
-            "contact": ("contact", list(CONTACTS), {"long_name": "contact case"}),
-        },
-    )
