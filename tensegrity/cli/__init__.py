@@ -19,6 +19,7 @@ import numpy as np
 from . import args as cli_args
 from . import progress
 from .locomotion import cmd_plan, cmd_roll
+from .workspace import cmd_faces, cmd_query, cmd_table
 
 EXIT_USAGE, EXIT_INPUT, EXIT_SIM = 2, 3, 4
 START = "9,10,12"  # the paper's start face (paper.START_FACE), as the command line writes it
@@ -47,41 +48,6 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         f"wrote {path}: {ds.sizes['time']} samples, final CoG (support frame) "
         f"{np.round(ds['cog'].values[-1] * 1000, 2).tolist()} mm"
     )
-    return 0
-
-
-def cmd_query(args: argparse.Namespace) -> int:
-    """Nominal CoG and margin for a face, pair and pressure from the fitted curves."""
-    from ..io import formats
-    from ..workspace import query
-
-    ans = query.query(
-        formats.read_curves(args.curves),
-        formats.read_workspace(args.workspace),
-        args.face,
-        args.pair,
-        args.pressure,
-        wsname=args.workspace,
-    )
-    out = {
-        "face": ans.face,
-        "pair": ans.pair,
-        "pressure_mpa": ans.pressure,
-        "cog_m": ans.cog.round(7).tolist(),
-        "margin_m": round(ans.margin, 7),
-        "stands": ans.margin > 0,
-        "support_m": ans.support.round(7).tolist(),
-        "contact": ans.contact,
-        "canonical_pair": ans.source_pair,
-    }
-    if args.json:
-        print(json.dumps(out))
-    else:
-        print(
-            f"face {ans.face} ({ans.contact}), pair #{ans.pair} at {ans.pressure} MPa: "
-            f"CoG {np.round(ans.cog * 1000, 2).tolist()} mm (support frame), margin "
-            f"{ans.margin * 1000:.2f} mm -> {'stands' if ans.margin > 0 else 'rolls'}"
-        )
     return 0
 
 
@@ -144,6 +110,9 @@ def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog="tensegrity", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
+    from ..version import __version__
+
+    ap.add_argument("--version", action="version", version=f"tensegrity {__version__}")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--config", help="config YAML (default: config/config.yaml)")
@@ -209,6 +178,16 @@ def build_parser() -> argparse.ArgumentParser:
         help="a parameter of the stage function, e.g. out_path=results/workspace.nc",
     )
     p.set_defaults(func=cmd_stage)
+
+    p = sub.add_parser("faces", help="the 20 faces: nodes, kind, reference vertex", description=cmd_faces.__doc__)
+    p.set_defaults(func=cmd_faces)
+    p = sub.add_parser("table", help="one face's workspace as a CSV table", description=cmd_table.__doc__)
+    p.add_argument("--face", type=cli_args.face, required=True, help="face: 1..20 or 'a,b,c'")
+    p.add_argument(
+        "--workspace", default="results/workspace.nc", help="workspace netCDF (default results/workspace.nc)"
+    )
+    p.add_argument("--out", help="write the CSV to this file (default: print it)")
+    p.set_defaults(func=cmd_table)
 
     p = sub.add_parser(
         "config",

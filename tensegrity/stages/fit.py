@@ -65,7 +65,7 @@ def curves(cfg: dict, nominal_path: str | os.PathLike, out_path: str | os.PathLi
 
 def curves_json(cfg: dict, curve_paths: Iterable[str | os.PathLike], out_path: str | os.PathLike) -> Path:
     """Stage `curves_json`: all contact cases' curves as one JSON file (plain numbers, evaluable
-    in any language; `formats.curves_document`)."""
+    in any language; `formats.curves_document`), naming the configuration of the curve files."""
     from ..workspace import fit
 
     contacts = {}
@@ -76,14 +76,16 @@ def curves_json(cfg: dict, curve_paths: Iterable[str | os.PathLike], out_path: s
             ds["pair"].values,
             fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS}),
         )
-    doc = formats.curves_document(contacts)
+    curve_paths = list(curve_paths)
+    doc = formats.curves_document(contacts, provenance(cfg, *curve_paths))
     return atomic.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))
 
 
 def two_pair_surfaces(cfg: dict, contact_paths: Sequence[str | os.PathLike], out_path: str | os.PathLike) -> Path:
     """Stage `two_pair_surfaces`: a polynomial surface per combination with data and axis of
     each contact case (degree up to fit.max_degree by fit.folds-fold cross-validation) as
-    results/curves/two_pair.json (plain numbers; `io.two_pair_formats.evaluate_surface`)."""
+    results/curves/two_pair.json (plain numbers; `io.formats.two_pair.evaluate_surface`), naming
+    the configuration it was made with."""
     from ..workspace.surfaces import fit_surface
 
     levels, src = tpf.read_contacts(contact_paths)
@@ -95,5 +97,5 @@ def two_pair_surfaces(cfg: dict, contact_paths: Sequence[str | os.PathLike], out
         rows = [c for c in range(cog.shape[0]) if np.isfinite(cog[c]).all()]
         surf = [[fit_surface(pa, pb, cog[c, ..., a], f["max_degree"], f["folds"]) for a in range(3)] for c in rows]
         contacts[contact] = (ds.attrs["face_nodes"], ds["combo_pairs"].values[rows], surf)
-    doc = tpf.surfaces_document(contacts)
+    doc = tpf.surfaces_document(contacts, provenance(cfg, *contact_paths))
     return atomic.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))

@@ -68,10 +68,17 @@ def query(
     wsname: str = "<workspace>",
 ) -> Answer:
     """Nominal CoG, deformed triangle and margin of `pair` at `pressure` MPa on `face`, from the
-    curves document `curves` and the workspace (read and checked by `io.formats`). A NaN or
-    out-of-range answer (a pair the workspace lacks, corrupted inputs) raises ValueError naming
+    curves document `curves` and the workspace (read and checked by `io.formats`); at 0 MPa the
+    unactuated symmetric robot (the workspace's rest state, the 0 MPa point of every curve). A NaN
+    or out-of-range answer (a pair the workspace lacks, corrupted inputs) raises ValueError naming
     `wsname`, the workspace's file."""
     face, pair = topo.face_number(face), topo.check_pair(pair)
+    if pressure == 0:
+        kind, src = str(topo.FACE_TYPES[face - 1]), int(mapping.face_map(face)[0][pair - 1]) + 1
+        rest, sup = workspace.rest_cog[face - 1], workspace.rest_support[face - 1]
+        return Answer(
+            face, pair, 0.0, rest.copy(), sup.copy(), float(frames.margin_2d(rest[:2], sup[:, :2])), kind, src
+        )
     cog, kind, src = curve_cog(curves, face, pair, float(pressure))
     sup = support_at(workspace, face, pair, float(pressure))
     margin = float(frames.margin_2d(cog[:2], sup[:, :2]))

@@ -227,3 +227,22 @@ def test_stale_temporaries_are_removed_before_writing(tmp_path, cfg):
     atomic.write_text(tmp_path / "pair11.nc", "x")  # the text writer cleans its target's too
     assert atomic.temporary(target).name.startswith(".pair10.") and atomic.temporary(target).suffix == ".nc"
     assert not other.exists()
+
+
+def test_a_two_pair_workspace_of_another_run_is_refused(tmp_path, cfg):
+    """`read_workspace(path, two_pair)` (plan, roll, the runs, `load_workspace`) refuses a two-pair
+    file made with another robot, naming both files and the key; `io.provenance` compares the
+    keys both files hold."""
+    from tensegrity.io import provenance
+
+    ws = small_workspace(tmp_path, cfg)
+    other = config.merge(cfg, {"params": {"strut_length": 0.6}})
+    two = datasets.write(sample(), tmp_path / "workspace_two_pair.nc", other, "t")
+    with pytest.raises(
+        ValueError,
+        match=r"workspace\.nc and .*workspace_two_pair\.nc were made by different.*"
+        r"params\.strut_length: 0\.5 against 0\.6",
+    ):
+        formats.read_workspace(ws, two)
+    assert provenance.differences({"a": {"x": 1, "y": 2}}, {"a": {"x": 1, "y": 3}, "b": {"z": 0}}) == ["a.y"]
+    provenance.check_together({"one": {"a": {"x": 1}}, "two": {"b": {"x": 2}}, "old": None})  # nothing shared

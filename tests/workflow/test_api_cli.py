@@ -313,3 +313,59 @@ def test_progress_counts_simulated_seconds_on_a_terminal_only(monkeypatch, termi
             assert bar.n == pytest.approx(3 * s.interval)
     assert ("test: 0.1 s simulated" in err.getvalue()) == terminal
     assert (err.getvalue() == "") != terminal
+
+
+def test_files_of_different_runs_are_refused_naming_both(small_results, tmp_path, capsys):
+    """curves.json of a robot with 0.6 m struts beside the default workspace: `query` refuses
+    (it answered "rolls" for a robot that stands); curves without a configuration (written before
+    files named theirs) are still read."""
+    doc = json.loads((small_results / "curves.json").read_text())
+    assert doc["config"]["params"]["strut_length"] == 0.5 and "fit" in doc["config"]
+    doc["config"]["params"]["strut_length"] = 0.6
+    other = tmp_path / "curves.json"
+    other.write_text(json.dumps(doc))
+    argv = ["query", "--workspace", str(small_results / "workspace.nc"), "--face", "8", "--pair", "10"]
+    assert cli.main([*argv, "--pressure", "3.0", "--curves", str(other)]) == cli.EXIT_INPUT
+    err = capsys.readouterr().err
+    assert str(other) in err and "workspace.nc" in err and "params.strut_length: 0.6 against 0.5" in err
+    del doc["config"]
+    other.write_text(json.dumps(doc))
+    assert cli.main([*argv, "--pressure", "3.0", "--curves", str(other)]) == 0
+
+
+def test_query_at_zero_pressure_is_the_unactuated_robot(small_results, capsys):
+    from tensegrity.physics import frames
+
+    argv = ["query", "--curves", str(small_results / "curves.json"), "--workspace", str(small_results / "workspace.nc")]
+    assert cli.main([*argv, "--face", "7", "--pair", "10", "--pressure", "0", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    cog, support = frames.rest_frame(7, 0.5)
+    np.testing.assert_allclose(out["cog_m"], cog, atol=1e-7)
+    np.testing.assert_allclose(out["support_m"], support, atol=1e-7)
+    assert out["stands"] and out["margin_m"] > 0.05
+
+
+def test_version_faces_and_a_face_as_a_table(small_results, tmp_path, capsys):
+    import tensegrity
+
+    with pytest.raises(SystemExit) as e:
+        cli.main(["--version"])
+    assert e.value.code == 0 and capsys.readouterr().out.strip() == f"tensegrity {tensegrity.__version__}"
+    assert cli.main(["faces"]) == 0
+    rows = capsys.readouterr().out.splitlines()[1:]
+    assert len(rows) == 20 and rows[7].split()[:3] == ["8", "(9,10,12)", "equilateral"]
+    assert rows[19].split()[2] == "isosceles"
+    out = tmp_path / "face8.csv"
+    assert (
+        cli.main(["table", "--face", "9,10,12", "--workspace", str(small_results / "workspace.nc"), "--out", str(out)])
+        == 0
+    )
+    lines = out.read_text().splitlines()
+    assert lines[0] == "pair,pressure_MPa,cog_x_m,cog_y_m,cog_z_m,margin_m,tip_pressure_MPa"
+    ws = tensegrity.load_workspace(small_results / "workspace.nc")
+    assert len(lines) == 1 + len(ws.pairs(8)) * (len(ws.levels) + 1)  # the 0 MPa row of each pair first
+    first = lines[1].split(",")
+    assert first[1] == "0" and float(first[4]) == pytest.approx(ws.rest_cog[7][2], abs=1e-9)
+    row = next(r.split(",") for r in lines if r.startswith("10,2.4,"))
+    k = list(ws.levels).index(2.4)
+    assert [float(v) for v in row[2:5]] == pytest.approx(ws.cog[7, 9, k].tolist(), abs=1e-9)

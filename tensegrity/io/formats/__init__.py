@@ -19,7 +19,14 @@ from .curves import CURVES_ALLOW_NAN, check_curves, curves_dataset, curves_docum
 from .nominal import NOMINAL_ALLOW_NAN, nominal_dataset, nominal_from_dataset, read_nominal, read_nominals
 from .simulation import simulation_dataset
 from .sweep import SWEEP_FILE, sweep_dataset
-from .workspace import WORKSPACE_ALLOW_NAN, check_workspace, read_workspace, workspace_dataset, workspace_from_dataset
+from .workspace import (
+    WORKSPACE_ALLOW_NAN,
+    check_workspace,
+    config_of,
+    read_workspace,
+    workspace_dataset,
+    workspace_from_dataset,
+)
 
 __all__ = [
     "AXES",
@@ -43,4 +50,5 @@ __all__ = [
     "read_workspace",
     "workspace_dataset",
     "workspace_from_dataset",
+    "config_of",
 ]

@@ -51,9 +51,10 @@ def curves_dataset(arrays: dict, pair: ArrayLike, axis: ArrayLike, attrs: dict) 
     return xr.Dataset(data, coords={"pair": pair, "axis": axis}, attrs=attrs)
 
 
-def curves_document(contacts: dict) -> dict:
+def curves_document(contacts: dict, config: dict | None = None) -> dict:
     """results/curves/curves.json: `contacts` maps a contact case to (face_nodes, pairs (n,),
-    curves [n][3] of workspace.fit.Curve); plain numbers, evaluable in any language."""
+    curves [n][3] of workspace.fit.Curve); plain numbers, evaluable in any language; `config`:
+    the configuration the curves were made with (their files' provenance; `io.provenance`)."""
     from ...workspace.fit import to_dict
 
     doc = {
@@ -62,6 +63,8 @@ def curves_document(contacts: dict) -> dict:
         "value = sum(coefs[i][k] * (p - breaks[i])**(deg - k))",
         "contacts": {},
     }
+    if config is not None:
+        doc["config"] = config
     for contact, (face_nodes, pairs, curves) in contacts.items():
         doc["contacts"][contact] = {
             "face_nodes": [int(n) for n in face_nodes],

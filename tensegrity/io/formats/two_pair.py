@@ -220,9 +220,10 @@ def read_two_pair(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.n
 # ------------------------------------------------------------ results/curves/two_pair.json
 
 
-def surfaces_document(contacts: Mapping[str, tuple]) -> dict:
+def surfaces_document(contacts: Mapping[str, tuple], config: dict | None = None) -> dict:
     """results/curves/two_pair.json: `contacts` maps a contact case to (face_nodes (3,), combos
-    (n, 2), surfaces [n][3] of `workspace.surfaces.fit_surface` dicts, per axis x, y, z)."""
+    (n, 2), surfaces [n][3] of `workspace.surfaces.fit_surface` dicts, per axis x, y, z);
+    `config`: the configuration the surfaces were made with (`io.provenance`)."""
     doc = {
         "units": {"pressure": "MPa", "cog": "m"},
         "frame": "support frame of the contact face (docs/design.md section 2)",
@@ -231,6 +232,8 @@ def surfaces_document(contacts: Mapping[str, tuple]) -> dict:
         "for pmin <= pa, pb <= pmax",
         "contacts": {},
     }
+    if config is not None:
+        doc["config"] = config
     for contact, (face_nodes, combos, surfaces) in contacts.items():
         doc["contacts"][contact] = {
             "face_nodes": [int(n) for n in face_nodes],

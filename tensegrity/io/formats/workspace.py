@@ -171,10 +171,43 @@ def tip_pressures(ds: xr.Dataset) -> np.ndarray:
 
 def read_workspace(path: str | os.PathLike, two_pair: str | os.PathLike | None = None) -> Workspace:
     """Read results/workspace.nc (or a file of the same contract) as a `Workspace`; with the
-    measured two-pair curves of `two_pair` (results/workspace_two_pair.nc), if given."""
-    ws = workspace_from_dataset(datasets.read(path))
+    measured two-pair curves of `two_pair` (results/workspace_two_pair.nc), if given: a file of
+    another run (another robot or time step) is refused, naming both (`io.provenance`)."""
+    ds = datasets.read(path)
+    ws = workspace_from_dataset(ds)
     if two_pair is None:
         return ws
+    from ..provenance import check_together
     from .two_pair import read_two_pair
 
+    check_together({os.fspath(path): config_of(ds), os.fspath(two_pair): config_of(two_pair)})
     return ws.with_two_pair(*read_two_pair(two_pair))
+
+
+def config_of(ds: xr.Dataset | str | os.PathLike) -> dict | None:
+    """The configuration a dataset (or the file at a path) names, None if it names none."""
+    try:
+        return datasets.provenance_config(ds)
+    except ValueError:
+        return None
+
+
+def face_table(path: str | os.PathLike, face: int) -> str:
+    """One face (1..20) of the workspace file at `path` as CSV text: a row per pair swept and
+    pressure (0 MPa: the unactuated robot, the file's rest state), columns pair, pressure_MPa,
+    cog_x_m, cog_y_m, cog_z_m (support frame), margin_m (positive inside) and tip_pressure_MPa
+    (empty: never). Read and checked by `read_workspace`."""
+    from ...physics import frames
+
+    ws = read_workspace(path)
+    rows = ["pair,pressure_MPa,cog_x_m,cog_y_m,cog_z_m,margin_m,tip_pressure_MPa"]
+    tips = datasets.read(path)["tip_pressure"].sel(face=face).values
+    for p in ws.pairs(face):
+        tip = "" if not np.isfinite(tips[p - 1]) else f"{tips[p - 1]:.6g}"
+        cog = np.concatenate([ws.rest_cog[face - 1][None], ws.cog[face - 1, p - 1]])
+        sup = np.concatenate([ws.rest_support[face - 1][None], ws.support[face - 1, p - 1]])
+        margin = frames.margin_2d(cog[:, :2], sup[:, :, :2])
+        for k, pressure in enumerate(ws.pressures):
+            x, y, z = cog[k]
+            rows.append(f"{p},{pressure:g},{x:.9f},{y:.9f},{z:.9f},{margin[k]:.9f},{tip}")
+    return "\n".join(rows) + "\n"
