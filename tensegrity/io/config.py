@@ -103,10 +103,16 @@ def validate(cfg: Mapping | None) -> dict:
     inst, errors = check_against(_validator(), _schema(), cfg)
     if errors:
         raise ConfigError(errors)
-    errors = semantic_errors(inst)
+    errors = semantic_errors(inst, _schema_defaults())
     if errors:
         raise ConfigError(errors)
     return inst
+
+
+@functools.lru_cache(maxsize=1)
+def _schema_defaults() -> dict:
+    """The schema's defaults alone (the cost checks name the key whose default costs least)."""
+    return check_against(_validator(), _schema(), {})[0]
 
 
 def defaults() -> dict:
