@@ -7,8 +7,9 @@ BaseLoader, so `sweep='{levels: [0.5, 1.0]}'` arrives as ['0.5', '1.0'], and PyY
 without a dot as a string) and the string `null` to None where the schema allows null, rejects NaN
 and infinities (JSON Schema bounds let NaN through), and checks what the schema cannot say:
 strictly increasing pressure levels, nominal.discard below sweep.hold, a muscle minimum length
-below the cable rest length, a locomotion interval that is a whole number of time steps, and
-demonstration runs only with a workspace of both contact cases. The schema's part is
+below the cable rest length, a locomotion interval that is a whole number of time steps,
+demonstration runs only with a workspace of both contact cases and goals at least the strut
+length away, and jobs within the cost limits of `io.job_costs`. The schema's part is
 `io.schema_checks` (the filling validator, the coercion, the messages), the rest `io.cross_checks`.
 `read_yaml` (`io.config_files`) is the strict reader (a key given twice is an error) for any
 configuration file; `read_file` also refuses a file that is not a mapping of sections, an empty
