@@ -13,6 +13,11 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 from tensegrity.io.config import check_files as check_config_files, validate as validate_config
 
+# Snakemake refuses an empty config/config.yaml (or one that is not a mapping) with a message that
+# names no file; this names it. (An empty --configfile is refused by Snakemake's command line,
+# before this file runs.)
+if os.path.exists("config/config.yaml"):
+    check_config_files(["config/config.yaml"])
 configfile: "config/config.yaml"
 
 

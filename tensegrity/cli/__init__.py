@@ -1,6 +1,10 @@
 """The `tensegrity` command: simulate, query the workspace, plan a roll, roll, render, run a stage
 or a design study, show or check the configuration.
 
+Configuration: config/config.yaml of the current directory (as Snakemake reads it), else of the
+checkout holding this package, else the schema's defaults; --config FILE is merged over it as
+`snakemake --configfile FILE` merges it, and --set KEY=VALUE over that (`tensegrity config show`).
+
 Exit codes: 0 success; 2 bad command-line usage; 3 invalid input (bad config, value, face,
 pair, pressure or file); 4 the simulation failed (non-finite, exploded, off the terrain);
 1 anything else, including a `roll` that did not arrive (its outcome is printed).
@@ -18,6 +22,7 @@ import numpy as np
 
 from . import args as cli_args
 from . import progress
+from .configuration import cmd_config
 from .locomotion import cmd_plan, cmd_roll
 from .workspace import cmd_faces, cmd_query, cmd_table
 
@@ -67,24 +72,6 @@ def cmd_stage(args: argparse.Namespace) -> int:
     return 0
 
 
-def cmd_config(args: argparse.Namespace) -> int:
-    """`config show`: the resolved, validated configuration (defaults filled in) as YAML;
-    `config check FILE`: validate a file, naming every bad key (exit 3)."""
-    import yaml
-
-    from ..io import config
-
-    if args.action == "check":
-        if not args.file:
-            raise ValueError("config check needs a FILE")
-        config.load(args.file, overrides=args.set or None)
-        print(f"{args.file}: valid")
-        return 0
-    cfg = config.load(args.file or args.config, overrides=args.set or None)
-    print(yaml.safe_dump(cfg, sort_keys=False, default_flow_style=False), end="")
-    return 0
-
-
 def cmd_render(args: argparse.Namespace) -> int:
     """Render a dataset of the toolkit (sweep, nominal, workspace, locomotion run, simulation)
     to a PNG, off-screen."""
@@ -115,7 +102,12 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--version", action="version", version=f"tensegrity {__version__}")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--config", help="config YAML (default: config/config.yaml)")
+    common.add_argument(
+        "--config",
+        metavar="FILE",
+        help="config YAML merged over config/config.yaml of the current directory (else of the checkout, "
+        "else the schema's defaults), as snakemake --configfile merges it (default: that file alone)",
+    )
     common.add_argument(
         "--set",
         action="append",
@@ -199,7 +191,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "file",
         nargs="?",
-        help="config YAML (show: default config/config.yaml or the schema's defaults; check: required)",
+        help="config YAML merged over config/config.yaml of the current directory (else of the checkout, else "
+        "the schema's defaults), as snakemake --configfile merges it (show: default that file alone; check: "
+        "required; an empty file is refused, as Snakemake refuses it: write {} for no change)",
     )
     p.set_defaults(func=cmd_config)
 

@@ -128,8 +128,10 @@ def stage_arguments_first(argv: list[str], valued: tuple[str, ...] = ("--config"
 
 
 def load_cfg(args: argparse.Namespace) -> dict:
-    """The resolved configuration (`io.config.load`): the --config file, else config/config.yaml,
-    with the --set overrides."""
+    """The resolved configuration (`io.config.load`): the --config file merged over
+    config/config.yaml (of the current directory, else of the checkout, else the schema's
+    defaults) as `snakemake --configfile` merges it, or that file alone; then the --set
+    overrides."""
     from ..io import config
 
     return config.load(args.config, overrides=args.set or None)

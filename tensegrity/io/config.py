@@ -7,11 +7,18 @@ BaseLoader, so `sweep='{levels: [0.5, 1.0]}'` arrives as ['0.5', '1.0'], and PyY
 without a dot as a string) and the string `null` to None where the schema allows null, rejects NaN
 and infinities (JSON Schema bounds let NaN through), and checks what the schema cannot say:
 strictly increasing pressure levels, nominal.discard below sweep.hold, a muscle minimum length
-below the cable rest length, a locomotion interval that is a whole number of time steps, and
-demonstration runs only with a workspace of both contact cases. The schema's part is
+below the cable rest length, a locomotion interval that is a whole number of time steps,
+demonstration runs only with a workspace of both contact cases and goals at least the strut
+length away, and jobs within the cost limits of `io.job_costs`. The schema's part is
 `io.schema_checks` (the filling validator, the coercion, the messages), the rest `io.cross_checks`.
 `read_yaml` (`io.config_files`) is the strict reader (a key given twice is an error) for any
-configuration file.
+configuration file; `read_file` also refuses a file that is not a mapping of sections, an empty
+one included, as Snakemake does.
+
+Which file: `base_file` is config/config.yaml of the current directory (where Snakemake reads
+it), else of the checkout holding this package, else none (the schema's defaults); `load` reads
+it and merges a file it is given over it, as `snakemake --configfile FILE` merges FILE over
+config/config.yaml (`merge`).
 
 Every error is a `ConfigError` naming the offending key, e.g.
 ``config key sweep.pairs[0]: 13 is greater than the maximum of 12``.
@@ -28,7 +35,7 @@ from pathlib import Path
 import yaml
 
 from ..physics.params import Params
-from .config_files import ConfigError, check_files, read_yaml
+from .config_files import ConfigError, check_files, read_file, read_yaml
 from .cross_checks import semantic_errors
 from .schema_checks import check_against, filling_validator, plain
 
@@ -41,6 +48,8 @@ __all__ = [
     "schema",
     "defaults",
     "read_yaml",
+    "read_file",
+    "base_file",
     "check_files",
     "SCHEMA_PATH",
     "DEFAULT_PATH",
@@ -51,9 +60,11 @@ _CONFIG_REL = Path("config", "config.yaml")
 DEFAULT_PATH = Path(__file__).resolve().parents[2] / _CONFIG_REL  # the checkout's file, if any
 
 
-def _default_file() -> Path | None:
-    """config/config.yaml of the checkout holding this package, else of the current directory."""
-    for path in (DEFAULT_PATH, Path.cwd() / _CONFIG_REL):
+def base_file() -> Path | None:
+    """The configuration every command starts from: config/config.yaml of the current directory
+    (as Snakemake reads it, so a project copy uses its own), else of the checkout holding this
+    package (`DEFAULT_PATH`), else None (the schema's defaults)."""
+    for path in (Path.cwd() / _CONFIG_REL, DEFAULT_PATH):
         if path.is_file():
             return path
     return None
@@ -93,10 +104,16 @@ def validate(cfg: Mapping | None) -> dict:
     inst, errors = check_against(_validator(), _schema(), cfg)
     if errors:
         raise ConfigError(errors)
-    errors = semantic_errors(inst)
+    errors = semantic_errors(inst, _schema_defaults())
     if errors:
         raise ConfigError(errors)
     return inst
+
+
+@functools.lru_cache(maxsize=1)
+def _schema_defaults() -> dict:
+    """The schema's defaults alone (the cost checks name the key whose default costs least)."""
+    return check_against(_validator(), _schema(), {})[0]
 
 
 def defaults() -> dict:
@@ -142,22 +159,22 @@ def load(
 ) -> dict:
     """Read, merge, fill and validate a configuration.
 
-    path_or_dict: a YAML file, an already-read mapping, or None for the repository's
-        config/config.yaml (found next to the package, else under the current directory).
+    path_or_dict: None for config/config.yaml (`base_file`: of the current directory, else of
+        the checkout, else the schema's defaults); a YAML file, merged over that file as
+        `snakemake --configfile FILE` merges it (`merge`: a mapping updates the keys it names,
+        anything else replaces); or an already-read mapping, taken as it is.
     overrides: a nested mapping merged over it as Snakemake's `--config` does, or strings
         "dotted.key=<YAML value>" such as "sweep.mode=grounded".
-    Returns the resolved configuration (plain dicts, lists and scalars). Raises ConfigError.
+    Returns the resolved configuration (plain dicts, lists and scalars). Raises ConfigError; an
+    empty file is refused naming it (`read_file`), as Snakemake refuses it.
     """
-    if path_or_dict is None:
-        path_or_dict = _default_file() or {}
     if isinstance(path_or_dict, Mapping):
         cfg = plain(path_or_dict)
     else:
-        cfg = read_yaml(path_or_dict)
-        if cfg is None:  # an empty file is an empty configuration
-            cfg = {}
-        if not isinstance(cfg, Mapping):
-            raise ConfigError(f"config file {path_or_dict}: expected a mapping of sections, got {type(cfg).__name__}")
+        base = base_file()
+        cfg = read_file(base) if base is not None else {}
+        if path_or_dict is not None:
+            cfg = merge(cfg, read_file(path_or_dict))
     if overrides:
         cfg = merge(cfg, _parse_overrides(overrides))
     return validate(cfg)

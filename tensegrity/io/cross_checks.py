@@ -1,8 +1,10 @@
 """The configuration checks a JSON schema cannot express: relations between keys (levels that
 increase, a hold longer than its discard, intervals that are whole numbers of time steps, a robot
-that can be built, runs whose plans the sweeps cover). `io.config.validate` runs them on every
-configuration before any work; the stages call `section_errors` on the sections they are given.
-Each returns one message per problem, naming the key.
+that can be built, runs whose plans the sweeps cover, goals no closer than the robot's size) and
+what a job would cost (the sweep, two-pair and gravity jobs within the limits of `io.job_costs`).
+`io.config.validate` runs them on every configuration before any work; the stages call
+`section_errors` on the sections they are given. Each returns one message per problem, naming
+the key.
 """
 
 from __future__ import annotations
@@ -11,10 +13,38 @@ from collections.abc import Mapping
 
 from ..physics.params import Params, rest_length
 from ..physics.schedule import whole_steps
+from . import job_costs
+
+# the keys each job's cost grows with, the first named when several would lower it as much
+JOBS = {
+    "sweep": (
+        job_costs.sweep,
+        ("sweep.hold", "sweep.settle", "sweep.levels", "sweep.pairs", "sweep.contacts", "sim.record_every", "sim.dt"),
+    ),
+    "two_pair": (
+        job_costs.two_pair,
+        ("two_pair.hold", "two_pair.levels", "two_pair.pairs", "two_pair.record_every", "sim.dt", "sweep.contacts"),
+    ),
+    "gravity": (
+        job_costs.gravity,
+        (
+            "locomotion.ramp_rate",
+            "locomotion.interval",
+            "gravity.settle",
+            "gravity.max_pressure",
+            "gravity.slopes",
+            "gravity.headings",
+            "gravity.pairs",
+            "sim.dt",
+        ),
+    ),
+}
 
 
-def semantic_errors(cfg: dict) -> list[str]:
-    """Checks the schema cannot express; `cfg` has passed the schema."""
+def semantic_errors(cfg: dict, defaults: Mapping | None = None) -> list[str]:
+    """Checks the schema cannot express; `cfg` has passed the schema. `defaults`, the schema's
+    complete default configuration, lets a job over a cost limit name the key that costs most
+    (without it the job's first key is named)."""
     out = []
     levels = cfg["sweep"]["levels"]
     for i in range(1, len(levels)):
@@ -57,7 +87,17 @@ def semantic_errors(cfg: dict) -> list[str]:
             f"{' and '.join(missing)} to sweep.contacts, or leave out the runs with "
             f"locomotion='{{runs: []}}'"
         )
+    loc, strut = cfg["locomotion"], p["strut_length"]
+    goal_runs = [r for r in loc["runs"] if r != "paper"]  # `paper` rolls over given edges
+    if goal_runs and loc["goal_distance"] < strut:
+        out.append(
+            f"config key locomotion.goal_distance: {loc['goal_distance']} m is less than the strut length "
+            f"params.strut_length = {strut} m: the runs {', '.join(goal_runs)} refuse a goal closer than "
+            "the robot's size"
+        )
     out += section_errors(cfg, "two_pair") + section_errors(cfg, "gravity")
+    for estimate, keys in JOBS.values():
+        out += job_costs.over_limit(estimate, cfg, defaults or cfg, keys)
     if not out:
         try:
             Params(**p)

@@ -2,7 +2,12 @@
 tensegrity/io/study.schema.yaml: `load`, `validate`, `path_of`.
 
 `validate` checks the schema, then what it cannot say; every error is a `ConfigError` naming the
-key (``study key parameters.cable_stiffness.low: ...``), raised before any job runs.
+key (``study key parameters.cable_stiffness.low: ...``), raised before any job runs. Among them
+the sample sizes the designs need: `sobol` and `saltelli` draw scipy's Sobol' sequence (of the
+base sample, for saltelli), whose balance properties need n a power of 2 (scipy warns otherwise);
+`morris` needs an even number of levels (SALib warns that the sample is biased otherwise) and at
+least two trajectories (the spread sigma of one is undefined); and a chunk job within the limits
+of `io.job_costs`.
 """
 
 from __future__ import annotations
@@ -18,6 +23,7 @@ from ..physics.params import Params
 from ..physics.schedule import whole_steps
 from ..studies.spec import NOT_IN_ROLLS, UNITS
 from . import config as cfgmod
+from . import job_costs
 from .config import ConfigError
 from .schema_checks import check_against, filling_validator
 
@@ -75,6 +81,7 @@ def _semantic(st: dict, base: Params, dt: float | None) -> list[str]:
     for p in st["analysis"]["response"]:
         if p not in st["parameters"]:
             out.append(f"study key analysis.response: {p!r} is not a varied parameter ({', '.join(st['parameters'])})")
+    out += _sample_size(st["design"])
     if out:
         return out
     names = list(st["parameters"])  # every corner of the box must be a valid robot
@@ -85,6 +92,46 @@ def _semantic(st: dict, base: Params, dt: float | None) -> list[str]:
             out.append(f"study key parameters: the corner {dict(zip(names, corner))} is not a valid robot: {e}")
             break
     return out
+
+
+def _sample_size(d: Mapping) -> list[str]:
+    """What scipy and SALib need of the sample size of design `d` (see the module's doc)."""
+    n, method, out = d["n"], d["method"], []
+    if method in ("sobol", "saltelli") and n & (n - 1):
+        low = 1 << (n.bit_length() - 1)
+        what = "the base sample of a saltelli design is" if method == "saltelli" else "a sobol design is"
+        out.append(
+            f"study key design.n: {n} is not a power of 2: {what} a scrambled Sobol' sequence, "
+            f"balanced only for 2^m points (scipy.stats.qmc.Sobol); use {low} or {2 * low}"
+        )
+    if method == "morris":
+        if n < 2:
+            out.append(f"study key design.n: {n} Morris trajectory leaves the spread sigma undefined; use 2 or more")
+        if d["morris_levels"] % 2:
+            out.append(
+                f"study key design.morris_levels: {d['morris_levels']} is odd; SALib's Morris sample is "
+                "biased unless the number of levels is even"
+            )
+    return out
+
+
+# the keys a chunk job's cost grows with, the first named when several would lower it as much
+CHUNK_KEYS = (
+    "chunk_size",
+    "workspace.hold",
+    "workspace.levels",
+    "workspace.pairs",
+    "workspace.contacts",
+    "workspace.sample_every",
+)
+
+
+def _chunk_cost(st: dict, dt: float | None) -> list[str]:
+    """A chunk job over a limit of `io.job_costs` (time step `dt`, default the schema's)."""
+    dt = cfgmod.defaults()["sim"]["dt"] if dt is None else float(dt)
+    val, sch = _validator()
+    defaults = check_against(val, sch, {k: st[k] for k in ("parameters", "design")})[0]
+    return job_costs.over_limit(lambda s: job_costs.study_chunk(s, dt), st, defaults, CHUNK_KEYS, "study key")
 
 
 def validate(study: Mapping | None, base: Params | None = None, dt: float | None = None) -> dict:
@@ -105,7 +152,7 @@ def validate(study: Mapping | None, base: Params | None = None, dt: float | None
     inst, errors = check_against(val, sch, study, unknown_parameter)
     if errors:
         raise ConfigError(_study_key(errors))
-    errors = _semantic(inst, base or Params(), dt)
+    errors = _semantic(inst, base or Params(), dt) or _chunk_cost(inst, dt)
     if errors:
         raise ConfigError(errors)
     if not inst["analysis"]["response"]:

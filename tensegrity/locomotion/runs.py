@@ -65,7 +65,7 @@ def _check_goal(goal, terrain: Terrain, start: np.ndarray, size: float) -> np.nd
     if np.isnan(h):
         raise ValueError(f"terrain has nothing under the goal ({gl[0]:.3f}, {gl[1]:.3f}) m")
     dist = float(np.linalg.norm(gl[:2] - start[:2]))
-    if dist < size:
+    if dist < size * (1 - 1e-9):  # a goal at the strut length, to round-off, is allowed
         raise ValueError(
             f"goal ({gl[0]:.3f}, {gl[1]:.3f}) m is {dist:.3f} m from the robot, "
             f"closer than its size ({size} m, the strut length)"

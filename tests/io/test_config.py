@@ -62,9 +62,9 @@ def test_partial_config_and_file_fill_defaults(tmp_path):
     assert cfg["sweep"]["mode"] == "grounded"
     assert cfg["sweep"]["pairs"] == list(range(1, 13))
     assert cfg["params"] == file_config()["params"]
-    empty = tmp_path / "empty.yaml"
-    empty.write_text("")
-    assert config.load(empty) == config.defaults()
+    nothing = tmp_path / "nothing.yaml"
+    nothing.write_text("{}\n")
+    assert config.load(nothing) == config.load() == config.defaults()
 
 
 BAD = [
