@@ -236,7 +236,10 @@ def provenance_config(ds: xr.Dataset | str | os.PathLike) -> dict:
     if isinstance(ds, xr.Dataset):
         attrs = ds.attrs
     else:
-        attrs = read_attrs(ds)  # the attributes only, not the data; CorruptDatasetError if damaged
+        try:
+            attrs = read_attrs(ds)  # the attributes only, not the data; CorruptDatasetError if damaged
+        except OSError as e:  # no file: a ValueError too, as for any file that cannot be read
+            raise ValueError(f"cannot read dataset '{ds}': {e}") from None
     if "config" not in attrs:
         raise ValueError(f"{where} has no 'config' attribute (not written by tensegrity.io.datasets)")
     try:
