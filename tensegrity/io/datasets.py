@@ -7,9 +7,11 @@ complete-looking file (`tensegrity.atomic`: temporaries a killed writer left beh
 by the next write of the same file). Nothing time-dependent is written: the same dataset and configuration give
 a byte-identical file, which is what lets re-runs be compared.
 
-Every numeric array variable is stored with the HDF5 Fletcher-32 checksum filter, so a file whose
-data bytes were corrupted fails to read (`read` raises `CorruptDatasetError`, naming the file)
-instead of returning wrong numbers. Coordinate variables carry no `_FillValue` (CF 2.5.1).
+Every numeric array variable is stored with the HDF5 Fletcher-32 checksum filter, and every
+variable and the file carry a `digest` attribute of their decoded content (`io.digests`): `read`
+checks both, so a file whose data or metadata bytes were damaged fails to read (`read` raises
+`CorruptDatasetError`, naming the file and the variable) instead of returning wrong numbers or
+the fill value. Coordinate variables carry no `_FillValue` (CF 2.5.1).
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from numpy.typing import ArrayLike
 
 from .. import atomic
 from ..version import __version__
+from . import digests
 
 __all__ = [
     "write",
@@ -37,6 +40,7 @@ __all__ = [
     "geometry_vars",
     "CONVENTIONS",
     "CorruptDatasetError",
+    "read_attrs",
 ]
 
 CONVENTIONS = "CF-1.10"
@@ -44,8 +48,8 @@ _STRING_KINDS = "USO"  # unicode, bytes, object (strings as read back by xarray)
 
 
 class CorruptDatasetError(ValueError):
-    """A netCDF file that cannot be read: corrupted (checksum mismatch), truncated or not netCDF.
-    The message names the file."""
+    """A netCDF file that cannot be read: corrupted (checksum or digest mismatch), truncated or not
+    netCDF. The message names the file (and the variable, for a digest mismatch)."""
 
 
 def _check(ds: xr.Dataset, allow_nan: Iterable[str]) -> None:
@@ -99,9 +103,36 @@ def write(
         "Conventions": CONVENTIONS,
         "config": to_json(cfg),
     }
+    _stamp(out)
     with atomic.replacing(path) as tmp:
         out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(out))
     return path
+
+
+def _stamp(out: xr.Dataset) -> None:
+    """Give every variable of `out` (a shallow copy: its attribute dicts are its own) and `out`
+    itself the `digest` attribute of what a reader will decode (`io.digests`)."""
+    found = {}
+    for name, v in out.variables.items():
+        v.attrs = {k: a for k, a in v.attrs.items() if k != digests.ATTR}
+        v.attrs[digests.ATTR] = found[name] = digests.variable_digest(v)
+    out.attrs.pop(digests.ATTR, None)
+    out.attrs[digests.ATTR] = digests.dataset_digest(out.attrs, out.coords, found)
+
+
+def _verified(ds: xr.Dataset, path: str | os.PathLike, *, values: bool = True) -> xr.Dataset:
+    """`ds`, read from `path`, with its `digest` attributes checked and removed; raises
+    `CorruptDatasetError` naming the file and what differs."""
+    wrong = digests.mismatches(ds, values=values)
+    if wrong:
+        raise CorruptDatasetError(
+            f"dataset {os.fspath(path)!r} is corrupted: {'; '.join(wrong)} (the values read are not "
+            "those written - damaged bytes, e.g. in an HDF5 chunk index -; re-create it)"
+        )
+    for v in ds.variables.values():
+        v.attrs.pop(digests.ATTR, None)
+    ds.attrs.pop(digests.ATTR, None)
+    return ds
 
 
 def _encoding(ds: xr.Dataset) -> dict:
@@ -130,7 +161,9 @@ def read(path: str | os.PathLike) -> xr.Dataset:
 
     Raises FileNotFoundError if there is no file, and `CorruptDatasetError` (a ValueError) naming
     the file if it cannot be read: a checksum mismatch (corrupted data), a truncated file, not
-    netCDF. `ds.encoding["source"]` of the result is the path."""
+    netCDF, or values or attributes that differ from the `digest` the file records for them (the
+    variable is named; a file without digests, written before them, is read unchecked). The
+    `digest` attributes are removed from the result. `ds.encoding["source"]` of it is the path."""
     if not Path(path).is_file():
         raise FileNotFoundError(f"no dataset file {os.fspath(path)!r}")
     try:
@@ -142,7 +175,22 @@ def read(path: str | os.PathLike) -> xr.Dataset:
             "- an HDF5 checksum or structure error -, truncated or not netCDF; re-create it)"
         ) from e
     out.encoding["source"] = os.fspath(path)
-    return out
+    return _verified(out, path)
+
+
+def read_attrs(path: str | os.PathLike) -> dict:
+    """The global attributes of the file at `path`, without reading its data: checked against the
+    file's digest (which covers them and every variable's name and recorded digest), else
+    `CorruptDatasetError`; FileNotFoundError if there is no file."""
+    if not Path(path).is_file():
+        raise FileNotFoundError(f"no dataset file {os.fspath(path)!r}")
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            return dict(_verified(ds, path, values=False).attrs)
+    except (RuntimeError, OSError, ValueError, KeyError, IndexError) as e:
+        if isinstance(e, CorruptDatasetError):
+            raise
+        raise CorruptDatasetError(f"cannot read dataset {os.fspath(path)!r}: {type(e).__name__}: {e}") from e
 
 
 def robot_value(ds: xr.Dataset | str | os.PathLike, name: str) -> float:
@@ -152,9 +200,9 @@ def robot_value(ds: xr.Dataset | str | os.PathLike, name: str) -> float:
     if isinstance(ds, xr.Dataset) and name in ds.variables and ds[name].ndim == 0:
         return float(ds[name].values)
     if not isinstance(ds, xr.Dataset):
-        with xr.open_dataset(ds, engine="netcdf4") as f:
-            if name in f.variables and f[name].ndim == 0:
-                return float(f[name].values)
+        ds = read(ds)  # checked against its digests
+        if name in ds.variables and ds[name].ndim == 0:
+            return float(ds[name].values)
     from .config import defaults
 
     try:
@@ -189,9 +237,8 @@ def provenance_config(ds: xr.Dataset | str | os.PathLike) -> dict:
         attrs = ds.attrs
     else:
         try:
-            with xr.open_dataset(ds, engine="netcdf4") as f:  # the attributes only, not the data
-                attrs = dict(f.attrs)
-        except (OSError, RuntimeError, ValueError) as e:
+            attrs = read_attrs(ds)  # the attributes only, not the data; CorruptDatasetError if damaged
+        except OSError as e:  # no file: a ValueError too, as for any file that cannot be read
             raise ValueError(f"cannot read dataset '{ds}': {e}") from None
     if "config" not in attrs:
         raise ValueError(f"{where} has no 'config' attribute (not written by tensegrity.io.datasets)")
