@@ -33,7 +33,8 @@ __all__ = ["RollResult", "roll", "roll_controller", "settle", "settle_controller
 class RollResult:
     """One roll attempt. rolled: the robot ended on another face; face_before/face_after
     (1-based; face_after None if it settled on no face); tip_pressure: the pressure held when a
-    support node lifted, if the robot then rolled (MPa, NaN if not); peak_pressure MPa;
+    support node lifted, if the robot then rolled (MPa, NaN if not; the peak pressure if it
+    rolled only after the ramp gave up, as the pressure came down); peak_pressure MPa;
     t_start, t_end s; cog_before, cog_after (3,) m world. From `roll` also the final `state`
     and the `record`."""
 
@@ -184,7 +185,7 @@ def roll_controller(
         rolled,
         face0,
         after,
-        tip if rolled else float("nan"),
+        (tip if np.isfinite(tip) else peak) if rolled else float("nan"),
         peak,
         t0,
         obs.t,

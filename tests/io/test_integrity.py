@@ -246,3 +246,20 @@ def test_a_two_pair_workspace_of_another_run_is_refused(tmp_path, cfg):
         formats.read_workspace(ws, two)
     assert provenance.differences({"a": {"x": 1, "y": 2}}, {"a": {"x": 1, "y": 3}, "b": {"z": 0}}) == ["a.y"]
     provenance.check_together({"one": {"a": {"x": 1}}, "two": {"b": {"x": 2}}, "old": None})  # nothing shared
+
+
+def test_a_roll_record_that_contradicts_itself_is_refused():
+    """A study's roll record with success 1 and a NaN tipping pressure (once written, issue 35)
+    is refused naming the design; a consistent record passes."""
+    from tensegrity.io.formats.study import _check_rolls
+    from tensegrity.studies.evaluate import RollOutcome
+
+    good = RollOutcome(True, np.array([3.6, 1.8]), np.array([17, 4]))
+    failed = RollOutcome(False, np.array([3.6, np.nan]), np.array([17, 0]))
+    _check_rolls([good, failed], np.array([1, 2]))
+    bad = RollOutcome(True, np.array([np.nan, 1.8]), np.array([17, 4]))
+    with pytest.raises(ValueError, match="design 7: both rolls succeeded"):
+        _check_rolls([good, bad], np.array([6, 7]))
+    nowhere = RollOutcome(False, np.array([3.6, 2.0]), np.array([17, 0]))
+    with pytest.raises(ValueError, match="design 3: a tipping pressure"):
+        _check_rolls([nowhere], np.array([3]))

@@ -115,6 +115,7 @@ def chunk_dataset(
             ),
         )
     if rolls is not None:
+        _check_rolls(rolls, rows)
         c["roll"] = ("roll", [1, 2], {"units": "1", "long_name": "roll of the paper's sequence (#10, then #11)"})
         v.update(
             roll_success=var(
@@ -137,6 +138,17 @@ def chunk_dataset(
             ),
         )
     return xr.Dataset(v, coords=c, attrs={"study": study["name"], "design_method": study["design"]["method"]})
+
+
+def _check_rolls(rolls: Sequence[RollOutcome], rows: np.ndarray) -> None:
+    """A roll that landed has a tipping pressure, one that did not has none: a record that says
+    otherwise is refused naming its design (it was written once, issue 35)."""
+    for row, r in zip(np.asarray(rows).ravel(), rolls):
+        landed = r.face > 0
+        if r.success and not np.all(np.isfinite(r.tip_pressure)):
+            raise ValueError(f"design {int(row)}: both rolls succeeded but a tipping pressure is NaN {r.tip_pressure}")
+        if np.any(np.isfinite(r.tip_pressure) & ~landed):
+            raise ValueError(f"design {int(row)}: a tipping pressure {r.tip_pressure} for a roll that landed nowhere")
 
 
 def merge(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
