@@ -74,7 +74,7 @@ def curves_json(cfg: dict, curve_paths: Iterable[str | os.PathLike], out_path: s
         contacts[ds.attrs["contact"]] = (
             ds.attrs["face_nodes"],
             ds["pair"].values,
-            fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS}),
+            fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS if k in ds}),
         )
     curve_paths = list(curve_paths)
     doc = formats.curves_document(contacts, provenance(cfg, *curve_paths))
