@@ -7,7 +7,7 @@ distance also holds ~0.01-0.02 mm that is not averaging (it stays with 2 s holds
 asserts nothing.
 
 Usage: python benchmarks/bench_averaging.py [--holds 1.0 2.0] [--steps 0.4 1.2] [--pairs 1 ... 12]
-       [--discard 0.2] [--tolerance 5e-5]
+       [--contacts equilateral isosceles] [--discard 0.2] [--tolerance 5e-5]
 """
 
 from __future__ import annotations
@@ -27,13 +27,15 @@ def main() -> None:
     ap.add_argument("--holds", type=float, nargs="+", default=[1.0, 2.0], help="s per level")
     ap.add_argument("--steps", type=float, nargs="+", default=[0.4, 1.2], help="MPa between levels")
     ap.add_argument("--pairs", type=int, nargs="+", default=list(range(1, 13)))
+    ap.add_argument("--contacts", nargs="+", default=list(topo.CONTACT_FACES), choices=list(topo.CONTACT_FACES))
     ap.add_argument("--discard", type=float, default=0.2, help="s left out at the start of each level")
     ap.add_argument("--tolerance", type=float, default=5e-5, help="m")
     a = ap.parse_args()
     prm = Params()
     for step in a.steps:
         levels = tuple(float(x) for x in np.round(np.arange(step, 4.8 + 1e-9, step), 9))
-        for contact, face in topo.CONTACT_FACES.items():
+        for contact in a.contacts:
+            face = topo.CONTACT_FACES[contact]
             truth = np.stack([statics.static_workspace(prm, face, p, levels)[0] for p in a.pairs])
             for hold in a.holds:
                 res = sweep.run(prm, face, a.pairs, sweep.SweepSetup(levels=levels, hold=hold))
