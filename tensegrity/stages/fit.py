@@ -74,7 +74,7 @@ def curves_json(cfg: dict, curve_paths: Iterable[str | os.PathLike], out_path: s
         contacts[ds.attrs["contact"]] = (
             ds.attrs["face_nodes"],
             ds["pair"].values,
-            fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS}),
+            fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS if k in ds}),
         )
     curve_paths = list(curve_paths)
     doc = formats.curves_document(contacts, provenance(cfg, *curve_paths))
@@ -82,8 +82,10 @@ def curves_json(cfg: dict, curve_paths: Iterable[str | os.PathLike], out_path: s
 
 
 def two_pair_surfaces(cfg: dict, contact_paths: Sequence[str | os.PathLike], out_path: str | os.PathLike) -> Path:
-    """Stage `two_pair_surfaces`: a polynomial surface per combination with data and axis of
-    each contact case (degree up to fit.max_degree by fit.folds-fold cross-validation) as
+    """Stage `two_pair_surfaces`: a surface per combination with data and axis of each contact
+    case (a polynomial of degree up to fit.max_degree by fit.folds-fold cross-validation, or the
+    spline interpolating the grid where the polynomial misses a point by more than
+    `workspace.surfaces.MAX_RESIDUAL`; each with its largest residual) as
     results/curves/two_pair.json (plain numbers; `io.formats.two_pair.evaluate_surface`), naming
     the configuration it was made with."""
     from ..workspace.surfaces import fit_surface

@@ -32,6 +32,12 @@ def nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: str |
         for ds in sweeps
     ]
     cog, std, sup, margin = (np.stack([r[k] for r in res]) for k in range(4))
+    err = np.stack(
+        [
+            nom.averaging_error(ds["time"].values, ds["level"].values, ds["cog"].values, len(levels), hold, discard)
+            for ds in sweeps
+        ]
+    )
     pairs = [int(ds.attrs["pair"]) for ds in sweeps]
     tip = np.array([frames.first_crossing(levels, m)[0] for m in margin])
     # grounded mode: from the level the robot rolled off its face on, the numbers are not of
@@ -40,7 +46,7 @@ def nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: str |
     for i, ds in enumerate(sweeps):
         k = nom.first_roll(ds["level"].values, ds["on_face"].values, len(levels))
         rolled[i, k:] = 1
-        tip[i] = nom.mask_after_roll(levels, k, tip[i], cog[i], std[i], sup[i], margin[i])
+        tip[i] = nom.mask_after_roll(levels, k, tip[i], cog[i], std[i], sup[i], margin[i], err[i])
     ds = formats.nominal_dataset(
         pairs,
         levels,
@@ -50,6 +56,7 @@ def nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: str |
         margin,
         tip,
         rolled,
+        err,
         {k: first.attrs[k] for k in ("contact", "face", "face_nodes", "mode")} | {"discard_s": discard},
         datasets.strut_length(first),
     )

@@ -97,7 +97,7 @@ def workspace_figure(
     cv, nm = datasets.read(curves_path), datasets.read(nominal_path)
     face = int(nm.attrs["face"])
     rest_cog, rest_support = frames.rest_frame(face, datasets.strut_length(nm))
-    curves = fit.arrays_to_curves({k: cv[k].values for k in fit.ARRAY_DIMS})
+    curves = fit.arrays_to_curves({k: cv[k].values for k in fit.ARRAY_DIMS if k in cv})
     levels = nm["pressure"].values
     lines, tips, tip_supports, rolled = {}, {}, {}, {}
     for i, pair in enumerate(cv["pair"].values):

@@ -1,6 +1,6 @@
 """Validation of the kinematic workspace (issue 5): the workflow checks its own results.
 
-Six checks, each a function returning a result dataclass of numbers and statuses (PASS, FAIL,
+Seven checks, each a function returning a result dataclass of numbers and statuses (PASS, FAIL,
 SKIP), never words or files:
 
 1. `paper.check_paper`         the paper's statements (III.A, III.C, IV.B) against the nominal CoG;
@@ -10,10 +10,11 @@ SKIP), never words or files:
 4. `grounded.check_grounded`   the paper's assumption: the same sweep with gravity, ground and
                                friction;
 5. `check_timestep`            the nominal CoG at the time step against half of it;
-6. `runs.check_runs`           the workflow's demonstration runs arrived (results/locomotion/).
+6. `runs.check_runs`           the workflow's demonstration runs arrived (results/locomotion/);
+7. `averaging.check_averaging` every level's estimated averaging error under a tolerance.
 
 A check never raises because a comparison failed: a failure is a status next to its numbers.
-Checks 3-5 run their own (batched) simulations. `run_checks` runs all six; `validation.report`
+Checks 3-5 run their own (batched) simulations. `run_checks` runs all seven; `validation.report`
 turns the results into summary.md/html and validation.nc.
 """
 
@@ -32,7 +33,7 @@ from ..physics.topology import CONTACTS
 from ..workspace.lookup import Workspace
 from ..workspace.nominal import Nominal
 from ..workspace.sweep import SweepSetup
-from . import grounded, paper
+from . import averaging, grounded, paper
 from . import runs as demo_runs
 from .common import FAIL, LEVEL_TOL, N_CONTACTS, SKIP, CheckError, CheckSettings, Result, status
 from .nominals import common_levels, simulate_nominal
@@ -257,7 +258,7 @@ def run_checks(
     on_result: Callable[[Result], None] | None = None,
     runs: Mapping[str, demo_runs.RunSummary] | None = None,
 ) -> list[Result]:
-    """Every check, in order 1-6, with `params`, the pipeline's sweep `setup` (its nominal average
+    """Every check, in order 1-7, with `params`, the pipeline's sweep `setup` (its nominal average
     after `discard` s) and `settings` (default `CheckSettings()`) on the nominal CoG of the contact
     cases (contact -> `Nominal`, results/nominal/{contact}.nc), the workspace (results/workspace.nc)
     and the demonstration runs (name -> `runs.RunSummary` of results/locomotion/{run}.nc; None or
@@ -282,6 +283,7 @@ def run_checks(
         ),
         ("timestep", "5", lambda: check_timestep(params, nominals, setup, discard, s.timestep_tolerance)),
         ("runs", "6", lambda: demo_runs.check_runs(runs or {})),
+        ("averaging", "7", lambda: averaging.check_averaging(nominals, s.averaging_tolerance)),
     ]
     out = []
     for name, num, fn in todo:

@@ -35,6 +35,7 @@ class CheckSettings:
     grounded_settle: float = 0.5  # s on the ground before the first level (4)
     grounded_tolerance: float = 5e-3  # m, in-plane CoG shift (4.1)
     timestep_tolerance: float = 1e-4  # m (5)
+    averaging_tolerance: float = 5e-5  # m, estimated averaging error of every level (7)
 
 
 @dataclass(frozen=True)

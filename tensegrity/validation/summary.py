@@ -9,6 +9,7 @@ Here: which words each check's result gets. The words themselves are in `words_w
 
 from __future__ import annotations
 
+from .averaging import AveragingResult, averaging_verdicts
 from .checks import MappingResult, StaticsResult, TimestepResult
 from .common import CheckError, Result
 from .grounded import GroundedResult
@@ -36,6 +37,7 @@ def verdicts(result: Result) -> list[Verdict]:
         (GroundedResult, grounded_verdicts),
         (TimestepResult, timestep_verdicts),
         (RunsResult, runs_verdicts),
+        (AveragingResult, averaging_verdicts),
     ):
         if isinstance(result, kind):
             return words(result)

@@ -31,6 +31,7 @@ ARRAY_DIMS = {
     "pmin": ("pair", "axis"),
     "pmax": ("pair", "axis"),
     "cv_rmse": ("pair", "axis"),
+    "max_residual": ("pair", "axis"),
     "kind": ("pair", "axis"),
     "model": ("pair", "axis"),
 }
@@ -40,7 +41,9 @@ ARRAY_DIMS = {
 class Curve:
     """Piecewise polynomial value(p): breaks (m+1,) MPa increasing, coefs (m, deg+1) in units of
     value/MPa^k, highest power first in u = p - breaks[i]; pmin, pmax (MPa) the data range;
-    cv_rmse the cross-validated RMSE (value units, NaN if too few points to validate)."""
+    cv_rmse the cross-validated RMSE (value units, NaN if too few points to validate);
+    max_residual the largest |value(p) - data| over the points fitted (value units; NaN: not
+    known, a curve read from a file made before issue 34)."""
 
     kind: str
     breaks: np.ndarray
@@ -49,6 +52,7 @@ class Curve:
     pmax: float
     cv_rmse: float
     model: str
+    max_residual: float = float("nan")
 
     def __post_init__(self):
         b = np.asarray(self.breaks, dtype=float).reshape(-1)
@@ -61,7 +65,7 @@ class Curve:
             raise ValueError(f"curve kind must be 'polynomial' or 'spline', got {self.kind!r}")
         for name, v in (("breaks", b), ("coefs", c)):
             object.__setattr__(self, name, v)
-        for name in ("pmin", "pmax", "cv_rmse"):
+        for name in ("pmin", "pmax", "cv_rmse", "max_residual"):
             object.__setattr__(self, name, float(getattr(self, name)))
 
     def __call__(self, pressure) -> np.ndarray:
@@ -180,7 +184,8 @@ def fit_curve(
 
     `cv_select` chooses among the candidates (`_candidates`), each fitted and evaluated in its
     exported form (`_least_squares`, `evaluate`). The winner is refit on all points; if
-    no candidate can be validated (n = 2) a line is fitted with cv_rmse = NaN."""
+    no candidate can be validated (n = 2) a line is fitted with cv_rmse = NaN. The curve
+    states its largest residual against the points (`Curve.max_residual`)."""
     p, v = _check(pressure, values)
     cands = _candidates(int(max_degree), tuple(int(k) for k in spline_knots))
     if not cands:
@@ -195,7 +200,8 @@ def fit_curve(
     if np.isnan(rmse) and not name.startswith("poly"):
         raise ValueError(f"{p.size} points are too few for any candidate model")
     kind, breaks, coefs = _least_squares(name, p, v)
-    return Curve(kind, breaks, coefs, p[0], p[-1], rmse, name)
+    worst = float(np.max(np.abs(evaluate({"breaks": breaks, "coefs": coefs}, p) - v)))
+    return Curve(kind, breaks, coefs, p[0], p[-1], rmse, name, worst)
 
 
 def fit_pairs(pressure: ArrayLike, cog: ArrayLike, **opts: Any) -> list[list[Curve]]:
@@ -216,7 +222,7 @@ def fit_pairs(pressure: ArrayLike, cog: ArrayLike, **opts: Any) -> list[list[Cur
 
 
 def to_dict(curve: Curve) -> dict:
-    """JSON-ready plain numbers (cv_rmse NaN -> None)."""
+    """JSON-ready plain numbers (cv_rmse, max_residual NaN -> None)."""
     return {
         "kind": curve.kind,
         "model": curve.model,
@@ -225,6 +231,7 @@ def to_dict(curve: Curve) -> dict:
         "pmin": curve.pmin,
         "pmax": curve.pmax,
         "cv_rmse": None if np.isnan(curve.cv_rmse) else curve.cv_rmse,
+        "max_residual": None if np.isnan(curve.max_residual) else curve.max_residual,
         "coef_order": "highest power first in p - breaks[i]",
         "pressure_units": "MPa",
     }
@@ -232,8 +239,8 @@ def to_dict(curve: Curve) -> dict:
 
 def from_dict(d: Mapping) -> Curve:
     """Inverse of to_dict."""
-    cv = d.get("cv_rmse")
-    return Curve(d["kind"], d["breaks"], d["coefs"], d["pmin"], d["pmax"], np.nan if cv is None else cv, d["model"])
+    cv, worst = (np.nan if d.get(k) is None else d[k] for k in ("cv_rmse", "max_residual"))
+    return Curve(d["kind"], d["breaks"], d["coefs"], d["pmin"], d["pmax"], cv, d["model"], worst)
 
 
 def curves_to_arrays(curves: Sequence[Sequence[Curve]]) -> dict[str, np.ndarray]:
@@ -252,7 +259,7 @@ def curves_to_arrays(curves: Sequence[Sequence[Curve]]) -> dict[str, np.ndarray]
         coefs[j, : c.coefs.shape[0]] = 0.0
         coefs[j, : c.coefs.shape[0], nc - c.coefs.shape[1] :] = c.coefs
     out = {"breaks": breaks, "coefs": coefs}
-    out |= {k: np.array([getattr(c, k) for c in flat]) for k in ("pmin", "pmax", "cv_rmse")}
+    out |= {k: np.array([getattr(c, k) for c in flat]) for k in ("pmin", "pmax", "cv_rmse", "max_residual")}
     out |= {k: np.array([getattr(c, k) for c in flat], dtype=str) for k in ("kind", "model")}
     out["degree"] = np.array([c.coefs.shape[1] - 1 for c in flat])
     return {k: a.reshape(shape + a.shape[1:]) for k, a in out.items()}
@@ -278,6 +285,7 @@ def arrays_to_curves(arrays: Mapping) -> list[list[Curve]]:
                     arrays["pmax"][i, a],
                     arrays["cv_rmse"][i, a],
                     str(arrays["model"][i, a]),
+                    arrays["max_residual"][i, a] if "max_residual" in arrays else np.nan,
                 )
             )
         out.append(row)

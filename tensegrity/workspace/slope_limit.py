@@ -36,9 +36,11 @@ KINDS = ("stand", "uphill", "downhill")
 @dataclass(frozen=True)
 class SlopeLimits:
     """Slopes in deg, shape (3, C, H) for KINDS x contacts x headings: predicted_free,
-    predicted_gravity, simulated (NaN: not even on flat ground); pair (0: none) and pressure
-    MPa of the roll at the simulated limit; limited_by: 'geometry', 'landing', 'pressure range'
-    or 'friction'."""
+    predicted_gravity, simulated (NaN: not even on flat ground) and simulated_high: the
+    bisection's bracket, the steepest slope that worked and the least that did not (or the next
+    grid slope, or the friction angle, if none failed), the limit between them; pair (0: none)
+    and pressure MPa of the roll at the simulated limit; limited_by: 'geometry', 'landing',
+    'pressure range' or 'friction'."""
 
     kinds: tuple
     contacts: tuple
@@ -49,6 +51,7 @@ class SlopeLimits:
     pair: np.ndarray
     pressure: np.ndarray
     limited_by: np.ndarray
+    simulated_high: np.ndarray
 
 
 def friction_angle(params: Params) -> float:
@@ -259,7 +262,7 @@ def limits(
     first = next(iter(sweeps.values()))
     H, C = first.headings.size, len(contacts)
     shape = (3, C, H)
-    free, grid, sim = (np.full(shape, np.nan) for _ in range(3))
+    free, grid, sim, sim_hi = (np.full(shape, np.nan) for _ in range(4))
     pair, pres = np.zeros(shape, np.int64), np.full(shape, np.nan)
     why = np.full(shape, "", dtype=object)
     cap = friction_angle(params)
@@ -284,11 +287,11 @@ def limits(
                 lo, hi = np.where(good, mid, lo), np.where(good, hi, mid)
                 tip = np.where(good, t, tip)
                 reason = [reason[i] if good[i] else r[i] for i in range(len(js))]
-            sim[kind, c, js], pair[kind, c, js], pres[kind, c, js] = lo, p, tip
+            sim[kind, c, js], sim_hi[kind, c, js], pair[kind, c, js], pres[kind, c, js] = lo, hi, p, tip
             why[kind, c, js] = reason
     stand_lim = sim[0]
     for kind in (1, 2):  # a roll needs the robot to stand first
         at_stand = sim[kind] >= stand_lim - 0.5 * (first.slopes.max() / 2**iterations + 1e-9)
         why[kind] = np.where(at_stand & (why[kind] != "friction"), "geometry", why[kind])
     why[np.isnan(sim)] = "pressure range"
-    return SlopeLimits(KINDS, contacts, first.headings, free, grid, sim, pair, pres, why.astype(str))
+    return SlopeLimits(KINDS, contacts, first.headings, free, grid, sim, pair, pres, why.astype(str), sim_hi)

@@ -54,6 +54,7 @@ def _nominal(roll_at: int | None = None) -> xr.Dataset:
         margin,
         tip,
         rolled,
+        np.where(np.isnan(margin), np.nan, 1e-5),
         {
             "contact": "equilateral",
             "face": FACE,

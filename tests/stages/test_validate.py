@@ -4,6 +4,7 @@ as validation.nc, summary.md and summary.html; the demonstration runs' files and
 end-of-workflow warning; the readers hand the checks the files' numbers."""
 
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -59,7 +60,7 @@ def test_stage_writes_every_number_with_units_and_a_table(tiny_stage):
         if var.dtype.kind in "fi":
             assert var.attrs.get("units"), name
     ids = list(ds["check"].values)
-    assert ids == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4.1", "4.2", "5", "6"]
+    assert ids == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4.1", "4.2", "5", "6", "7"]
     assert datasets.provenance_config(out / "validation.nc")["validate"] == cfg["validate"]
     st = dict(zip(ids, ds["status"].values))
     assert st["1.1"] == SKIP  # only two pairs swept: no ranking
@@ -99,8 +100,34 @@ def test_a_check_that_raises_is_shown_as_failed(tiny_stage, monkeypatch):
     from tensegrity.io.formats.validation import workspace_validation_dataset
 
     ds, _ = workspace_validation_dataset(results, [2.0, 2.4], [1, 7, 9, 18], [2.4])
-    assert list(ds["check"].values) == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4", "5", "6"]
+    assert list(ds["check"].values) == ["1.1", "1.2", "1.3", "1.4", "1.5", "2", "3", "4", "5", "6", "7"]
     assert "statics_difference" not in ds and "tip_pressure" in ds
+
+
+def test_check_7_names_every_level_whose_averaging_error_is_above_the_tolerance(tiny_stage, tmp_path):
+    """0.3 s windows after steps of 2.0 and 0.4 MPa: the files' own estimates decide check 7,
+    which names each pair and level above validate.averaging_tolerance (issue 34)."""
+    cfg, noms, ws, out, _ = tiny_stage
+    files = read_nominals(noms)
+    err = np.stack([files[c].averaging_error for c in topo.CONTACTS])  # (2, 12, 2) m
+    ds = datasets.read(out / "validation.nc")
+    np.testing.assert_array_equal(ds["averaging_error"].transpose("contact", "pair", "pressure").values, err)
+    assert ds["averaging_error"].attrs["goal_m"] == cfg["validate"]["averaging_tolerance"]
+    # a tolerance between the smallest and the largest estimate: the check fails naming exactly
+    # the levels above it, largest first
+    tol = float(np.sqrt(np.nanmin(err) * np.nanmax(err)))
+    from tensegrity.validation import averaging
+
+    res = averaging.check_averaging(files, tol)
+    above = res.above()
+    assert res.status == {"7": FAIL} and len(above) == int((np.nan_to_num(err) > tol).sum()) > 0
+    text = summary.verdicts(res)[0].measured
+    for contact, pair, level, e in above:
+        assert f"#{pair} at {level:g} MPa on {topo.face_label(files[contact].face)}" in text
+        assert e > tol
+    assert averaging.check_averaging(files, 2 * np.nanmax(err)).status == {"7": PASS}
+    old = {c: replace(n, averaging_error=None) for c, n in files.items()}  # files made before issue 34
+    assert averaging.check_averaging(old, tol).status == {"7": SKIP}
 
 
 def run_file(path, name, outcome, goal=(1.0, 0.0, np.nan), final=(0.9, 0.1, 0.2), rolls=3):

@@ -260,6 +260,7 @@ def test_render_draws_the_reference_support_of_the_datasets_strut_length(tmp_pat
         np.full((n, P), 0.05),
         np.array([np.nan]),
         np.zeros((n, P), np.int8),
+        np.full((n, P), 1e-5),
         {"contact": "equilateral", "face": 8, "face_nodes": [9, 12, 10], "mode": "free"},
         0.8,
     )

@@ -242,6 +242,8 @@ BENCHMARKS = {
     "bench_study.py": ["--designs", "2", "--hold", "0.05"],
     "bench_mujoco.py": ["--seconds", "0.01", "--batch", "2", "--repeat", "1"],
     "bench_pipeline.py": ["--runs", "1", "--configfile", "tests/workflow/tiny.yaml", "--until", "nominal"],
+    "bench_surfaces.py": ["{tiny}/results/two_pair/isosceles.nc", "--statics", "1", "--folds", "4"],
+    "bench_averaging.py": ["--holds", "0.4", "--steps", "4.8", "--pairs", "10", "--contacts", "isosceles"],
 }
 
 

@@ -27,6 +27,7 @@ EDITS = {
     "validate.grounded_settle": 0.4,
     "validate.grounded_tolerance": 4.0e-3,
     "validate.timestep_tolerance": 2.0e-4,
+    "validate.averaging_tolerance": 1.0e-4,
     "two_pair.check_combos": [[9, 10]],
     "two_pair.check_faces": [1],
     "two_pair.tolerance": 2.0e-4,

@@ -130,12 +130,13 @@ def test_dict_json_round_trip():
         curve = F.fit_curve(P, values)
         d = json.loads(json.dumps(F.to_dict(curve), allow_nan=False))
         back = F.from_dict(d)
-        assert (back.kind, back.model, back.pmin, back.pmax, back.cv_rmse) == (
+        assert (back.kind, back.model, back.pmin, back.pmax, back.cv_rmse, back.max_residual) == (
             curve.kind,
             curve.model,
             curve.pmin,
             curve.pmax,
             curve.cv_rmse,
+            curve.max_residual,
         )
         np.testing.assert_array_equal(F.evaluate(back, Q), F.evaluate(curve, Q))
         np.testing.assert_array_equal(F.evaluate(d, Q), F.evaluate(curve, Q))  # plain dict
@@ -156,10 +157,24 @@ def test_arrays_round_trip():
     back = F.arrays_to_curves(arr)
     for row, row_back in zip(curves, back):
         for c, b in zip(row, row_back):
-            assert (b.kind, b.model, b.cv_rmse) == (c.kind, c.model, c.cv_rmse)
+            assert (b.kind, b.model, b.cv_rmse, b.max_residual) == (c.kind, c.model, c.cv_rmse, c.max_residual)
             np.testing.assert_array_equal(b.breaks, c.breaks)
             np.testing.assert_array_equal(b.coefs, c.coefs)
             np.testing.assert_array_equal(F.evaluate(b, Q), F.evaluate(c, Q))
+
+
+def test_max_residual_is_the_fits_own_error_at_its_data():
+    # exact data: the chosen model reproduces it, to roundoff
+    assert F.fit_curve(P, QUAD).max_residual < 1e-12
+    # a line through a line with a spike d at point i misses it by d (1 - h_ii), h_ii the
+    # point's leverage 1/n + (p_i - mean)^2 / sum (p - mean)^2 (least-squares hat matrix)
+    d, i = 1e-3, 3
+    v = 0.02 + 0.01 * P
+    v[i] += d
+    curve = F.fit_curve(P, v, max_degree=1, spline_knots=())
+    h = 1 / P.size + (P[i] - P.mean()) ** 2 / np.sum((P - P.mean()) ** 2)
+    assert curve.max_residual == pytest.approx(d * (1 - h), rel=1e-9)
+    assert np.isnan(F.from_dict({k: v for k, v in F.to_dict(curve).items() if k != "max_residual"}).max_residual)
 
 
 @pytest.mark.parametrize(

@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike
 from ...physics import topology as topo
 from .common import AXES
 
-CURVES_ALLOW_NAN = ["breaks", "coefs", "cv_rmse"]
+CURVES_ALLOW_NAN = ["breaks", "coefs", "cv_rmse", "max_residual"]
 
 
 def curves_dataset(arrays: dict, pair: ArrayLike, axis: ArrayLike, attrs: dict) -> xr.Dataset:
@@ -26,6 +26,7 @@ def curves_dataset(arrays: dict, pair: ArrayLike, axis: ArrayLike, attrs: dict) 
         "pmin": "MPa",
         "pmax": "MPa",
         "cv_rmse": "m",
+        "max_residual": "m",
         "kind": "",
         "model": "",
     }
@@ -37,6 +38,7 @@ def curves_dataset(arrays: dict, pair: ArrayLike, axis: ArrayLike, attrs: dict) 
         "pmin": "lowest pressure of the valid range",
         "pmax": "highest pressure of the valid range",
         "cv_rmse": "cross-validated RMSE of the fit",
+        "max_residual": "largest absolute difference between the curve and the nominal CoG it was fitted to",
         "kind": "polynomial or spline",
         "model": "chosen model",
     }
@@ -61,6 +63,8 @@ def curves_document(contacts: dict, config: dict | None = None) -> dict:
         "units": {"pressure": "MPa", "cog": "m"},
         "evaluate": "find piece i with breaks[i] <= p < breaks[i+1] (clamp to the end pieces); "
         "value = sum(coefs[i][k] * (p - breaks[i])**(deg - k))",
+        "max_residual": "per curve, the largest |value(p) - nominal CoG| over the levels it was fitted to (m): "
+        "the curve's own error at its data; cv_rmse (m) estimates it between the levels",
         "contacts": {},
     }
     if config is not None:

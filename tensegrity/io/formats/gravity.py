@@ -155,7 +155,7 @@ def read_gravity(path: str | os.PathLike) -> dict[str, GravitySweep]:
     return sweeps_from_dataset(datasets.read(path))
 
 
-SLOPE_LIMIT_ALLOW_NAN = ["predicted_free", "predicted_gravity", "simulated", "pressure"]
+SLOPE_LIMIT_ALLOW_NAN = ["predicted_free", "predicted_gravity", "simulated", "simulated_high", "pressure"]
 
 
 def slope_limit_dataset(lim: SlopeLimits, attrs: dict) -> xr.Dataset:
@@ -179,7 +179,17 @@ def slope_limit_dataset(lim: SlopeLimits, attrs: dict) -> xr.Dataset:
                 "steepest slope of the gravity-aware workspace's slope grid (NaN: none)",
             ),
             "simulated": var(
-                dims, lim.simulated, "degree", "steepest slope found by direct simulation (bisection; NaN: none)"
+                dims,
+                lim.simulated,
+                "degree",
+                "steepest slope found by direct simulation, the low end of the bisection bracket (NaN: none)",
+            ),
+            "simulated_high": var(
+                dims,
+                lim.simulated_high,
+                "degree",
+                "high end of the bisection bracket: the least slope found not to work (or the next grid slope, "
+                "or the friction angle, if none failed); the limit lies between simulated and this (NaN: none)",
             ),
             "pair": var(dims, lim.pair, "1", "pair that rolls the robot at the limit (0: none, or standing)"),
             "pressure": var(dims, lim.pressure, "MPa", "its tipping pressure at the simulated limit (NaN: none)"),

@@ -13,7 +13,7 @@ from ...workspace.nominal import Nominal
 from .. import datasets
 from .common import coords, rest_vars
 
-NOMINAL_ALLOW_NAN = ["tip_pressure", "cog", "cog_std", "support", "margin"]
+NOMINAL_ALLOW_NAN = ["tip_pressure", "cog", "cog_std", "support", "margin", "averaging_error"]
 
 
 def nominal_dataset(
@@ -25,16 +25,25 @@ def nominal_dataset(
     margin: ArrayLike,
     tip: ArrayLike,
     rolled: ArrayLike,
+    averaging_error: ArrayLike,
     attrs: dict,
     strut_length: float,
 ) -> xr.Dataset:
     """The nominal file of one contact case: per pair (n,) and level (P,) MPa the nominal CoG,
     its spread and the mean support (m, support frame), the margin (m), the tipping pressure
-    (MPa) and where the grounded robot rolled off; the robot's strut length and rest state on
-    the face (`rest_vars`); `attrs` of the sweep files."""
+    (MPa), where the grounded robot rolled off and the estimated error of each average (n, P) m
+    (`workspace.nominal.averaging_error`); the robot's strut length and rest state on the face
+    (`rest_vars`); `attrs` of the sweep files."""
     var = datasets.var
     return xr.Dataset(
         {
+            "averaging_error": var(
+                ("pair", "pressure"),
+                averaging_error,
+                "m",
+                "estimated error of the nominal CoG from the oscillation left in the level's window: a "
+                "quarter of the range of the mean CoG over all half-length sub-windows (NaN: rolled off)",
+            ),
             "cog": var(("pair", "pressure", "axis"), cog, "m", "nominal centre of gravity in the support frame"),
             "cog_std": var(
                 ("pair", "pressure", "axis"), std, "m", "standard deviation of the CoG over the level (oscillation)"
@@ -79,6 +88,7 @@ def nominal_from_dataset(ds: xr.Dataset) -> Nominal:
             ds["cog"].transpose("pair", "pressure", "axis").values,
             ds["support"].transpose("pair", "pressure", "corner", "axis").values,
             ds["margin"].transpose("pair", "pressure").values,
+            ds["averaging_error"].transpose("pair", "pressure").values if "averaging_error" in ds else None,
         )
     except (KeyError, ValueError) as e:
         src = ds.encoding.get("source", "<dataset>")

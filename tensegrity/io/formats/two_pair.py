@@ -227,9 +227,13 @@ def surfaces_document(contacts: Mapping[str, tuple], config: dict | None = None)
     doc = {
         "units": {"pressure": "MPa", "cog": "m"},
         "frame": "support frame of the contact face (docs/design.md section 2)",
-        "evaluate": "value = sum over k of coefs[k] * pa**powers[k][0] * pb**powers[k][1]; pa: pressure (MPa) "
-        "of the first pair of the combination (the smaller number), pb of the second; valid "
-        "for pmin <= pa, pb <= pmax",
+        "evaluate": "pa: pressure (MPa) of the first pair of the combination (the smaller number), pb of "
+        "the second; valid for pmin <= pa, pb <= pmax. kind polynomial: value = sum over k of coefs[k] * "
+        "pa**powers[k][0] * pb**powers[k][1]. kind spline (piecewise polynomial, degree [ka, kb]): find i "
+        "with breaks_a[i] <= pa < breaks_a[i+1] and j likewise in breaks_b (clamp to the end pieces); "
+        "value = sum over k, l of coefs[i][j][k][l] * (pa - breaks_a[i])**(ka - k) * (pb - breaks_b[j])**(kb - l)",
+        "max_residual": "per surface, the largest |value(pa, pb) - nominal CoG| over the swept grid points (m); "
+        "a polynomial whose residual would exceed 0.1 mm is replaced by the spline interpolating the grid",
         "contacts": {},
     }
     if config is not None:
@@ -245,8 +249,8 @@ def surfaces_document(contacts: Mapping[str, tuple], config: dict | None = None)
 
 
 def evaluate_surface(surface: Mapping, pa: ArrayLike, pb: ArrayLike) -> np.ndarray:
-    """A fitted surface of two_pair.json at pressures pa, pb (MPa, broadcast): numpy only."""
-    pw = np.asarray(surface["powers"], float)
-    c = np.asarray(surface["coefs"], float)
-    pa, pb = np.asarray(pa, float)[..., None], np.asarray(pb, float)[..., None]
-    return np.sum(c * pa ** pw[:, 0] * pb ** pw[:, 1], axis=-1)
+    """A fitted surface of two_pair.json at pressures pa, pb (MPa, broadcast): numpy only
+    (`workspace.surfaces.evaluate`; a surface without `kind` is a polynomial)."""
+    from ...workspace.surfaces import evaluate
+
+    return evaluate(surface, pa, pb)

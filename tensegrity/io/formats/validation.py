@@ -18,6 +18,7 @@ from ... import paper
 from ...physics import topology as topo
 from ...physics.topology import CONTACTS
 from ...validation import summary
+from ...validation.averaging import AveragingResult
 from ...validation.checks import MappingResult, StaticsResult, TimestepResult
 from ...validation.common import FAIL, PASS, SKIP, Result
 from ...validation.grounded import GroundedResult
@@ -197,6 +198,11 @@ def _runs_vars(r: RunsResult) -> dict:
     }
 
 
+def _averaging_vars(r: AveragingResult) -> dict:
+    long = "estimated averaging error of the nominal CoG (results/nominal/{contact}.nc averaging_error)"
+    return {"averaging_error": datasets.var(_CPP, r.error, "m", long, goal_m=r.tolerance)}
+
+
 # result type -> (its variables, the variables where NaN means 'not computed')
 _VARIABLES = {
     PaperResult: (_paper_vars, ("migration", "tip_pressure", "orbit_difference", "orbit_magnitude_spread")),
@@ -208,6 +214,7 @@ _VARIABLES = {
     ),
     TimestepResult: (_timestep_vars, ("half_dt_cog", "timestep_difference")),
     RunsResult: (_runs_vars, ("run_distance_to_goal",)),
+    AveragingResult: (_averaging_vars, ("averaging_error",)),
 }
 
 
