@@ -16,7 +16,7 @@ from matplotlib import colormaps  # a PyVista dependency
 from numpy.typing import ArrayLike
 
 from ..physics import topology as topo
-from . import plot2d
+from . import axes, plot2d
 from .scene import LABEL, WINDOW, finish, plotter
 
 __all__ = ["fig_cog_cloud", "level_colours"]
@@ -141,8 +141,9 @@ def fig_cog_cloud(
     )
     if corner_labels is not None:
         plot2d.corner_labels(pl, t, corner_labels, 4.0, 18, "corner labels")
-    plot2d.axes_2d(pl, box, nx, ny)
-    plot2d.camera_2d(pl, 0, box, margins=(0.13, 0.04, 0.1, 0.03))
+    margins = (0.13, 0.04, 0.1, 0.03)
+    axes.axes_2d(pl, 0, box, nx, ny, margins)
+    plot2d.camera_2d(pl, 0, box, margins)
 
     # Context panel: the whole triangle, the cloud and a box around the main view.
     pl.subplot(0, 1)

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..physics import topology as topo
-from . import plot2d
+from . import axes, plot2d
 from .scene import LABEL, PAIR_COLOURS, WINDOW, finish, plotter
 
 __all__ = ["fig_workspace", "at_pressure"]
@@ -147,8 +147,9 @@ def fig_workspace(
     )
     if corner_labels is not None:
         plot2d.corner_labels(pl, t, corner_labels, 5.0, 24, "corner labels")
-    plot2d.axes_2d(pl, box, nx, ny)
-    plot2d.camera_2d(pl, 0, box, margins=(0.12, 0.03, 0.1, 0.02))
+    margins = (0.12, 0.03, 0.1, 0.02)
+    axes.axes_2d(pl, 0, box, nx, ny, margins)
+    plot2d.camera_2d(pl, 0, box, margins)
 
     pl.subplot(0, 1)
     zoom_margins = (0.02, 0.02, 0.02, 0.1)

@@ -2,9 +2,11 @@
 figures, measured on the drawn figure (text boxes in pixels, marker extents, pixel colours)."""
 
 import numpy as np
+import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-from tensegrity.render import gravity
+from tensegrity.render import face_workspace, gravity
+from tensegrity.render.scene import WINDOW
 
 
 def test_slope_limit_markers_at_0_deg_lie_inside_the_axes():
@@ -30,3 +32,45 @@ def test_slope_limit_markers_at_0_deg_lie_inside_the_axes():
             assert (xy[:, 1] + r <= box.y1).all()
             checked += int((line.get_ydata() == 0).sum())
     assert checked == 2 * 3 * 4  # every 0 deg marker of both panels was measured
+
+
+def _triangle(side=0.306):
+    """An equilateral support triangle (3, 3) m around the origin."""
+    ang = np.radians([90, 210, 330])
+    return side / np.sqrt(3) * np.column_stack([np.cos(ang), np.sin(ang), np.zeros(3)])
+
+
+def _overlaps(boxes: dict) -> list[tuple[str, str]]:
+    """Pairs of names whose boxes (xmin, xmax, ymin, ymax) px share more than a pixel."""
+    items = sorted(boxes.items())
+    return [
+        (a, b)
+        for i, (a, p) in enumerate(items)
+        for b, q in items[i + 1 :]
+        if min(p[1], q[1]) - max(p[0], q[0]) > 1 and min(p[3], q[3]) - max(p[2], q[2]) > 1
+    ]
+
+
+@pytest.fixture(scope="module")
+def fig7(tmp_path_factory):
+    """Fig. 7 of twelve straight CoG curves: the reach of the paper's pairs."""
+    curves = {}
+    for v in range(1, 13):
+        reach = 0.09 if v in (9, 10, 12) else 0.045 if v in (4, 6, 7) else 0.01
+        s = np.linspace(0, 1, 9)[:, None]
+        ang = np.radians(30 * v)
+        curves[v] = np.column_stack([reach * s * np.cos(ang), reach * s * np.sin(ang), 0.2 - 0.01 * s])
+    path = tmp_path_factory.mktemp("fig7") / "fig7.png"
+    return face_workspace.fig_workspace(curves, _triangle(), path, "Fig. 7 test", corner_labels=[9, 12, 10])
+
+
+def test_tick_labels_do_not_collide_at_the_corner(fig7):
+    """The first x and y labels (-200 and -150 in the default run) were drawn over each other."""
+    ticks = {n: b for n, b in fig7["text_boxes"].items() if n.startswith("tick label")}
+    x0, x1, y0, y1 = fig7["view_mm"]
+    assert {f"tick label x {x0:+.6g}", f"tick label y {y0:+.6g}", f"tick label x {x1:+.6g}"} <= set(ticks)
+    assert len(ticks) >= 8
+    assert _overlaps(ticks) == []
+    assert _overlaps({**ticks, **{n: fig7["text_boxes"][n] for n in ("axis title x", "axis title y")}}) == []
+    for b in fig7["text_boxes"].values():  # and nothing is cut by the picture's edges
+        assert 0 <= b[0] and b[1] <= WINDOW[0] and 0 <= b[2] and b[3] <= WINDOW[1]
