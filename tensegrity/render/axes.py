@@ -84,12 +84,14 @@ def round_length(limit: float) -> float:
     return float(max(m * mag for m in (1, 2, 5) if m * mag <= limit * (1 + 1e-12)))
 
 
-def outline_points(poly: np.ndarray, n: int = 24) -> np.ndarray:
-    """n points (2,) along each side of the closed polygon poly (k, 2+), (k n, 2): what a
-    scale bar should keep clear of."""
+def outline_points(poly: np.ndarray, closed: bool = True, n: int = 24) -> np.ndarray:
+    """n points (2,) along each side of the polygon (closed) or polyline poly (k, 2+), as
+    (n k, 2) or (n (k - 1) + 1, 2): what a scale bar should keep clear of."""
     p = np.asarray(poly, float)[:, :2]
+    q = np.vstack([p, p[:1]]) if closed else p
     t = np.linspace(0.0, 1.0, n, endpoint=False)[:, None]
-    return np.concatenate([p[i] + t * (p[(i + 1) % len(p)] - p[i]) for i in range(len(p))])
+    out = [q[i] + t * (q[i + 1] - q[i]) for i in range(len(q) - 1)]
+    return np.concatenate(out + ([] if closed else [q[-1:]]))
 
 
 def scale_bar(
@@ -99,7 +101,7 @@ def scale_bar(
     length (about a quarter of the view's width) as a black bar with end ticks, labelled
     "<L> mm" to its left, on a white plate, in whichever lower corner (left, middle, right)
     keeps furthest from the points `avoid` (n, 2) mm. Returns {"length" mm, "start", "end"
-    (2,) mm, "plate" (xmin, xmax, ymin, ymax) mm}."""
+    (2,) mm, "plate" (xmin, xmax, ymin, ymax) mm, "mm_per_px" (the view's scale)}."""
     pl.subplot(0, k)
     view, mm = _mm_per_px(pl, k, box, margins)
     L = round_length(0.25 * (view[1] - view[0]))
@@ -142,4 +144,4 @@ def scale_bar(
     ]
     pl.add_lines(np.array(segs, float), color="black", width=3, name=name)
     _text(pl, text, (start[0] - pad, y), name + " label", font_size, "right", "center")
-    return {"length": L, "start": start, "end": end, "plate": plate}
+    return {"length": L, "start": start, "end": end, "plate": plate, "mm_per_px": mm}

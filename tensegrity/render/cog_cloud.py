@@ -59,7 +59,8 @@ def fig_cog_cloud(
     corner_labels: three node numbers for the support's corners.
     Returns {"path", "size", "title", "actors", "samples", "nominal", "labels" (every level;
     the legend), "labelled" (those written beside their marker: the others would overlap),
-    "support_edges" (edges in the main view), "view_mm" (xmin, xmax, ymin, ymax)}.
+    "support_edges" (edges in the main view), "view_mm" (xmin, xmax, ymin, ymax), "scale_bars"
+    {name: axes.scale_bar} (the context panel's)}.
     """
     pair = topo.check_pair(pair)
     s = plot2d.check_points(samples, "samples") * 1e3
@@ -157,7 +158,10 @@ def fig_cog_cloud(
     if corner_labels is not None:
         plot2d.corner_labels(pl, t, corner_labels, 4.0, 14, "context corner labels")
     pl.add_text("whole support triangle", position="upper_edge", font_size=10, color="black", name="context caption")
-    plot2d.camera_2d(pl, 1, tb, margins=(0.12, 0.12, 0.1, 0.15))
+    context = (0.12, 0.12, 0.2, 0.15)  # room below the triangle for the scale bar
+    near = np.vstack([axes.outline_points(t), axes.outline_points(frame), s[:: max(1, len(s) // 200), :2]])
+    bar = axes.scale_bar(pl, 1, tb, context, "context scale bar", avoid=near)
+    plot2d.camera_2d(pl, 1, tb, context)
 
     # Legend panel: the pressure levels.
     pl.subplot(0, 2)
@@ -178,4 +182,5 @@ def fig_cog_cloud(
         labelled=[labels[k] for k in shown],
         support_edges=n_edges,
         view_mm=tuple(float(v) for v in box),
+        scale_bars={"context scale bar": bar},
     )

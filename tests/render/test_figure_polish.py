@@ -1,11 +1,15 @@
 """Figure polish (issue 35, item 5): each test guards one defect seen in the default run's
 figures, measured on the drawn figure (text boxes in pixels, marker extents, pixel colours)."""
 
+import imageio.v2 as imageio
 import numpy as np
 import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-from tensegrity.render import face_workspace, gravity
+from tensegrity.physics import frames
+from tensegrity.physics import topology as topo
+from tensegrity.physics.terrain import Terrain
+from tensegrity.render import face_workspace, gravity, locomotion
 from tensegrity.render.scene import WINDOW
 
 
@@ -74,3 +78,72 @@ def test_tick_labels_do_not_collide_at_the_corner(fig7):
     assert _overlaps({**ticks, **{n: fig7["text_boxes"][n] for n in ("axis title x", "axis title y")}}) == []
     for b in fig7["text_boxes"].values():  # and nothing is cut by the picture's edges
         assert 0 <= b[0] and b[1] <= WINDOW[0] and 0 <= b[2] and b[3] <= WINDOW[1]
+
+
+def _bar_px(png, label_box) -> int:
+    """The longest run of dark pixels right of a scale bar's label (box in px from the lower
+    left), on the rows of the label's middle: the bar as drawn, in px."""
+    img = imageio.imread(png)[..., :3].astype(int)
+    dark = (img < 70).all(axis=2)
+    mid = img.shape[0] - int(round((label_box[2] + label_box[3]) / 2))
+    best = 0
+    for row in dark[mid - 3 : mid + 4, int(label_box[1]) :]:
+        edges = np.flatnonzero(np.diff(np.r_[0, row.astype(int), 0]))
+        best = max([best, *(edges[1::2] - edges[::2])])
+    return best
+
+
+def _check_scale_bar(out, name, panel):
+    """The scale bar `name` is a round length, drawn as long as it says at the panel's scale,
+    its label whole inside the panel (x0, x1, y0, y1 px from the lower left)."""
+    bar = out["scale_bars"][name]
+    mantissa = bar["length"] / 10 ** np.floor(np.log10(bar["length"]))
+    assert np.isclose(mantissa, [1, 2, 5]).any()
+    assert np.linalg.norm(bar["end"] - bar["start"]) == pytest.approx(bar["length"])
+    box = out["text_boxes"][name + " label"]
+    assert panel[0] <= box[0] and box[1] <= panel[1] and panel[2] <= box[2] and box[3] <= panel[3]
+    assert abs(_bar_px(out["path"], box) - bar["length"] / bar["mm_per_px"]) <= 4  # end ticks: 3 px wide
+
+
+EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])
+INSET = (0.7 * WINDOW[0], WINDOW[0], 0.45 * WINDOW[1], 0.93 * WINDOW[1])  # the upper side panel, px
+
+
+def test_zoom_inset_has_a_scale_bar(fig7):
+    _check_scale_bar(fig7, "zoom scale bar", INSET)
+
+
+@pytest.fixture(scope="module")
+def rolling(tmp_path_factory):
+    """Fig. 9 of the reference robot (S = 0.5 m) on face (9,10,12) of flat ground, its upper
+    nodes shifted out over edge 10-12: it rolls."""
+    ref = topo.reference_nodes(0.5)
+    nodes = frames.to_frame(ref, *frames.face_frame(ref, EQUI))
+    up = np.setdiff1d(np.arange(12), topo.FACES[EQUI - 1])
+    nodes[up, :2] += 1.3 * (nodes[[9, 11]].mean(0) - nodes.mean(0))[:2] * 12 / 9
+    path = tmp_path_factory.mktemp("fig9") / "fig9.png"
+    return locomotion.fig_state(nodes, Terrain.flat(), EQUI, path, "rolling", arrow=[1.0, 0.0, 0.0])
+
+
+def test_rolling_figure_explains_its_arrows(rolling):
+    """Fig. 9's red arrow (3D and inset) was drawn with no word about it."""
+    assert not rolling["stands"] and {"rolling arrow", "inset arrow", "target arrow"} <= set(rolling["actors"])
+    assert "red arrows (both views): the way\nit rolls, out across edge 10-12" in rolling["legend"]
+    assert "orange arrow: target direction" in rolling["legend"]
+
+
+def test_state_figure_inset_has_a_scale_bar(rolling):
+    _check_scale_bar(rolling, "inset scale bar", INSET)
+
+
+def test_ground_ends_inside_the_main_view(rolling):
+    """The ground plane of Figs. 8-10 ran to the main view's edge, cut by the side panels: now
+    every pixel along the main view's left, right and lower edges is background, and the ground
+    is drawn (its sand colour covers a good part of the view)."""
+    img = imageio.imread(rolling["path"])[..., :3].astype(int)
+    right, top = int(0.7 * WINDOW[0]), int(round(0.07 * WINDOW[1]))  # the main view: columns < right, rows > top
+    main = img[top:, :right]
+    frame = np.concatenate([main[:, :3].reshape(-1, 3), main[:, -3:].reshape(-1, 3), main[-3:].reshape(-1, 3)])
+    assert (frame >= 250).all(), "the ground (or robot) reaches the main view's edge"
+    sand = (np.abs(main - [217, 212, 199]) < 40).all(axis=2) & (main.max(axis=2) < 245)
+    assert sand.mean() > 0.15
