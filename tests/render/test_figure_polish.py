@@ -9,7 +9,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from tensegrity.physics import frames
 from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
-from tensegrity.render import face_workspace, gravity, locomotion
+from tensegrity.render import animation, face_workspace, gravity, locomotion
 from tensegrity.render.scene import WINDOW
 
 
@@ -147,3 +147,27 @@ def test_ground_ends_inside_the_main_view(rolling):
     assert (frame >= 250).all(), "the ground (or robot) reaches the main view's edge"
     sand = (np.abs(main - [217, 212, 199]) < 40).all(axis=2) & (main.max(axis=2) < 245)
     assert sand.mean() > 0.15
+
+
+def test_animation_frames_carry_a_legend(tmp_path):
+    """The GIF of a run named none of its colours: every frame now holds a legend on a white
+    plate at the lower left, wholly inside the frame."""
+    ref = topo.reference_nodes(0.5)
+    standing = frames.to_frame(ref, *frames.face_frame(ref, EQUI))
+    x = np.linspace(0.0, 0.6, 12)
+    nodes = standing[None] + x[:, None, None] * np.array([1.0, 0.0, 0.0])
+    pressure = np.zeros((12, 12))
+    pressure[:, 9] = 1.0
+    out = animation.animate(
+        nodes, 0.1 * np.arange(1, 13), pressure, Terrain.flat(), tmp_path / "run.gif",
+        goal=[1.0, 0.2, 0.0], fps=5, speed=2.0, size=(320, 240),
+    )  # fmt: skip
+    assert "CoG track" in out["legend"] and "goal" in out["legend"]
+    x0, x1, y0, y1 = out["legend_box"]
+    assert 0 <= x0 and x1 <= 320 and 0 <= y0 and y1 <= 240 and x1 - x0 > 100
+    shots = imageio.mimread(out["path"])
+    assert len(shots) == out["frames"] > 1
+    for img in shots:
+        plate = np.asarray(img)[240 - int(y1) + 1 : 240 - int(y0) - 1, int(x0) + 1 : int(x1) - 1, :3].astype(int)
+        light, dark = (plate >= 225).all(axis=2).mean(), (plate <= 160).all(axis=2).mean()
+        assert light > 0.5 and dark > 0.03, (light, dark)  # a white plate with black writing
