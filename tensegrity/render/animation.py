@@ -45,19 +45,30 @@ LEGEND = "black: CoG track so far   red ball: goal   struts coloured as in Fig. 
 
 
 def _legend(pl: pv.Plotter, size: tuple[int, int]) -> tuple[float, float, float, float]:
-    """LEGEND at the lower left on a white plate, in the largest font (at most 1/34 of the
-    height) in which it fits 96 % of the width; its box (xmin, xmax, ymin, ymax) px from the
-    lower left."""
-    legend = pl.add_text(LEGEND, position=(0.01, 0.01), viewport=True, font_size=12, color="black", name="legend")
-    legend.prop.background_color, legend.prop.background_opacity = "white", 0.85
+    """LEGEND in a white strip of its own under the scene (a second renderer; the scene's is
+    raised above it, so the legend hides nothing), in the largest font (at most 1/34 of the
+    height) in which it fits 96 % of the width. Returns its box (xmin, xmax, ymin, ymax) px
+    from the lower left."""
+    from vtkmodules.vtkRenderingCore import vtkRenderer
+
+    strip = vtkRenderer()
+    strip.SetBackground(1.0, 1.0, 1.0)
+    pl.ren_win.AddRenderer(strip)
+    legend = pv.Text(LEGEND)
+    legend.prop.color, legend.prop.justification_vertical = "black", "bottom"
+    strip.AddActor(legend)
     box = np.zeros(4)
     for font in range(max(6, size[1] // 34), 4, -1):
         legend.prop.font_size = font
-        legend.GetBoundingBox(pl.renderer, box)
+        legend.GetBoundingBox(strip, box)
         if box[1] - box[0] <= 0.96 * size[0]:
             break
-    x, y = legend.GetPositionCoordinate().GetComputedDisplayValue(pl.renderer)
-    return (box[0] + x, box[1] + x, box[2] + y, box[3] + y)
+    height = (box[3] - box[2] + 6) / size[1]  # of the picture
+    strip.SetViewport(0.0, 0.0, 1.0, height)
+    pl.renderer.SetViewport(0.0, height, 1.0, 1.0)
+    legend.SetPosition(0.01 * size[0], 3.0)
+    legend.GetBoundingBox(strip, box)
+    return (box[0] + 0.01 * size[0], box[1] + 0.01 * size[0], box[2] + 3.0, box[3] + 3.0)
 
 
 def animate(
@@ -83,7 +94,7 @@ def animate(
     nodes: (T, 12, 3) world, m; time: (T,) s, increasing; pressure: (T, 12) MPa per pair;
     goal: (3,) world, m (None or NaN: none); label: e.g. "run 'paper'"; fps: frames per
     second; speed: playback speed relative to simulated time; size: (width, height) px.
-    A legend at the lower left names the track, the goal and the robot's colours.
+    A legend in a strip under the scene names the track, the goal and the robot's colours.
     Returns {"path", "frames", "fps", "legend" (its text), "legend_box" (xmin, xmax, ymin,
     ymax) px from the lower left}.
     """

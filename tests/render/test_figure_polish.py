@@ -150,8 +150,8 @@ def test_ground_ends_inside_the_main_view(rolling):
 
 
 def test_animation_frames_carry_a_legend(tmp_path):
-    """The GIF of a run named none of its colours: every frame now holds a legend on a white
-    plate at the lower left, wholly inside the frame."""
+    """The GIF of a run named none of its colours: every frame now holds a legend in a white
+    strip under the scene, wholly inside the frame."""
     ref = topo.reference_nodes(0.5)
     standing = frames.to_frame(ref, *frames.face_frame(ref, EQUI))
     x = np.linspace(0.0, 0.6, 12)
@@ -170,4 +170,4 @@ def test_animation_frames_carry_a_legend(tmp_path):
     for img in shots:
         plate = np.asarray(img)[240 - int(y1) + 1 : 240 - int(y0) - 1, int(x0) + 1 : int(x1) - 1, :3].astype(int)
         light, dark = (plate >= 225).all(axis=2).mean(), (plate <= 160).all(axis=2).mean()
-        assert light > 0.5 and dark > 0.03, (light, dark)  # a white plate with black writing
+        assert light > 0.5 and dark > 0.03, (light, dark)  # white with black writing
