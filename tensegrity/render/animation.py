@@ -1,6 +1,6 @@
 """An animation (GIF) of a rolling run over its terrain, drawn off-screen with PyVista
-(docs/design.md §7): the robot rolling toward the goal, the CoG track so far, and the time and
-the pressures applied in each frame's title.
+(docs/design.md §7): the robot rolling toward the goal, the CoG track so far, the time and
+the pressures applied in each frame's title, and a legend of the colours.
 
 Drawing only, from arrays, as render.runs (whose checks, ground and camera it shares); nothing
 here reads a file (tensegrity.stages.locomotion_animation reads the run). It writes one file and
@@ -41,6 +41,36 @@ def _title(pl: pv.Plotter, longest: str, width: int) -> pv.Text:
     return title
 
 
+LEGEND = "black: CoG track so far   red ball: goal   struts coloured as in Fig. 1, cables brown"
+
+
+def _legend(pl: pv.Plotter, size: tuple[int, int]) -> tuple[float, float, float, float]:
+    """LEGEND in a white strip of its own under the scene (a second renderer; the scene's is
+    raised above it, so the legend hides nothing), in the largest font (at most 1/34 of the
+    height) in which it fits 96 % of the width. Returns its box (xmin, xmax, ymin, ymax) px
+    from the lower left."""
+    from vtkmodules.vtkRenderingCore import vtkRenderer
+
+    strip = vtkRenderer()
+    strip.SetBackground(1.0, 1.0, 1.0)
+    pl.ren_win.AddRenderer(strip)
+    legend = pv.Text(LEGEND)
+    legend.prop.color, legend.prop.justification_vertical = "black", "bottom"
+    strip.AddActor(legend)
+    box = np.zeros(4)
+    for font in range(max(6, size[1] // 34), 4, -1):
+        legend.prop.font_size = font
+        legend.GetBoundingBox(strip, box)
+        if box[1] - box[0] <= 0.96 * size[0]:
+            break
+    height = (box[3] - box[2] + 6) / size[1]  # of the picture
+    strip.SetViewport(0.0, 0.0, 1.0, height)
+    pl.renderer.SetViewport(0.0, height, 1.0, 1.0)
+    legend.SetPosition(0.01 * size[0], 3.0)
+    legend.GetBoundingBox(strip, box)
+    return (box[0] + 0.01 * size[0], box[1] + 0.01 * size[0], box[2] + 3.0, box[3] + 3.0)
+
+
 def animate(
     nodes: np.ndarray,
     time: np.ndarray,
@@ -64,7 +94,9 @@ def animate(
     nodes: (T, 12, 3) world, m; time: (T,) s, increasing; pressure: (T, 12) MPa per pair;
     goal: (3,) world, m (None or NaN: none); label: e.g. "run 'paper'"; fps: frames per
     second; speed: playback speed relative to simulated time; size: (width, height) px.
-    Returns {"path", "frames", "fps"}.
+    A legend in a strip under the scene names the track, the goal and the robot's colours.
+    Returns {"path", "frames", "fps", "legend" (its text), "legend_box" (xmin, xmax, ymin,
+    ymax) px from the lower left}.
     """
     from PIL import Image
 
@@ -118,6 +150,7 @@ def animate(
         act = ", ".join(f"#{k + 1} {pres[i, k]:.1f} MPa" for k in np.flatnonzero(pres[i] > 0)) or "released"
         titles.append(f"{head}t = {t[i]:5.1f} s ({speed:g}x)  {act}")
     title = _title(pl, max(titles, key=len), size[0])
+    legend_box = _legend(pl, size)
     # The palette: the robot's, track's and goal's colours in four shades (the tubes are lit),
     # then the rest of the first frame's colours (mostly the terrain), 256 in all.
     key = np.array([[int(c[k : k + 2], 16) for k in (1, 3, 5)] for c in [*STRUT_COLOURS, CABLE_COLOUR, GOAL]], float)
@@ -145,4 +178,4 @@ def animate(
     pl.close()
     with atomic(path) as tmp:
         images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:], duration=1000.0 / fps, loop=0)
-    return {"path": str(path), "frames": len(frames), "fps": fps}
+    return {"path": str(path), "frames": len(frames), "fps": fps, "legend": LEGEND, "legend_box": legend_box}

@@ -16,7 +16,7 @@ from matplotlib import colormaps  # a PyVista dependency
 from numpy.typing import ArrayLike
 
 from ..physics import topology as topo
-from . import plot2d
+from . import axes, plot2d
 from .scene import LABEL, WINDOW, finish, plotter
 
 __all__ = ["fig_cog_cloud", "level_colours"]
@@ -59,7 +59,8 @@ def fig_cog_cloud(
     corner_labels: three node numbers for the support's corners.
     Returns {"path", "size", "title", "actors", "samples", "nominal", "labels" (every level;
     the legend), "labelled" (those written beside their marker: the others would overlap),
-    "support_edges" (edges in the main view), "view_mm" (xmin, xmax, ymin, ymax)}.
+    "support_edges" (edges in the main view), "view_mm" (xmin, xmax, ymin, ymax), "scale_bars"
+    {name: axes.scale_bar} (the context panel's)}.
     """
     pair = topo.check_pair(pair)
     s = plot2d.check_points(samples, "samples") * 1e3
@@ -141,8 +142,9 @@ def fig_cog_cloud(
     )
     if corner_labels is not None:
         plot2d.corner_labels(pl, t, corner_labels, 4.0, 18, "corner labels")
-    plot2d.axes_2d(pl, box, nx, ny)
-    plot2d.camera_2d(pl, 0, box, margins=(0.13, 0.04, 0.1, 0.03))
+    margins = (0.13, 0.04, 0.1, 0.03)
+    axes.axes_2d(pl, 0, box, nx, ny, margins)
+    plot2d.camera_2d(pl, 0, box, margins)
 
     # Context panel: the whole triangle, the cloud and a box around the main view.
     pl.subplot(0, 1)
@@ -156,7 +158,10 @@ def fig_cog_cloud(
     if corner_labels is not None:
         plot2d.corner_labels(pl, t, corner_labels, 4.0, 14, "context corner labels")
     pl.add_text("whole support triangle", position="upper_edge", font_size=10, color="black", name="context caption")
-    plot2d.camera_2d(pl, 1, tb, margins=(0.12, 0.12, 0.1, 0.15))
+    context = (0.12, 0.12, 0.2, 0.15)  # room below the triangle for the scale bar
+    near = np.vstack([axes.outline_points(t), axes.outline_points(frame), s[:: max(1, len(s) // 200), :2]])
+    bar = axes.scale_bar(pl, 1, tb, context, "context scale bar", avoid=near)
+    plot2d.camera_2d(pl, 1, tb, context)
 
     # Legend panel: the pressure levels.
     pl.subplot(0, 2)
@@ -177,4 +182,5 @@ def fig_cog_cloud(
         labelled=[labels[k] for k in shown],
         support_edges=n_edges,
         view_mm=tuple(float(v) for v in box),
+        scale_bars={"context scale bar": bar},
     )

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..physics import topology as topo
-from . import plot2d
+from . import axes, plot2d
 from .scene import LABEL, PAIR_COLOURS, WINDOW, finish, plotter
 
 __all__ = ["fig_workspace", "at_pressure"]
@@ -51,7 +51,7 @@ def fig_workspace(
     (tip_points) as a red ring. The ring is judged against the pair's DEFORMED support at the
     tipping pressure, not the triangle drawn filled: tip_supports gives it, drawn dashed in the
     pair's colour; the legend says so. A side panel zooms on the curves' common start, where
-    the short curves are; a legend names every pair with its reach.
+    the short curves are, with a scale bar; a legend names every pair with its reach.
 
     cog_paths: {pair: (m, 3) CoG points along its curve, support frame, m, from low to high
     pressure}; support: (3, 3) support triangle in the support frame, m; tip_points:
@@ -60,7 +60,8 @@ def fig_workspace(
     zoom_mm: half-width of the zoom panel, mm (default: from the short curves).
     Returns {"path", "size", "title", "actors", "cog_paths" {pair: number of points},
     "labels" (main view), "zoom_labels", "tips" [pairs], "tip_points" {pair: (2,) mm},
-    "tip_supports" {pair: (3, 2) mm}, "legend" [entries], "zoom_mm", "view_mm"}.
+    "tip_supports" {pair: (3, 2) mm}, "legend" [entries], "zoom_mm", "view_mm", "scale_bars"
+    {name: axes.scale_bar}}.
     """
     curves = {
         topo.check_pair(v): plot2d.check_points(c, f"curve of pair {v}") * 1e3 for v, c in sorted(cog_paths.items())
@@ -147,8 +148,9 @@ def fig_workspace(
     )
     if corner_labels is not None:
         plot2d.corner_labels(pl, t, corner_labels, 5.0, 24, "corner labels")
-    plot2d.axes_2d(pl, box, nx, ny)
-    plot2d.camera_2d(pl, 0, box, margins=(0.12, 0.03, 0.1, 0.02))
+    margins = (0.12, 0.03, 0.1, 0.02)
+    axes.axes_2d(pl, 0, box, nx, ny, margins)
+    plot2d.camera_2d(pl, 0, box, margins)
 
     pl.subplot(0, 1)
     zoom_margins = (0.02, 0.02, 0.02, 0.1)
@@ -165,6 +167,8 @@ def fig_workspace(
     pl.add_text(
         f"zoom: start +-{zoom_mm:.0f} mm", position="upper_edge", font_size=10, color="black", name="zoom caption"
     )
+    near = [axes.outline_points(c, closed=False, n=8) for c in curves.values()]
+    bar = axes.scale_bar(pl, 1, zb, zoom_margins, "zoom scale bar", avoid=np.vstack([start[None], *near]))
     plot2d.camera_2d(pl, 1, zb, zoom_margins)
 
     pl.subplot(0, 2)
@@ -189,4 +193,5 @@ def fig_workspace(
         legend=[e[0] for e in entries],
         zoom_mm=zoom_mm,
         view_mm=tuple(float(v) for v in box),
+        scale_bars={"zoom scale bar": bar},
     )

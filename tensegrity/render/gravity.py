@@ -29,7 +29,22 @@ def slope_limit_figure(
 ) -> Path:
     """Slope limit (deg) vs heading (deg), one panel per contact case, one colour per kind:
     simulated (solid), predicted from the free workspace (dashed), the gravity-aware grid
-    (markers); arrays (kind, contact, heading)."""
+    (markers); arrays (kind, contact, heading). Written to the PNG `path`."""
+    args = (kinds, contacts, headings, simulated, predicted_free, predicted_gravity, friction, max_pressure)
+    return save_figure(slope_limit_axes(*args), path)
+
+
+def slope_limit_axes(
+    kinds: Sequence[str],
+    contacts: Sequence[str],
+    headings: np.ndarray,
+    simulated: np.ndarray,
+    predicted_free: np.ndarray,
+    predicted_gravity: np.ndarray,
+    friction: float,
+    max_pressure: float,
+) -> Figure:
+    """The Figure of `slope_limit_figure` (same arguments but the path), not yet written."""
     fig = Figure(figsize=(6.2 * len(contacts), 4.8))
     axes = fig.subplots(1, len(contacts), sharey=True, squeeze=False)
     for c, (ax, contact) in enumerate(zip(axes[0], contacts)):
@@ -54,7 +69,8 @@ def slope_limit_figure(
         ax.set_title(f"{contact} contact face")
         ax.set_xlabel("uphill heading in the face's support frame (deg)")
         ax.set_xticks(headings)
-        ax.set_ylim(0, friction + 4)
+        # below 0 by a marker's size: the grid's 0 deg markers (cannot stand) drew cut in half
+        ax.set_ylim(-0.04 * (friction + 4), friction + 4)
         ax.grid(alpha=0.3)
     axes[0, 0].set_ylabel("steepest slope (deg)")
     handles, labels = axes[0, 0].get_legend_handles_labels()
@@ -63,7 +79,7 @@ def slope_limit_figure(
         f"Slope limits: stand, roll uphill, roll downhill under control (pressures up to {max_pressure:g} MPa)"
     )
     fig.tight_layout(rect=(0, 0.17, 1, 0.95))
-    return save_figure(fig, path)
+    return fig
 
 
 def tip_figure(

@@ -23,15 +23,16 @@ from ..physics import contact as ct
 from ..physics import frames
 from ..physics import topology as topo
 from ..physics.terrain import Terrain
-from . import plot2d
+from . import axes, plot2d
 from .scene import finish, lines, node_labels, plotter, robot, strut_length, tube
-from .terrain import add_terrain
+from .terrain import add_terrain, extent_in_view
 
 __all__ = ["fig_state", "fig_slope"]
 
 STANDS, ROLLS = "#2e9d3a", "#d62728"  # support triangle: CoG projection inside / outside
 GRAVITY = "#1f4fd6"
 INSET_FONT = 15  # text of the side panels: readable at the figure's 1200 x 900 px
+ARROW_MM = 60.0  # length of the inset's arrow, mm in the support frame
 
 
 # --- scene pieces ----------------------------------------------------------------------------
@@ -53,6 +54,14 @@ def _gravity_line(pl, cog, proj, S):
     pl.add_points(proj[None], color=GRAVITY, point_size=18, render_points_as_spheres=True, name="cog projection")
 
 
+def _ground(pl, terrain, p, extent):
+    """The ground under the robot (nodes p (12, 3) m) as large as fits the main view, at most
+    `extent` m each side: it ends inside the picture, not at the side panels. Camera first."""
+    centre = p.mean(axis=0)[:2]
+    add_terrain(pl, terrain, centre, extent_in_view(pl, terrain, centre, extent), coloured=False)
+    pl.renderer.ResetCameraClippingRange()
+
+
 def _side_camera(pl, p, up, toward, zoom=1.0):
     """Camera looking at the robot from beside the direction `toward`, raised by 38 deg."""
     S = strut_length(p)
@@ -69,14 +78,17 @@ def _side_camera(pl, p, up, toward, zoom=1.0):
     pl.renderer.ResetCameraClippingRange()
 
 
-def _inset(pl, k, contact: ct.Contact, colour, arrow=None, normal_xy=None):
+def _inset(pl, k, contact: ct.Contact, colour, arrow=None, normal_xy=None) -> dict:
     """Renderer k: the support triangle seen from above in its support frame (mm), with the
-    CoG projection and, optionally, an arrow (2-D unit vector) from the crossed edge."""
+    CoG projection, a scale bar and, optionally, an arrow (2-D unit vector) from the crossed
+    edge. Returns the scale bar (axes.scale_bar)."""
     pl.subplot(0, k)
     support = contact.support * 1e3
     q = contact.projection_2d * 1e3
-    pts = np.vstack([support, q[None]])
+    tip = [] if arrow is None else [q + ARROW_MM * np.asarray(arrow, float)]
+    pts = np.vstack([support, q[None], *tip] + ([] if normal_xy is None else [np.asarray(normal_xy)[None] * 1e3]))
     box, _, _ = plot2d.nice_box(pts.min(axis=0) - 25, pts.max(axis=0) + 25)
+    margins = (0.06, 0.06, 0.16, 0.2)  # room for the text above and the scale bar below
     plot2d.support_2d(
         pl, support, box, 3, "inset triangle", fill="#eef7ee" if colour == STANDS else "#fbe9e9", edge=colour
     )
@@ -90,7 +102,7 @@ def _inset(pl, k, contact: ct.Contact, colour, arrow=None, normal_xy=None):
             pv.Arrow(
                 start=(q[0], q[1], 3.0),
                 direction=(a[0], a[1], 0.0),
-                scale=60.0,
+                scale=ARROW_MM,
                 tip_length=0.3,
                 tip_radius=0.12,
                 shaft_radius=0.04,
@@ -98,7 +110,8 @@ def _inset(pl, k, contact: ct.Contact, colour, arrow=None, normal_xy=None):
             color=ROLLS,
             name="inset arrow",
         )
-    plot2d.camera_2d(pl, k, box, margins=(0.06, 0.06, 0.06, 0.1))
+    bar = axes.scale_bar(pl, k, box, margins, "inset scale bar", avoid=np.vstack([axes.outline_points(support), pts]))
+    plot2d.camera_2d(pl, k, box, margins)
     pl.add_text(
         f"from above (support frame)\nCoG projection (blue):\nmargin {contact.margin * 1e3:+.1f} mm",
         position="upper_left",
@@ -107,6 +120,7 @@ def _inset(pl, k, contact: ct.Contact, colour, arrow=None, normal_xy=None):
         name=f"inset {k} text",
     )
     pl.subplot(0, 0)
+    return bar
 
 
 # --- Fig. 8, 9 and 10 ------------------------------------------------------------------------
@@ -133,7 +147,6 @@ def fig_state(
     S = strut_length(p)
     colour = STANDS if c.stands else ROLLS
     pl = plotter(title, panels=3)
-    add_terrain(pl, terrain, p.mean(axis=0)[:2], 0.7 * S * 1.6, coloured=False)
     robot(pl, p)
     _support(pl, p, f, colour)
     _gravity_line(pl, c.cog, c.projection, S)
@@ -165,7 +178,8 @@ def fig_state(
     up = c.normal if terrain.kind == "none" else terrain.normal_at(*c.cog[:2])
     toward = out_world[int(np.argmin(frames.edge_distances(c.projection_2d, c.support)))]
     _side_camera(pl, p, up, toward)
-    _inset(pl, 1, c, colour, arrow2)
+    _ground(pl, terrain, p, 1.12 * S)
+    bar = _inset(pl, 1, c, colour, arrow2)
     pl.subplot(0, 2)
     legend = (
         "black: CoG\nblue: its projection along gravity\n"
@@ -175,12 +189,24 @@ def fig_state(
             "the projection is inside:\nthe robot stands"
             if c.stands
             else f"the projection is outside,\nover edge {c.edge[0]}-{c.edge[1]}: it rolls onto "
-            f"{topo.face_label(c.next_face)}"
+            f"{topo.face_label(c.next_face)}\nred arrows (both views): the way\nit rolls, out across "
+            f"edge {c.edge[0]}-{c.edge[1]}"
         )
     )
     pl.add_text(legend, position="upper_left", font_size=INSET_FONT, color="black", name="legend")
     pl.subplot(0, 0)
-    return finish(pl, path, title, face=f, margin=c.margin, stands=c.stands, edge=c.edge, next_face=c.next_face)
+    return finish(
+        pl,
+        path,
+        title,
+        face=f,
+        margin=c.margin,
+        stands=c.stands,
+        edge=c.edge,
+        next_face=c.next_face,
+        legend=legend,
+        scale_bars={"inset scale bar": bar},
+    )
 
 
 def fig_slope(nodes: np.ndarray, terrain: Terrain, face: int | Sequence[int], path: str | Path, title: str) -> dict:
@@ -198,7 +224,6 @@ def fig_slope(nodes: np.ndarray, terrain: Terrain, face: int | Sequence[int], pa
     shift = float(np.linalg.norm(c.projection - normal_foot))
     angle = math.degrees(math.acos(min(1.0, abs(float(c.normal[2])))))
     pl = plotter(title, panels=3)
-    add_terrain(pl, terrain, p.mean(axis=0)[:2], 1.4 * S, coloured=False)
     robot(pl, p, opacity=0.35)
     _support(pl, p, f, STANDS if c.stands else ROLLS)
     _gravity_line(pl, c.cog, c.projection, S)
@@ -216,19 +241,26 @@ def fig_slope(nodes: np.ndarray, terrain: Terrain, face: int | Sequence[int], pa
     )
     pl.camera.up = (0, 0, 1)
     pl.camera.view_angle = 30.0
-    pl.renderer.ResetCameraClippingRange()
+    _ground(pl, terrain, p, 1.4 * S)
     origin, rot = frames.face_frame(p, f)
-    _inset(pl, 1, c, STANDS if c.stands else ROLLS, normal_xy=frames.to_frame(c.cog, origin, rot)[:2])
+    bar = _inset(pl, 1, c, STANDS if c.stands else ROLLS, normal_xy=frames.to_frame(c.cog, origin, rot)[:2])
     pl.subplot(0, 2)
-    pl.add_text(
+    legend = (
         f"slope {angle:.1f} deg, seen across it\n(downhill to the side)\n"
         f"blue: projection along gravity\n(paper Fig. 10)\n"
         f"grey: along the face normal\nthey differ by h tan(angle)\n= {shift * 1e3:.1f} mm "
-        f"downhill\n(h = {h * 1e3:.0f} mm: CoG height\nabove the face)",
-        position="upper_left",
-        font_size=INSET_FONT,
-        color="black",
-        name="legend",
+        f"downhill\n(h = {h * 1e3:.0f} mm: CoG height\nabove the face)"
     )
+    pl.add_text(legend, position="upper_left", font_size=INSET_FONT, color="black", name="legend")
     pl.subplot(0, 0)
-    return finish(pl, path, title, face=f, margin=c.margin, shift=shift, angle=angle)
+    return finish(
+        pl,
+        path,
+        title,
+        face=f,
+        margin=c.margin,
+        shift=shift,
+        angle=angle,
+        legend=legend,
+        scale_bars={"inset scale bar": bar},
+    )

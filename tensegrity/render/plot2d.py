@@ -2,7 +2,7 @@
 
 The support plane is the x-y plane of the scene, seen along -z with a parallel projection; the
 figures draw in mm. Helpers: the view and camera of a renderer, round axis boxes, clipping of
-the support triangle to a view, discs, axes and corner labels, and the figures' points checked,
+the support triangle to a view, discs and corner labels (axes: render.axes), and the figures' points checked,
 dashed and thinned.
 A `box` is a view region (xmin, xmax, ymin, ymax) in the figure's length unit.
 """
@@ -27,7 +27,6 @@ __all__ = [
     "segment_distance",
     "support_2d",
     "disc",
-    "axes_2d",
     "corner_labels",
     "check_points",
     "dashed",
@@ -186,25 +185,6 @@ def support_2d(
 def disc(centre_xy: Sequence[float] | np.ndarray, radius: float, z: float, inner: float = 0.0) -> pv.PolyData:
     """A flat disc (ring if inner > 0) at centre_xy (2,), height z, facing +z."""
     return pv.Disc(center=(centre_xy[0], centre_xy[1], z), inner=inner, outer=radius, normal=(0, 0, 1), c_res=48)
-
-
-def axes_2d(pl: pv.Plotter, box: Box, nx: int, ny: int) -> None:
-    """x and y axes (mm) with nx and ny ticks around box, in the active renderer."""
-    pl.show_bounds(
-        bounds=(box[0], box[1], box[2], box[3], 0, 0),
-        xtitle="x (mm)",
-        ytitle="y (mm)",
-        show_zaxis=False,
-        show_zlabels=False,
-        color="black",
-        font_size=16,
-        location="front",
-        use_2d=True,
-        n_xlabels=nx,
-        n_ylabels=ny,
-        fmt="%.0f",
-        bold=False,
-    )
 
 
 def corner_labels(

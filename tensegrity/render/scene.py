@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
+from vtkmodules.vtkRenderingCore import vtkTextActor
 
 from ..physics import topology as topo
 from .files import atomic
@@ -37,6 +38,7 @@ __all__ = [
     "offscreen",
     "plotter",
     "finish",
+    "text_boxes",
     "tube",
     "lines",
     "strut_length",
@@ -121,7 +123,8 @@ def plotter(title: str | None, panels: int = 1, size: tuple[int, int] = WINDOW) 
 
 def finish(pl: pv.Plotter, path: str | Path, title: str, **what: Any) -> dict:
     """Write the PNG `path` (folders made), close the plotter and return what was drawn:
-    {"path", "size" (px), "title", "actors" (sorted actor names), **what}. The PNG is written
+    {"path", "size" (px), "title", "actors" (sorted actor names), "text_boxes" (text_boxes
+    of the picture written), **what}. The PNG is written
     to a temporary file in the same folder and renamed, so that a process killed while writing
     leaves no partial file at `path`."""
     # PyVista names a point-label actor "<name>-labels"; report the name we gave it
@@ -129,9 +132,25 @@ def finish(pl: pv.Plotter, path: str | Path, title: str, **what: Any) -> dict:
     try:
         with atomic(path) as tmp:
             pl.screenshot(str(tmp))
+        boxes = text_boxes(pl)
     finally:
         pl.close()
-    return {"path": str(path), "size": WINDOW, "title": title, "actors": names, **what}
+    return {"path": str(path), "size": WINDOW, "title": title, "actors": names, "text_boxes": boxes, **what}
+
+
+def text_boxes(pl: pv.Plotter) -> dict[str, tuple[float, float, float, float]]:
+    """{name: (xmin, xmax, ymin, ymax)} in px from the picture's lower left corner, of every
+    text actor (vtkTextActor: axis labels, scale bar labels, placed captions) of the last
+    render; corner annotations and point labels are not text actors and are left out."""
+    out = {}
+    for r in pl.renderers:
+        for name, actor in r.actors.items():
+            if isinstance(actor, vtkTextActor):
+                box = np.zeros(4)
+                actor.GetBoundingBox(r, box)  # about the actor's anchor, which is added here
+                x, y = actor.GetPositionCoordinate().GetComputedDisplayValue(r)
+                out[name] = (box[0] + x, box[1] + x, box[2] + y, box[3] + y)
+    return out
 
 
 def tube(a: np.ndarray, b: np.ndarray, radius: float) -> pv.PolyData:

@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike
 
 from ..physics.terrain import Terrain
 
-__all__ = ["terrain_mesh", "add_terrain"]
+__all__ = ["terrain_mesh", "add_terrain", "extent_in_view"]
 
 
 def terrain_mesh(terrain: Terrain, centre: ArrayLike, extent: float) -> pv.PolyData:
@@ -56,3 +56,31 @@ def add_terrain(pl: pv.Plotter, terrain: Terrain, centre: ArrayLike, extent: flo
         pl.add_mesh(mesh.extract_all_edges(), color="#5a5a5a", opacity=0.35, name="terrain grid")
     else:
         pl.add_mesh(mesh, color="#d9d4c7", opacity=0.9, name="terrain")
+
+
+def extent_in_view(pl: pv.Plotter, terrain: Terrain, centre: ArrayLike, extent: float, margin: float = 0.03) -> float:
+    """The largest half-width (m), at most `extent`, of the square of terrain around `centre`
+    (2,) m whose edges the active renderer's camera (set it first) shows inside its viewport,
+    `margin` (a fraction of the half-size) clear of its sides: the ground then ends inside the
+    picture, not where a side panel cuts it. Edges checked at 16 points a side (a height field
+    may bulge between them by less than a cell's relief). Bisection to 0.1 % of `extent`."""
+    r = pl.renderer
+    m = r.GetActiveCamera().GetCompositeProjectionTransformMatrix(r.GetTiledAspectRatio(), -1, 1)
+    proj = np.array([[m.GetElement(i, j) for j in range(4)] for i in range(4)])
+    t = np.linspace(-1.0, 1.0, 17)[:-1]
+    ring = np.concatenate([np.column_stack([t, -np.ones(16)]), np.column_stack([np.ones(16), t])])
+    ring = np.concatenate([ring, -ring])  # the square's boundary, half-width 1
+    c = np.asarray(centre, float)
+
+    def inside(s: float) -> bool:
+        xy = c + s * ring
+        h = np.column_stack([xy, terrain.height(xy[:, 0], xy[:, 1]), np.ones(len(xy))]) @ proj.T
+        return bool((h[:, 3] > 0).all() and np.abs(h[:, :2] / h[:, 3:]).max() <= 1.0 - margin)
+
+    lo, hi = 0.0, float(extent)
+    if inside(hi):
+        return hi
+    while hi - lo > 1e-3 * extent:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if inside(mid) else (lo, mid)
+    return lo

@@ -10,7 +10,7 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from ..physics.frames import margin_2d
-from . import plot2d
+from . import axes, plot2d
 from .scene import finish, plotter
 
 ONE, TWO = "#1f77b4", "#ff7f0e"
@@ -72,8 +72,9 @@ def fig_two_pair(
         )
     ):
         pl.add_text(text, position=(20, 70 - 28 * k), font_size=11, color=col, name=f"key {k}")
-    plot2d.axes_2d(pl, box, nx, ny)
-    plot2d.camera_2d(pl, 0, box, margins=(0.1, 0.04, 0.16, 0.14))
+    margins = (0.1, 0.04, 0.16, 0.14)
+    axes.axes_2d(pl, 0, box, nx, ny, margins)
+    plot2d.camera_2d(pl, 0, box, margins)
     outside = int(np.sum(margin_2d(two, np.broadcast_to(tri, (len(two), 3, 2))) < 0))
     return finish(
         pl,
