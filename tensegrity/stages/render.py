@@ -5,6 +5,7 @@ a PNG (`tensegrity render`). Only `render` draws; these read the files and hand 
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -82,6 +83,15 @@ def cog_cloud(
     )
 
 
+def curve_line(curve: Sequence, rest_cog: np.ndarray, points: int) -> np.ndarray:
+    """A pair's fitted CoG curve (its three axes, workspace.fit) as a line (points + 1, 3) m: the
+    unactuated CoG rest_cog (3,) m, then `points` pressures from its pmin to its pmax (Fig. 7)."""
+    from ..workspace import fit
+
+    p = np.linspace(curve[0].pmin, curve[0].pmax, points)
+    return np.vstack([rest_cog[None], np.stack([fit.evaluate(curve[a], p) for a in range(3)], axis=-1)])
+
+
 def workspace_figure(
     cfg: dict, curves_path: str | os.PathLike, nominal_path: str | os.PathLike, out: str | os.PathLike, points: int = 60
 ) -> dict:
@@ -102,9 +112,7 @@ def workspace_figure(
     lines, tips, tip_supports, rolled = {}, {}, {}, {}
     for i, pair in enumerate(cv["pair"].values):
         c = curves[i]
-        p = np.linspace(c[0].pmin, c[0].pmax, points)
-        xyz = np.stack([fit.evaluate(c[a], p) for a in range(3)], axis=-1)
-        lines[int(pair)] = np.vstack([rest_cog[None], xyz])
+        lines[int(pair)] = curve_line(c, rest_cog, points)
         tp = float(nm["tip_pressure"].sel(pair=pair))
         if np.isfinite(tp) and tp <= c[0].pmax + 1e-9:
             tips[int(pair)] = np.array([float(fit.evaluate(c[a], tp)) for a in range(3)])
