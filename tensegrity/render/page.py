@@ -95,6 +95,7 @@ def _run_traces(run: Run) -> list:
     nodes, cog = check_run(run.nodes)
     goal = goal_or_none(run.goal)
     centre, extent = area_shown(cog, goal)
+    extent -= 0.25  # m: the ground shown reaches 0.35 m past the track and the goal
     verts, tris = run.terrain.triangles(extent=extent, centre=centre)
     near = (np.abs(verts[:, :2] - centre) <= extent + 1e-9).all(axis=1)  # a height field: the cells near the run
     tris = tris[near[tris].all(axis=1)] if near[tris].all(axis=1).any() else tris
@@ -109,7 +110,8 @@ def _run_traces(run: Run) -> list:
     out += tr.marker(cog[0], name="start", colour="#2ca02c", **kw)
     if goal is not None:
         out += tr.marker(goal + lift, name="goal", colour=GOAL, **kw)
-        out += tr.circle(goal + lift, 0.3, name="arrival circle", colour=GOAL, **kw)
+        up = run.terrain.normal_at(goal[0], goal[1]).reshape(3)
+        out += tr.circle(goal + lift, 0.3, name="arrival circle", colour=GOAL, normal=up, **kw)
     out += tr.robot(nodes[0], name="robot at the start", opacity=0.35, **kw)
     out += tr.robot(nodes[-1], name="robot at the end", **kw)
     return out
@@ -159,13 +161,13 @@ def figure(workspaces: list[Workspace], runs: list[Run], title: str) -> tuple[di
         scene=dict(
             domain=dict(x=[0.1, 0.5], y=[0.0, 0.92]),
             aspectmode="data",
-            camera=dict(eye=dict(x=1.3, y=-1.3, z=0.8)),
+            camera=dict(eye=dict(x=1.5, y=-1.5, z=0.95)),
             **axes["mm"],
         ),
         scene2=dict(
-            domain=dict(x=[0.6, 1.0], y=[0.0, 0.92]),
+            domain=dict(x=[0.62, 1.0], y=[0.0, 0.92]),
             aspectmode="data",
-            camera=dict(eye=dict(x=-1.1, y=-1.6, z=1.3)),
+            camera=dict(eye=dict(x=-1.5, y=-2.1, z=1.7)),
             xaxis={"title": "x (m)"},
             yaxis={"title": "y (m)"},
             zaxis={"title": "z (m)"},

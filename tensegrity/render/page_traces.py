@@ -192,10 +192,23 @@ def marker(point: np.ndarray, *, scene: str, legend: str, name: str, colour: str
     ]
 
 
-def circle(centre: np.ndarray, radius: float, *, scene: str, legend: str, name: str, colour: str) -> list:
-    """A horizontal circle of `radius` about centre (3,), 64 segments."""
-    a = np.linspace(0.0, 2 * np.pi, 65)
-    pts = np.asarray(centre, float) + radius * np.column_stack([np.cos(a), np.sin(a), np.zeros_like(a)])
+def circle(
+    centre: np.ndarray,
+    radius: float,
+    *,
+    scene: str,
+    legend: str,
+    name: str,
+    colour: str,
+    normal: Sequence[float] = (0, 0, 1),
+) -> list:
+    """A circle of `radius` about centre (3,) in the plane of the unit `normal` (3,), 64 segments."""
+    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    u = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(n, u)
+    a = np.linspace(0.0, 2 * np.pi, 65)[:, None]
+    pts = np.asarray(centre, float) + radius * (np.cos(a) * u + np.sin(a) * v)
     return [
         dict(
             type="scatter3d",

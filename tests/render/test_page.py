@@ -81,6 +81,18 @@ def test_each_pair_thins_its_cloud_but_keeps_its_extent_and_the_menus_switch_who
         page.figure([], [], "t")
 
 
+def test_a_run_on_a_slope_has_its_arrival_circle_on_the_slope():
+    slope = Terrain.slope(10.0)
+    run = _run()
+    goal = np.array([0.5, 0.0, float(slope.height(0.5, 0.0))])
+    fig, _ = page.figure([], [page.Run("up", "up", run.nodes, [], [], goal, slope)], "t")
+    ring = next(t for t in fig["data"] if t["name"] == "arrival circle")
+    pts = np.array([ring[a] for a in "xyz"], float).T
+    centre = pts[:-1].mean(axis=0)
+    assert np.allclose(np.linalg.norm(pts - centre, axis=1), 0.3, atol=1e-6)  # m, the arrival radius
+    assert np.allclose((pts - centre) @ slope.normal_at(0.5, 0.0).reshape(3), 0.0, atol=1e-6)  # in the slope
+
+
 def test_the_page_is_one_file_with_its_script_and_the_same_bytes_each_time(tmp_path):
     a = page.write_page([_workspace()], [_run()], tmp_path / "a.html", "t")
     page.write_page([_workspace()], [_run()], tmp_path / "b.html", "t")
