@@ -97,8 +97,10 @@ def _run_traces(run: Run) -> list:
     centre, extent = area_shown(cog, goal)
     extent -= 0.25  # m: the ground shown reaches 0.35 m past the track and the goal
     verts, tris = run.terrain.triangles(extent=extent, centre=centre)
-    near = (np.abs(verts[:, :2] - centre) <= extent + 1e-9).all(axis=1)  # a height field: the cells near the run
-    tris = tris[near[tris].all(axis=1)] if near[tris].all(axis=1).any() else tris
+    near = (np.abs(verts[:, :2] - centre) <= extent + 1e-9).all(axis=1)[tris].all(axis=1)
+    if near.any():  # a height field: only the cells near the run, and only their vertices
+        used, tris = np.unique(tris[near], return_inverse=True)
+        verts, tris = verts[used], tris.reshape(-1, 3)
     out = tr.terrain(verts, tris, relief=run.terrain.kind == "heightfield", **kw)
     lift = np.array([0.0, 0.0, 0.02])  # the track drawn just above the ground it rolls on
     out += tr.track(cog[rdp_indices(cog, TRACK_TOLERANCE)] + lift, name="CoG track", colour=PATH, **kw)
@@ -167,7 +169,7 @@ def figure(workspaces: list[Workspace], runs: list[Run], title: str) -> tuple[di
         scene2=dict(
             domain=dict(x=[0.62, 1.0], y=[0.0, 0.92]),
             aspectmode="data",
-            camera=dict(eye=dict(x=-1.5, y=-2.1, z=1.7)),
+            camera=dict(eye=dict(x=-1.7, y=-2.4, z=1.9)),
             xaxis={"title": "x (m)"},
             yaxis={"title": "y (m)"},
             zaxis={"title": "z (m)"},

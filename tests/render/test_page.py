@@ -93,6 +93,19 @@ def test_a_run_on_a_slope_has_its_arrival_circle_on_the_slope():
     assert np.allclose((pts - centre) @ slope.normal_at(0.5, 0.0).reshape(3), 0.0, atol=1e-6)  # in the slope
 
 
+def test_a_height_field_is_drawn_only_near_the_run():
+    rough = Terrain.random(seed=1)  # 6 m square
+    run = _run()
+    fig, _ = page.figure([], [page.Run("r", "r", run.nodes, [], [], None, rough)], "t")
+    ground = next(t for t in fig["data"] if t["name"] == "terrain")
+    xy = np.array([ground["x"], ground["y"]], float).T
+    used = np.unique(np.concatenate([ground[k] for k in "ijk"]))
+    assert np.array_equal(used, np.arange(len(xy)))  # no vertex without a triangle (they set the view)
+    cog = run.nodes.mean(axis=1)
+    assert np.abs(xy - cog[:, :2].mean(axis=0)).max() < 1.0  # m: around the 0.4 m run, not the 6 m field
+    assert np.allclose(ground["z"], rough.height(xy[:, 0], xy[:, 1]), atol=1e-6)
+
+
 def test_the_page_is_one_file_with_its_script_and_the_same_bytes_each_time(tmp_path):
     a = page.write_page([_workspace()], [_run()], tmp_path / "a.html", "t")
     page.write_page([_workspace()], [_run()], tmp_path / "b.html", "t")
