@@ -34,7 +34,7 @@ __all__ = ["Workspace", "Run", "CLOUD_POINTS", "figure", "write_page"]
 
 CLOUD_POINTS = 400  # CoG samples drawn per pair and contact case
 MM = 1e3  # the workspace is drawn in mm, as the paper's figures
-SUPPORT, CONTACT = "#5a5a5a", "#ff7f0e"  # grey: no strut or pair has it
+SUPPORT, CONTACT, TIP = "#5a5a5a", "#ff7f0e", "#ff0000"  # grey: no strut or pair has it
 DIV_ID = "tensegrity-page"  # a fixed id (plotly draws a random one): the same bytes every run
 SIZE = (1400, 800)  # px, the figure's size when it is not stretched to the window
 
@@ -44,7 +44,8 @@ class Workspace:
     """One contact case in the support frame of its face, m: `nodes` (12, 3) the unactuated
     robot, `support` (3, 3) its support triangle (corners in the order of topology.FACES);
     per pair number: `clouds` (n, 3) CoG samples, `curves` (k, 3) the fitted curve from the
-    unactuated CoG, `nominal` (m, 3) nominal CoGs."""
+    unactuated CoG, `nominal` (m, 3) nominal CoGs, `tips` (3,) the curve at the tipping pressure,
+    where the CoG projection leaves the deformed triangle (pairs that tip only)."""
 
     contact: str
     face: int
@@ -53,6 +54,7 @@ class Workspace:
     clouds: dict[int, np.ndarray] = field(default_factory=dict)
     curves: dict[int, np.ndarray] = field(default_factory=dict)
     nominal: dict[int, np.ndarray] = field(default_factory=dict)
+    tips: dict[int, np.ndarray] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -87,6 +89,9 @@ def _workspace_traces(ws: Workspace) -> list:
     for p in sorted(ws.curves):
         cloud = thin(ws.clouds.get(p, np.empty((0, 3))))
         out += tr.pair(p, cloud * MM, ws.curves[p] * MM, ws.nominal.get(p, np.empty((0, 3))) * MM, **kw)
+    if ws.tips:  # Fig. 7's red rings
+        tips = np.array([ws.tips[p] for p in sorted(ws.tips)]) * MM
+        out += tr.marker(tips, name="tipping points", colour=TIP, size=9, symbol="circle-open", **kw)
     return out
 
 

@@ -177,14 +177,16 @@ def track(points: np.ndarray, *, scene: str, legend: str, name: str, colour: str
     ]
 
 
-def marker(point: np.ndarray, *, scene: str, legend: str, name: str, colour: str, size: int = 7) -> list:
-    """One point (3,) as a round marker."""
+def marker(
+    points: np.ndarray, *, scene: str, legend: str, name: str, colour: str, size: int = 7, symbol: str = "circle"
+) -> list:
+    """Points (3,) or (n, 3) as markers."""
     return [
         dict(
             type="scatter3d",
-            **_xyz(np.asarray(point, float)[None]),
+            **_xyz(np.asarray(points, float).reshape(-1, 3)),
             mode="markers",
-            marker=dict(size=size, color=colour),
+            marker=dict(size=size, color=colour, symbol=symbol),
             name=name,
             scene=scene,
             legend=legend,

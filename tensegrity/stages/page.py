@@ -31,18 +31,21 @@ def _by_contact(paths: Sequence[str | os.PathLike], what: str) -> dict:
 
 def _workspace(contact: str, nm, cv, sweeps: list, points: int):
     """The render.page.Workspace of one contact case from its nominal and curves datasets and
-    its sweeps: each pair's samples at the levels it stood at, its nominal CoGs there and its
-    fitted curve from the unactuated CoG (as Fig. 7, stages.render.curve_line)."""
+    its sweeps: each pair's samples at the levels it stood at, its nominal CoGs there, its
+    fitted curve from the unactuated CoG and the curve at its tipping pressure (as Fig. 7,
+    stages.render.curve_line and tip_point)."""
     from ..render.page import Workspace
     from ..workspace import fit
-    from .render import curve_line
+    from .render import curve_line, tip_point
 
     face, length = int(nm.attrs["face"]), datasets.strut_length(nm)
     rest_cog, rest_support = frames.rest_frame(face, length)
     nodes = topo.reference_nodes(length)
     nodes = frames.to_frame(nodes, *frames.face_frame(nodes, face))
     curves = fit.arrays_to_curves({k: cv[k].values for k in fit.ARRAY_DIMS})
-    lines = {int(p): curve_line(curves[i], rest_cog, points) for i, p in enumerate(cv["pair"].values)}
+    pairs = [int(p) for p in cv["pair"].values]
+    lines = {p: curve_line(curves[i], rest_cog, points) for i, p in enumerate(pairs)}
+    tips = {p: tip_point(curves[i], float(nm["tip_pressure"].sel(pair=p))) for i, p in enumerate(pairs)}
     clouds, nominal = {}, {}
     for sw in sweeps:
         pair = int(sw.attrs["pair"])
@@ -51,7 +54,8 @@ def _workspace(contact: str, nm, cv, sweeps: list, points: int):
         level = sw["level"].values
         clouds[pair] = sw["cog"].values[(level >= 0) & (level < n)]
         nominal[pair] = cog[:n]
-    return Workspace(contact, face, nodes, rest_support, clouds, lines, nominal)
+    tips = {p: t for p, t in tips.items() if t is not None}
+    return Workspace(contact, face, nodes, rest_support, clouds, lines, nominal, tips)
 
 
 def _run(path: str | os.PathLike):

@@ -92,6 +92,17 @@ def curve_line(curve: Sequence, rest_cog: np.ndarray, points: int) -> np.ndarray
     return np.vstack([rest_cog[None], np.stack([fit.evaluate(curve[a], p) for a in range(3)], axis=-1)])
 
 
+def tip_point(curve: Sequence, tip_pressure: float) -> np.ndarray | None:
+    """The fitted curve (its three axes) at the tipping pressure (MPa), where the CoG projection
+    leaves the deformed triangle (Fig. 7's red ring), (3,) m; None if the pair never tips or
+    tips beyond the curve's range (a grounded robot that rolled off first)."""
+    from ..workspace import fit
+
+    if not np.isfinite(tip_pressure) or tip_pressure > curve[0].pmax + 1e-9:
+        return None
+    return np.array([float(fit.evaluate(curve[a], tip_pressure)) for a in range(3)])
+
+
 def workspace_figure(
     cfg: dict, curves_path: str | os.PathLike, nominal_path: str | os.PathLike, out: str | os.PathLike, points: int = 60
 ) -> dict:
@@ -114,8 +125,8 @@ def workspace_figure(
         c = curves[i]
         lines[int(pair)] = curve_line(c, rest_cog, points)
         tp = float(nm["tip_pressure"].sel(pair=pair))
-        if np.isfinite(tp) and tp <= c[0].pmax + 1e-9:
-            tips[int(pair)] = np.array([float(fit.evaluate(c[a], tp)) for a in range(3)])
+        if (tip := tip_point(c, tp)) is not None:
+            tips[int(pair)] = tip
             tip_supports[int(pair)] = fig7.at_pressure(levels, nm["support"].sel(pair=pair).values, tp)
         elif np.isfinite(tp):  # grounded: rolled off at tp before its CoG left the triangle
             rolled[int(pair)] = tp
