@@ -18,20 +18,25 @@ FACE = 8  # (9,10,12), the equilateral contact case
 LENGTH = 0.5  # m
 
 
-def _workspace(pairs=(9, 10, 12), samples=1000) -> page.Workspace:
+def _workspace(pairs=(9, 10, 12), samples=3000) -> page.Workspace:
     """The unactuated robot on face 8 in its support frame, and for each pair a made-up CoG
-    path: a straight curve from the unactuated CoG, samples scattered about it, three nominal
-    CoGs on it."""
+    path: a straight curve from the unactuated CoG, samples along it as a sweep makes them (1 kHz,
+    three pressure steps, each followed by a decaying 2 mm oscillation), nominal CoGs on it."""
     nodes = topo.reference_nodes(LENGTH)
     nodes = frames.to_frame(nodes, *frames.face_frame(nodes, FACE))
     rest_cog, support = frames.rest_frame(FACE, LENGTH)
-    rng = np.random.default_rng(0)
+    t = np.arange(samples) * 1e-3  # s
+    hold = t[-1] / 3 + 1e-9
+    level, since = np.floor(t / hold) + 1, t % hold
+    s = (level - np.exp(-since / 0.05)) / 3  # fraction of the way along the curve
+    wobble = 0.002 * np.exp(-since / 0.3) * np.sin(2 * np.pi * 5 * since)  # m
     curves, clouds, nominal = {}, {}, {}
     for k, p in enumerate(pairs):
         d = np.array([np.cos(2.1 * k), np.sin(2.1 * k), -0.3]) * 0.06
+        side = np.cross(d, [0, 0, 1.0]) / np.linalg.norm(np.cross(d, [0, 0, 1.0]))
         curves[p] = rest_cog + np.linspace(0, 1, 20)[:, None] * d
-        clouds[p] = rest_cog + rng.uniform(0, 1, samples)[:, None] * d + rng.normal(0, 1e-3, (samples, 3))
-        nominal[p] = rest_cog + np.array([0.3, 0.6, 0.9])[:, None] * d
+        clouds[p] = rest_cog + s[:, None] * d + wobble[:, None] * side
+        nominal[p] = rest_cog + np.array([1, 2, 3])[:, None] / 3 * d
     return page.Workspace("equilateral", FACE, nodes, support, clouds, curves, nominal)
 
 
@@ -57,17 +62,29 @@ def test_the_robot_stands_on_its_face_in_the_support_frame():
     assert np.allclose(np.sort(np.linalg.norm(np.diff(drawn, axis=1)[:, 0], axis=1)), LENGTH)
 
 
-def test_each_pair_thins_its_cloud_but_keeps_its_extent_and_the_menus_switch_whole_groups():
-    ws = _workspace(samples=5000)
+def test_a_cloud_is_thinned_to_within_its_tolerance_of_every_sample():
+    cloud = _workspace(pairs=(10,)).clouds[10]
+    drawn = page.thin(cloud)
+    assert page.CLOUD_POINTS <= len(drawn) < len(cloud) / 2
+    # the drawn rows are samples, in time order; every sample within CLOUD_TOLERANCE of the
+    # segment between the drawn samples before and after it
+    idx = np.array([np.flatnonzero((cloud == row).all(axis=1))[0] for row in drawn])
+    assert (np.diff(idx) > 0).all() and idx[0] == 0 and idx[-1] == len(cloud) - 1
+    k = np.searchsorted(idx, np.arange(len(cloud)), side="right") - 1
+    a, b = cloud[idx[np.minimum(k, len(idx) - 2)]], cloud[idx[np.minimum(k + 1, len(idx) - 1)]]
+    u = np.clip(np.sum((cloud - a) * (b - a), 1) / np.maximum(np.sum((b - a) ** 2, 1), 1e-30), 0, 1)
+    assert np.linalg.norm(cloud - a - u[:, None] * (b - a), axis=1).max() <= page.CLOUD_TOLERANCE
+    # evenly spaced alone would miss the fast move after each step by more than that
+    even = np.linspace(0, len(cloud) - 1, page.CLOUD_POINTS).round().astype(int)
+    assert not np.isin(idx, even).all()
+
+
+def test_the_menus_switch_whole_groups_and_each_scene_gets_its_own():
+    ws = _workspace()
     fig, groups = page.figure([ws, _workspace(pairs=(11,))], [_run()], "t")
     data = fig["data"]
     cloud = next(t for t in data if t["name"] == "#10 CoG samples")
-    xyz = np.array([cloud[a] for a in "xyz"], float).T / page.MM
-    assert len(xyz) == page.CLOUD_POINTS
-    # thinned evenly in time: the drawn extent within 2 steps of the full cloud's
-    step = np.abs(np.diff(ws.clouds[10], axis=0)).max(axis=0)
-    assert np.all(np.abs(xyz.min(0) - ws.clouds[10].min(0)) <= 2 * step * len(ws.clouds[10]) / page.CLOUD_POINTS)
-    assert [len(g) for g in groups["workspace"]] == [len(groups["workspace"][0]), len(groups["workspace"][1])]
+    assert np.allclose(np.array([cloud[a] for a in "xyz"], float).T / page.MM, page.thin(ws.clouds[10]), atol=1e-9)
     seen = [(i in groups["workspace"][0] or i in groups["runs"][0]) for i in range(len(data))]
     assert [t["visible"] for t in data] == seen  # the first case and the first run are shown
     for menu, key in zip(fig["layout"]["updatemenus"], ("workspace", "runs")):
