@@ -144,8 +144,9 @@ def _menu(labels: list[str], groups: list[range], x: float) -> dict:
 
 
 def figure(workspaces: list[Workspace], runs: list[Run], title: str) -> tuple[dict, dict]:
-    """The page's figure (a plotly figure as a dict), and what it holds: {"workspace": [trace indices per contact case],
-    "runs": [... per run], "robot": the trace indices of the robot shown first (workspace)}."""
+    """The page's figure (a plotly figure as a dict), and what it holds: {"workspace": [trace
+    indices per contact case], "runs": [... per run], "robot": the trace indices of the robot
+    shown first (the workspace's, else the first run's)}."""
     if not workspaces and not runs:
         raise ValueError("the page needs at least one contact case or one run")
     traces, groups = [], {"workspace": [], "runs": []}
@@ -156,37 +157,35 @@ def figure(workspaces: list[Workspace], runs: list[Run], title: str) -> tuple[di
                 t["visible"] = k == 0
             groups[key].append(range(len(traces), len(traces) + len(new)))
             traces += new
-    menus = []
-    if workspaces:
-        labels = [f"{w.contact} face {topo.face_label(w.face)}" for w in workspaces]
-        menus.append(_menu(labels, groups["workspace"], 0.0))
-    if runs:
-        menus.append(_menu([r.label for r in runs], groups["runs"], 0.5))
-    axes = {"mm": dict(zip(("xaxis", "yaxis", "zaxis"), ({"title": f"{a} (mm)"} for a in "xyz")))}
+    # the workspace on the left, the runs on the right; either alone takes the whole width
+    split = 0.5 if workspaces and runs else (1.0 if workspaces else 0.0)
     layout = dict(
         title=dict(text=title, x=0.5, xanchor="center"),
         width=None,
         height=SIZE[1],
         margin=dict(l=0, r=0, t=70, b=0),
         paper_bgcolor="white",
-        updatemenus=menus,
-        scene=dict(
-            domain=dict(x=[0.1, 0.5], y=[0.0, 0.92]),
+        updatemenus=[],
+    )
+    if workspaces:
+        labels = [f"{w.contact} face {topo.face_label(w.face)}" for w in workspaces]
+        layout["updatemenus"].append(_menu(labels, groups["workspace"], 0.0))
+        layout["scene"] = dict(
+            domain=dict(x=[0.1, split], y=[0.0, 0.92]),
             aspectmode="data",
             camera=dict(eye=dict(x=1.5, y=-1.5, z=0.95)),
-            **axes["mm"],
-        ),
-        scene2=dict(
-            domain=dict(x=[0.62, 1.0], y=[0.0, 0.92]),
+            **{f"{a}axis": {"title": f"{a} (mm)"} for a in "xyz"},
+        )
+        layout["legend"] = dict(x=0.0, y=0.9, xanchor="left", yanchor="top", title="workspace (support frame)")
+    if runs:
+        layout["updatemenus"].append(_menu([r.label for r in runs], groups["runs"], split))
+        layout["scene2"] = dict(
+            domain=dict(x=[split + 0.12, 1.0], y=[0.0, 0.92]),
             aspectmode="data",
             camera=dict(eye=dict(x=-1.7, y=-2.4, z=1.9)),
-            xaxis={"title": "x (m)"},
-            yaxis={"title": "y (m)"},
-            zaxis={"title": "z (m)"},
-        ),
-        legend=dict(x=0.0, y=0.9, xanchor="left", yanchor="top", title="workspace (support frame)"),
-        legend2=dict(x=0.5, y=0.9, xanchor="left", yanchor="top", title="run (world frame)"),
-    )
+            **{f"{a}axis": {"title": f"{a} (m)"} for a in "xyz"},
+        )
+        layout["legend2"] = dict(x=split, y=0.9, xanchor="left", yanchor="top", title="run (world frame)")
     robot = [i for i in (groups["workspace"] or groups["runs"])[0] if "robot" in traces[i].get("name", "")]
     return {"data": traces, "layout": layout}, {**{k: [list(g) for g in v] for k, v in groups.items()}, "robot": robot}
 

@@ -14,7 +14,7 @@ from ..physics import frames
 from ..physics import topology as topo
 from ..workspace import nominal as nom
 
-TITLE = "Six-strut tensegrity robot: workspace (paper Figs. 6-7 in 3D) and rolling runs"
+TITLE = "Six-strut tensegrity robot: workspace (paper Figs. 6-7 in 3D)"
 
 
 def _by_contact(paths: Sequence[str | os.PathLike], what: str) -> dict:
@@ -102,4 +102,4 @@ def page(
         by_case[c].append(sw)
     order = [c for c in topo.CONTACTS if c in nms]
     workspaces = [_workspace(c, nms[c], cvs[c], by_case[c], points) for c in order]
-    return write_page(workspaces, [_run(p) for p in runs], out, TITLE)
+    return write_page(workspaces, [_run(p) for p in runs], out, TITLE + (" and rolling runs" if runs else ""))

@@ -94,6 +94,8 @@ def test_the_menus_switch_whole_groups_and_each_scene_gets_its_own():
             assert set(idx) == {i for gg in groups[key] for i in gg}
     scenes = {t["scene"] for t in data[slice(groups["runs"][0][0], None)]}
     assert scenes == {"scene2"}
+    alone, _ = page.figure([ws], [], "t")  # no runs (locomotion.runs: []): the workspace takes the width
+    assert "scene2" not in alone["layout"] and alone["layout"]["scene"]["domain"]["x"] == [0.1, 1.0]
     with pytest.raises(ValueError, match="at least one contact case or one run"):
         page.figure([], [], "t")
 
