@@ -13,7 +13,7 @@ What the page leaves out: of a pair's CoG samples it draws CLOUD_POINTS evenly s
 and those that keep every sample within CLOUD_TOLERANCE (0.5 mm) of the line through the drawn
 ones in time order (Ramer-Douglas-Peucker: the fast moves after a pressure step are kept; 417-651
 points of 12000 in a default sweep); the CoG track through the samples within TRACK_TOLERANCE
-(1 mm) of it (render.runs); coordinates are rounded to 0.1 um.
+(1 mm) of it (render.runs); coordinates are rounded to 0.1 um at most.
 """
 
 from __future__ import annotations

@@ -30,8 +30,8 @@ def segments(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _xyz(p: np.ndarray) -> dict:
-    """x, y, z of points (n, 3) as lists (NaN -> None: a gap), rounded to 0.1 um in m (1e-4 in mm):
-    far below a pixel, and the page stays small and byte-identical across runs."""
+    """x, y, z of points (n, 3) as lists (NaN -> None: a gap), rounded to 1e-7 of their unit (0.1 um
+    in m, less in mm): far below a pixel, and the page stays small and byte-identical."""
     p = np.round(np.asarray(p, float), 7)
     return {k: [None if not np.isfinite(v) else float(v) for v in p[:, i]] for i, k in enumerate("xyz")}
 
