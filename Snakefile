@@ -40,6 +40,7 @@ include: "workflow/rules/sweep.smk"
 include: "workflow/rules/nominal.smk"
 include: "workflow/rules/fit.smk"
 include: "workflow/rules/render.smk"
+include: "workflow/rules/page.smk"
 include: "workflow/rules/two_pair.smk"
 include: "workflow/rules/gravity.smk"
 include: "workflow/rules/locomotion.smk"
@@ -54,6 +55,7 @@ rule all:
         "results/curves/curves.json",
         "results/workspace.nc",
         rules.render_all.input,
+        rules.page.output,
         rules.validate.output,
         rules.locomotion_all.input,
         rules.two_pair_all.input,

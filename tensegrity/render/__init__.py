@@ -11,4 +11,6 @@ face_workspace  Fig. 7 (kinematic workspace of a face)
 locomotion      Figs. 8/9 (standing, rolling), 10 (slope)
 runs            the path of a run (from above, 3D)
 animation       the animation of a run (GIF)
+page            the interactive 3D page of the workspace and the runs (HTML, plotly)
+page_traces     its pieces as plotly traces
 """

@@ -120,6 +120,7 @@ STAGES: dict[str, Stage] = {
     "cog_cloud": Stage("render:cog_cloud", "render", FIGURE, ()),
     "workspace_figure": Stage("render:workspace_figure", "render", FIGURE, ()),
     "two_pair_figure": Stage("render:two_pair_figure", "render", FIGURE, ()),
+    "page": Stage("page:page", "page", FIGURE, ()),
     "validate": Stage(
         "validate:validate",
         "validate",

@@ -5,6 +5,7 @@ a PNG (`tensegrity render`). Only `render` draws; these read the files and hand 
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -82,6 +83,26 @@ def cog_cloud(
     )
 
 
+def curve_line(curve: Sequence, rest_cog: np.ndarray, points: int) -> np.ndarray:
+    """A pair's fitted CoG curve (its three axes, workspace.fit) as a line (points + 1, 3) m: the
+    unactuated CoG rest_cog (3,) m, then `points` pressures from its pmin to its pmax (Fig. 7)."""
+    from ..workspace import fit
+
+    p = np.linspace(curve[0].pmin, curve[0].pmax, points)
+    return np.vstack([rest_cog[None], np.stack([fit.evaluate(curve[a], p) for a in range(3)], axis=-1)])
+
+
+def tip_point(curve: Sequence, tip_pressure: float) -> np.ndarray | None:
+    """The fitted curve (its three axes) at the tipping pressure (MPa), where the CoG projection
+    leaves the deformed triangle (Fig. 7's red ring), (3,) m; None if the pair never tips or
+    tips beyond the curve's range (a grounded robot that rolled off first)."""
+    from ..workspace import fit
+
+    if not np.isfinite(tip_pressure) or tip_pressure > curve[0].pmax + 1e-9:
+        return None
+    return np.array([float(fit.evaluate(curve[a], tip_pressure)) for a in range(3)])
+
+
 def workspace_figure(
     cfg: dict, curves_path: str | os.PathLike, nominal_path: str | os.PathLike, out: str | os.PathLike, points: int = 60
 ) -> dict:
@@ -102,12 +123,10 @@ def workspace_figure(
     lines, tips, tip_supports, rolled = {}, {}, {}, {}
     for i, pair in enumerate(cv["pair"].values):
         c = curves[i]
-        p = np.linspace(c[0].pmin, c[0].pmax, points)
-        xyz = np.stack([fit.evaluate(c[a], p) for a in range(3)], axis=-1)
-        lines[int(pair)] = np.vstack([rest_cog[None], xyz])
+        lines[int(pair)] = curve_line(c, rest_cog, points)
         tp = float(nm["tip_pressure"].sel(pair=pair))
-        if np.isfinite(tp) and tp <= c[0].pmax + 1e-9:
-            tips[int(pair)] = np.array([float(fit.evaluate(c[a], tp)) for a in range(3)])
+        if (tip := tip_point(c, tp)) is not None:
+            tips[int(pair)] = tip
             tip_supports[int(pair)] = fig7.at_pressure(levels, nm["support"].sel(pair=pair).values, tp)
         elif np.isfinite(tp):  # grounded: rolled off at tp before its CoG left the triangle
             rolled[int(pair)] = tp

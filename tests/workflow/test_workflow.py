@@ -34,6 +34,7 @@ def test_tiny_workflow_makes_every_output(tiny):
     ):
         assert (res / "figures" / f"{name}.png").stat().st_size > 20_000
     assert (res / "curves" / "curves.json").stat().st_size > 1000
+    assert (res / "figures" / "workspace_3d.html").stat().st_size > 3_000_000  # the page, plotly.js inside
     assert (res / "validation" / "summary.md").exists()
     val = datasets.read(res / "validation" / "validation.nc")  # check 6 read the runs
     assert list(val["run"].values) == ["paper", "slope_down"]
@@ -137,5 +138,6 @@ def test_report_holds_every_figure_and_the_validation_table(tiny):
         "fig7_workspace_equilateral.png",
         "fig7_workspace_isosceles.png",
         "summary.html",
+        "workspace_3d.html",  # the interactive page
     ):
         assert name in html
