@@ -51,6 +51,7 @@ _TIER = {
     "io": "unit",
     "studies": "unit",
     "stages": "unit",
+    "bridges": "unit",
     "render": "render",
     "workflow": "workflow",
 }

@@ -19,11 +19,12 @@ ALLOWED = {
     "validation": {"physics", "paper", "workspace", "locomotion"},
     "studies": {"physics", "paper", "workspace", "locomotion", "validation"},
     "render": {"physics", "paper", *_LEAVES},
+    "bridges": {"physics", "paper", *_LEAVES},  # issue 33: models for other simulators (MJCF)
     "atomic": set(),
     "version": set(),
     "io": {*_DOMAIN, *_LEAVES},
     "stages": {*_DOMAIN, *_LEAVES, "render", "io"},
-    "cli": {*_DOMAIN, *_LEAVES, "render", "io", "stages"},
+    "cli": {*_DOMAIN, *_LEAVES, "render", "io", "stages", "bridges"},
     "__init__": {*_DOMAIN, *_LEAVES, "io"},
 }
 
