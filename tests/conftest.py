@@ -52,6 +52,7 @@ _TIER = {
     "studies": "unit",
     "stages": "unit",
     "bridges": "unit",
+    "envs": "unit",
     "render": "render",
     "workflow": "workflow",
 }

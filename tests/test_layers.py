@@ -20,11 +20,12 @@ ALLOWED = {
     "studies": {"physics", "paper", "workspace", "locomotion", "validation"},
     "render": {"physics", "paper", *_LEAVES},
     "bridges": {"physics", "paper", *_LEAVES},  # issue 33: models for other simulators (MJCF)
+    "envs": {"physics", "paper", *_LEAVES},  # issue 33: Gymnasium environments over the kernel
     "atomic": set(),
     "version": set(),
     "io": {*_DOMAIN, *_LEAVES},
     "stages": {*_DOMAIN, *_LEAVES, "render", "io"},
-    "cli": {*_DOMAIN, *_LEAVES, "render", "io", "stages", "bridges"},
+    "cli": {*_DOMAIN, *_LEAVES, "render", "io", "stages", "bridges", "envs"},
     "__init__": {*_DOMAIN, *_LEAVES, "io"},
 }
 
