@@ -152,6 +152,17 @@ def advance(state: State, prm: np.ndarray, pressure: np.ndarray, terrain: Terrai
     return status
 
 
+def _goal_frame(v: np.ndarray, ex: np.ndarray) -> np.ndarray:
+    """World vectors v (N, 12, 3) in the goal frame: x = ex (N, 2) horizontal unit, y = z x x,
+    z up (a turn about z)."""
+    cx, cy = ex[:, 0, None], ex[:, 1, None]
+    out = np.empty_like(v)
+    out[..., 0] = cx * v[..., 0] + cy * v[..., 1]
+    out[..., 1] = cx * v[..., 1] - cy * v[..., 0]
+    out[..., 2] = v[..., 2]
+    return out
+
+
 def observe(
     params: Params, state: State, pressure: np.ndarray, goal: np.ndarray, terrain: Terrain, task: RollTask
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -168,11 +179,7 @@ def observe(
     to_goal = goal - c[:, :2]
     dist = np.where(ok, np.hypot(to_goal[:, 0], to_goal[:, 1]), np.inf)
     ex = np.where(ok[:, None], to_goal, 1.0) / np.where(ok & (dist > 0), dist, 1.0)[:, None]
-    # rows of the goal frame: x (toward the goal), y = z x x, z up
-    R = np.zeros((state.batch, 3, 3))
-    R[:, 0, :2], R[:, 1, 0], R[:, 1, 1], R[:, 2, 2] = ex, -ex[:, 1], ex[:, 0], 1.0
-    rel = np.einsum("bij,bnj->bni", R, p - c[:, None])
-    vel = np.einsum("bij,bnj->bni", R, u)
+    rel, vel = _goal_frame(p - c[:, None], ex), _goal_frame(u, ex)
     face = np.zeros(state.batch, np.int64)
     if ok.any():
         h, n = terrain.height_and_normal(p[ok, :, 0], p[ok, :, 1])

@@ -80,6 +80,13 @@ def test_goal_frame_and_reward_are_the_cogs_progress():
     u = d.node_velocities(env._state, env.params.strut_length)
     vel = obs[:, core.VELOCITIES].reshape(2, 12, 3)
     np.testing.assert_allclose(np.linalg.norm(vel, axis=-1), np.linalg.norm(u, axis=-1), rtol=1e-5, atol=1e-6)
+    p = d.nodes(env._state.x, env._state.q, env.params.strut_length)
+    to_goal = env._goal - p.mean(axis=1)[:, :2]
+    ex = to_goal / np.linalg.norm(to_goal, axis=1, keepdims=True)  # x: horizontal, toward the goal
+    np.testing.assert_allclose(
+        nodes[..., 0], np.einsum("bnk,bk->bn", (p - p.mean(1, keepdims=True))[..., :2], ex), atol=1e-6
+    )
+    np.testing.assert_allclose(nodes[..., 2], p[..., 2] - p[..., 2].mean(1, keepdims=True), atol=1e-6)  # z up
     assert np.abs(d0 - info["distance"]).max() > 1e-3  # the robot moved
     np.testing.assert_allclose(total, 10.0 * (d0 - info["distance"]), rtol=1e-9)
     np.testing.assert_allclose(obs[:, core.PRESSURE][:, 9], 1.6, rtol=1e-6)  # 2 MPa/s for 0.8 s, toward 4

@@ -241,6 +241,7 @@ BENCHMARKS = {
     "calibration.py": ["--quick"],
     "bench_study.py": ["--designs", "2", "--hold", "0.05"],
     "bench_mujoco.py": ["--seconds", "0.01", "--batch", "2", "--repeat", "1"],
+    "bench_env.py": ["--sizes", "1", "2", "--steps", "2", "--mujoco-steps", "2", "--repeat", "1"],
     "bench_pipeline.py": ["--runs", "1", "--configfile", "tests/workflow/tiny.yaml", "--until", "nominal"],
 }
 
