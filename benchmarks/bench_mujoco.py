@@ -195,9 +195,14 @@ def main() -> None:
     )
     ours, theirs = result[True][:2]
     cog = [n.mean(axis=-2)[:, -1] for n in (ours, theirs)]  # the CoG (B, 3) m (equal masses)
+    start = result[True][3].x.mean(axis=-2)  # (B, 3) m
+    stood = np.all([np.linalg.norm(c - start, axis=-1) < 0.05 for c in cog], axis=0)  # neither rolled
+    gap = np.linalg.norm(cog[0] - cog[1], axis=-1) * 1e3
     print(
         f"grounded mode, not compared (MuJoCo's contact model is not ours): the CoGs at the end "
-        f"differ by up to {np.linalg.norm(cog[0] - cog[1], axis=-1).max() * 1e3:.3g} mm"
+        f"differ by up to {gap.max():.3g} mm; robots that stand in both ({stood.sum()} of {len(stood)}, "
+        f"the lowest pressures): {gap[stood].max() if stood.any() else float('nan'):.3g} mm, "
+        f"of which height {np.abs(cog[0] - cog[1])[stood, 2].max() * 1e3 if stood.any() else float('nan'):.3g} mm"
     )
 
 
