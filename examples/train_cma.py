@@ -14,8 +14,14 @@ uses headings drawn from --tune-seed; the report uses the 8 benchmark directions
 random offset from --eval-seed (disjoint from the tuning headings), and prints the arrival
 rate, the median final distance and the wall time.
 
-Usage: python examples/train_cma.py [--generations 25] [--popsize 10] [--tune-headings 6]
-                                    [--max-steps 1500] [--threads 1] [--tune-seed 1] [--eval-seed 2]
+An episode is at most --max-steps steps of 0.02 s (default 1000: 20 s); the pressures ramp at
+--ramp-rate MPa/s (default 10; the environment's default is 2). Every candidate of a generation
+on every tuning heading is one robot of one vector environment (12 x 4 = 48 robots): one kernel
+call per step for the whole generation.
+
+Usage: python examples/train_cma.py [--generations 25] [--popsize 12] [--tune-headings 4]
+                                    [--max-steps 1000] [--ramp-rate 10] [--threads 1]
+                                    [--tune-seed 1] [--eval-seed 2]
 """
 
 from __future__ import annotations
@@ -25,25 +31,31 @@ import time
 
 import numpy as np
 
-N_FEATURES = 8
+N_FEATURES = 10
 
 
-def features(obs: np.ndarray, max_pressure: float, strut_length: float) -> np.ndarray:
-    """Per-pair features (N, 12, N_FEATURES) of observations (N, OBS_SIZE) (module docstring)."""
-    from tensegrity.envs import core
+def _other_ends() -> np.ndarray:
+    """(12, 2): the other nodes of the two cables of pair #v (both cables start or end at v)."""
     from tensegrity.physics import topology as topo
 
-    nodes = obs[:, core.NODES].reshape(-1, 12, 3) / strut_length
-    # the two cables of pair v (topology.PAIR_CABLES) both start or end at node v
     other = np.empty((12, 2), np.int64)
     for v in range(12):
         for k, c in enumerate(topo.PAIR_CABLES[v]):
             a, b = topo.CABLES[c]
             other[v, k] = b if a == v else a
-    pull = nodes[:, other].mean(axis=2) - nodes
-    ones = np.ones(nodes.shape[:2] + (1,))
-    applied = obs[:, core.PRESSURE, None] / max_pressure
-    return np.concatenate([ones, nodes, pull, applied], axis=-1)
+    return other
+
+
+def features(obs: np.ndarray, max_pressure: float, strut_length: float) -> np.ndarray:
+    """Per-pair features (N, 12, N_FEATURES) of observations (N, OBS_SIZE) (module docstring)."""
+    from tensegrity.envs import core
+
+    p = obs[:, core.NODES].reshape(-1, 12, 3) / strut_length
+    p = np.concatenate([p[..., :2], p[..., 2:] - p[..., 2:].min(axis=1, keepdims=True)], axis=-1)  # height
+    o = p[:, _other_ends()].mean(axis=2)
+    x, y, h, xo, yo, ho = p[..., 0], np.abs(p[..., 1]), p[..., 2], o[..., 0], np.abs(o[..., 1]), o[..., 2]
+    applied = obs[:, core.PRESSURE] / max_pressure
+    return np.stack([np.ones_like(x), x, y, h, xo, yo, ho, applied, x * h, xo * ho], axis=-1)
 
 
 def act(w: np.ndarray, obs: np.ndarray, max_pressure: float, strut_length: float) -> np.ndarray:
@@ -52,13 +64,15 @@ def act(w: np.ndarray, obs: np.ndarray, max_pressure: float, strut_length: float
     return (max_pressure / (1.0 + np.exp(-np.clip(z, -30, 30)))).astype(np.float32)
 
 
-def episodes(weights: np.ndarray, headings: np.ndarray, max_steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def episodes(
+    weights: np.ndarray, headings: np.ndarray, max_steps: int, ramp_rate: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Every policy (K, N_FEATURES) on every heading (H,) deg, all K*H robots in one vector env:
     the first episode's return (K, H), whether it arrived (K, H) and its final distance (K, H) m."""
     from tensegrity.envs.vector import RollVectorEnv
 
     K, H = len(weights), len(headings)
-    env = RollVectorEnv(K * H, goal_heading=0.0, max_steps=max_steps)
+    env = RollVectorEnv(K * H, goal_heading=0.0, max_steps=max_steps, ramp_rate=ramp_rate)
     obs, info = env.reset(seed=0)
     # the goals of the headings (the env draws none: goal_heading fixed, replaced here)
     from tensegrity.envs import core
@@ -82,10 +96,11 @@ def episodes(weights: np.ndarray, headings: np.ndarray, max_steps: int) -> tuple
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--generations", type=int, default=25)
-    ap.add_argument("--popsize", type=int, default=10)
-    ap.add_argument("--tune-headings", type=int, default=6, help="random goal headings per evaluation while tuning")
-    ap.add_argument("--max-steps", type=int, default=1500, help="environment steps per episode (0.02 s each)")
+    ap.add_argument("--popsize", type=int, default=12)
+    ap.add_argument("--tune-headings", type=int, default=4, help="random goal headings per evaluation while tuning")
+    ap.add_argument("--max-steps", type=int, default=1000, help="environment steps per episode (0.02 s each)")
     ap.add_argument("--threads", type=int, default=1, help="numba threads")
+    ap.add_argument("--ramp-rate", type=float, default=10.0, help="the task's pressure ramp, MPa/s (default 10)")
     ap.add_argument("--tune-seed", type=int, default=1)
     ap.add_argument("--eval-seed", type=int, default=2)
     a = ap.parse_args()
@@ -102,7 +117,7 @@ def main() -> None:
     for g in range(a.generations):
         xs = np.array(es.ask())
         headings = tune.uniform(0, 360, a.tune_headings)
-        ret, arr, dist = episodes(xs, headings, a.max_steps)
+        ret, arr, dist = episodes(xs, headings, a.max_steps, a.ramp_rate)
         es.tell(list(xs), list(-ret.mean(axis=1)))
         best = int(np.argmax(ret.mean(axis=1)))
         print(
@@ -113,7 +128,7 @@ def main() -> None:
     w = np.asarray(es.result.xfavorite)
     offset = np.random.default_rng(a.eval_seed).uniform(0, 45)
     headings = offset + 45.0 * np.arange(8)
-    _, arr, dist = episodes(w[None], headings, a.max_steps)
+    _, arr, dist = episodes(w[None], headings, a.max_steps, a.ramp_rate)
     print(f"policy weights: {np.round(w, 3).tolist()}")
     print(
         f"flat ground, goals 2 m away in 8 directions ({offset:.1f} + 45 k deg): arrived {arr.sum()}/8, "

@@ -146,3 +146,42 @@ def test_terrain_comes_from_the_command_lines_specs():
     assert env.terrain.kind == "plane" and info["face"][0] == 8
     with pytest.raises(ValueError, match="num_envs"):
         RollVectorEnv(0)
+
+
+def _example() -> dict:
+    import runpy
+    from pathlib import Path
+
+    return runpy.run_path(str(Path(__file__).resolve().parents[2] / "examples" / "train_cma.py"))
+
+
+def test_the_training_examples_policy_is_its_own_mirror_image():
+    """examples/train_cma.py's policy (without CMA-ES, whose import alone takes seconds): the
+    pressures of a robot and of its mirror image across the goal direction (y -> -y) are the
+    same, and a policy's episodes run in one vector env."""
+    ex = _example()
+    env = RollVectorEnv(1, goal_heading=0.0, **QUICK)
+    obs, _ = env.reset(seed=0)
+    mirror = obs.copy()
+    mirror[:, core.NODES] = (obs[:, core.NODES].reshape(-1, 12, 3) * [1, -1, 1]).reshape(-1, 36)
+    w = np.random.default_rng(0).normal(size=(1, ex["N_FEATURES"]))
+    a, b = ex["act"](w, obs, 6.0, 0.5), ex["act"](w, mirror, 6.0, 0.5)
+    np.testing.assert_array_equal(a, b)
+    assert a.shape == (1, 12) and (a >= 0).all() and (a <= 6.0).all()
+    ret, arrived, dist = ex["episodes"](np.zeros((2, ex["N_FEATURES"])), np.array([0.0, 90.0]), 3, 10.0)
+    assert ret.shape == arrived.shape == dist.shape == (2, 2) and not arrived.any()
+
+
+@pytest.mark.slow
+def test_the_training_example_runs(monkeypatch, capsys):
+    """examples/train_cma.py end to end on tiny arguments (its figures: docs/benchmarks.md)."""
+    import runpy
+    import sys
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[2] / "examples" / "train_cma.py"
+    argv = ["--generations", "1", "--popsize", "2", "--tune-headings", "1", "--max-steps", "3"]
+    monkeypatch.setattr(sys, "argv", [str(script), *argv])
+    runpy.run_path(str(script), run_name="__main__")
+    out = capsys.readouterr().out
+    assert "generation   1" in out and "arrived 0/8" in out  # 3 steps (0.06 s) reach no goal 2 m away
