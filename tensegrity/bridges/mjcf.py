@@ -29,6 +29,8 @@ Where it is not exact (the approximations and their errors):
   contact is its own soft constraint (default solref, solimp; pyramidal friction cones), not
   the penalty and stick spring of (C1)-(C4): grounded runs differ (benchmarks/bench_mujoco.py
   reports by how much). Only flat ground is exported.
+- Only the actuator law of eq. 1-2 (`LAW`, its fields in `physics.actuator`); another law is
+  refused (NotImplementedError) until it is written here.
 - Control bounds 0..schedule.MAX_PRESSURE MPa (ctrlrange): MuJoCo clamps a control outside,
   where the toolkit raises.
 
@@ -41,6 +43,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import paper
+from ..physics import actuator
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.schedule import MAX_PRESSURE
@@ -48,6 +51,9 @@ from ..physics.state import State, stand_on
 from ..physics.terrain import Terrain
 
 MODES = ("free", "grounded")
+# the fields of the one actuator law this export writes (eq. 1-2); a law with other fields
+# (issue 31, the prototype's motor-driven actuator) is refused by name until it is written here
+LAW = ("cable_exponent", "cable_stiffness", "cable_rest_length", "cable_damping", "muscle_min_length", "muscle_gain")
 INTEGRATORS = ("Euler", "implicitfast", "RK4")  # MuJoCo's; only Euler is the kernel's scheme
 FORCE_LIMIT = 1e10  # N: the largest tension the actuator may give (the clamp at 0 is exact)
 
@@ -76,6 +82,11 @@ def check(params: Params, mode: str, dt: float, integrator: str = "Euler") -> No
     """ValueError naming the first value the export cannot write (module docstring)."""
     if mode not in MODES:
         raise ValueError(f"mode {mode!r} is not one of {MODES}")
+    if tuple(actuator.NAMES) != LAW:
+        raise NotImplementedError(
+            f"the actuator law's fields {actuator.NAMES} are not eq. 1-2's {LAW}: the MuJoCo export "
+            "cannot write this actuator yet"
+        )
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator {integrator!r} is not one of {INTEGRATORS}")
     if not (np.isfinite(dt) and 0 < dt <= 1e-3):

@@ -178,6 +178,14 @@ def test_what_cannot_be_written_is_refused_by_name(change, word):
         mjcf(Params(), "sloped")
 
 
+def test_another_actuator_law_is_refused(monkeypatch):
+    """A law with other fields than eq. 1-2's (say, issue 31's motor-driven actuator) is not
+    silently exported as eq. 1-2."""
+    monkeypatch.setattr(actuator, "NAMES", (*actuator.NAMES, "motor_voltage"))
+    with pytest.raises(NotImplementedError, match="motor_voltage"):
+        mjcf(Params())
+
+
 def test_command_writes_a_model_mujoco_loads(tmp_path, capsys):
     """`tensegrity export mjcf` writes the configured design (--set reaches it); a bad mode is a
     usage error before anything is written."""
