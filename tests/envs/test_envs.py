@@ -22,8 +22,11 @@ QUICK = {"settle": 0.2}  # s: a shorter settling keeps the tests quick
 def test_single_env_passes_gymnasiums_checker():
     env = gym.make(tensegrity.envs.ROLL, **QUICK)
     with warnings.catch_warnings():
+        warnings.simplefilter("error")  # any other warning of the checker fails the test
         warnings.filterwarnings("ignore", message=".*symmetric and normalized space.*")  # pressures are MPa
         check_env(env.unwrapped)
+        env.reset(seed=0)
+        env.step(env.action_space.sample())  # gym.make's passive checker on a real step
     assert isinstance(gym.make_vec(tensegrity.envs.ROLL, 3, "vector_entry_point", **QUICK), RollVectorEnv)
 
 
