@@ -72,13 +72,8 @@ def episodes(
     from tensegrity.envs.vector import RollVectorEnv
 
     K, H = len(weights), len(headings)
-    env = RollVectorEnv(K * H, goal_heading=0.0, max_steps=max_steps, ramp_rate=ramp_rate)
-    obs, info = env.reset(seed=0)
-    # the goals of the headings (the env draws none: goal_heading fixed, replaced here)
-    from tensegrity.envs import core
-
-    env._goal[:] = np.tile(core.goals(env._start, headings, env.task.goal_distance), (K, 1))
-    obs = env._observe()[0]
+    env = RollVectorEnv(K * H, max_steps=max_steps, ramp_rate=ramp_rate)
+    obs, info = env.reset(seed=0, options={"goal_headings": np.tile(headings, K)})
     w = np.repeat(weights, H, axis=0)
     ret, done = np.zeros(K * H), np.zeros(K * H, bool)
     arrived, dist = np.zeros(K * H, bool), np.full(K * H, env.task.goal_distance)

@@ -116,7 +116,9 @@ def start_state(params: Params, task: RollTask, terrain: Terrain) -> State:
     s = d.stand_on(params, task.start_face, terrain)
     if task.settle > 0:
         n = max(1, round(task.settle / task.interval))
-        s, _ = d.simulate(params, s, Schedule.constant(np.zeros((1, 12)), n * task.interval), terrain, task.dt, 1)
+        s, _ = d.simulate(
+            params, s, Schedule.constant(np.zeros((1, 12)), n * task.interval), terrain, task.dt, task.substeps
+        )
     return s.copy()
 
 

@@ -53,11 +53,13 @@ class RollVectorEnv(VectorEnv):
         self._start = core.start_state(self.params, self.task, self.terrain)
         self._state = None
 
-    def _new(self, idx: np.ndarray) -> None:
-        """Put robots idx at the start with new goals (headings from the environment's RNG)."""
+    def _new(self, idx: np.ndarray, heading: np.ndarray | None = None) -> None:
+        """Put robots idx at the start with new goals: headings (len(idx),) deg, default the
+        task's or drawn from the environment's RNG."""
         n = len(idx)
         h = self.task.goal_heading
-        heading = self.np_random.uniform(0.0, 360.0, n) if h is None else np.full(n, float(h))
+        if heading is None:
+            heading = self.np_random.uniform(0.0, 360.0, n) if h is None else np.full(n, float(h))
         start = self._start.take(np.zeros(n, np.int64))
         for k in ("x", "v", "q", "w", "anchor", "stuck"):
             getattr(self._state, k)[idx] = getattr(start, k)
@@ -66,11 +68,21 @@ class RollVectorEnv(VectorEnv):
         self._steps[idx] = 0
 
     def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[np.ndarray, dict]:
+        """All robots at the start. options={"goal_headings": (N,) deg} sets this episode's
+        goals (later episodes: the task's rule)."""
         super().reset(seed=seed, options=options)
         n = self.num_envs
+        unknown = set(options or {}) - {"goal_headings"}
+        if unknown:
+            raise ValueError(f"unknown reset option(s) {sorted(unknown)}: the one option is goal_headings")
+        heading = (options or {}).get("goal_headings")
+        if heading is not None:
+            heading = np.asarray(heading, dtype=float)
+            if heading.shape != (n,) or not np.all(np.isfinite(heading)):
+                raise ValueError(f"goal_headings must be {n} finite numbers (deg), got shape {heading.shape}")
         self._state = self._start.take(np.zeros(n, np.int64)).copy()
         self._goal, self._steps, self._pressure = np.zeros((n, 2)), np.zeros(n, np.int64), np.zeros((n, 12))
-        self._new(np.arange(n))
+        self._new(np.arange(n), heading)
         obs, dist, face, _ = self._observe()
         self._dist, self._autoreset = dist, np.zeros(n, bool)
         return obs, self._info(dist, face, np.zeros(n, bool), np.zeros(n, np.int64))

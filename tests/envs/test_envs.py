@@ -62,6 +62,10 @@ def test_seeding_draws_the_goals():
     start = core.start_state(envs[0].params, envs[0].task, envs[0].terrain)
     d = np.linalg.norm(g[0] - start.x[0].mean(0)[:2], axis=1)
     np.testing.assert_allclose(d, 2.0, rtol=1e-12)  # goal_distance from the start CoG
+    g = envs[0].reset(options={"goal_headings": [0, 90, 180, 270]})[1]["goal"]
+    np.testing.assert_allclose(np.degrees(np.arctan2(*(g - start.x[0].mean(0)[:2]).T[::-1])), [0, 90, 180, -90])
+    with pytest.raises(ValueError, match="goal_headings"):
+        envs[0].reset(options={"goal_headings": [0, 90]})
 
 
 def test_goal_frame_and_reward_are_the_cogs_progress():
