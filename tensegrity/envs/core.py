@@ -3,7 +3,7 @@ the single and the vector Gymnasium environments share: the task's settings (`Ro
 start state, one control step of N robots in one kernel call (`advance`), the observation and
 the reward.
 
-Observation of a robot, float32 (OBS_SIZE,) = 94, in the **goal frame** tied to the robot:
+Observation of a robot, float32 (OBS_SIZE,) = 106, in the **goal frame** tied to the robot:
 origin at its CoG, z up (against gravity), x the horizontal direction from the CoG to the goal
 (y = z × x):
     [0:36]   node positions (12, 3) m relative to the CoG, clipped to +-S
@@ -18,8 +18,9 @@ a step of every pair from 0 to 6 MPa at once throws the robot into the air), as 
 locomotion controller ramps (`locomotion.ramp_rate`); ramp_rate 0: the target at once.
 Reward per step: progress_scale times the decrease of the horizontal CoG distance to the goal
 (m); plus arrive_bonus on arrival (distance < arrive_tolerance: terminated), or minus
-fail_penalty where the robot tumbled (CoG faster than tumble_speed), blew up (non-finite, a node
-faster than max_speed) or left the terrain (all terminated). Truncated after max_steps steps.
+fail_penalty where the robot tumbled (its CoG faster than tumble_speed, a proxy: the trained
+rolls of examples/train_cma.py stay below it), blew up (non-finite, a node faster than
+max_speed) or left the terrain (all terminated). Truncated after max_steps steps.
 A robot that fails is terminated at the step it failed (the kernel keeps the state of its
 failure); a state that is not finite observes zeros.
 """
@@ -42,7 +43,6 @@ from ..physics.terrain import Terrain, from_spec
 
 OBS_SIZE = 2 * topo.N_NODES * 3 + topo.N_PAIRS + topo.N_FACES + 1 + 1
 NODES, VELOCITIES, PRESSURE, FACE, DISTANCE = slice(0, 36), slice(36, 72), slice(72, 84), slice(84, 105), 105
-STATUS = {kernel.NON_FINITE: "non_finite", kernel.TOO_FAST: "too_fast", kernel.OFF_TERRAIN: "off_terrain"}
 
 
 @dataclass(frozen=True)
@@ -141,7 +141,8 @@ def ramp(applied: np.ndarray, target: np.ndarray, task: RollTask) -> np.ndarray:
 def advance(state: State, prm: np.ndarray, pressure: np.ndarray, terrain: Terrain, task: RollTask) -> np.ndarray:
     """Advance every robot of `state` in place by one environment step (task.substeps kernel
     steps) under pair pressures (N, 12) MPa, in ONE kernel call; prm the packed (N, NP)
-    parameters. Returns the kernel's status per robot (N,) (0 ok, `STATUS` otherwise)."""
+    parameters. Returns the kernel's status per robot (N,): 0 ok, kernel.NON_FINITE, TOO_FAST or
+    OFF_TERRAIN."""
     n = state.batch
     kind, meta, hz = terrain.packed()
     status, fail = np.zeros(n, np.int64), np.zeros(n, np.int64)
