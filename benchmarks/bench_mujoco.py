@@ -2,17 +2,16 @@
 simulator (`dynamics.simulate`) against MuJoCo's batched, multithreaded `rollout`. Prints both
 rates in robot-steps/s, the ratio, and the largest node-trajectory difference in the free mode.
 
-The MuJoCo model is built in code (`mjcf`): 6 rigid struts on free joints with the same masses
-and thin-tube inertias (docs/design.md §3), sites at the 12 nodes, 24 spatial tendons, and one
-`general` actuator per tendon for the cable law (eq. 1-2, a = 1): affine gain Kg (Lmin - l) times
-ctrl = the pair pressure (MPa), affine bias K (L - l) - B dl/dt, force range (-inf, 0] so that a
-cable never pushes (MuJoCo's positive actuator force lengthens a tendon). Semi-implicit Euler,
-dt 1e-4 s. Free mode: no gravity, no contact. Grounded mode: gravity and a plane with MuJoCo's
-OWN soft-constraint contact (a sphere of radius r at each node, friction mu, default solref and
+The MuJoCo model is the package's export (`tensegrity.bridges.mjcf`, `tensegrity export mjcf`):
+6 rigid struts on free joints with the same masses and thin-tube inertias (docs/design.md §3),
+sites at the 12 nodes, 24 spatial tendons, and one `general` actuator per tendon for the cable
+law (eq. 1-2, a = 1) whose control is the pair pressure (MPa). Semi-implicit Euler, dt 1e-4 s.
+Free mode: no gravity, no contact. Grounded mode: gravity and a plane with MuJoCo's OWN
+soft-constraint contact (a sphere of radius r at each node, friction mu, default solref and
 solimp), not our penalty and stick-spring model, so grounded trajectories are not compared.
 Results and their explanation: docs/benchmarks.md.
 
-MuJoCo is an optional benchmark requirement, never a runtime one:
+MuJoCo (pip mujoco-core) is a test dependency pinned in environment.txt, never a runtime one:
     pip install -r benchmarks/requirements-mujoco.txt
 Usage: python benchmarks/bench_mujoco.py [--seconds 2] [--batch 24] [--threads 2] [--repeat 3]
 """
@@ -26,6 +25,8 @@ import time
 
 import numpy as np
 
+from tensegrity.bridges.mjcf import INTEGRATORS, controls, mjcf
+
 try:
     import mujoco
     from mujoco import rollout
@@ -36,7 +37,6 @@ DT = 1e-4  # s, both simulators
 EVERY = 100  # steps between recorded samples (both simulators): 0.01 s
 CHUNK = 10  # `rollout` writes the state of every step: EVERY * CHUNK steps per call
 PAIR = 10  # the pressurised pair (pressures: robot 0 at 2.4 MPa)
-INTEGRATORS = ("Euler", "implicitfast", "RK4")  # MuJoCo's; only Euler is the same scheme as ours
 
 
 def pressures(batch: int) -> np.ndarray:
@@ -44,51 +44,6 @@ def pressures(batch: int) -> np.ndarray:
     p = np.zeros((batch, 12))
     p[:, PAIR - 1] = np.linspace(2.4, 0.4, batch)
     return p
-
-
-def mjcf(params, grounded: bool, dt: float = DT, integrator: str = "Euler", order: np.ndarray | None = None) -> str:
-    """MJCF text of the robot (module docstring) for scalar physics.params.Params `params`;
-    tendons and actuators in the cable order `order` (24,) (default topology.CABLES')."""
-    from tensegrity.physics import topology as topo
-
-    if integrator not in INTEGRATORS:
-        raise ValueError(f"integrator {integrator!r} is not one of {INTEGRATORS}")
-    S, r, m = params.strut_length, params.strut_radius, params.strut_mass
-    It, Ia = m * (S * S / 12 + r * r / 4), m * r * r / 2  # thin tube, kg m^2
-    K, L, B = params.cable_stiffness, params.cable_rest_length, params.cable_damping
-    Kg, Lmin, mu = params.muscle_gain, params.muscle_min_length, params.friction
-    bodies, tendons, actuators = [], [], []
-    for i, (a, b) in enumerate(topo.STRUTS):
-        # node a at centre + S/2 along the body axis 3, node b at centre - S/2 (dynamics.nodes);
-        # contact spheres collide with the plane only (contype 1 & plane conaffinity 1)
-        spheres = "".join(
-            f'<geom type="sphere" size="{r!r}" pos="0 0 {z!r}" contype="1" conaffinity="0" friction="{mu!r} 0 0"/>'
-            for z in (S / 2, -S / 2)
-        )
-        bodies.append(
-            f'<body name="strut{i + 1}"><freejoint/>'
-            f'<inertial pos="0 0 0" mass="{m!r}" diaginertia="{It!r} {It!r} {Ia!r}"/>'
-            f"{spheres if grounded else ''}"
-            f'<site name="n{a + 1}" pos="0 0 {S / 2!r}"/><site name="n{b + 1}" pos="0 0 {-S / 2!r}"/>'
-            f"</body>"
-        )
-    for a, b in topo.CABLES[np.arange(24) if order is None else order]:
-        tendons.append(f'<spatial name="cable{a + 1}-{b + 1}"><site site="n{a + 1}"/><site site="n{b + 1}"/></spatial>')
-        # force = gain * ctrl + bias = -(Kg P (l - Lmin) + K (l - L) + B dl/dt), clamped <= 0
-        actuators.append(
-            f'<general tendon="cable{a + 1}-{b + 1}" gaintype="affine" gainprm="{Kg * Lmin!r} {-Kg!r} 0" '
-            f'biastype="affine" biasprm="{K * L!r} {-K!r} {-B!r}" '
-            f'forcelimited="true" forcerange="-1e10 0" ctrllimited="false"/>'
-        )
-    plane = f'<geom type="plane" size="0 0 1" contype="0" conaffinity="1" friction="{mu!r} 0 0"/>' if grounded else ""
-    g = params.gravity if grounded else 0.0
-    flags = 'eulerdamp="disable"' + ("" if grounded else ' contact="disable"')
-    return (
-        f'<mujoco model="tensegrity"><option timestep="{dt!r}" integrator="{integrator}" '
-        f'gravity="0 0 {-g!r}"><flag {flags}/>'
-        f"</option><worldbody>{plane}{''.join(bodies)}</worldbody>"
-        f"<tendon>{''.join(tendons)}</tendon><actuator>{''.join(actuators)}</actuator></mujoco>"
-    )
 
 
 def initial_states(model, state) -> np.ndarray:
@@ -183,13 +138,12 @@ def main() -> None:
     from tqdm import tqdm
 
     from tensegrity.physics import dynamics as d
-    from tensegrity.physics import topology as topo
     from tensegrity.physics.params import Params
     from tensegrity.physics.terrain import Terrain
 
     nstep = round(a.seconds / DT)
     pressure = pressures(a.batch)
-    ctrl = pressure[:, topo.CABLE_PAIR]  # per actuator (cable): its pair's pressure
+    ctrl = controls(pressure)  # per actuator (cable): its pair's pressure
     print(
         f"MuJoCo {mujoco.__version__} `rollout` against tensegrity `dynamics.simulate`: "
         f"{a.batch} robots x {a.seconds:g} s, dt {DT:g} s, {a.threads} threads each, "
@@ -205,7 +159,9 @@ def main() -> None:
         params = Params() if grounded else Params(gravity=0.0)
         terrain = Terrain.flat() if grounded else Terrain.none()
         state = d.stand_on(params, (9, 10, 12), terrain, batch=a.batch)
-        model = mujoco.MjModel.from_xml_string(mjcf(params, grounded, DT, a.integrator))
+        model = mujoco.MjModel.from_xml_string(
+            mjcf(params, "grounded" if grounded else "free", DT, integrator=a.integrator)
+        )
         x0 = initial_states(model, state)
         run_ours(params, state, pressure, terrain, EVERY)  # compile or load the cached code
         run_mujoco(model, x0, ctrl, EVERY, a.threads)  # warm up
@@ -227,7 +183,7 @@ def main() -> None:
     # the round-off floor: MuJoCo against itself with the cables listed in reverse order (the
     # same model; only the order in which floating-point forces are summed changes)
     rev = np.arange(24)[::-1]
-    model = mujoco.MjModel.from_xml_string(mjcf(params, False, DT, a.integrator, rev))
+    model = mujoco.MjModel.from_xml_string(mjcf(params, "free", DT, integrator=a.integrator, order=rev))
     _, x, q = run_mujoco(model, initial_states(model, state), ctrl[:, rev], nstep, a.threads)
     floor = np.abs(theirs - d.nodes(x, q, params.strut_length)).max() * 1e3
     travel = np.abs(ours - d.nodes(state.x, state.q, params.strut_length)[:, None]).max() * 1e3
@@ -239,9 +195,14 @@ def main() -> None:
     )
     ours, theirs = result[True][:2]
     cog = [n.mean(axis=-2)[:, -1] for n in (ours, theirs)]  # the CoG (B, 3) m (equal masses)
+    start = result[True][3].x.mean(axis=-2)  # (B, 3) m
+    stood = np.all([np.linalg.norm(c - start, axis=-1) < 0.05 for c in cog], axis=0)  # neither rolled
+    gap = np.linalg.norm(cog[0] - cog[1], axis=-1) * 1e3
     print(
         f"grounded mode, not compared (MuJoCo's contact model is not ours): the CoGs at the end "
-        f"differ by up to {np.linalg.norm(cog[0] - cog[1], axis=-1).max() * 1e3:.3g} mm"
+        f"differ by up to {gap.max():.3g} mm; robots that stand in both ({stood.sum()} of {len(stood)}, "
+        f"the lowest pressures): {gap[stood].max() if stood.any() else float('nan'):.3g} mm, "
+        f"of which height {np.abs(cog[0] - cog[1])[stood, 2].max() * 1e3 if stood.any() else float('nan'):.3g} mm"
     )
 
 

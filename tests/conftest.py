@@ -51,6 +51,8 @@ _TIER = {
     "io": "unit",
     "studies": "unit",
     "stages": "unit",
+    "bridges": "unit",
+    "envs": "unit",
     "render": "render",
     "workflow": "workflow",
 }

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PATHS = ["tensegrity", "tests", "benchmarks", "workflow/scripts"]
+PATHS = ["tensegrity", "tests", "benchmarks", "examples", "workflow/scripts"]
 
 
 @pytest.mark.parametrize("command", [["check"], ["format", "--check"]], ids=["lint", "format"])

@@ -1,5 +1,5 @@
 """The `tensegrity` command: simulate, query the workspace, plan a roll, roll, render, run a stage
-or a design study, show or check the configuration.
+or a design study, show or check the configuration, export the robot (a MuJoCo model).
 
 Configuration: config/config.yaml of the current directory (as Snakemake reads it), else of the
 checkout holding this package, else the schema's defaults; --config FILE is merged over it as
@@ -23,6 +23,7 @@ import numpy as np
 from . import args as cli_args
 from . import progress
 from .configuration import cmd_config
+from .export import add_parser as add_export_parser
 from .locomotion import cmd_plan, cmd_roll
 from .workspace import cmd_faces, cmd_query, cmd_table
 
@@ -204,6 +205,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", help="output folder (default results/studies/NAME)")
     p.add_argument("--limit", type=int, default=0, help="only the first N designs (default 0: all)")
     p.set_defaults(func=cmd_study)
+    add_export_parser(sub, common, cli_args.face, START)
 
     for name, func, helptext in (
         ("plan", cmd_plan, "choose the pair and pressure that roll the robot toward a target"),

@@ -241,6 +241,7 @@ BENCHMARKS = {
     "calibration.py": ["--quick"],
     "bench_study.py": ["--designs", "2", "--hold", "0.05"],
     "bench_mujoco.py": ["--seconds", "0.01", "--batch", "2", "--repeat", "1"],
+    "bench_env.py": ["--sizes", "1", "2", "--steps", "2", "--mujoco-steps", "2", "--repeat", "1"],
     "bench_pipeline.py": ["--runs", "1", "--configfile", "tests/workflow/tiny.yaml", "--until", "nominal"],
     "bench_surfaces.py": ["{tiny}/results/two_pair/isosceles.nc", "--statics", "1", "--folds", "4"],
     "bench_averaging.py": ["--holds", "0.4", "--steps", "4.8", "--pairs", "10", "--contacts", "isosceles"],
@@ -251,48 +252,15 @@ def test_every_benchmark_is_listed():
     assert sorted(p.name for p in (ROOT / "benchmarks").glob("*.py")) == sorted(BENCHMARKS)
 
 
-def _benchmark_env(name: str, tmp_path_factory) -> dict:
-    """The environment of a benchmark. MuJoCo (bench_mujoco.py's optional requirement, not in
-    environment.txt) is installed with pip into a temporary folder on PYTHONPATH if missing, as
-    test_slurm.py does with the SLURM plugin (a few seconds; 30 MB); skipped if pip cannot."""
-    import importlib.util
-
-    env = _env()
-    if name != "bench_mujoco.py" or importlib.util.find_spec("mujoco") is not None:
-        return env
-    target = tmp_path_factory.mktemp("mujoco")
-    r = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "pip",
-            "install",
-            "--quiet",
-            "--no-deps",
-            "--target",
-            str(target),
-            "-r",
-            str(ROOT / "benchmarks" / "requirements-mujoco.txt"),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    if r.returncode != 0:
-        pytest.skip(f"MuJoCo could not be installed with pip: {r.stderr.strip()[-500:]}")
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(target), env.get("PYTHONPATH")) if p)
-    return env
-
-
 @pytest.mark.parametrize("name", sorted(BENCHMARKS))
-def test_benchmark_runs_with_tiny_arguments(tiny, tmp_path_factory, name):
+def test_benchmark_runs_with_tiny_arguments(tiny, name):
     args = [a.format(tiny=tiny) for a in BENCHMARKS[name]]
     r = subprocess.run(
         [sys.executable, str(ROOT / "benchmarks" / name), *args],
         cwd=ROOT,
         capture_output=True,
         text=True,
-        env=_benchmark_env(name, tmp_path_factory),
+        env=_env(),  # MuJoCo (bench_mujoco.py, bench_env.py) is a test dependency in environment.txt
         timeout=600,
     )
     assert r.returncode == 0, r.stderr[-3000:]
