@@ -51,8 +51,8 @@ class TwistedString:
     gear_ratio: float = 75.81
     rotor_inertia: float = 2.0e-8
     viscous_friction: float = 0.0
-    string_length: float = 0.2
-    string_radius: float = 1.0e-3
+    string_length: float = 0.28
+    string_radius: float = 4.5e-4
     spring_stiffness: float = 1000.0
     fibre_stiffness: float = 1.8e5
     pretension: float = 20.0

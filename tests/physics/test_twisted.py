@@ -188,3 +188,13 @@ def test_bad_input_is_named():
         Voltages.constant(np.full(12, 30.0), 1.0)
     with pytest.raises(ValueError, match="unknown actuator parameter.*bogus"):
         TwistedString.from_dict({"bogus": 1.0})
+
+
+def test_config_defaults_are_the_dataclass_defaults():
+    """config/config.yaml and the schema give the prototype's values once: `TwistedString()`."""
+    from tensegrity.io import config, settings
+
+    cfg = config.load()
+    assert settings.motors(cfg) is None  # pneumatic stays the default
+    cfg["actuator"]["kind"] = "twisted_string"
+    assert settings.motors(cfg) == TwistedString()
