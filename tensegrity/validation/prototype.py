@@ -122,8 +122,10 @@ class Experiment:
         )
 
 
-def experiment(params: Params, motors: TwistedString, protocol: Protocol = Protocol(), rounds: int = 2) -> Experiment:
-    """Runs section IV.B (module docstring) for one robot."""
+def experiment(
+    params: Params, motors: TwistedString, protocol: Protocol = Protocol(), rounds: int = 2, points: int = 8
+) -> Experiment:
+    """Runs section IV.B (module docstring) for one robot; `lowest_voltage` by rounds, points."""
     (p1, _, f1), (p2, _, f2) = paper.EXPERIMENT
     start = dynamics.stand_on(params, paper.START_FACE, Terrain.flat())
     faces, landed = roll(
@@ -131,8 +133,9 @@ def experiment(params: Params, motors: TwistedString, protocol: Protocol = Proto
     )
     after = landed.take(slice(0, 1))
     face_2 = roll(params, motors, after, p2, [paper.VOLTAGE[p2]], protocol)[0]
-    low_1 = lowest_voltage(params, motors, start, p1, topo.face_number(f1), rounds=rounds, protocol=protocol)
-    low_2 = lowest_voltage(params, motors, after, p2, topo.face_number(f2), rounds=rounds, protocol=protocol)
+    kw = dict(rounds=rounds, points=points, protocol=protocol)
+    low_1 = lowest_voltage(params, motors, start, p1, topo.face_number(f1), **kw)
+    low_2 = lowest_voltage(params, motors, after, p2, topo.face_number(f2), **kw)
     return Experiment(int(faces[0]), int(face_2[0]), int(faces[1]), float(low_1[0]), float(low_2[0]))
 
 
@@ -143,6 +146,7 @@ def sensitivity(
     change: float = 0.2,
     protocol: Protocol = Protocol(),
     rounds: int = 2,
+    points: int = 8,
 ) -> dict[str, np.ndarray]:
     """The lowest voltage of each roll with each parameter of `names` times (1 - change) and
     (1 + change), the others as given: {name: (2 rolls, 2 signs)} V. The second roll starts
@@ -157,6 +161,8 @@ def sensitivity(
     for pair, face, target in ((p1, paper.START_FACE, f1), (p2, f1, f2)):
         start = dynamics.stand_on(params, face, Terrain.flat())
         out.append(
-            lowest_voltage(params, batch, start, pair, topo.face_number(target), rounds=rounds, protocol=protocol)
+            lowest_voltage(
+                params, batch, start, pair, topo.face_number(target), rounds=rounds, points=points, protocol=protocol
+            )
         )
     return {name: np.array([o[2 * k : 2 * k + 2] for o in out]) for k, name in enumerate(names)}
