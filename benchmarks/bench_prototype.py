@@ -50,6 +50,7 @@ def main() -> None:
     print(
         f"  ratio #11/#10: {e.lowest_2 / e.lowest_1:.2f} (paper's voltages {paper.VOLTAGE[p2] / paper.VOLTAGE[p1]:.2f})"
     )
+    print(f"strands twisted past their lock: {e.locked}")
     print(f"reproduced: {e.reproduced}")
     names = () if a.names == "none" else tuple(a.names.split(","))
     if not names:

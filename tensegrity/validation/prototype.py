@@ -104,13 +104,16 @@ def lowest_voltage(
 class Experiment:
     """Section IV.B simulated: the faces reached (1-based) by #10 at 11.1 V from (9,10,12)
     (face_1), then #11 at 6 V from there (face_2), #10 at 6 V from (9,10,12) (face_low); each
-    roll's lowest voltage (V), the second from the first's landing state."""
+    roll's lowest voltage (V), the second from the first's landing state; locked: whether a
+    strand pair ended a roll at the paper's voltages twisted past its lock (the model's limit,
+    `TwistedString.locked`)."""
 
     face_1: int
     face_2: int
     face_low: int
     lowest_1: float
     lowest_2: float
+    locked: bool = False
 
     @property
     def reproduced(self) -> bool:
@@ -119,6 +122,7 @@ class Experiment:
             self.face_1 == topo.face_number(f1)
             and self.face_2 == topo.face_number(f2)
             and self.face_low == topo.face_number(paper.START_FACE)
+            and not self.locked
         )
 
 
@@ -132,11 +136,12 @@ def experiment(
         params, motors, State.concat([start, start]), p1, [paper.VOLTAGE[p1], paper.VOLTAGE[p2]], protocol
     )
     after = landed.take(slice(0, 1))
-    face_2 = roll(params, motors, after, p2, [paper.VOLTAGE[p2]], protocol)[0]
+    face_2, final = roll(params, motors, after, p2, [paper.VOLTAGE[p2]], protocol)
+    locked = bool(motors.locked(landed.motor_angle).any() or motors.locked(final.motor_angle).any())
     kw = dict(rounds=rounds, points=points, protocol=protocol)
     low_1 = lowest_voltage(params, motors, start, p1, topo.face_number(f1), **kw)
     low_2 = lowest_voltage(params, motors, after, p2, topo.face_number(f2), **kw)
-    return Experiment(int(faces[0]), int(face_2[0]), int(faces[1]), float(low_1[0]), float(low_2[0]))
+    return Experiment(int(faces[0]), int(face_2[0]), int(faces[1]), float(low_1[0]), float(low_2[0]), locked)
 
 
 def sensitivity(
