@@ -6,7 +6,7 @@ parameters, +-20 % (`sensitivity`). Numbers only; `benchmarks/bench_prototype.py
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -46,19 +46,25 @@ class Protocol:
 
 def roll(
     params: Params, motors: TwistedString, state: State, pair: int, volts: np.ndarray, protocol: Protocol = Protocol()
-) -> tuple[np.ndarray, State]:
+) -> tuple[np.ndarray, State, np.ndarray]:
     """Drives `pair` (1-based) of every robot of `state` (B robots; `motors` fields may be (B,)
     arrays) at volts (B,) V by `protocol`. Returns the faces (B,) it rests on after the settle
-    (1-based, 0: none) and the final state."""
+    (1-based, 0: none), the final state, and the time (B,) s from the voltage's start at which
+    each robot came to rest on that face for good (0: it never left it)."""
     volts = np.asarray(volts, float)
     B = state.batch
     v = np.zeros((B, 2, topo.N_PAIRS))
     v[:, 0, topo.check_pair(pair) - 1] = volts
     every = int(round(protocol.record / protocol.dt))
     sched = Voltages(np.array([protocol.drive, protocol.settle]), v)
-    final, _ = dynamics.simulate(params, state, sched, Terrain.flat(), protocol.dt, every, motors=motors)
-    nodes = dynamics.nodes(final.x, final.q, params.strut_length)
-    return contact.resting_face(nodes[..., 2] - params.strut_radius, protocol.tolerance), final
+    final, run = dynamics.simulate(params, state, sched, Terrain.flat(), protocol.dt, every, motors=motors)
+    faces = contact.resting_face(run.nodes(params.strut_length)[..., 2] - params.strut_radius, protocol.tolerance)
+    last = faces[:, -1]
+    # the last sample on another face (or none): the landing is the next one
+    other = faces != last[:, None]
+    k = np.where(other.any(1), faces.shape[1] - np.argmax(other[:, ::-1], axis=1), 0)
+    landed = np.where(k > 0, run.t[np.minimum(k, faces.shape[1] - 1)] - state.t, 0.0)
+    return last, final, landed
 
 
 def lowest_voltage(
@@ -90,7 +96,7 @@ def lowest_voltage(
             }
         )
         state = State.concat([start] * (M * points))
-        faces, _ = roll(params, variants, state, pair, grid.ravel(), protocol)
+        faces = roll(params, variants, state, pair, grid.ravel(), protocol)[0]
         ok = faces.reshape(M, points) == target
         first = np.where(ok.any(1), ok.argmax(1), points)
         found |= ok.any(1)
@@ -104,7 +110,8 @@ def lowest_voltage(
 class Experiment:
     """Section IV.B simulated: the faces reached (1-based) by #10 at 11.1 V from (9,10,12)
     (face_1), then #11 at 6 V from there (face_2), #10 at 6 V from (9,10,12) (face_low); each
-    roll's lowest voltage (V), the second from the first's landing state; locked: whether a
+    roll's lowest voltage (V), the second from the first's landing state; time_1, time_2: s from
+    the voltage's start to the landing of each roll at the paper's voltage; locked: whether a
     strand pair ended a roll at the paper's voltages twisted past its lock (the model's limit,
     `TwistedString.locked`)."""
 
@@ -113,6 +120,8 @@ class Experiment:
     face_low: int
     lowest_1: float
     lowest_2: float
+    time_1: float = float("nan")
+    time_2: float = float("nan")
     locked: bool = False
 
     @property
@@ -132,16 +141,17 @@ def experiment(
     """Runs section IV.B (module docstring) for one robot; `lowest_voltage` by rounds, points."""
     (p1, _, f1), (p2, _, f2) = paper.EXPERIMENT
     start = dynamics.stand_on(params, paper.START_FACE, Terrain.flat())
-    faces, landed = roll(
+    faces, landed, t_1 = roll(
         params, motors, State.concat([start, start]), p1, [paper.VOLTAGE[p1], paper.VOLTAGE[p2]], protocol
     )
-    after = landed.take(slice(0, 1))
-    face_2, final = roll(params, motors, after, p2, [paper.VOLTAGE[p2]], protocol)
+    after = replace(landed.take(slice(0, 1)), t=0.0)
+    face_2, final, t_2 = roll(params, motors, after, p2, [paper.VOLTAGE[p2]], protocol)
     locked = bool(motors.locked(landed.motor_angle).any() or motors.locked(final.motor_angle).any())
     kw = dict(rounds=rounds, points=points, protocol=protocol)
     low_1 = lowest_voltage(params, motors, start, p1, topo.face_number(f1), **kw)
     low_2 = lowest_voltage(params, motors, after, p2, topo.face_number(f2), **kw)
-    return Experiment(int(faces[0]), int(face_2[0]), int(faces[1]), float(low_1[0]), float(low_2[0]), locked)
+    times = float(t_1[0]), float(t_2[0])
+    return Experiment(int(faces[0]), int(face_2[0]), int(faces[1]), float(low_1[0]), float(low_2[0]), *times, locked)
 
 
 def sensitivity(
