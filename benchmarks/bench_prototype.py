@@ -37,7 +37,7 @@ def main() -> None:
     e = pt.experiment(params, motors, protocol, rounds=a.rounds, points=a.points)
     (p1, _, f1), (p2, _, f2) = paper.EXPERIMENT
     label = lambda f: topo.face_label(f) if f else "none"  # noqa: E731
-    volts = lambda x: f"{x:>7.2f}" if np.isfinite(x) else f"{'>12':>7}"  # noqa: E731  (NaN: none in 0-12 V)
+    volts = lambda x: f"{x:>7.2f}" if np.isfinite(x) else f"{'-':>7}"  # noqa: E731  (NaN: none)
     print(f"section IV.B simulated ({time.perf_counter() - t0:.1f} s; drive {a.drive} s, settle {a.settle} s)")
     print(f"{'roll':<34} {'paper':>12} {'simulated':>12}")
     print(f"{'#10 at 11.1 V from (9,10,12)':<34} {label(topo.face_number(f1)):>12} {label(e.face_1):>12}")
@@ -61,13 +61,12 @@ def main() -> None:
     pct = round(100 * a.change)
     print(
         f"\nsensitivity: lowest rolling voltage (V) with one value -{pct} % / +{pct} % "
-        f"({time.perf_counter() - t0:.1f} s; the second roll from (10,11,12) at rest)"
+        f"({time.perf_counter() - t0:.1f} s; the second from where the first landed at 11.1 V;\n"
+        "-: no roll in 0-12 V, or the first roll failed)"
     )
     print(f"{'parameter':<18} {'default':>10} {'#10 -':>7} {'#10 +':>7} {'#11 -':>7} {'#11 +':>7}")
     for name, v in table.items():
-        print(
-            f"{name:<18} {float(np.asarray(getattr(motors, name))):>10.3g} " + " ".join(f"{x:>7.2f}" for x in v.ravel())
-        )
+        print(f"{name:<18} {float(np.asarray(getattr(motors, name))):>10.3g} " + " ".join(volts(x) for x in v.ravel()))
 
 
 if __name__ == "__main__":

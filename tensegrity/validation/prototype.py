@@ -78,8 +78,9 @@ def lowest_voltage(
     rounds: int = 2,
     protocol: Protocol = Protocol(),
 ) -> np.ndarray:
-    """The lowest voltage (V) in `span` at which `pair` rolls the robot of `start` (one robot) onto
-    face `target`, for each of the M variants of `motors` (fields (M,) arrays, or floats: M = 1):
+    """The lowest voltage (V) in `span` at which `pair` rolls the robot of `start` onto face
+    `target`, for each of the M variants of `motors` (fields (M,) arrays, or floats: M = 1) and
+    its start (`start` holds 1 robot, or M: one per variant):
     `points` voltages per variant per round, the bracket shrinking `points + 1` times a round
     (resolution (hi - lo) / (points + 1)^rounds). Returns (M,) V; NaN where none in span rolls.
     Rolling is taken as monotonic in the voltage between the grid points (not checked)."""
@@ -95,7 +96,7 @@ def lowest_voltage(
                 for f in motors.__dataclass_fields__
             }
         )
-        state = State.concat([start] * (M * points))
+        state = start.take(np.repeat(np.arange(M) if start.batch == M else np.zeros(M, int), points))
         faces = roll(params, variants, state, pair, grid.ravel(), protocol)[0]
         ok = faces.reshape(M, points) == target
         first = np.where(ok.any(1), ok.argmax(1), points)
@@ -164,20 +165,20 @@ def sensitivity(
     points: int = 8,
 ) -> dict[str, np.ndarray]:
     """The lowest voltage of each roll with each parameter of `names` times (1 - change) and
-    (1 + change), the others as given: {name: (2 rolls, 2 signs)} V. The second roll starts
-    standing on (10,11,12) (`dynamics.stand_on`), motors at rest."""
+    (1 + change), the others as given: {name: (2 rolls, 2 signs)} V. The second roll starts, as
+    in `experiment`, where the first at the paper's voltage landed (its strands still twisted:
+    they help the second roll); NaN where that first roll failed, or nothing in 0-12 V rolls."""
     (p1, _, f1), (p2, _, f2) = paper.EXPERIMENT
     fields = {f: np.asarray(getattr(motors, f), float) for f in motors.__dataclass_fields__}
     variants = {f: np.repeat(v[None], 2 * len(names), 0) for f, v in fields.items()}
     for k, name in enumerate(names):
         variants[name][2 * k : 2 * k + 2] = fields[name] * np.array([1 - change, 1 + change])
     batch = motors.replace(**variants)
-    out = []
-    for pair, face, target in ((p1, paper.START_FACE, f1), (p2, f1, f2)):
-        start = dynamics.stand_on(params, face, Terrain.flat())
-        out.append(
-            lowest_voltage(
-                params, batch, start, pair, topo.face_number(target), rounds=rounds, points=points, protocol=protocol
-            )
-        )
+    kw = dict(rounds=rounds, points=points, protocol=protocol)
+    start = dynamics.stand_on(params, paper.START_FACE, Terrain.flat())
+    M = 2 * len(names)
+    faces, landed = roll(params, batch, start.take(np.zeros(M, int)), p1, np.full(M, paper.VOLTAGE[p1]), protocol)[:2]
+    out = [lowest_voltage(params, batch, start, p1, topo.face_number(f1), **kw)]
+    second = lowest_voltage(params, batch, replace(landed, t=0.0), p2, topo.face_number(f2), **kw)
+    out.append(np.where(faces == topo.face_number(f1), second, np.nan))
     return {name: np.array([o[2 * k : 2 * k + 2] for o in out]) for k, name in enumerate(names)}

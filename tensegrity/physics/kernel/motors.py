@@ -1,7 +1,8 @@
 """The compiled time loop of robots with twisted-string actuators (`actuator` (T1)-(T5),
 docs/design.md §11): as `kernel.advance`, and each step also moves the 24 motors of every robot.
 
-Robots run in groups of LANES side by side (the layout of `kernel.stages`) for every batch size:
+Robots run in groups of LANES side by side (the layout of `kernel.stages`), a batch under
+WIDE_FROM robots in groups of one lane each (not the struts-side-by-side layout of `kernel.robot`):
 the strut, node, contact and integration stages are the pneumatic kernel's own; only the cable
 stage differs (`_cables`): the tension of each cable by `actuator.string_tension` from the node
 states and its motor's angle and speed, then the motor's step (`actuator.motor_step`) under that
@@ -16,6 +17,18 @@ import numpy as np
 
 from .. import actuator
 from . import (
+    _1AN,
+    _1C,
+    _1G,
+    _1P,
+    _1Q,
+    _1ST,
+    _1T,
+    _1U,
+    _1V,
+    _1W,
+    _1X,
+    _ONE,
     _WIDE,
     LANES,
     NO_TERRAIN,
@@ -23,6 +36,10 @@ from . import (
     OFF_TERRAIN,
     OK,
     TOO_FAST,
+    WIDE_FROM,
+    _1act,
+    _1lane,
+    _1Rm,
     _load,
     _record,
     _retire,
@@ -49,6 +66,7 @@ NM = len(actuator.MOTOR_ROWS)
 _L0, _RS = actuator.MOTOR_ROWS.index("L0"), actuator.MOTOR_ROWS.index("RS")
 _CABLE_PAIR = np.ascontiguousarray(actuator.topo.CABLE_PAIR.astype(np.int64))
 _TH, _OM, _VO, _M = (stack_array(*s, LANES) for s in ((24,), (24,), (24,), (NM,)))
+_TH1, _OM1, _VO1, _M1 = (stack_array(*s, 1) for s in ((24,), (24,), (24,), (NM,)))
 # The law (T1)-(T5), written once in `actuator`, compiled with the kernel's flags and inlined.
 twist = jit(**ks.INLINE)(actuator.twist)
 string_tension = jit(**ks.INLINE)(actuator.string_tension)
@@ -97,15 +115,14 @@ def _motors_out(g, l, theta, omega, TH, OM):
         theta[b, j], omega[b, j] = TH[j, l], OM[j, l]
 
 
-@jit(**ks.JIT)
-def _group(g, x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz, n_rec,
-           every, dt, out_x, out_q, status, fail_step):
-    """`kernel._run` for the robots of group g, with the motors (`_cables`)."""
-    work = (_wX(), _wV(), _wW(), _wQ(), _wAN(), _wST(), _wP(), _wU(), _wG(), _wRm(), _wT(), _wC(),
-            _wact(), _wlane())
+@jit(**ks.INLINE)
+def _run(g, x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz, n_rec,
+         every, dt, out_x, out_q, status, fail_step, work, motors, lanes):
+    """`kernel._run` for the robots of group g (L = len(lanes) of them), with the motors
+    (`_cables`; their working arrays `motors`: TH, OM, VO, M)."""
     X, V, W, Q, AN, ST, P, U, G, Rm, T, C, act, lane = work
-    TH, OM, VO, M = _TH(), _OM(), _VO(), _M()
-    lanes, L = _WIDE, LANES
+    TH, OM, VO, M = motors
+    L = len(lanes)
     # the pneumatic constants' muscles (act) are not used: the volts stand in for pressures
     n_alive = _load(g, x, v, q, w, anchor, stuck, prm, volts, dt, work, lanes)[1]
     _motors_in(g, theta, omega, mprm, volts, TH, OM, VO, M, lanes)
@@ -118,20 +135,29 @@ def _group(g, x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, m
                 for l in range(L):
                     lane[1, l] = 1.0
                 kc.ground_forces(P, U, G, AN, ST, C, lane[1], kind, meta, hz, lanes)
+                off = False
                 for l in range(L):
-                    if lane[1, l] == 0.0 and lane[2, l] != 0.0:
-                        _motors_out(g, l, theta, omega, TH, OM)
-                        _retire(g, l, OFF_TERRAIN, step, x, v, q, w, anchor, stuck, status,
-                                fail_step, X, V, Q, W, AN, ST, lane)
-                        n_alive -= 1
+                    off |= (lane[1, l] == 0.0) & (lane[2, l] != 0.0)
+                if off:  # before the step: the robot keeps its state
+                    for l in range(L):
+                        if lane[1, l] == 0.0 and lane[2, l] != 0.0:
+                            _motors_out(g, l, theta, omega, TH, OM)
+                            _retire(g, l, OFF_TERRAIN, step, x, v, q, w, anchor, stuck, status,
+                                    fail_step, X, V, Q, W, AN, ST, lane)
+                            n_alive -= 1
             ks.integrate(X, V, Q, W, T, G, Rm, C, dt, lane[0], lanes)
             step += 1
+            bad = False
             for l in range(L):
-                if lane[2, l] != 0.0 and not lane[0, l] <= C[ks.VMAX2, l]:
-                    _motors_out(g, l, theta, omega, TH, OM)
-                    _retire(g, l, NON_FINITE if lane[0, l] != lane[0, l] else TOO_FAST, step,
-                            x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST, lane)
-                    n_alive -= 1
+                bad |= (lane[2, l] != 0.0) & (not lane[0, l] <= C[ks.VMAX2, l])
+            if bad:
+                for l in range(L):
+                    if lane[2, l] != 0.0 and not lane[0, l] <= C[ks.VMAX2, l]:
+                        _motors_out(g, l, theta, omega, TH, OM)
+                        _retire(g, l, NON_FINITE if lane[0, l] != lane[0, l] else TOO_FAST, step,
+                                x, v, q, w, anchor, stuck, status, fail_step, X, V, Q, W, AN, ST,
+                                lane)
+                        n_alive -= 1
             if n_alive == 0:
                 break
         if n_alive == 0:
@@ -144,12 +170,38 @@ def _group(g, x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, m
                     ST, lane)
 
 
+@jit(**ks.JIT)
+def _group_wide(g, x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz,
+                n_rec, every, dt, out_x, out_q, status, fail_step):
+    """`_run` for robots g*LANES ... g*LANES + LANES - 1, side by side in SIMD lanes."""
+    _run(g, x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz, n_rec,
+         every, dt, out_x, out_q, status, fail_step,
+         (_wX(), _wV(), _wW(), _wQ(), _wAN(), _wST(), _wP(), _wU(), _wG(), _wRm(), _wT(), _wC(),
+          _wact(), _wlane()), (_TH(), _OM(), _VO(), _M()), _WIDE)
+
+
+@jit(**ks.JIT)
+def _group_one(b, x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz,
+               n_rec, every, dt, out_x, out_q, status, fail_step):
+    """`_run` for robot b alone, in a group of one lane (a batch under WIDE_FROM robots)."""
+    _run(b, x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz, n_rec,
+         every, dt, out_x, out_q, status, fail_step,
+         (_1X(), _1V(), _1W(), _1Q(), _1AN(), _1ST(), _1P(), _1U(), _1G(), _1Rm(), _1T(), _1C(),
+          _1act(), _1lane()), (_TH1(), _OM1(), _VO1(), _M1()), _ONE)
+
+
 @jit(parallel=True, nogil=True, **ks.JIT)
 def _advance(x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz, n_rec,
              every, dt, out_x, out_q, status, fail_step):
-    for g in nb.prange((x.shape[0] + LANES - 1) // LANES):
-        _group(g, x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz,
-               n_rec, every, dt, out_x, out_q, status, fail_step)
+    B = x.shape[0]
+    if B < WIDE_FROM:
+        for b in nb.prange(B):
+            _group_one(b, x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta,
+                       hz, n_rec, every, dt, out_x, out_q, status, fail_step)
+    else:
+        for g in nb.prange((B + LANES - 1) // LANES):
+            _group_wide(g, x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta,
+                        hz, n_rec, every, dt, out_x, out_q, status, fail_step)
 
 
 def advance(x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz, n_rec,
@@ -160,5 +212,5 @@ def advance(x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, met
     args = (x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz, n_rec,
             every, dt, out_x, out_q, status, fail_step)
     if not _advance.overloads:
-        callees_first(_advance, (_group,), args)
+        callees_first(_advance, (_group_one, _group_wide), args)
     _advance(*args)
