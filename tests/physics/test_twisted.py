@@ -161,6 +161,23 @@ def test_kernel_step_matches_the_scalar_law():
     assert np.all(f_twin >= 0.0)  # cables never push
 
 
+def test_a_robot_alone_is_the_same_bits_in_a_group():
+    """The motor kernel runs a batch under WIDE_FROM robots one lane per group and larger ones 8
+    lanes a group (kernel/motors.py): a robot's run does not depend on which (the pneumatic
+    kernel's property, tests/physics/test_kernel_lanes.py), grounded, its pair driven."""
+    params, m = Params(), TwistedString()
+    start = dynamics.stand_on(params, (9, 10, 12), Terrain.flat())
+    volts = np.zeros(12)
+    volts[9] = 11.1
+    alone, _ = dynamics.simulate(params, start, Voltages.constant(volts, 0.2), Terrain.flat(), motors=m)
+    group, _ = dynamics.simulate(
+        params, start.take(np.zeros(9, int)), Voltages.constant(volts, 0.2), Terrain.flat(), motors=m
+    )
+    for k in ("x", "v", "q", "w", "motor_angle", "motor_speed"):
+        assert np.array_equal(getattr(alone, k)[0], getattr(group, k)[8]), k
+    assert alone.motor_angle[0, 15] > 1.0  # the motors did turn
+
+
 def test_pneumatic_path_is_the_pneumatic_kernel():
     """With no motors, `simulate` runs the pneumatic kernel exactly as before: the same bits as
     calling `kernel.advance` directly, and a state with no motor fields."""
