@@ -107,14 +107,14 @@ def _closed_run(m: TwistedString, volts: float, seconds: float, dt: float = 1e-4
 
 def test_energy_balance_of_a_closed_run():
     """Electrical work = spring energy gained + motor kinetic energy + what the winding
-    resistance, the gears, the friction and the cable's damping dissipate, to 1 % of the work:
-    semi-implicit Euler keeps energy to O(dt) (here dt = 1e-4 s against a mechanical time
-    constant of 30 ms). A loss is never negative, and the spring holds a real share."""
+    resistance, the gears, the friction and the cable's damping dissipate, to 0.1 % of the work:
+    semi-implicit Euler keeps energy to O(dt) (dt = 1e-4 s against a mechanical time constant of
+    62 ms; measured 3e-5). A loss is never negative, and the spring holds a real share."""
     E = _closed_run(TwistedString(string_radius=1.5e-3), 8.0, 1.5)
     lost = E["resistive"] + E["gear"] + E["friction"] + E["damping"]
     assert min(E["resistive"], E["gear"], E["friction"], E["damping"], E["spring"]) > 0.0
     assert E["spring"] > 0.05 * E["electric"]
-    np.testing.assert_allclose(E["spring"] + E["kinetic"] + lost, E["electric"], rtol=1e-2)
+    np.testing.assert_allclose(E["spring"] + E["kinetic"] + lost, E["electric"], rtol=1e-3)
 
 
 def test_kernel_step_matches_the_scalar_law():
