@@ -15,7 +15,7 @@ from .params import Params
 from .schedule import Schedule, check_pressures
 from .state import State, axes, cog, from_nodes, node_velocities, nodes, stand_on
 from .terrain import Terrain
-from .twisted import TwistedString
+from .twisted import TwistedString, Voltages
 
 __all__ = [
     "SimulationError",
@@ -87,6 +87,11 @@ def simulate(
     if int(record_every) < 1:
         raise ValueError(f"record_every must be a positive number of steps, got {np.asarray(record_every).tolist()!r}")
     state.check()
+    if isinstance(schedule, Voltages) != (motors is not None):
+        raise ValueError(
+            "motors=TwistedString(...) and a schedule of voltages (twisted.Voltages) go together: got "
+            f"motors {'given' if motors is not None else 'None'} and a {type(schedule).__name__}"
+        )
     B = state.batch
     if schedule.pressure.shape[0] not in (1, B):
         raise ValueError(f"schedule has {schedule.pressure.shape[0]} robots, the state {B}")
@@ -231,4 +236,4 @@ def warm() -> None:
         simulate(params, state, Schedule.constant(np.zeros((batch, 12)), 1e-3), Terrain.flat())
     tensions(params, state, np.zeros((batch, 12)))
     # the twisted-string kernel (kernel.motors): groups of lanes for every batch
-    simulate(params, state, Schedule.constant(np.zeros((batch, 12)), 1e-3), Terrain.flat(), motors=TwistedString())
+    simulate(params, state, Voltages.constant(np.zeros((batch, 12)), 1e-3), Terrain.flat(), motors=TwistedString())

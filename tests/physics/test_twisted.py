@@ -203,6 +203,12 @@ def test_bad_input_is_named():
         TwistedString(no_load_current=1.0)
     with pytest.raises(ValueError, match="V is outside"):
         Voltages.constant(np.full(12, 30.0), 1.0)
+    params = Params()
+    state = dynamics.stand_on(params, 8)
+    with pytest.raises(ValueError, match="motors None and a Voltages"):
+        dynamics.simulate(params, state, Voltages.constant(np.full(12, 11.1), 1e-3))
+    with pytest.raises(ValueError, match="motors given and a Schedule"):
+        dynamics.simulate(params, state, Schedule.constant(np.zeros(12), 1e-3), motors=TwistedString())
     with pytest.raises(ValueError, match="unknown actuator parameter.*bogus"):
         TwistedString.from_dict({"bogus": 1.0})
 
