@@ -16,13 +16,14 @@ from typing import Any, TypeVar
 from ..locomotion.demos import Scenarios
 from ..locomotion.settings import RollSettings
 from ..physics.params import Params
+from ..physics.twisted import TwistedString
 from ..validation.common import CheckSettings
 from ..workspace.gravity import GravitySetup
 from ..workspace.sweep import SweepSetup
 from ..workspace.two_pair import TwoPairSetup
 from .config import params_from_config
 
-__all__ = ["KEYS", "build", "params"]
+__all__ = ["KEYS", "build", "params", "motors"]
 
 T = TypeVar("T")
 
@@ -71,3 +72,14 @@ def params(cfg: Mapping) -> Params:
     if "params" not in cfg:
         raise KeyError("config section params is needed here but was not given")
     return params_from_config({"params": cfg["params"]})
+
+
+def motors(cfg: Mapping) -> TwistedString | None:
+    """The prototype's twisted-string actuators from the `actuator` section of `cfg` when its
+    kind is twisted_string; None for the pneumatic muscles (docs/design.md §11)."""
+    kind = value(cfg, "actuator.kind")
+    if kind == "pneumatic":
+        return None
+    if kind != "twisted_string":
+        raise ValueError(f"config key actuator.kind: unknown actuator {kind!r}")
+    return TwistedString.from_dict(dict(cfg["actuator"].get("twisted_string", {})))

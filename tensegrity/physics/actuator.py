@@ -24,6 +24,8 @@ The kernel calls only `pack`, `activation` and `tension`.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -96,3 +98,79 @@ def spring(K: ArrayLike, L: ArrayLike, Lmin: ArrayLike, act: ArrayLike) -> tuple
     L m, Lmin m and act = Kg P N/m (`activations`), broadcast."""
     k = K + act
     return k, (K * L + act * Lmin) / k
+
+
+# ---- The twisted-string actuator (docs/design.md §11, eq. T1-T5) --------------------------------
+# A DC gear motor twists two strands of length L0 and radius r (Palli et al. 2013); they are in
+# series with a spring and the aramid fibre (series stiffness K). Output angle theta (rad), speed
+# omega (rad/s); the cable's pair voltage V (V). Its constants per cable, in the order packed
+# (`TwistedString.pack`, rows of the kernel's motor constants M): K N/m, rest length at theta = 0
+# LR m, damping B N s/m, L0 m, r m, torque per volt G = eta N kt / R (N m/V), electrical and
+# viscous damping D = eta N^2 kt ke / R + b (N m s/rad), Coulomb friction TC N m, 1/omega_eps
+# s/rad, dt/J 1/(kg m^2 s) (J = N^2 J_rotor, output side), the time step dt s.
+MOTOR_ROWS = ("K", "LR", "B", "L0", "RS", "GAIN", "DAMP", "TC", "IWE", "DT_J", "DT")
+_MK, _MLR, _MB, _ML0, _MRS, _MGAIN, _MDAMP, _MTC, _MIWE, _MDTJ, _MDT = range(len(MOTOR_ROWS))
+# The strands stay apart from each other while p > P_MIN L0; below, the model is off (Palli et
+# al. 2013 eq. 10: two strands lock at tan(alpha) = pi/2, p = 0.54 L0). The guard only keeps a
+# run finite; `TwistedString` reports a twist past the lock.
+P_MIN = 0.05
+
+
+def twist(theta: float, L0: float, r: float) -> tuple[float, float]:
+    """(T1)-(T2): contraction c = L0 - p (m) of two strands of length L0 m and radius r m twisted
+    by theta rad, p = sqrt(L0^2 - (theta r)^2), and the transmission ratio h = dc/dtheta =
+    theta r^2 / p (m/rad), so that the motor feels tau = f h (virtual work)."""
+    s = theta * r
+    p = math.sqrt(max(L0 * L0 - s * s, (P_MIN * L0) ** 2))
+    return L0 - p, s * r / p
+
+
+def string_tension(ln: float, ldot: float, c: float, h: float, omega: float, M: np.ndarray, l: int) -> float:
+    """(T3): tension (N) of a twisted-string cable of length ln m and rate ldot m/s whose strands
+    are contracted by c m at the ratio h m/rad (`twist`), motor speed omega rad/s, constants
+    M[:, l] (MOTOR_ROWS): the spring and fibre in series stretch by ln - LR + c,
+    f = max(0, K stretch + B d(stretch)/dt), d(stretch)/dt = ldot + h omega."""
+    f = M[_MK, l] * (ln - M[_MLR, l] + c) + M[_MB, l] * (ldot + h * omega)
+    return 0.0 if f <= 0.0 else f
+
+
+def motor_torque(volt: float, omega: float, M: np.ndarray, l: int) -> float:
+    """(T4): the motor's net torque (N m, output side) at `volt` V and speed omega rad/s, before
+    the string's load f h: G V - D omega - TC sat(omega / omega_eps) (Coulomb friction made
+    linear below omega_eps; a load under TC then creeps at omega_eps load / TC at most)."""
+    s = omega * M[_MIWE, l]
+    s = -1.0 if s < -1.0 else (1.0 if s > 1.0 else s)
+    return M[_MGAIN, l] * volt - M[_MDAMP, l] * omega - M[_MTC, l] * s
+
+
+def motor_step(
+    theta: float, omega: float, tau: float, f: float, h: float, M: np.ndarray, l: int
+) -> tuple[float, float]:
+    """(T5): one semi-implicit Euler step of the motor with the torque tau N m (`motor_torque`)
+    under the string's tension f N at the ratio h m/rad: omega += dt/J (tau - f h), then
+    theta += dt omega. Returns the new theta rad, omega rad/s."""
+    w = omega + M[_MDTJ, l] * (tau - f * h)
+    return theta + M[_MDT, l] * w, w
+
+
+def twists(theta: ArrayLike, L0: ArrayLike, r: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """The NumPy twin of `twist`: contraction c (...) m and ratio h (...) m/rad, broadcast."""
+    s = np.asarray(theta, dtype=float) * r
+    p = np.sqrt(np.maximum(np.square(L0) - s * s, np.square(P_MIN * np.asarray(L0))))
+    return L0 - p, s * r / p
+
+
+def string_tensions(ln: ArrayLike, ldot: ArrayLike, theta: ArrayLike, omega: ArrayLike, rows: ArrayLike) -> np.ndarray:
+    """The NumPy twin of `string_tension` at the motor angle theta rad (its c, h by `twists`),
+    with the constants rows (len(MOTOR_ROWS), ...), broadcast."""
+    K, LR, B, L0, r = np.asarray(rows, dtype=float)[:5]
+    c, h = twists(theta, L0, r)
+    f = K * (np.asarray(ln) - LR + c) + B * (np.asarray(ldot) + h * np.asarray(omega))
+    return np.where(f <= 0.0, 0.0, f)
+
+
+def motor_torques(volt: ArrayLike, omega: ArrayLike, rows: ArrayLike) -> np.ndarray:
+    """The NumPy twin of `motor_torque` (N m), with the constants rows (len(MOTOR_ROWS), ...)."""
+    rows = np.asarray(rows, dtype=float)
+    s = np.clip(np.asarray(omega) * rows[_MIWE], -1.0, 1.0)
+    return rows[_MGAIN] * np.asarray(volt) - rows[_MDAMP] * np.asarray(omega) - rows[_MTC] * s

@@ -15,6 +15,7 @@ from .params import Params
 from .schedule import Schedule, check_pressures
 from .state import State, axes, cog, from_nodes, node_velocities, nodes, stand_on
 from .terrain import Terrain
+from .twisted import TwistedString, Voltages
 
 __all__ = [
     "SimulationError",
@@ -74,15 +75,23 @@ def simulate(
     terrain: Terrain | None = None,
     dt: float = 1e-4,
     record_every: int = 10,
+    motors: TwistedString | None = None,
 ) -> tuple[State, Trajectory]:
     """Advance the batch through the schedule with time step dt (s), recording every
     `record_every` steps. Returns the final state and the trajectory; the input is unchanged.
-    Raises SimulationError naming the robot, the time and the quantity if a run blows up."""
+    Raises SimulationError naming the robot, the time and the quantity if a run blows up.
+    With `motors` (twisted-string actuators, docs/design.md §11) the schedule's levels are pair
+    voltages in V, and the state carries the motors' angles and speeds (0 if it has none)."""
     if not (np.isfinite(dt) and 0 < dt <= 1e-3):
         raise ValueError(f"time step dt = {np.asarray(dt).tolist()!r} s must be in (0, 1e-3]")
     if int(record_every) < 1:
         raise ValueError(f"record_every must be a positive number of steps, got {np.asarray(record_every).tolist()!r}")
     state.check()
+    if isinstance(schedule, Voltages) != (motors is not None):
+        raise ValueError(
+            "motors=TwistedString(...) and a schedule of voltages (twisted.Voltages) go together: got "
+            f"motors {'given' if motors is not None else 'None'} and a {type(schedule).__name__}"
+        )
     B = state.batch
     if schedule.pressure.shape[0] not in (1, B):
         raise ValueError(f"schedule has {schedule.pressure.shape[0]} robots, the state {B}")
@@ -90,6 +99,16 @@ def simulate(
     terrain = terrain or Terrain.flat()
     kind, meta, hz = terrain.packed()
     s = state.copy()
+    if motors is not None:
+        from .kernel import motors as km  # compiled on first use only
+
+        mprm = motors.pack(params, B, dt)
+        zero = np.zeros((B, topo.N_CABLES))
+        s = replace(
+            s,
+            motor_angle=zero if s.motor_angle is None else s.motor_angle,
+            motor_speed=zero.copy() if s.motor_speed is None else s.motor_speed,
+        )
     status = np.zeros(B, np.int64)
     fail = np.zeros(B, np.int64)
     every = int(record_every)
@@ -106,26 +125,41 @@ def simulate(
         pres = np.array(np.broadcast_to(schedule.pressure[:, k], (B, topo.N_PAIRS)), dtype=float, order="C")
         out_x = np.empty((B, n_rec, topo.N_STRUTS, 3))
         out_q = np.empty((B, n_rec, topo.N_STRUTS, 4))
-        kernel.advance(
-            s.x,
-            s.v,
-            s.q,
-            s.w,
-            s.anchor,
-            s.stuck,
-            prm,
-            pres,
-            kind,
-            meta,
-            hz,
-            n_rec,
-            every,
-            dt,
-            out_x,
-            out_q,
-            status,
-            fail,
-        )
+        if motors is None:
+            kernel.advance(
+                s.x,
+                s.v,
+                s.q,
+                s.w,
+                s.anchor,
+                s.stuck,
+                prm,
+                pres,
+                kind,
+                meta,
+                hz,
+                n_rec,
+                every,
+                dt,
+                out_x,
+                out_q,
+                status,
+                fail,
+            )
+        else:
+            km.advance(
+                *(s.x, s.v, s.q, s.w, s.anchor, s.stuck, s.motor_angle, s.motor_speed, prm, mprm, pres),
+                kind,
+                meta,
+                hz,
+                n_rec,
+                every,
+                dt,
+                out_x,
+                out_q,
+                status,
+                fail,
+            )
         if status.any():
             b = int(np.flatnonzero(status)[0])
             raise SimulationError(
@@ -201,3 +235,5 @@ def warm() -> None:
         state = stand_on(params, 8, batch=batch)
         simulate(params, state, Schedule.constant(np.zeros((batch, 12)), 1e-3), Terrain.flat())
     tensions(params, state, np.zeros((batch, 12)))
+    # the twisted-string kernel (kernel.motors): groups of lanes for every batch
+    simulate(params, state, Voltages.constant(np.zeros((batch, 12)), 1e-3), Terrain.flat(), motors=TwistedString())

@@ -63,14 +63,17 @@ def hold_step(
 @dataclass(frozen=True)
 class Schedule:
     """Piecewise-constant pair pressures: segment k lasts durations[k] s with pressure
-    pressure[:, k, :] MPa, shape (B, K, 12) (B may be 1 for the whole batch)."""
+    pressure[:, k, :] MPa, shape (B, K, 12) (B may be 1 for the whole batch). A subclass may
+    hold another actuation level by its own `check` (`twisted.Voltages`: volts)."""
 
     durations: np.ndarray
     pressure: np.ndarray
 
+    check = staticmethod(check_pressures)  # the levels' check: a class attribute, not a field
+
     def __post_init__(self):
         d = np.asarray(self.durations, dtype=float).reshape(-1)
-        p = check_pressures(self.pressure)
+        p = self.check(self.pressure)
         if p.ndim == 2:
             p = p[None]
         if p.ndim != 3 or p.shape[1:] != (d.size, topo.N_PAIRS):
@@ -95,7 +98,7 @@ class Schedule:
         """The paper's sweep (III.A): robot b drives pair pairs[b] (1-based) through `levels`
         MPa, each held `hold` s, after `settle` s at zero pressure."""
         pairs = [topo.check_pair(p) for p in np.atleast_1d(pairs)]
-        levels = check_pressures(levels, "pressure levels")
+        levels = cls.check(levels, "pressure levels")
         segs = ([0.0] if settle > 0 else []) + list(levels)
         p = np.zeros((len(pairs), len(segs), topo.N_PAIRS))
         for b, pair in enumerate(pairs):

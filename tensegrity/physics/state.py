@@ -22,7 +22,9 @@ class State:
     """Batch of B robots. x, v: strut centres (m) and velocities (m/s), (B, 6, 3) world;
     q: unit quaternions (w, x, y, z) taking body to world components, (B, 6, 4), body axis 3
     along the strut; w: body angular velocities (rad/s), (B, 6, 3); anchor, stuck: friction
-    stick points (B, 12, 3) m and flags (B, 12); t: time, s."""
+    stick points (B, 12, 3) m and flags (B, 12); t: time, s. With twisted-string actuators
+    (`twisted`): motor_angle, motor_speed (B, 24) rad, rad/s at the output shaft, per cable
+    (None for the pneumatic muscles; `dynamics.simulate` starts them at 0)."""
 
     x: np.ndarray
     v: np.ndarray
@@ -31,6 +33,14 @@ class State:
     anchor: np.ndarray
     stuck: np.ndarray
     t: float = 0.0
+    motor_angle: np.ndarray | None = None
+    motor_speed: np.ndarray | None = None
+
+    _MOTORS = ("motor_angle", "motor_speed")
+
+    def _motors(self, f) -> dict:
+        """The motor fields mapped by f (none when they are None)."""
+        return {k: f(getattr(self, k)) for k in self._MOTORS if getattr(self, k) is not None}
 
     @property
     def batch(self) -> int:
@@ -40,6 +50,7 @@ class State:
         return State(
             *(np.array(a, copy=True, order="C") for a in (self.x, self.v, self.q, self.w, self.anchor, self.stuck)),
             t=self.t,
+            **self._motors(lambda a: np.array(a, copy=True, order="C")),
         )
 
     def check(self) -> None:
@@ -53,7 +64,11 @@ class State:
 
     def take(self, idx: ArrayLike | slice) -> State:
         """The sub-batch of robots idx."""
-        return State(*(a[idx] for a in (self.x, self.v, self.q, self.w, self.anchor, self.stuck)), t=self.t)
+        return State(
+            *(a[idx] for a in (self.x, self.v, self.q, self.w, self.anchor, self.stuck)),
+            t=self.t,
+            **self._motors(lambda a: a[idx]),
+        )
 
     @staticmethod
     def concat(states: Sequence[State], t: float | None = None) -> State:
@@ -61,6 +76,11 @@ class State:
         return State(
             *(np.concatenate([getattr(s, k) for s in states]) for k in ("x", "v", "q", "w", "anchor", "stuck")),
             t=states[0].t if t is None else t,
+            **{
+                k: np.concatenate([getattr(s, k) for s in states])
+                for k in State._MOTORS
+                if all(getattr(s, k) is not None for s in states)
+            },
         )
 
 

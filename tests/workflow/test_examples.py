@@ -213,6 +213,18 @@ def test_example_runs(request, workflow_copy, doc, lang, text, line):
 
 BENCHMARKS = {
     "bench_step.py": ["--seconds", "0.01"],
+    "bench_prototype.py": [
+        "--drive",
+        "0.05",
+        "--settle",
+        "0.01",
+        "--rounds",
+        "1",
+        "--points",
+        "2",
+        "--names",
+        "damping",
+    ],
     "bench_locomotion.py": [
         "--workspace",
         "{tiny}/results/workspace.nc",
