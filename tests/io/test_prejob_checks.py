@@ -139,3 +139,12 @@ def test_sample_sizes_the_samplers_need(design, ok, key):
 def test_a_chunk_over_the_cost_limits_is_refused_naming_the_key(over, key):
     with pytest.raises(ConfigError, match=f"^study key {key}: .* makes a chunk job"):
         _study(design={"method": "lhs", "n": 16}, **over)
+
+
+def test_an_actuator_the_pipeline_does_not_run_is_refused_naming_the_key():
+    """`actuator.kind: twisted_string` is simulated by the API only; the pipeline and the
+    commands refuse it before any job instead of running the pneumatic robot under its name."""
+    from tensegrity.io import config
+
+    with pytest.raises(config.ConfigError, match="actuator.kind: 'twisted_string'"):
+        config.load(None, ["actuator.kind=twisted_string"])

@@ -161,10 +161,13 @@ def test_kernel_step_matches_the_scalar_law():
     assert np.all(f_twin >= 0.0)  # cables never push
 
 
-def test_a_robot_alone_is_the_same_bits_in_a_group():
+def test_a_robot_alone_is_the_same_robot_in_a_group():
     """The motor kernel runs a batch under WIDE_FROM robots one lane per group and larger ones 8
-    lanes a group (kernel/motors.py): a robot's run does not depend on which (the pneumatic
-    kernel's property, tests/physics/test_kernel_lanes.py), grounded, its pair driven."""
+    lanes a group (kernel/motors.py): a robot's run does not depend on which, grounded, its pair
+    driven. To round-off, not bit for bit: freshly compiled (an empty numba cache, as in CI) the
+    two layouts differ by up to 1e-16 m in x and 1e-13 rad/s in w after 0.2 s (a cached build
+    gave equal bits); the pneumatic kernel's layouts are equal bit for bit
+    (tests/physics/test_kernel_lanes.py)."""
     params, m = Params(), TwistedString()
     start = dynamics.stand_on(params, (9, 10, 12), Terrain.flat())
     volts = np.zeros(12)
@@ -173,8 +176,16 @@ def test_a_robot_alone_is_the_same_bits_in_a_group():
     group, _ = dynamics.simulate(
         params, start.take(np.zeros(9, int)), Voltages.constant(volts, 0.2), Terrain.flat(), motors=m
     )
-    for k in ("x", "v", "q", "w", "motor_angle", "motor_speed"):
-        assert np.array_equal(getattr(alone, k)[0], getattr(group, k)[8]), k
+    for k, atol in (
+        ("x", 1e-14),
+        ("v", 1e-12),
+        ("q", 1e-14),
+        ("w", 1e-11),
+        ("motor_angle", 1e-12),
+        ("motor_speed", 1e-10),
+    ):
+        np.testing.assert_allclose(getattr(alone, k)[0], getattr(group, k)[8], rtol=0, atol=atol, err_msg=k)
+        assert np.array_equal(getattr(group, k)[0], getattr(group, k)[8]), k  # one layout: equal bits
     assert alone.motor_angle[0, 15] > 1.0  # the motors did turn
 
 
