@@ -89,13 +89,6 @@ def _pressures(pairs: np.ndarray, level: np.ndarray) -> np.ndarray:
     return out
 
 
-def _in_frames(nodes: np.ndarray, faces: np.ndarray):
-    """CoG (..., C, 3), support (..., C, 3, 3) m and margin (..., C) m of nodes (..., 12, 3) m."""
-    out = [frames.in_support_frame(nodes, int(f)) for f in faces]
-    cog, sup = np.stack([o[0] for o in out], axis=-2), np.stack([o[1] for o in out], axis=-3)
-    return cog, sup, frames.margin_2d(cog[..., :2], sup[..., :2])
-
-
 def free_workspace(
     designs: Sequence[Params], faces: Sequence[int], pairs: Sequence[int], levels: Sequence[float]
 ) -> StaticWorkspace:
@@ -111,7 +104,7 @@ def free_workspace(
     ref = topo.reference_nodes(1.0)[None] * law["strut_length"][index, None, None]
     X0, C0 = eq.struts(ref)
     X, Cx, prev, p_prev = X0, C0, (X0, C0), 0.0
-    nodes = np.empty((D * P, L, topo.N_NODES, 3))
+    cog, sup, mar = np.empty((D, C, P, L, 3)), np.empty((D, C, P, L, 3, 3)), np.empty((D, C, P, L))
     states = []
     for k, lev in enumerate(levels):
         w = (lev - p_prev) / (p_prev - (levels[k - 2] if k >= 2 else 0.0)) if k >= 1 else 0.0
@@ -120,11 +113,10 @@ def free_workspace(
         X, Cx = _solve(law, index, _pressures(col, np.full(D * P, lev)), Xs, Cs)
         p_prev = lev
         states.append((X, Cx))
-        nodes[:, k] = eq.nodes(X, Cx, law["strut_length"][index])
-    cog, sup, mar = _in_frames(nodes, faces)  # (D P, L, C, ...)
-    cog = cog.reshape(D, P, L, C, 3).transpose(0, 3, 1, 2, 4)
-    sup = sup.reshape(D, P, L, C, 3, 3).transpose(0, 3, 1, 2, 4, 5)
-    mar = mar.reshape(D, P, L, C).transpose(0, 3, 1, 2)
+        nodes = eq.nodes(X, Cx, law["strut_length"][index]).reshape(D, P, topo.N_NODES, 3)
+        for c, f in enumerate(faces):
+            cog[:, c, :, k], sup[:, c, :, k] = frames.in_support_frame(nodes, int(f))
+    mar[:] = frames.margin_2d(cog[..., :2], sup[..., :2])
     tip, edge = _tips(law, index, col, faces, levels, states, cog, sup, mar)
     return StaticWorkspace(faces, pairs, levels, cog, sup, mar, tip, edge)
 
