@@ -5,8 +5,8 @@ the margin as a function of pressure (Illinois regula falsi between the last lev
 the first level outside; no interpolation). The path the dynamic study averages (paper III.A)
 converges to these equilibria as its oscillation dies out: the same free mode, no gravity.
 
-Errors: the equilibria are converged to `TOL` (1e-10 m, rad: Newton's last step, so the error is
-far smaller); the tipping pressures to |margin| < MARGIN_TOL (1e-10 m) or a bracket narrower than
+Errors: the equilibria are converged to Newton steps below `TOL` (1e-8 m, rad; the error left
+is ~1e-15 m, `physics.equilibrium`); the tipping pressures to |margin| < MARGIN_TOL (1e-10 m) or a bracket narrower than
 PRESSURE_TOL (1e-7 MPa).
 """
 
@@ -22,7 +22,7 @@ from ..physics import equilibrium as eq
 from ..physics import topology as topo
 from ..physics.params import Params
 
-TOL = 1e-10  # m and rad: Newton's last step
+TOL = 1e-8  # m and rad: Newton's last step
 MARGIN_TOL, PRESSURE_TOL = 1e-10, 1e-7  # m, MPa: the tipping pressure's root
 MAX_ROOT_STEPS = 60
 
