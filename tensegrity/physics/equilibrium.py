@@ -229,12 +229,6 @@ def _one(X, C, h, k, ls, NS, SG, CAB, tol, maxit):
         for i in range(_NV):
             big = max(big, abs(step[i]))
         frac = 1.0
-        if big < tol:  # the last step: Newton leaves an error ~ big^2 / (length scale)
-            _move(X, C, E, step, frac, Xn, Cn)
-            for s in range(6):
-                for d in range(3):
-                    X[s, d], C[s, d] = Xn[s, d], Cn[s, d]
-            return it + 1
         if big > 1e3 * tol:  # far from the solution: halve a step that raises U
             U0 = _energy(X, C, h, k, ls, NS, SG, CAB, p)
             for _ in range(40):
@@ -246,6 +240,8 @@ def _one(X, C, h, k, ls, NS, SG, CAB, tol, maxit):
         for s in range(6):
             for d in range(3):
                 X[s, d], C[s, d] = Xn[s, d], Cn[s, d]
+        if big < tol:  # the last step: Newton leaves an error ~ big^2 / (length scale)
+            return it + 1
     return -1
 
 
