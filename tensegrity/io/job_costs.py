@@ -147,6 +147,8 @@ def study_chunk(study: Mapping, dt: float) -> Cost:
     ws = study["workspace"]
     if not ws["enabled"]:
         return Cost("a chunk job", 0.0, dt, 0.0, STAIRCASE_BYTES, "no workspace")
+    if ws["method"] == "statics":  # no simulation: a few kB per design
+        return Cost("a chunk job", 0.0, dt, 0.0, STAIRCASE_BYTES, "workspace.method statics")
     robots = int(study["chunk_size"]) * len(ws["contacts"]) * len(ws["pairs"])
     secs = len(ws["levels"]) * float(ws["hold"])
     interval = int(ws["sample_every"]) * dt

@@ -65,6 +65,11 @@ def _semantic(st: dict, base: Params, dt: float | None) -> list[str]:
             f"study key workspace.reference_pressure: {ws['reference_pressure']} MPa is outside "
             f"the levels {lv[0]}..{lv[-1]} MPa"
         )
+    if ws["enabled"] and ws["method"] == "statics" and float(base.cable_exponent) != 1.0:
+        out.append(
+            f"study key workspace.method: statics needs linear cables (params.cable_exponent = 1), "
+            f"got {float(base.cable_exponent)}"
+        )
     if not ws["enabled"] and not st["roll"]["enabled"]:
         out.append("study key workspace.enabled: the study computes nothing (workspace and roll both disabled)")
     if st["roll"]["enabled"]:

@@ -53,7 +53,12 @@ def study_chunk(
     designs = spec.design_params(base, study, X)
     ws = paper = rolls = None
     w = study["workspace"]
-    if w["enabled"]:
+    if w["enabled"] and w["method"] == "statics":
+        ws, tips = ev.static_workspace(designs, w["contacts"], w["pairs"], w["levels"])
+        paper = ev.paper_statements(designs, ws, w["contacts"], w["reference_pressure"], w["tip_tolerance"], tips)
+        if progress:
+            progress(len(w["levels"]) * float(w["hold"]))  # as the dynamic path reports its levels
+    elif w["enabled"]:
         setup = SweepSetup(
             levels=tuple(w["levels"]),
             hold=float(w["hold"]),

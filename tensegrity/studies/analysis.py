@@ -60,14 +60,23 @@ def sensitivity(
     k = pr["num_vars"]
     if np.ptp(y) == 0:
         return {name: np.zeros(k) for pair in INDICES[method] for name in pair if name}
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(1):  # SALib's small BLAS calls (KDEs): threads only wait on each other
+        r = _analyze(study, pr, method, X, y, seed, resamples)
+    return {name: np.asarray(r[name], float) for pair in INDICES[method] for name in pair if name}
+
+
+def _analyze(study, pr, method, X, y, seed, resamples):
+    """SALib's analysis of `method` (`sensitivity`)."""
     if method == "saltelli":
         from SALib.analyze import sobol
 
-        r = sobol.analyze(pr, y, calc_second_order=False, seed=seed, print_to_console=False, num_resamples=resamples)
-    elif method == "morris":
+        return sobol.analyze(pr, y, calc_second_order=False, seed=seed, print_to_console=False, num_resamples=resamples)
+    if method == "morris":
         from SALib.analyze import morris
 
-        r = morris.analyze(
+        return morris.analyze(
             pr,
             X,
             y,
@@ -76,11 +85,9 @@ def sensitivity(
             print_to_console=False,
             num_resamples=resamples,
         )
-    else:
-        from SALib.analyze import delta
+    from SALib.analyze import delta
 
-        r = delta.analyze(pr, X, y, seed=seed, print_to_console=False, num_resamples=resamples)
-    return {name: np.asarray(r[name], float) for pair in INDICES[method] for name in pair if name}
+    return delta.analyze(pr, X, y, seed=seed, print_to_console=False, num_resamples=resamples)
 
 
 def best_designs(objective: np.ndarray, n: int) -> np.ndarray:

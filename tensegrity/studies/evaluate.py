@@ -1,7 +1,9 @@
 """Per-design numbers of a study, many designs in one batched simulation.
 
 `workspace`: the free-mode sweep of every (design, contact, pair) as one batch of robots, each with
-its own parameters (`Params` fields as (B,) arrays), averaged per level as workspace.nominal does.
+its own parameters (`Params` fields as (B,) arrays), averaged per level as workspace.nominal does;
+`static_workspace`: the same numbers as static equilibria (workspace.equilibria), with tipping
+pressures found by root-finding (the study's `workspace.method: statics`).
 `paper_statements`: the paper's statements (validation check 1) on each design's nominal CoG.
 `roll_sequence`: the paper's roll sequence (9,10,12) -#10-> (10,11,12) -#11-> (6,10,11) in the
 grounded mode for every design, driven by `locomotion.lockstep` as one batch.
@@ -26,6 +28,7 @@ from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
 from ..physics.topology import CONTACTS
 from ..validation import paper as check1
+from ..workspace import equilibria as eqw
 from ..workspace import sweep as sw
 from ..workspace.nominal import Nominal
 
@@ -123,6 +126,17 @@ def workspace(
     return StudyWorkspace(faces, pairs, levels, cog, sup, margin)
 
 
+def static_workspace(
+    designs: Sequence[Params], contacts: Sequence[str], pairs: Sequence[int], levels: Sequence[float]
+) -> tuple[StudyWorkspace, np.ndarray]:
+    """The workspace of `workspace` as static equilibria (`workspace.equilibria.free_workspace`:
+    the support triangle is the equilibrium's, not a mean) and the tipping pressures (D, C, P)
+    MPa, roots of the margin (NaN: never), for `paper_statements`."""
+    faces = [topo.face_number(topo.CONTACT_FACES[c]) for c in contacts]
+    s = eqw.free_workspace(designs, faces, pairs, levels)
+    return StudyWorkspace(s.faces, s.pairs, s.levels, s.cog, s.support, s.margin), s.tip_pressure
+
+
 def nominals(ws: StudyWorkspace, design: int, contacts: Sequence[str]) -> dict[str, Nominal]:
     """The free-mode nominal CoG of design number `design` (0-based, of `ws`) per contact case,
     `contacts` naming the contact cases of ws.faces in order."""
@@ -147,12 +161,14 @@ def paper_statements(
     contacts: Sequence[str],
     reference_pressure: float,
     tip_tolerance: float,
+    tips: np.ndarray | None = None,
 ) -> dict[str, np.ndarray]:
     """The paper's statements per design (validation check 1, `validation.paper.check_paper`, on
     its nominal CoG `nominals` and its strut length; pairs ranked at `reference_pressure` MPa,
     #10's tip within `tip_tolerance` MPa): tip_pressure (D, C, N) MPa (NaN: never), tip_edge
     (D, C, N, 2) its nodes (0: none) and migration (D, C, N) m of the N pairs of `ws` on the C
-    `contacts`, and status (D, 5), the codes (STATEMENT_CODE) of statements 1.1-1.5."""
+    `contacts`, and status (D, 5), the codes (STATEMENT_CODE) of statements 1.1-1.5. `tips`
+    (D, C, N) MPa, if given (`static_workspace`), replace the crossings interpolated in the levels."""
     D, C, N = ws.margin.shape[:3]
     out = {
         "tip_pressure": np.full((D, C, N), np.nan),
@@ -161,7 +177,14 @@ def paper_statements(
         "status": np.zeros((D, len(STATEMENTS)), np.int8),
     }
     for i, prm in enumerate(designs):
-        r = check1.check_paper(nominals(ws, i, contacts), float(prm.strut_length), reference_pressure, tip_tolerance)
+        given = None
+        if tips is not None:
+            given = np.full((len(CONTACTS), topo.N_PAIRS), np.nan)
+            for j, c in enumerate(contacts):
+                given[CONTACTS.index(c), ws.pairs - 1] = tips[i, j]
+        r = check1.check_paper(
+            nominals(ws, i, contacts), float(prm.strut_length), reference_pressure, tip_tolerance, tip_pressure=given
+        )
         for j, c in enumerate(contacts):
             k = CONTACTS.index(c)
             out["tip_pressure"][i, j] = r.tip_pressure[k, ws.pairs - 1]

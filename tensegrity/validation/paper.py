@@ -116,6 +116,7 @@ def check_paper(
     ranking_pressure: float = CheckSettings.ranking_pressure,
     tip_tolerance: float = CheckSettings.tip_pressure_tolerance,
     orbit_tolerance: float = CheckSettings.orbit_tolerance,
+    tip_pressure: np.ndarray | None = None,
 ) -> PaperResult:
     """The paper's statements against the nominal CoG of the contact cases (`nominals` maps
     'equilateral'/'isosceles' to its `Nominal`, results/nominal/{contact}.nc; strut length m):
@@ -126,6 +127,10 @@ def check_paper(
     1.3 standing on (10,11,12), #11 moves it out over edge 10-11 (the roll to (6,10,11), IV.B);
     1.4 ... at a lower pressure than #10 needs on (9,10,12) (6 V against 11.1 V, IV.B);
     1.5 the pairs of each 3-fold orbit of (9,10,12) move the CoG equally (`orbit_tolerance` m).
+
+    `tip_pressure` (C, N_PAIRS) MPa, if given, replaces the crossings interpolated between the
+    levels (e.g. roots of the static margin, `workspace.equilibria`); the edges stay those
+    crossed at the first level outside.
     """
     levels = common_levels(nominals)
     P = levels.size
@@ -144,6 +149,8 @@ def check_paper(
         for p in np.flatnonzero(swept[c]):
             tipp[c, p], _, e = frames.crossing(levels, mar[p], cog[p], sup[p], face)
             edges[c, p] = e or (0, 0)
+            if tip_pressure is not None:
+                tipp[c, p] = tip_pressure[c, p]
         try:
             mig[c] = migration(levels, cog, frames.rest_frame(face, strut_length)[0], ranking_pressure)
         except ValueError:
