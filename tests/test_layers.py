@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 PKG = Path(__file__).resolve().parents[1] / "tensegrity"
-_DOMAIN = ("physics", "paper", "workspace", "locomotion", "validation", "studies")
+_DOMAIN = ("physics", "paper", "workspace", "locomotion", "validation", "studies", "calibration")
 _LEAVES = ("atomic", "version")  # standard library only: anyone may import them
 # what each layer may import besides itself: the layers below it (docs/design.md §8)
 ALLOWED = {
@@ -18,6 +18,7 @@ ALLOWED = {
     "locomotion": {"physics", "paper", "workspace"},
     "validation": {"physics", "paper", "workspace", "locomotion"},
     "studies": {"physics", "paper", "workspace", "locomotion", "validation"},
+    "calibration": {"physics", "paper"},
     "render": {"physics", "paper", *_LEAVES},
     "atomic": set(),
     "version": set(),
