@@ -177,12 +177,15 @@ def _predict(m, params, prob, x, mode, dt, fit_initial, fit_frame, check) -> dic
         return {}
     part = mdl.problem(m.head(k), params, prob.fit, mode, dt, fit_initial, fit_frame)
     xp, _, _ = solve(part, x)
-    err = prob.simulate(xp[None])[0] - prob.measured(xp)
+    sim = prob.simulate(xp[None])[0]
+    err = sim - prob.measured(xp)  # in the check's own frame
     sq = np.where(prob.mask, err, np.nan) ** 2
+    (Rc, oc), (R, o) = prob.frame(xp), prob.frame(x)
     rms = [float(np.sqrt(np.nanmean(sq[a:b])) * 1e3) for a, b in ((0, k), (k, m.t.size))]
     return {
         "fit_until": float(m.t[k - 1]),
         "rms_fit_mm": rms[0],
         "rms_predict_mm": rms[1],
         "estimate": part.values(xp)[: prob.n_params],
+        "simulated": (sim - oc) @ Rc @ R.T + o,  # in the full fit's frame, as its measured nodes
     }

@@ -22,6 +22,7 @@ import numpy as np
 
 from . import args as cli_args
 from . import progress
+from .calibrate import add_parser as add_calibrate
 from .configuration import cmd_config
 from .locomotion import cmd_plan, cmd_roll
 from .workspace import cmd_faces, cmd_query, cmd_table
@@ -152,6 +153,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_query)
+
+    add_calibrate(sub, common)
 
     p = sub.add_parser("render", help="render a dataset to a PNG", description=cmd_render.__doc__)
     p.add_argument("dataset", help="a netCDF written by the workflow or by `tensegrity simulate`")
