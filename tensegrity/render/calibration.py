@@ -25,8 +25,9 @@ def calibration_figure(
 ) -> Path:
     """Three panels over time t (T,) s: the two nodes that move most (x, y, z from their start,
     mm), measured (dots) and simulated (lines), from nodes (T, 12, 3) m (NaN: not measured);
-    and the RMS distance per sample (mm), of the fit and of the prediction check (nodes `check` (T, 12, 3) m simulated with the parameters fitted up to `fit_until` s, marked:
-    the samples after it were predicted, not fitted)."""
+    and the RMS distance per sample (mm), of the fit and of the prediction check: nodes `check`
+    (T, 12, 3) m simulated with the parameters fitted up to `fit_until` s (marked: the samples
+    after it were predicted, not fitted)."""
     fig = Figure(figsize=(9.0, 8.0), layout="constrained")
     ax = fig.subplots(3, 1, sharex=True)
     travel = np.nanmax(np.linalg.norm(measured - measured[:1], axis=-1), axis=0)
