@@ -51,6 +51,7 @@ _TIER = {
     "io": "unit",
     "studies": "unit",
     "stages": "unit",
+    "calibration": "unit",
     "render": "render",
     "workflow": "workflow",
 }

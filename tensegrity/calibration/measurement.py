@@ -8,9 +8,9 @@ the first sample is not used).
 
 Gaps: time must increase strictly and lie on one grid t0 + k h, h the smallest interval (within
 1e-6 h); rows missing from the grid are allowed (the pressure of the next row is held over the
-whole gap), a NaN node coordinate is an occluded marker and is left out of the residual, a NaN
-pressure is refused (the simulator must know what was commanded). The first sample must be
-complete (it fixes the initial pose).
+whole gap); a NaN node coordinate is an occluded marker: that node is left out of the sample's
+residual; a NaN pressure is refused (the simulator must know what was commanded). The first
+sample must be complete (it fixes the initial pose).
 """
 
 from __future__ import annotations

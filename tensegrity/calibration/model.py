@@ -5,8 +5,8 @@ vectors at once as one batched simulation (one robot per vector).
 The unknowns, in order: the named `Params` fields (scaled by their starting values: 1 is the
 start), the initial state (`initial.INITIAL_NAMES`, if fitted) and the frame's tilt and height
 (`initial.FRAME_NAMES`, grounded mode, if fitted). The residual is simulated minus measured node
-coordinate (m, world frame) of every sample and every coordinate that was measured (NaN left
-out); sample 0 is the initial state's own nodes.
+coordinate (m, world frame) of every sample and every node that was measured (a node with a NaN
+coordinate left out of that sample); sample 0 is the initial state's own nodes.
 """
 
 from __future__ import annotations
@@ -157,7 +157,8 @@ def problem(
     else:
         R, o = np.eye(3), np.zeros(3)
     x0 = np.concatenate([np.ones(len(fit)), np.zeros(len(names) - len(fit))])
-    mask = np.isfinite(m.nodes)
+    # a node with a NaN coordinate is left out of its sample (the frame mixes the coordinates)
+    mask = np.repeat(np.isfinite(m.nodes).all(axis=-1, keepdims=True), 3, axis=-1)
     centre = (m.nodes[0] @ R.T + o).mean(axis=0)
     return Problem(
         m, g, schedule(m, g), dt, every, mode, terrain, prm, tuple(fit), names, np.array(units), x0, R, o, centre, mask
