@@ -239,6 +239,7 @@ BENCHMARKS = {
         "--no-combos",
     ],
     "calibration.py": ["--quick"],
+    "bench_calibration.py": ["--seconds", "0.3", "--initial", "data", "--check", "0.3"],
     "bench_study.py": ["--designs", "2", "--hold", "0.05"],
     "bench_mujoco.py": ["--seconds", "0.01", "--batch", "2", "--repeat", "1"],
     "bench_pipeline.py": ["--runs", "1", "--configfile", "tests/workflow/tiny.yaml", "--until", "nominal"],
