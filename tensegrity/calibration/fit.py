@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import least_squares
+from threadpoolctl import threadpool_limits
 
 from ..physics.dynamics import SimulationError
 from ..physics.params import Params
@@ -110,18 +111,21 @@ def solve(
     f(x0)
     if np.all(f.last[1] == FAILED):
         f.prob.residuals(x0[None])  # raise the simulator's own error: the start itself fails
-    res = least_squares(
-        f,
-        x0,
-        jac=f.jac,
-        bounds=(lo, hi),
-        method="trf",
-        x_scale="jac",
-        xtol=1e-10,
-        ftol=1e-12,
-        gtol=1e-10,
-        max_nfev=max_nfev,
-    )
+    # the optimiser's SVDs are small (N x p, p <= ~70): one BLAS thread, which never waits on a
+    # busy second core (two spun for seconds per SVD on a loaded machine)
+    with threadpool_limits(limits=1, user_api="blas"):
+        res = least_squares(
+            f,
+            x0,
+            jac=f.jac,
+            bounds=(lo, hi),
+            method="trf",
+            x_scale="jac",
+            xtol=1e-10,
+            ftol=1e-12,
+            gtol=1e-10,
+            max_nfev=max_nfev,
+        )
     J = f.jac(res.x)
     return res.x, J, res
 
