@@ -1,5 +1,5 @@
 """The `tensegrity` command: simulate, query the workspace, plan a roll, roll, render, run a stage
-or a design study, show or check the configuration.
+or a design study, show or check the configuration, calibrate from a measured trajectory.
 
 Configuration: config/config.yaml of the current directory (as Snakemake reads it), else of the
 checkout holding this package, else the schema's defaults; --config FILE is merged over it as

@@ -46,7 +46,7 @@ def calibration_figure(
         if pos is not None:
             err = np.sqrt(np.nanmean(np.sum((pos - measured) ** 2, axis=-1), axis=-1)) * 1e3
             ax[2].plot(t, err, style, color="0.2" if style == "-" else "tab:purple", lw=1.0, label=label)
-    ax[2].legend(fontsize=8, loc="upper left")
+    ax[2].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax[2].set_ylabel("RMS node distance,\nsimulated - measured (mm)")
     ax[2].set_xlabel("time (s)")
     ax[2].set_ylim(bottom=0)
@@ -56,6 +56,6 @@ def calibration_figure(
             a.axvline(fit_until, color="0.4", ls="--", lw=1)
     if np.isfinite(fit_until):
         ax[2].text(fit_until, ax[2].get_ylim()[1] * 0.9, "  check: predicted", fontsize=8, color="0.3", va="top")
-    ax[0].legend(ncol=3, fontsize=8, loc="upper left")
+    ax[0].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: hides no data
     fig.suptitle(title, fontsize=10)
     return save_figure(fig, path)
