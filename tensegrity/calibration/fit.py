@@ -123,7 +123,7 @@ def solve(
             jac=f.jac,
             bounds=(lo, hi),
             method="trf",
-            x_scale="jac",
+            x_scale=1.0,  # the unknowns are scaled already; "jac" blows up a column the data do not see
             xtol=1e-10,
             ftol=1e-12,
             gtol=1e-10,
@@ -159,7 +159,10 @@ def calibrate(
     x, nfev, njev = None, 0, 0
     for k in horizons(m.t.size):  # the first part, then twice as long, ..., then all of it
         part = prob if k == m.t.size else mdl.problem(m.head(k), params, tuple(fit), mode, dt, fit_initial, fit_frame)
-        x, J, res = solve(part, x)
+        try:
+            x, J, res = solve(part, x)
+        except (SimulationError, ValueError):  # the last stage's optimum fails on the longer part
+            x, J, res = solve(part)
         nfev, njev = nfev + res.nfev, njev + res.njev
     n = prob.n_params
     r = prob.residuals(x[None])[0]
