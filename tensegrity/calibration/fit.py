@@ -1,10 +1,11 @@
 """Calibration from a measured trajectory (docs/design.md §9): least squares of simulated
 against measured node positions (`scipy.optimize.least_squares`, trust region reflective, with
 bounds), the Jacobian by forward differences as one batched simulation (one robot per unknown),
-on a growing horizon (the first eighth of the samples, then a quarter, a half, all: a long
-trajectory started 10-20 % off would match oscillations out of phase, a local minimum; each stage
-starts in the next one's basin), then what the fit knows (`uncertainty`) and a prediction check
-(fit on the first part, predict the rest from the same initial state).
+on a growing horizon (from the first change of the command, an eighth of the samples after it,
+then a quarter, a half, all: a long trajectory started 10-20 % off would match oscillations out
+of phase, a local minimum; each stage starts in the next one's basin), then what the fit knows
+(`uncertainty`) and a prediction check (fit on the first part, predict the rest from the same
+initial state).
 
 Forward differences of step STEP in the scaled unknowns (a relative step of 1e-6 for a parameter,
 1e-8 m or rad for the initial state) are good to about 1e-5 of a column (truncation ~ STEP
@@ -133,10 +134,12 @@ def solve(
     return res.x, J, res
 
 
-def horizons(n: int, stages: int = HORIZONS, least: int = 20) -> list[int]:
-    """The samples fitted at each stage of a fit of n samples: n / 2^(stages-1), ..., n / 2, n
-    (at least `least`), each stage starting from the last one's optimum."""
-    out = [n if i == 0 else max(least, -(-n // 2**i)) for i in reversed(range(stages))]
+def horizons(n: int, onset: int = 0, stages: int = HORIZONS, least: int = 20) -> list[int]:
+    """The samples fitted at each stage of a fit of n samples whose command first changes at
+    sample `onset`: onset + (n - onset) / 2^(stages-1), ..., / 2, then n (at least `least`), each
+    stage starting from the last one's optimum. (Samples before the first change of the command
+    say little about the actuator: a stage of those alone would let the parameters wander.)"""
+    out = [n if i == 0 else max(least, onset + -(-(n - onset) // 2**i)) for i in reversed(range(stages))]
     return sorted({min(k, n) for k in out})
 
 
@@ -157,7 +160,9 @@ def calibrate(
         raise ValueError(f"check: the fraction of samples predicted must be in [0, 1), got {check!r}")
     prob = mdl.problem(m, params, tuple(fit), mode, dt, fit_initial, fit_frame)
     x, nfev, njev = None, 0, 0
-    for k in horizons(m.t.size):  # the first part, then twice as long, ..., then all of it
+    changed = np.flatnonzero(np.any(m.pressure[2:] != m.pressure[1], axis=1))
+    onset = int(changed[0]) + 2 if changed.size else 0
+    for k in horizons(m.t.size, onset):  # the first part, then twice as long, ..., then all of it
         part = prob if k == m.t.size else mdl.problem(m.head(k), params, tuple(fit), mode, dt, fit_initial, fit_frame)
         try:
             x, J, res = solve(part, x)
