@@ -1,7 +1,7 @@
 """The paper's experiment (IV.B) with the prototype's twisted-string actuators, in the grounded
 simulation: the faces each roll lands on at the paper's voltages, the lowest rolling voltage of
 each roll beside the paper's, and their sensitivity to each assumed parameter (+-20 %). Prints
-figures; asserts nothing. docs/design.md §11; the parameters: config/README.md (`actuator`).
+figures; asserts nothing. docs/design.md §10; the parameters: config/README.md (`actuator`).
 
 Usage: python benchmarks/bench_prototype.py [--drive 30] [--settle 4] [--rounds 2] [--points 8]
        [--names rotor_inertia,string_length,...|none] [--change 0.2]

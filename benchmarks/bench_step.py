@@ -2,7 +2,7 @@
 
 Usage: python benchmarks/bench_step.py [--seconds 0.5] [--cpu] [--actuator both]
 
-Both actuators by default (docs/design.md §11): the pneumatic muscles (pair #10 at 0.4-2.4 MPa)
+Both actuators by default (docs/design.md §10): the pneumatic muscles (pair #10 at 0.4-2.4 MPa)
 and the prototype's twisted strings (kernel/motors.py; pair #10 at 2-11 V), in the same run.
 """
 

@@ -17,6 +17,9 @@ Locomotion
     RollSettings                            how rolls are driven (config `locomotion`; defaults the schema's)
     plan_roll(workspace, face, nodes, direction=..., goal=...) -> Plan
     roll_to(workspace, goal, params, terrain, settings=RollSettings()) -> Run   as the pipeline rolls
+Calibration
+    read_measured(path) -> Measurement      a run file or a motion-capture CSV (nodes m, pressures MPa)
+    calibrate(measured, params, fit, mode, dt) -> Calibration   fitted Params, intervals, what is not determined
 """
 
 from __future__ import annotations
@@ -46,6 +49,8 @@ _API = {
     "RollSettings": ("locomotion.settings", "RollSettings"),
     "plan_roll": ("locomotion.plan", "plan"),
     "roll_to": ("locomotion.runs", "roll_to"),
+    "read_measured": ("io.formats.measured", "read_measured"),
+    "calibrate": ("calibration.fit", "calibrate"),
 }
 
 __all__ = ["__version__", "load_workspace", *_API]

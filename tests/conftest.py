@@ -53,6 +53,7 @@ _TIER = {
     "stages": "unit",
     "bridges": "unit",
     "envs": "unit",
+    "calibration": "unit",
     "render": "render",
     "workflow": "workflow",
 }

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 PKG = Path(__file__).resolve().parents[1] / "tensegrity"
-_DOMAIN = ("physics", "paper", "workspace", "locomotion", "validation", "studies")
+_DOMAIN = ("physics", "paper", "workspace", "locomotion", "validation", "studies", "calibration")
 _LEAVES = ("atomic", "version")  # standard library only: anyone may import them
 # what each layer may import besides itself: the layers below it (docs/design.md §8)
 ALLOWED = {
@@ -19,6 +19,7 @@ ALLOWED = {
     "locomotion": {"physics", "paper", "workspace"},
     "validation": {"physics", "paper", "workspace", "locomotion"},
     "studies": {"physics", "paper", "workspace", "locomotion", "validation"},
+    "calibration": {"physics", "paper"},
     "render": {"physics", "paper", *_LEAVES},
     "bridges": {"physics", "paper", *_LEAVES},  # issue 33: models for other simulators (MJCF)
     "envs": {"physics", "paper", *_LEAVES},  # issue 33: Gymnasium environments over the kernel

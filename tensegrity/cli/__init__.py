@@ -1,5 +1,6 @@
 """The `tensegrity` command: simulate, query the workspace, plan a roll, roll, render, run a stage
-or a design study, show or check the configuration, export the robot (a MuJoCo model).
+or a design study, show or check the configuration, export the robot (a MuJoCo model), calibrate
+from a measured trajectory.
 
 Configuration: config/config.yaml of the current directory (as Snakemake reads it), else of the
 checkout holding this package, else the schema's defaults; --config FILE is merged over it as
@@ -22,6 +23,7 @@ import numpy as np
 
 from . import args as cli_args
 from . import progress
+from .calibrate import add_parser as add_calibrate
 from .configuration import cmd_config
 from .export import add_parser as add_export_parser
 from .locomotion import cmd_plan, cmd_roll
@@ -153,6 +155,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_query)
+
+    add_calibrate(sub, common)
 
     p = sub.add_parser("render", help="render a dataset to a PNG", description=cmd_render.__doc__)
     p.add_argument("dataset", help="a netCDF written by the workflow or by `tensegrity simulate`")

@@ -76,7 +76,7 @@ def params(cfg: Mapping) -> Params:
 
 def motors(cfg: Mapping) -> TwistedString | None:
     """The prototype's twisted-string actuators from the `actuator` section of `cfg` when its
-    kind is twisted_string; None for the pneumatic muscles (docs/design.md §11)."""
+    kind is twisted_string; None for the pneumatic muscles (docs/design.md §10)."""
     kind = value(cfg, "actuator.kind")
     if kind == "pneumatic":
         return None

@@ -100,7 +100,7 @@ def spring(K: ArrayLike, L: ArrayLike, Lmin: ArrayLike, act: ArrayLike) -> tuple
     return k, (K * L + act * Lmin) / k
 
 
-# ---- The twisted-string actuator (docs/design.md §11, eq. T1-T5) --------------------------------
+# ---- The twisted-string actuator (docs/design.md §10, eq. T1-T5) --------------------------------
 # A DC gear motor twists two strands of length L0 and radius r (Palli et al. 2013); they are in
 # series with a spring and the aramid fibre (series stiffness K). Output angle theta (rad), speed
 # omega (rad/s); the cable's pair voltage V (V). Its constants per cable, in the order packed

@@ -80,7 +80,7 @@ def simulate(
     """Advance the batch through the schedule with time step dt (s), recording every
     `record_every` steps. Returns the final state and the trajectory; the input is unchanged.
     Raises SimulationError naming the robot, the time and the quantity if a run blows up.
-    With `motors` (twisted-string actuators, docs/design.md §11) the schedule's levels are pair
+    With `motors` (twisted-string actuators, docs/design.md §10) the schedule's levels are pair
     voltages in V, and the state carries the motors' angles and speeds (0 if it has none)."""
     if not (np.isfinite(dt) and 0 < dt <= 1e-3):
         raise ValueError(f"time step dt = {np.asarray(dt).tolist()!r} s must be in (0, 1e-3]")

@@ -1,4 +1,4 @@
-"""The twisted-string actuator's parameters (docs/design.md §11): `TwistedString`, a DC gear motor
+"""The twisted-string actuator's parameters (docs/design.md §10): `TwistedString`, a DC gear motor
 from its datasheet figures and the strands, spring and fibre it pulls, packed for the kernel
 (`actuator.MOTOR_ROWS`). The law itself is `actuator`'s (T1)-(T5); the defaults and their sources
 are in config/README.md ("The prototype's actuator")."""
@@ -73,7 +73,7 @@ class TwistedString:
     def replace(self, **kw: float | np.ndarray) -> TwistedString:
         return replace(self, **kw)
 
-    # ---- the motor's constants from its datasheet (docs/design.md §11) ----
+    # ---- the motor's constants from its datasheet (docs/design.md §10) ----
     @property
     def resistance(self) -> float | np.ndarray:
         """R = V / I_stall, ohm."""

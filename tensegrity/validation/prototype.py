@@ -1,5 +1,5 @@
 """The paper's experiment (IV.B) in the grounded simulation, with the prototype's twisted-string
-actuators (`physics.twisted`, docs/design.md §11): on (9,10,12) pair #10 at 11.1 V rolls the robot
+actuators (`physics.twisted`, docs/design.md §10): on (9,10,12) pair #10 at 11.1 V rolls the robot
 to (10,11,12); then #11 at 6 V rolls it on to (6,10,11); #10 at 6 V does not roll; the lowest
 voltage of each roll, by multisection (`lowest_voltage`); and how each depends on the assumed
 parameters, +-20 % (`sensitivity`). Numbers only; `benchmarks/bench_prototype.py` prints them."""

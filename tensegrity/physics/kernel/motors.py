@@ -1,5 +1,5 @@
 """The compiled time loop of robots with twisted-string actuators (`actuator` (T1)-(T5),
-docs/design.md §11): as `kernel.advance`, and each step also moves the 24 motors of every robot.
+docs/design.md §10): as `kernel.advance`, and each step also moves the 24 motors of every robot.
 
 Robots run in groups of LANES side by side (the layout of `kernel.stages`), a batch under
 WIDE_FROM robots in groups of one lane each (not the struts-side-by-side layout of `kernel.robot`):

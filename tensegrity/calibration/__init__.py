@@ -1,0 +1,14 @@
+"""Calibration from measured trajectories (docs/design.md §9): the model that reproduces a
+measured robot's motion, and what the measurement can and cannot tell about it.
+
+measurement  the measured samples, their grid and gaps, the pressure schedule they replay
+initial      the initial state (rigid fit of the strut ends) and the measurement's frame
+model        the batched residual of simulated against measured node positions
+fit          least squares, the batched Jacobian, the prediction check (`calibrate`)
+uncertainty  standard errors, intervals, correlations, the combinations not determined
+"""
+
+from .fit import Calibration, calibrate
+from .measurement import Measurement
+
+__all__ = ["Calibration", "Measurement", "calibrate"]

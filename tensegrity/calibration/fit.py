@@ -1,0 +1,217 @@
+"""Calibration from a measured trajectory (docs/design.md §9): least squares of simulated
+against measured node positions (`scipy.optimize.least_squares`, trust region reflective, with
+bounds), the Jacobian by forward differences as one batched simulation (one robot per unknown),
+on a growing horizon (from the first change of the command, an eighth of the samples after it,
+then a quarter, a half, all: a long trajectory started 10-20 % off would match oscillations out
+of phase, a local minimum; each stage starts in the next one's basin), then what the fit knows
+(`uncertainty`) and a prediction check (fit on the first part, predict the rest from the same
+initial state).
+
+Forward differences of step STEP in the scaled unknowns (a relative step of 1e-6 for a parameter,
+1e-8 m or rad for the initial state) are good to about 1e-5 of a column (truncation ~ STEP
+against round-off ~ 1e-16 / STEP); the optimum does not depend on them, the intervals to that
+relative error. A trial point whose simulation fails (blows up, invalid parameters) costs as if
+every coordinate were FAILED m off, so the step is refused and the trust region shrinks.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+from threadpoolctl import threadpool_limits
+
+from ..physics.dynamics import SimulationError
+from ..physics.params import Params
+from . import model as mdl
+from .measurement import Measurement
+from .uncertainty import Uncertainty, uncertainty
+
+__all__ = ["Calibration", "calibrate", "solve", "STEP", "PARAM_RANGE"]
+
+STEP = 1e-6  # forward-difference step in scaled unknowns
+FAILED = 1.0  # m: the residual of a trial point whose simulation failed
+PARAM_RANGE = 100.0  # a parameter is bounded to [start / 100, start * 100]
+TILT_BOUND = 50.0  # scaled: 0.5 rad of a strut's or the frame's tilt
+HORIZONS = 4  # stages of the fit: the first 1/8 of the samples, 1/4, 1/2, all
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """The result. names, start, estimate (n,) parameters in their units, with `unc`; x the
+    optimum of every unknown (scaled), `problem` the problem; simulated and measured (T, 12, 3)
+    m world nodes; rms_mm the residual RMS; prediction: fit_until s (the fit's last sample),
+    rms_fit_mm and rms_predict_mm of the check (NaN if not made) and its estimates (n,);
+    nfev, njev, message of the optimiser; base the Params it started from."""
+
+    names: tuple[str, ...]
+    start: np.ndarray
+    estimate: np.ndarray
+    unc: Uncertainty
+    x: np.ndarray
+    problem: mdl.Problem
+    simulated: np.ndarray
+    measured: np.ndarray
+    rms_mm: float
+    nfev: int
+    njev: int
+    message: str
+    base: Params
+    prediction: dict = field(default_factory=dict)
+
+    @property
+    def params(self) -> Params:
+        """The calibrated Params: `base` with the estimates (gravity as configured)."""
+        return self.base.replace(**{k: float(v) for k, v in zip(self.names, self.estimate, strict=True)})
+
+
+class _Residuals:
+    """f(x) and its forward-difference Jacobian for least_squares, the base point cached."""
+
+    def __init__(self, prob: mdl.Problem, lo: np.ndarray, hi: np.ndarray):
+        self.prob, self.lo, self.hi, self.last = prob, lo, hi, (None, None)
+        self.nsim = 0
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        if self.last[0] is not None and np.array_equal(self.last[0], x):
+            return self.last[1]
+        try:
+            self.nsim += 1
+            r = self.prob.residuals(x[None])[0]
+        except (SimulationError, ValueError):
+            r = np.full(int(self.prob.mask.sum()), FAILED)
+        self.last = (x.copy(), r)
+        return r
+
+    def jac(self, x: np.ndarray) -> np.ndarray:
+        step = np.where(x + STEP <= self.hi, STEP, -STEP)
+        X = np.repeat(x[None], len(x) + 1, axis=0)
+        X[1:] += np.diag(step)
+        R = self.prob.residuals(X)  # one batched simulation: base and one robot per unknown
+        self.nsim += 1
+        self.last = (x.copy(), R[0])
+        return ((R[1:] - R[0]) / step[:, None]).T
+
+
+def _bounds(prob: mdl.Problem) -> tuple[np.ndarray, np.ndarray]:
+    n = prob.n_params
+    lo = np.full(len(prob.names), -np.inf)
+    hi = np.full(len(prob.names), np.inf)
+    lo[:n], hi[:n] = 1 / PARAM_RANGE, PARAM_RANGE
+    for j, name in enumerate(prob.names):
+        if "tilt" in name:
+            lo[j], hi[j] = -TILT_BOUND, TILT_BOUND
+    return lo, hi
+
+
+def solve(
+    prob: mdl.Problem, x0: np.ndarray | None = None, max_nfev: int = 100
+) -> tuple[np.ndarray, np.ndarray, object]:
+    """The least-squares optimum x, its Jacobian (N, p) in scaled unknowns and scipy's result."""
+    lo, hi = _bounds(prob)
+    f = _Residuals(prob, lo, hi)
+    x0 = prob.x0 if x0 is None else np.clip(x0, lo, hi)
+    f(x0)
+    if np.all(f.last[1] == FAILED):
+        f.prob.residuals(x0[None])  # raise the simulator's own error: the start itself fails
+    # the optimiser's SVDs are small (N x p, p <= ~70): one BLAS thread, which never waits on a
+    # busy second core (two spun for seconds per SVD on a loaded machine)
+    with threadpool_limits(limits=1, user_api="blas"):
+        res = least_squares(
+            f,
+            x0,
+            jac=f.jac,
+            bounds=(lo, hi),
+            method="trf",
+            x_scale=1.0,  # the unknowns are scaled already; "jac" blows up a column the data do not see
+            xtol=1e-10,
+            ftol=1e-12,
+            gtol=1e-10,
+            max_nfev=max_nfev,
+        )
+    J = f.jac(res.x)
+    return res.x, J, res
+
+
+def horizons(n: int, onset: int = 0, stages: int = HORIZONS, least: int = 20) -> list[int]:
+    """The samples fitted at each stage of a fit of n samples whose command first changes at
+    sample `onset`: onset + (n - onset) / 2^(stages-1), ..., / 2, then n (at least `least`), each
+    stage starting from the last one's optimum. (Samples before the first change of the command
+    say little about the actuator: a stage of those alone would let the parameters wander.)"""
+    out = [n if i == 0 else max(least, onset + -(-(n - onset) // 2**i)) for i in reversed(range(stages))]
+    return sorted({min(k, n) for k in out})
+
+
+def calibrate(
+    m: Measurement,
+    params: Params,
+    fit: tuple[str, ...],
+    mode: str,
+    dt: float,
+    fit_initial: bool = True,
+    fit_frame: bool = True,
+    check: float = 0.25,
+) -> Calibration:
+    """Fit the Params fields `fit` (start: `params`) to measurement m in `mode`, simulating with
+    time step dt s (`model.problem`), and check the fit by refitting on the first 1 - check of
+    the samples and predicting the rest (check 0: no check)."""
+    if not 0 <= check < 1:
+        raise ValueError(f"check: the fraction of samples predicted must be in [0, 1), got {check!r}")
+    prob = mdl.problem(m, params, tuple(fit), mode, dt, fit_initial, fit_frame)
+    x, nfev, njev = None, 0, 0
+    changed = np.flatnonzero(np.any(m.pressure[2:] != m.pressure[1], axis=1))
+    onset = int(changed[0]) + 2 if changed.size else 0
+    for k in horizons(m.t.size, onset):  # the first part, then twice as long, ..., then all of it
+        part = prob if k == m.t.size else mdl.problem(m.head(k), params, tuple(fit), mode, dt, fit_initial, fit_frame)
+        try:
+            x, J, res = solve(part, x)
+        except (SimulationError, ValueError):  # the last stage's optimum fails on the longer part
+            x, J, res = solve(part)
+        nfev, njev = nfev + res.nfev, njev + res.njev
+    n = prob.n_params
+    r = prob.residuals(x[None])[0]
+    theta = prob.values(x)[:n]
+    unc = uncertainty(J / prob.units, r, n, theta, prob.fit)
+    simulated, measured = prob.simulate(x[None])[0], prob.measured(x)
+    prediction = {}
+    if check > 0:
+        prediction.update(_predict(m, params, prob, x, mode, dt, fit_initial, fit_frame, check))
+    return Calibration(
+        prob.fit,
+        prob.values(prob.x0)[:n],
+        theta,
+        unc,
+        x,
+        prob,
+        simulated,
+        measured,
+        float(np.sqrt(np.mean(r**2)) * 1e3),
+        int(nfev),
+        int(njev),
+        str(res.message),
+        params,
+        prediction,
+    )
+
+
+def _predict(m, params, prob, x, mode, dt, fit_initial, fit_frame, check) -> dict:
+    """Refit on the first 1 - check of the samples (from the full fit's optimum), simulate all
+    of them: the RMS (mm) of the fitted part and of the predicted rest."""
+    k = max(3, int(round(m.t.size * (1 - check))))
+    if k >= m.t.size:
+        return {}
+    part = mdl.problem(m.head(k), params, prob.fit, mode, dt, fit_initial, fit_frame)
+    xp, _, _ = solve(part, x)
+    sim = prob.simulate(xp[None])[0]
+    err = sim - prob.measured(xp)  # in the check's own frame
+    sq = np.where(prob.mask, err, np.nan) ** 2
+    (Rc, oc), (R, o) = prob.frame(xp), prob.frame(x)
+    rms = [float(np.sqrt(np.nanmean(sq[a:b])) * 1e3) for a, b in ((0, k), (k, m.t.size))]
+    return {
+        "fit_until": float(m.t[k - 1]),
+        "rms_fit_mm": rms[0],
+        "rms_predict_mm": rms[1],
+        "estimate": part.values(xp)[: prob.n_params],
+        "simulated": (sim - oc) @ Rc @ R.T + o,  # in the full fit's frame, as its measured nodes
+    }

@@ -1,0 +1,51 @@
+"""The heavier checks of calibration (issue 32), marked slow: the grounded mode in a turned and
+shifted measurement frame, and the coverage of the 95 % intervals under 0.5 mm of noise."""
+
+import numpy as np
+import pytest
+
+from tensegrity.calibration import calibrate
+from tensegrity.calibration import synthetic as syn
+from tensegrity.physics import frames
+
+
+def _grounded(truth, hold, start):
+    """Measured in a frame turned 3 deg off level and 40 deg in yaw, shifted by (0.3, -0.2,
+    0.05) m; fitted with the initial state and the frame's tilt and height."""
+    R = frames.turn([0.0, 0.0, 1.0], np.radians(40)) @ frames.turn([1.0, 0.0, 0.0], np.radians(3))
+    m = syn.measure(truth, syn.excitation(0.8, hold), hold, "grounded", rotation=R, offset=(0.3, -0.2, 0.05))
+    c = calibrate(m, start, ("cable_stiffness", "muscle_gain"), "grounded", 1e-4, check=0.0)
+    Rf, _ = c.problem.frame(c.x)  # world = Rf measured + of: Rf R^T should have no tilt left
+    tilt = np.degrees(np.arccos(np.clip((Rf @ R.T)[2, 2], -1, 1)))
+    return np.abs(c.estimate / np.array([1000.0, 589.0]) - 1), tilt, c.rms_mm
+
+
+@pytest.mark.slow
+def test_grounded_in_a_tilted_frame_levels_the_frame_and_comes_close(truth, hold):
+    """From 1 % off, the grounded fit levels the frame and comes within 0.5 %."""
+    err, tilt, rms = _grounded(truth, hold, truth.replace(cable_stiffness=1010.0, muscle_gain=595.0))
+    assert err.max() < 5e-3 and tilt < 0.2 and rms < 1.0, (err, tilt, rms)
+
+
+@pytest.mark.slow
+def test_grounded_recovers_parameters_to_a_thousandth(truth, hold):
+    """The issue's target in the grounded mode, from 10 % off: met with the growing horizon
+    (fitted on the whole trajectory at once, the fit stopped 3 % off at 2 mm RMS)."""
+    err, tilt, _ = _grounded(truth, hold, truth.replace(cable_stiffness=1100.0, muscle_gain=540.0))
+    assert err.max() < 1e-3 and tilt < 0.2, (err, tilt)
+
+
+@pytest.mark.slow
+def test_noisy_intervals_cover_the_truth(truth, start, four, hold):
+    """0.5 mm Gaussian noise on every coordinate, 20 seeds drawn at random (seeded): the true
+    values lie inside the reported 95 % intervals in 85-100 % of the 80 cases."""
+    seeds = np.random.default_rng(32).integers(1000, 10**6, 20)
+    inside = []
+    for seed in seeds:
+        m = syn.measure(truth, syn.excitation(1.2, hold), hold, "free", noise=5e-4, seed=int(seed))
+        c = calibrate(m, start, four, "free", 1e-4, check=0.0)
+        true = np.array([getattr(truth, k) for k in four])
+        inside.append((c.unc.lower <= true) & (true <= c.unc.upper))
+        assert abs(c.unc.s - 5e-4) < 0.05 * 5e-4  # the residual recovers the noise
+    rate = np.mean(inside)
+    assert 0.85 <= rate <= 1.0, np.mean(inside, axis=0)
