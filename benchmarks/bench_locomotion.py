@@ -3,8 +3,12 @@ asserts nothing.
 
 Every case of a ground draws, from its seed, a goal direction, the slope's uphill azimuth and the
 robot's start yaw (about the terrain normal), uniform in [0, 360) deg, and for random terrain the
-terrain's own seed; the goal is `--distance` m (default 2 m) from the start, the robot starts on
-`--face` (default: the paper's (9,10,12); 'auto': the run chooses). Seeds come from one of two
+terrain's own seed; the goal is `--distance` m (default 2 m) from the start. The start pose is
+chosen as `tensegrity roll` chooses it when no face is given (`--face auto`, default;
+`locomotion.start.choose` at the drawn yaw: the paper's (9,10,12) if it stands there, else a face
+that does; a case where no face stands at that yaw counts as not arrived, outcome "no_start"), or
+is `--face` at the drawn yaw whether it stands or not (e.g. `--face 9,10,12`, the runs before
+issue 30). Seeds come from one of two
 disjoint, named sets: TUNING_SEEDS, the only ones any constant of the planner may be tuned on, and
 EVALUATION_SEEDS (default), the ones a report quotes, drawn at random once (numpy
 default_rng(30).choice(10**6), below) and never looked at while tuning.
@@ -47,7 +51,7 @@ from tensegrity import locomotion as lo
 from tensegrity.cli import progress
 from tensegrity.io import config, formats
 from tensegrity.io import settings as io_settings
-from tensegrity.locomotion import lookahead
+from tensegrity.locomotion import lookahead, start
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
@@ -102,6 +106,15 @@ def terrain_of(ground: str, case: dict, distance: float) -> tuple[Terrain, float
     return t, 0.0
 
 
+class NoStart:
+    """A case in which no start pose stands (`start.choose` refused it): not arrived."""
+
+    outcome, rolls, steps, travelled, distance_to_goal = "no_start", 0, (), 0.0, float("nan")
+
+    def __init__(self, message: str):
+        self.message = message
+
+
 def tumbled(run: lo.Run) -> bool:
     """A roll left the robot on no face or slid it more than lookahead.SLIDE m."""
     if run.outcome == "no_contact":
@@ -119,13 +132,19 @@ def run_ground(ground, seeds, a, ws, params, settings, face) -> list[tuple[dict,
     out: list = [None] * len(cases)
     for members in groups.values():
         terrain = members[0][1]
+        poses = []
+        for i, _, turn in members:
+            try:
+                st = start.choose(ws, params, terrain, settings, None, cases[i]["yaw"] + turn) if face is None else None
+                poses.append((face, cases[i]["yaw"] + turn) if st is None else (st.face, st.yaw_deg))
+            except ValueError as e:
+                out[i] = (cases[i], NoStart(str(e)))
+        members = [m for m in members if out[m[0]] is None]
+        if not members:
+            continue
         heads = np.radians([cases[i]["goal"] + turn for i, _, turn in members])
         goals = a.distance * np.stack([np.cos(heads), np.sin(heads)], axis=1)
-        state = None
-        if face is not None:
-            state = d.State.concat(
-                [d.stand_on(params, face, terrain, yaw_deg=cases[i]["yaw"] + turn) for i, _, turn in members]
-            )
+        state = d.State.concat([d.stand_on(params, f, terrain, yaw_deg=y) for f, y in poses])
         with progress.bar(None, ground, leave=False) as bar:
             runs = lo.roll_many(ws, goals, params, terrain, state=state, settings=settings, progress=bar.update)
         for (i, _, _), r in zip(members, runs):
@@ -139,6 +158,7 @@ def report(ground: str, res: list[tuple[dict, lo.Run]], wall: float, tol: float)
     n, k = len(runs), sum(r.outcome == "arrived" for r in runs)
     lo_, hi = wilson(k, n)
     done = [r for r in runs if r.outcome == "arrived"]
+    starts = collections.Counter(topo.face_label(r.steps[0].face) for r in runs if r.steps)
     rpm = sum(r.rolls for r in done) / sum(r.travelled for r in done) if done else float("nan")
     rolls = sum(r.rolls for r in runs)
     cpu = sum(st.plan_cpu for r in runs for st in r.steps) / max(rolls, 1)
@@ -147,6 +167,7 @@ def report(ground: str, res: list[tuple[dict, lo.Run]], wall: float, tol: float)
     print(f"\n== {ground}: {n} cases")
     print(f"arrived within {tol} m: {k}/{n} = {100 * k / n:.0f} % (95 % Wilson {100 * lo_:.0f}-{100 * hi:.0f} %)")
     print(f"outcomes: {outcomes}; runs with a tumble: {tum}")
+    print("start faces: " + ", ".join(f"{f} {v}" for f, v in starts.most_common()))
     print(f"rolls {rolls}; rolls per metre of the arrived runs {rpm:.2f}; planning CPU {cpu:.2f} s per roll")
     print(f"wall {wall:.1f} s")
     for c, r in res:
@@ -210,7 +231,7 @@ def main() -> None:
     ap.add_argument("--seeds", choices=["evaluation", "tuning"], default="evaluation")
     ap.add_argument("--grounds", nargs="+", choices=list(GROUNDS), default=list(GROUNDS))
     ap.add_argument("--distance", type=float, default=2.0, help="goal distance, m")
-    ap.add_argument("--face", default="9,10,12", help="start face, 1..20 or a,b,c; 'auto': the run chooses")
+    ap.add_argument("--face", default="auto", help="start face a,b,c at the drawn yaw; 'auto' (default): as roll")
     ap.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override RollSettings")
     ap.add_argument("--steps", action="store_true", help="print every step of every run")
     ap.add_argument("--tiny", action="store_true", help="one case on flat and slope15, 0.6 m away")
