@@ -6,7 +6,8 @@ robot's start yaw (about the terrain normal), uniform in [0, 360) deg, and for r
 terrain's own seed; the goal is `--distance` m (default 2 m) from the start. The start pose is
 chosen as `tensegrity roll` chooses it when no face is given (`--face auto`, default;
 `locomotion.start.choose` at the drawn yaw: the paper's (9,10,12) if it stands there, else a face
-that does; a case where no face stands at that yaw counts as not arrived, outcome "no_start"), or
+that does; where none does, a pose at another yaw; where no pose stands at all, (9,10,12) at yaw
+0, from which the robot settles first), or
 is `--face` at the drawn yaw whether it stands or not (e.g. `--face 9,10,12`, the runs before
 issue 30). Seeds come from one of two
 disjoint, named sets: TUNING_SEEDS, the only ones any constant of the planner may be tuned on, and
@@ -135,7 +136,12 @@ def run_ground(ground, seeds, a, ws, params, settings, face) -> list[tuple[dict,
         poses = []
         for i, _, turn in members:
             try:
-                st = start.choose(ws, params, terrain, settings, None, cases[i]["yaw"] + turn) if face is None else None
+                st = None
+                if face is None:  # the drawn yaw if a face stands there, else any yaw
+                    try:
+                        st = start.choose(ws, params, terrain, settings, None, cases[i]["yaw"] + turn)
+                    except ValueError:  # any yaw; if none stands, it settles from (9,10,12) first
+                        st = start.choose(ws, params, terrain, settings)
                 poses.append((face, cases[i]["yaw"] + turn) if st is None else (st.face, st.yaw_deg))
             except ValueError as e:
                 out[i] = (cases[i], NoStart(str(e)))

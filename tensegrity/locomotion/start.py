@@ -3,14 +3,15 @@
 A run placed on a face its CoG cannot stay on tumbles before its first roll (a 24 deg slope from
 the paper's start face). `stands` asks the simulator: every candidate pose (face, yaw) is set
 down on the terrain (`dynamics.stand_on`) and left for STAND_TIME s at rest, held by the run's
-own brake (`brake.Brake`, as `drive` holds it), all in one batch; a pose stands if the robot is
-then still on that face and its CoG has moved less than STAND_MOVE m (a robot that stands only
-sags, by millimetres). `choose` keeps the pose a user gave if it stands (else ValueError naming
-one that does) and otherwise picks one: the face given (else the paper's start face) at the yaw
-given (else 0) if it stands, else the
+own brake (`brake.Brake`, as `drive` holds it), all in one batch; a pose stands if the robot then
+rests on a face and its CoG has moved less than STAND_MOVE m (a robot that stands only sags, by
+millimetres; on uneven ground it may settle onto a neighbouring triple of nodes). `choose` keeps
+the pose a user gave if it stands (else ValueError naming one that does) and otherwise picks one:
+the face given (else the paper's start face) at the yaw given (else 0) if it stands, else the
 standing candidate whose CoG projection along gravity lies deepest inside its support triangle
-(rigid robot, `contact.judge`), the candidates tried in that order, the first alone, then
-BATCH at a time.
+(rigid robot, `contact.judge`), the candidates tried in that order, the first alone, then BATCH
+at a time. Where nothing was given and no pose stands (ground rougher than the robot: on 0.07 m
+terrain some places), the paper's start face at yaw 0, saying so: the robot settles first.
 """
 
 from __future__ import annotations
@@ -79,7 +80,9 @@ def stands(
     ok = []
     for b, (face, st, _) in enumerate(out):
         c1 = d.nodes(st.x, st.q, params.strut_length)[0].mean(axis=0)
-        ok.append(face == poses[b][0] and float(np.linalg.norm(c1[:2] - c0[b, :2])) < STAND_MOVE)
+        # on uneven ground a pose set down on one face may settle on the next triple of nodes
+        # that touch; it stands if it rests on a face without travelling
+        ok.append(face is not None and float(np.linalg.norm(c1[:2] - c0[b, :2])) < STAND_MOVE)
     return np.array(ok, bool)
 
 
@@ -124,37 +127,46 @@ def choose(
 ) -> Start:
     """The start pose of a run at `position` (m): the one given (face 1..20 or three nodes, yaw
     deg) if it stands, else ValueError naming one that does; where the face or the yaw is not
-    given, a standing one (module docstring). ValueError if no pose stands there."""
+    given, a standing one (module docstring). ValueError if a face or yaw is given and no pose
+    with it stands there."""
     params = s.rolling(params)
     yaws = np.arange(0.0, 360.0, YAW_STEP) if yaw_deg is None else [float(yaw_deg)]
     faces = range(1, topo.N_FACES + 1) if face is None else [topo.face_number(face)]
+    every = np.arange(0.0, 360.0, YAW_STEP)
+    other = None
     if face is not None and yaw_deg is not None:
         pose = (faces[0], float(yaw_deg))
         if stands(workspace, params, terrain, s, [pose], position)[0]:
             return Start(*pose, f"start on {_label(pose)}, as given: it stands on {terrain.describe()}")
+        what = (
+            f"the start pose {_label(pose)} does not stand on {terrain.describe()}: the robot tips or slides "
+            f"more than {STAND_MOVE} m within {STAND_TIME} s, before any roll"
+        )
+        other = _search(workspace, params, terrain, s, _ranked(params, terrain, faces, every, position), position)
+    else:
+        first = (faces[0] if face is not None else topo.face_number(paper.START_FACE), float(yaws[0]))
+        pose = _search(workspace, params, terrain, s, _ranked(params, terrain, faces, yaws, position, first), position)
+        if pose is not None:
+            return Start(*pose, f"start on {_label(pose)}, chosen: it stands on {terrain.describe()}")
+        what = (
+            "no start pose"
+            + (f" on face {topo.face_label(faces[0])}" if face is not None else "")
+            + (f" at yaw {yaw_deg:g} deg" if yaw_deg is not None else "")
+            + f" stands on "
+            f"{terrain.describe()} at {tuple(position)} m"
+        )
+    if face is None and yaw_deg is None:  # nothing stands here (very rough ground): it settles first
+        return Start(
+            *first,
+            f"start on {_label(first)}: {what} (the robot settles where it comes to rest before the first roll)",
+        )
+    if other is None:
         other = _search(
             workspace,
             params,
             terrain,
             s,
-            _ranked(params, terrain, faces, np.arange(0.0, 360.0, YAW_STEP), position),
+            _ranked(params, terrain, range(1, topo.N_FACES + 1), every, position),
             position,
-        ) or _search(workspace, params, terrain, s, _all(params, terrain, position), position)
-        raise ValueError(
-            f"the start pose {_label(pose)} does not stand on {terrain.describe()}: the robot tips or slides "
-            f"more than {STAND_MOVE} m within {STAND_TIME} s, before any roll; "
-            + (f"{_label(other)} stands" if other else "no pose stands there")
         )
-    first = (faces[0] if face is not None else topo.face_number(paper.START_FACE), float(yaws[0]))
-    pose = _search(workspace, params, terrain, s, _ranked(params, terrain, faces, yaws, position, first), position)
-    if pose is None:
-        raise ValueError(
-            f"no start pose with {'face ' + topo.face_label(faces[0]) if face is not None else 'any face'} "
-            f"{'at yaw ' + f'{yaw_deg:g} deg' if yaw_deg is not None else 'at any yaw'} stands on "
-            f"{terrain.describe()} at {tuple(position)} m"
-        )
-    return Start(*pose, f"start on {_label(pose)}, chosen: it stands on {terrain.describe()}")
-
-
-def _all(params, terrain, position) -> list[tuple[int, float]]:
-    return _ranked(params, terrain, range(1, topo.N_FACES + 1), np.arange(0.0, 360.0, YAW_STEP), position)
+    raise ValueError(what + (f"; {_label(other)} stands" if other else "; no pose stands there"))
