@@ -16,9 +16,11 @@ default_rng(30).choice(10**6), below) and never looked at while tuning.
 
 Grounds (`--grounds`, default all): flat; terrain0.03/0.05/0.07 (random terrain of that height
 std, m); slope10/15/20/24/28 (a plane of that angle, deg); terrain0.03-slope15 (random terrain
-0.03 m on a 15 deg slope). A plane slope is simulated with its uphill along +x and the goal and
-yaw turned by minus the drawn azimuth: a plane's physics does not change under a turn about the
-vertical, so this is the same case, and all cases of that ground run as one batch.
+0.03 m on a 15 deg slope). A plane slope is simulated with its uphill along +x and the goal
+turned by minus the drawn azimuth (a plane's physics does not change under a turn about the
+vertical), so that all cases of that ground run as one batch; the yaw passed to `stand_on` is
+turned too, which is not exactly a turn of the pose about the vertical (stand_on's yaw 0 depends
+on the normal), but the yaw is uniform in [0, 360) either way: the same distribution of cases.
 
 Per ground: arrival rate with its 95 % Wilson score interval (E. B. Wilson, J. Am. Stat. Assoc.
 22 (1927) 209; scipy's binomtest(...).proportion_ci(method="wilson")), outcomes, tumbles (runs
