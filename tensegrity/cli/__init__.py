@@ -225,14 +225,29 @@ def build_parser() -> argparse.ArgumentParser:
             "(default: workspace_two_pair.nc beside --workspace if it exists, as the pipeline's runs "
             "use it; 'none': superposed single-pair curves)",
         )
-        p.add_argument("--face", type=cli_args.face, default=cli_args.face(START), help=face_help)
+        if name == "plan":
+            p.add_argument("--face", type=cli_args.face, default=cli_args.face(START), help=face_help)
+        else:  # roll: a start pose that stands (locomotion.start)
+            p.add_argument(
+                "--face",
+                type=cli_args.face,
+                help=f"start face: 1..20 or 'a,b,c' (default: {START} if it stands at the yaw, else a face "
+                "that does; a face that cannot stand stops the run, naming one that can)",
+            )
         p.add_argument(
             "--terrain",
             type=cli_args.terrain,
             default="flat",
             help="flat (default), slope:ANGLE[:AZIMUTH] or random:SEED[:AMPLITUDE]",
         )
-        p.add_argument("--yaw", type=float, default=0.0, help="turn of the robot about the terrain normal, deg")
+        p.add_argument(
+            "--yaw",
+            type=float,
+            default=0.0 if name == "plan" else None,
+            help="turn of the robot about the terrain normal, deg (default 0"
+            + ("" if name == "plan" else " if the start face stands there, else a yaw at which it does")
+            + ")",
+        )
         if name == "plan":
             tgt = p.add_mutually_exclusive_group(required=True)
             tgt.add_argument(

@@ -31,7 +31,7 @@ def _locomotion_setup(args: argparse.Namespace):
     from ..physics.topology import face_number
 
     cfg = cli_args.stage_cfg(args, "locomotion_runs")
-    face = face_number(args.face)  # bad input first, before any file is read
+    face = None if args.face is None else face_number(args.face)  # bad input first, before any file is read
     two_pair = _two_pair_file(args)
     ws = formats.read_workspace(args.workspace, two_pair)
     print(
@@ -69,16 +69,23 @@ def cmd_plan(args: argparse.Namespace) -> int:
 
 
 def cmd_roll(args: argparse.Namespace) -> int:
-    """Roll the robot toward a goal in the dynamic simulator; exit 1 if it did not arrive."""
+    """Roll the robot toward a goal in the dynamic simulator, from a start pose that stands
+    (`locomotion.start.choose`; a given pose that does not stand: exit 3, naming one that does);
+    exit 1 if it did not arrive."""
     from ..io import datasets
     from ..io.formats.run import RUN_ALLOW_NAN, run_dataset
     from ..locomotion.outcome import describe
     from ..locomotion.runs import roll_to
+    from ..locomotion.start import choose
     from ..stages import provenance
 
     cfg, face, terrain, params, s, ws = _locomotion_setup(args)
+    start = choose(ws, params, terrain, s, face, args.yaw)  # a pose that cannot stand: ValueError
+    print(start.message, flush=True)
     with progress.bar(None, "roll") as bar:
-        run = roll_to(ws, args.goal, params, terrain, face=face, settings=s, yaw_deg=args.yaw, progress=bar.update)
+        run = roll_to(
+            ws, args.goal, params, terrain, face=start.face, settings=s, yaw_deg=start.yaw_deg, progress=bar.update
+        )
     print(describe(run, "roll"))
     if args.out:
         datasets.write(

@@ -10,6 +10,8 @@ candidates are spent. `runs` checks the arguments and runs it.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -91,6 +93,7 @@ def drive(
                     break
                 target = dict(direction=ct.edge_outward(obs.nodes[topo.FACES[face - 1]])[corners.index(e)])
             visited = (visited + [face])[-_TABU - 1 :]
+            cpu = time.process_time()  # planning CPU: the plan and every roll simulated ahead
             pl = plan(
                 workspace,
                 face,
@@ -111,6 +114,7 @@ def drive(
                 todo, simulated = lookahead.choose(
                     workspace, params, terrain, s, obs, face, pl, set(), aim, brk, target, visited[:-1], incline=True
                 )
+            cpu = time.process_time() - cpu
             while todo:
                 act = todo.pop(0)
                 res, obs = yield from roll_controller(
@@ -121,9 +125,11 @@ def drive(
                     break
                 if look and uneven and not simulated:
                     # on uneven ground the planned roll failed: foresee the others
+                    c0 = time.process_time()
                     todo, simulated = lookahead.choose(
                         workspace, params, terrain, s, obs, face, pl, {r.pairs for r in tries}, aim, brk, target
                     )
+                    cpu += time.process_time() - c0
                 elif (
                     not todo
                     and not simulated
@@ -143,7 +149,7 @@ def drive(
                 )
                 break
             after = tries[-1].face_after
-            steps.append(Step(face, pl, tuple(tries), after, simulated))
+            steps.append(Step(face, pl, tuple(tries), after, simulated, cpu))
             if after is not None and not tries[-1].rolled:
                 outcome = "stuck"
                 message = (

@@ -1,0 +1,172 @@
+"""Start poses that stand (issue 30 item 3; docs/design.md §6).
+
+A run placed on a face its CoG cannot stay on tumbles before its first roll (a 24 deg slope from
+the paper's start face). `stands` asks the simulator: every candidate pose (face, yaw) is set
+down on the terrain (`dynamics.stand_on`) and left for STAND_TIME s at rest, held by the run's
+own brake (`brake.Brake`, as `drive` holds it), all in one batch; a pose stands if the robot then
+rests on a face and its CoG has moved less than STAND_MOVE m (a robot that stands only sags, by
+millimetres; on uneven ground it may settle onto a neighbouring triple of nodes). `choose` keeps
+the pose a user gave if it stands (else ValueError naming one that does) and otherwise picks one:
+the face given (else the paper's start face) at the yaw given (else 0) if it stands, else the
+standing candidate whose CoG projection along gravity lies deepest inside its support triangle
+(rigid robot, `contact.judge`), the candidates tried in that order, the first alone, then BATCH
+at a time. Where nothing was given and no pose stands (ground rougher than the robot: on 0.07 m
+terrain some places), the paper's start face at yaw 0, saying so: the robot settles first.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import paper
+from ..physics import contact as ct
+from ..physics import dynamics as d
+from ..physics import topology as topo
+from ..physics.params import Params
+from ..physics.terrain import Terrain
+from ..workspace.lookup import Workspace
+from .brake import Brake
+from .control import settle_controller
+from .lockstep import Obs, lockstep
+from .settings import RollSettings
+
+__all__ = ["Start", "stands", "choose", "STAND_TIME", "STAND_MOVE", "YAW_STEP"]
+
+STAND_TIME = 2.0  # s at rest: a robot that cannot stand has tipped over an edge by then
+STAND_MOVE = 0.05  # m of CoG travel (horizontal) that is no longer standing: a tip or a slide
+YAW_STEP = 30.0  # deg between the yaws tried where none is given
+BATCH = 8  # candidate poses simulated together
+
+
+@dataclass(frozen=True)
+class Start:
+    """The start pose of a run: `face` (1-based) and `yaw_deg` (about the terrain normal, deg);
+    `message`: which pose, and why, in words."""
+
+    face: int
+    yaw_deg: float
+    message: str
+
+
+def _brake(workspace: Workspace, terrain: Terrain, s: RollSettings) -> Brake | None:
+    return Brake(workspace, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None
+
+
+def stands(
+    workspace: Workspace,
+    params: Params,
+    terrain: Terrain,
+    s: RollSettings,
+    poses: Sequence[tuple[int, float]],
+    position: Sequence[float] = (0.0, 0.0),
+) -> np.ndarray:
+    """(P,) bool: each pose (1-based face, yaw deg) at `position` (m) stands on `terrain`
+    (module docstring), simulated as one batch with the struts damped as in every roll."""
+    if not poses:
+        return np.zeros(0, bool)
+    state = d.State.concat([d.stand_on(params, f, terrain, position=position, yaw_deg=y) for f, y in poses])
+    c0 = d.nodes(state.x, state.q, params.strut_length).mean(axis=1)
+
+    def hold(b: int, obs: Obs):
+        brake, t0 = _brake(workspace, terrain, s), obs.t
+        while obs.t - t0 < STAND_TIME - 1e-9:
+            _, obs = yield from settle_controller(s, obs, brake)
+        return obs.face
+
+    out = lockstep(params, terrain, state, hold, s)
+    ok = []
+    for b, (face, st, _) in enumerate(out):
+        c1 = d.nodes(st.x, st.q, params.strut_length)[0].mean(axis=0)
+        # on uneven ground a pose set down on one face may settle on the next triple of nodes
+        # that touch; it stands if it rests on a face without travelling
+        ok.append(face is not None and float(np.linalg.norm(c1[:2] - c0[b, :2])) < STAND_MOVE)
+    return np.array(ok, bool)
+
+
+def _margin(params: Params, terrain: Terrain, face: int, yaw: float, position: Sequence[float]) -> float:
+    """Margin (m) of the rigid robot's CoG projection along gravity in `face`'s triangle."""
+    st = d.stand_on(params, face, terrain, position=position, yaw_deg=yaw)
+    return float(ct.judge(d.nodes(st.x, st.q, params.strut_length)[0], face).margin)
+
+
+def _search(workspace, params, terrain, s, poses, position) -> tuple[int, float] | None:
+    """The first pose of `poses` that stands, the first alone (the preferred pose, which
+    mostly stands), then `BATCH` at a time; None if none does."""
+    for k0, k1 in [(0, 1)] + [(k, k + BATCH) for k in range(1, len(poses), BATCH)]:
+        part = poses[k0:k1]
+        ok = stands(workspace, params, terrain, s, part, position)
+        if ok.any():
+            return part[int(np.argmax(ok))]
+    return None
+
+
+def _ranked(params, terrain, faces, yaws, position, first=None) -> list[tuple[int, float]]:
+    """Poses over `faces` x `yaws`, `first` (if given) then deepest CoG projection first."""
+    poses = [(f, float(y)) for f in faces for y in yaws]
+    m = {p: _margin(params, terrain, p[0], p[1], position) for p in poses}
+    order = sorted(poses, key=lambda p: (p != first, -round(m[p], 9), p))
+    return [p for p in order if m[p] > 0 or p == first]  # a rigid robot tipping cannot stand
+
+
+def _label(pose: tuple[int, float]) -> str:
+    face = topo.face_label(pose[0])
+    return f"face {face} at yaw {pose[1]:g} deg (--face {face.strip('()')} --yaw {pose[1]:g})"
+
+
+def choose(
+    workspace: Workspace,
+    params: Params,
+    terrain: Terrain,
+    s: RollSettings,
+    face: int | Sequence[int] | None = None,
+    yaw_deg: float | None = None,
+    position: Sequence[float] = (0.0, 0.0),
+) -> Start:
+    """The start pose of a run at `position` (m): the one given (face 1..20 or three nodes, yaw
+    deg) if it stands, else ValueError naming one that does; where the face or the yaw is not
+    given, a standing one (module docstring). ValueError if a face or yaw is given and no pose
+    with it stands there."""
+    params = s.rolling(params)
+    yaws = np.arange(0.0, 360.0, YAW_STEP) if yaw_deg is None else [float(yaw_deg)]
+    faces = range(1, topo.N_FACES + 1) if face is None else [topo.face_number(face)]
+    every = np.arange(0.0, 360.0, YAW_STEP)
+    other = None
+    if face is not None and yaw_deg is not None:
+        pose = (faces[0], float(yaw_deg))
+        if stands(workspace, params, terrain, s, [pose], position)[0]:
+            return Start(*pose, f"start on {_label(pose)}, as given: it stands on {terrain.describe()}")
+        what = (
+            f"the start pose {_label(pose)} does not stand on {terrain.describe()}: the robot tips or slides "
+            f"more than {STAND_MOVE} m within {STAND_TIME} s, before any roll"
+        )
+        other = _search(workspace, params, terrain, s, _ranked(params, terrain, faces, every, position), position)
+    else:
+        first = (faces[0] if face is not None else topo.face_number(paper.START_FACE), float(yaws[0]))
+        pose = _search(workspace, params, terrain, s, _ranked(params, terrain, faces, yaws, position, first), position)
+        if pose is not None:
+            return Start(*pose, f"start on {_label(pose)}, chosen: it stands on {terrain.describe()}")
+        what = (
+            "no start pose"
+            + (f" on face {topo.face_label(faces[0])}" if face is not None else "")
+            + (f" at yaw {yaw_deg:g} deg" if yaw_deg is not None else "")
+            + f" stands on "
+            f"{terrain.describe()} at {tuple(position)} m"
+        )
+    if face is None and yaw_deg is None:  # nothing stands here (very rough ground): it settles first
+        return Start(
+            *first,
+            f"start on {_label(first)}: {what} (the robot settles where it comes to rest before the first roll)",
+        )
+    if other is None:
+        other = _search(
+            workspace,
+            params,
+            terrain,
+            s,
+            _ranked(params, terrain, range(1, topo.N_FACES + 1), every, position),
+            position,
+        )
+    raise ValueError(what + (f"; {_label(other)} stands" if other else "; no pose stands there"))
