@@ -116,6 +116,7 @@ def test_the_query_example_is_the_command_s_answer(default_run):
 
 
 FIGURE = re.compile(r"\d+(\.\d+)?\s*(%|s\b|M\b|mm|deg|MPa|times|of \d+|/\d+|robot-steps|x\b)|\d+\.\d+")
+MEASURED = ("benchmarks.md", "planner_evaluation.md")  # the documents of measured figures
 DATED = re.compile(r"\bcommit [0-9a-f]{7,40}\b")
 
 
@@ -134,16 +135,17 @@ def _blocks(text: str) -> list[str]:
 
 
 def test_benchmark_figures_are_dated():
-    """Every paragraph or table of docs/benchmarks.md with a figure names the commit that
+    """Every paragraph or table of docs/benchmarks.md and docs/planner_evaluation.md with a figure names the commit that
     recorded it (in the text, or a "(commit X)" line after a table), and no document runs a bare
     `python` or `pip` (they fail outside an activated venv; `.venv/bin/python` does not)."""
-    blocks = _blocks((ROOT / "docs" / "benchmarks.md").read_text())
-    undated = [
-        b[:80]
-        for b, after in zip(blocks, blocks[1:] + [""])
-        if FIGURE.search(b) and not DATED.search(b) and not (b.startswith("|") and DATED.match(after.strip("()")))
-    ]
-    assert not undated, f"docs/benchmarks.md: figures without the commit that recorded them: {undated}"
+    for name in MEASURED:
+        blocks = _blocks((ROOT / "docs" / name).read_text())
+        undated = [
+            b[:80]
+            for b, after in zip(blocks, blocks[1:] + [""])
+            if FIGURE.search(b) and not DATED.search(b) and not (b.startswith("|") and DATED.match(after.strip("()")))
+        ]
+        assert not undated, f"docs/{name}: figures without the commit that recorded them: {undated}"
     for doc in ("README.md", "config/README.md", *(str(p.relative_to(ROOT)) for p in (ROOT / "docs").glob("*.md"))):
         bare = re.findall(r"(?:^|`|\$ )(python|pip) [\w./-]+", (ROOT / doc).read_text(), flags=re.M)
         assert not bare, f"{doc}: bare `{bare[0]}` commands (use .venv/bin/{bare[0]})"
