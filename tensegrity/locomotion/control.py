@@ -20,13 +20,13 @@ from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import topology as topo
 from ..physics.params import Params
-from ..physics.schedule import MAX_PRESSURE, hold_step
+from ..physics.schedule import MAX_PRESSURE, check_pressures, hold_step
 from ..physics.terrain import Terrain
 from .brake import Brake
 from .lockstep import Controller, Obs, Record, lockstep
 from .settings import RollSettings
 
-__all__ = ["RollResult", "roll", "roll_controller", "settle", "settle_controller"]
+__all__ = ["RollResult", "action_weights", "roll", "roll_controller", "settle", "settle_controller"]
 
 
 @dataclass(frozen=True)
@@ -36,7 +36,8 @@ class RollResult:
     support node lifted, if the robot then rolled (MPa, NaN if not; the peak pressure if it
     rolled only after the ramp gave up, as the pressure came down); peak_pressure MPa;
     t_start, t_end s; cog_before, cog_after (3,) m world. From `roll` also the final `state`
-    and the `record`."""
+    and the `record`. weights (12,): the action's weight vector if it was given as one (None:
+    the `pairs` at one pressure)."""
 
     pairs: tuple[int, ...]
     rolled: bool
@@ -50,6 +51,23 @@ class RollResult:
     cog_after: np.ndarray
     state: d.State | None = field(default=None, repr=False)
     record: Record | None = field(default=None, repr=False)
+    weights: np.ndarray | None = field(default=None, repr=False)
+
+
+def action_weights(pairs: int | Sequence[int] | None = None, weights=None) -> tuple[tuple[int, ...], np.ndarray]:
+    """An action as its 1-based pairs and its weight vector w (12,): the roll ramps the pair
+    pressures s w from s = 0 (MPa). 1-based `pairs` driven together give w = 1 on them, 0
+    elsewhere; or a non-negative `weights` (12,) whose largest entry is 1 (its pairs: those
+    with w > 0). Raises ValueError naming the bad value."""
+    if weights is None:
+        pairs = tuple(topo.check_pair(q) for q in np.atleast_1d(pairs))
+        w = np.zeros(topo.N_PAIRS)
+        w[np.asarray(pairs, int) - 1] = 1.0
+        return pairs, w
+    w = check_pressures(weights, "action weights")  # finite and >= 0 (the check of a pressure)
+    if w.shape != (topo.N_PAIRS,) or abs(float(w.max()) - 1.0) > 1e-9:
+        raise ValueError(f"action weights {w.tolist()} must be ({topo.N_PAIRS},) with largest entry 1")
+    return tuple(int(q) + 1 for q in np.flatnonzero(w > 0)), w
 
 
 _CALM = 3  # checks in a row that count as settled
@@ -86,13 +104,16 @@ def roll_controller(
     params: Params,
     s: RollSettings,
     obs: Obs,
-    pairs: tuple[int, ...],
+    pairs: tuple[int, ...] | None,
     max_pressure: float,
     brake: Brake | None = None,
     expect: float = float("nan"),
+    weights: np.ndarray | None = None,
 ) -> Controller:
-    """See `roll`. With a `brake` (`brake.Brake`), the braking pressures of the start face stay on
-    while the pressure rises (fading out over hold_time once it is at the top without a roll;
+    """See `roll`; `pairs` or `weights` (12,) give the action (`action_weights`: the pair
+    pressures are min(level w, MAX_PRESSURE) as the level ramps to max_pressure MPa).
+    With a `brake` (`brake.Brake`), the braking pressures of the start face stay on while the
+    pressure rises (fading out over hold_time once it is at the top without a roll;
     given the `expect`ed rolling pressure, MPa, the plan's, as the pressure rises to it: kept
     on, the brake fights the roll, which then tips late and fast or not at all); once the
     robot tips over, those of the face it rolls onto (`Brake.landing`). Where the brake does
@@ -104,7 +125,9 @@ def roll_controller(
     support = topo.FACES[face0 - 1]  # node indices of the support triangle
     base = obs.gap[support]
     S = float(params.strut_length)
-    idx = np.asarray(pairs) - 1
+    pairs, w = action_weights(pairs, weights)
+    idx = np.flatnonzero(w > 0)
+    w = w[idx]
     level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
     t_hold, rearmed = 0.0, True  # s in the hold (`schedule.hold_step`); a lift may start one
     landed, apex = None, -1
@@ -134,7 +157,7 @@ def roll_controller(
             pres = brake.for_face(landed, obs.nodes) if rolling else held  # or back on its own
         if brake:  # braking pressures change at most at brake_rate
             pres = _slew(pres, last, s)
-        pres[idx] = np.maximum(pres[idx], level)
+        pres[idx] = np.maximum(pres[idx], np.minimum(level * w, MAX_PRESSURE))
         last = pres
         peak = max(peak, level)
         obs = yield pres
@@ -181,7 +204,7 @@ def roll_controller(
     after, obs = yield from settle_controller(s, obs, brake)
     rolled = after is not None and after != face0
     return RollResult(
-        tuple(int(q) for q in pairs),
+        pairs,
         rolled,
         face0,
         after,
@@ -191,6 +214,7 @@ def roll_controller(
         obs.t,
         cog0,
         obs.nodes.mean(axis=0),
+        weights=None if weights is None else np.asarray(weights, float),
     ), obs
 
 
@@ -210,12 +234,14 @@ def roll(
     params: Params,
     state: d.State,
     terrain: Terrain,
-    pairs: int | Sequence[int],
+    pairs: int | Sequence[int] | None,
     max_pressure: float,
     settings: RollSettings | None = None,
+    weights: np.ndarray | None = None,
 ) -> RollResult:
     """One roll in the dynamic simulator (paper III.C step 4) of one robot resting on a face:
-    drive 1-based `pairs` together from 0 toward `max_pressure` MPa at ramp_rate. When a support
+    drive 1-based `pairs` together from 0 toward `max_pressure` MPa at ramp_rate (or, given
+    `weights` (12,) (`action_weights`), the pair pressures level w). When a support
     node lifts the pressure is held (at most hold_time s, then the ramp resumes: escalation,
     held again only by a lift after the support was down again; braked rolls, see
     `roll_controller`, hold at every step while a node is lifted);
@@ -226,12 +252,12 @@ def roll(
     Raises SimulationError if the simulation blows up or leaves the terrain, ContactError if
     the robot does not rest on a face."""
     s = settings or RollSettings()
-    pairs = tuple(topo.check_pair(q) for q in np.atleast_1d(pairs))
+    pairs, _ = action_weights(pairs, weights)
     if not (np.isfinite(max_pressure) and 0 < max_pressure <= MAX_PRESSURE):
         raise ValueError(f"max_pressure {np.asarray(max_pressure).tolist()!r} MPa must be in (0, {MAX_PRESSURE}]")
     if state.batch != 1:
         raise ValueError(f"roll drives one robot; the state holds {state.batch}")
     (res, _), st, rec = lockstep(
-        params, terrain, state, lambda b, o: roll_controller(params, s, o, pairs, max_pressure), s
+        params, terrain, state, lambda b, o: roll_controller(params, s, o, pairs, max_pressure, weights=weights), s
     )[0]
     return replace(res, state=st, record=rec)
