@@ -54,7 +54,9 @@ class RollResult:
     weights: np.ndarray | None = field(default=None, repr=False)
 
 
-def action_weights(pairs: int | Sequence[int] | None = None, weights=None) -> tuple[tuple[int, ...], np.ndarray]:
+def action_weights(
+    pairs: int | Sequence[int] | None = None, weights: np.ndarray | None = None
+) -> tuple[tuple[int, ...], np.ndarray]:
     """An action as its 1-based pairs and its weight vector w (12,): the roll ramps the pair
     pressures s w from s = 0 (MPa). 1-based `pairs` driven together give w = 1 on them, 0
     elsewhere; or a non-negative `weights` (12,) whose largest entry is 1 (its pairs: those

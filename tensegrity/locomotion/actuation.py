@@ -1,0 +1,82 @@
+"""Optimised actions of any set of pairs for the planner (issue 30, item 1): from the robot's
+current state on its face, one weight vector per edge it can be rolled over
+(`workspace.sensitivity`: the statics' sensitivity of the CoG projection to each pair and a
+linear programme for the least total pressure), to roll with `control.roll(..., weights=w)`.
+
+Per-cable actions (the prototype's 24 actuators) are not offered: the simulator's kernel takes
+one pressure per pair (`physics.kernel`, the cables of a pair share `CABLE_PAIR`'s pressure).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..physics import contact as ct
+from ..physics import dynamics as d
+from ..physics import topology as topo
+from ..physics.params import Params
+from ..physics.terrain import Terrain
+from ..workspace.sensitivity import ActuationSettings, EdgeAction, edge_actions, grounded
+
+__all__ = ["ActuationSettings", "Candidate", "candidates"]
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """weights (12,) (largest 1: the roll ramps pair pressures s w, `control.action_weights`);
+    edge: two 1-based nodes of the face it rolls over; next_face (1-based) across it; scale
+    MPa: the least s at which the model puts the CoG projection over the edge (`EdgeAction`);
+    along: cosine between the edge's outward normal (horizontal, world) and the asked
+    direction (NaN without one)."""
+
+    weights: np.ndarray
+    edge: tuple[int, int]
+    next_face: int
+    scale: float
+    along: float
+
+
+def _outward(nodes: np.ndarray, face: int, edge: tuple[int, int]) -> np.ndarray:
+    """Horizontal outward unit normal (2,) in the world of `edge` of `face` on `nodes` (12, 3) m."""
+    tri = nodes[topo.FACES[face - 1]]
+    k = [topo.edge_nodes(face, i) for i in range(3)].index(edge)
+    v = ct.edge_outward(tri)[k, :2]
+    return v / max(float(np.linalg.norm(v)), 1e-12)
+
+
+def candidates(
+    params: Params,
+    terrain: Terrain,
+    state: d.State,
+    face: int,
+    direction: ArrayLike | None,
+    settings: ActuationSettings,
+    max_pressure: float,
+) -> list[Candidate]:
+    """Optimised actions for one robot `state` (batch 1) resting on `face` (1..20) of `terrain`:
+    one per edge that some pressures up to max_pressure MPa roll it over by the model
+    (`sensitivity.grounded`: the free statics about the robot's own pose and gravity), ordered by
+    `along` the world direction `direction` (2,) (x, y) first (None: by scale). ContactError if
+    the robot does not rest on `face`."""
+    if state.batch != 1:
+        raise ValueError(f"candidates are for one robot; the state holds {state.batch}")
+    nodes = d.nodes(state.x, state.q, params.strut_length)[0]
+    r = float(np.max(params.strut_radius))
+    on = ct.face_from_gaps(ct.clearance(nodes, terrain, r), r)
+    f = topo.face_number(face)
+    if on != f:
+        raise ct.ContactError(f"the robot rests on face {topo.face_label(on)}, not {topo.face_label(f)}")
+    model = grounded(params, f, nodes)
+    acts: list[EdgeAction] = edge_actions(model, max_pressure, settings)
+    u = None if direction is None else np.asarray(direction, float)[:2]
+    if u is not None and not (np.all(np.isfinite(u)) and np.linalg.norm(u) > 0):
+        raise ValueError(f"direction {u.tolist()} must be a finite non-zero (x, y) vector")
+    out = []
+    for a in acts:
+        along = float("nan") if u is None else float(_outward(nodes, f, a.edge) @ u / np.linalg.norm(u))
+        out.append(Candidate(a.weights, a.edge, a.next_face, a.scale, along))
+    key = (lambda c: c.scale) if u is None else (lambda c: (-c.along, c.scale))
+    return sorted(out, key=key)
