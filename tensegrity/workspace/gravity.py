@@ -22,7 +22,7 @@ from ..physics import dynamics as d
 from ..physics import frames
 from ..physics import topology as topo
 from ..physics.params import Params
-from ..physics.schedule import Schedule, check_pressures, hold_step, whole_steps
+from ..physics.schedule import MAX_PRESSURE, Schedule, check_pressures, hold_step, whole_steps
 from ..physics.terrain import Terrain
 from .slopes import gravity_frame, place, slope_field
 
@@ -155,7 +155,8 @@ def ramp(
     setup: GravitySetup,
     copies: int = 1,
 ) -> tuple[dict, np.ndarray]:
-    """Drive robot b of `state` (resting on `face`) with pair pair_of[b] through the pressures
+    """Drive robot b of `state` (resting on `face`) with pair pair_of[b] (or, pair_of (R, 12),
+    the pair pressures level pair_of[b], `locomotion.control.action_weights`) through the pressures
     `level` (L,) MPa, one per setup.interval s (the first n_settle at zero), time step setup.dt
     s, `params` as given (`GravitySetup.rolling` is the caller's). By the controller's rule
     (`schedule.hold_step`, as in `locomotion.control.roll`), when a support node has lifted by
@@ -198,8 +199,11 @@ def ramp(
         state = state.take(active)
     for t in range(T):
         ka = k[active]
-        pres = np.zeros((active.size, topo.N_PAIRS))
-        pres[np.arange(active.size), pair_of[active] - 1] = level[ka]
+        if pair_of.ndim == 2:  # weight vectors (R, 12), largest entry 1: pressures level w
+            pres = np.minimum(level[ka, None] * pair_of[active], MAX_PRESSURE)
+        else:
+            pres = np.zeros((active.size, topo.N_PAIRS))
+            pres[np.arange(active.size), pair_of[active] - 1] = level[ka]
         state, tr = d.simulate(params, state, Schedule(np.array([interval]), pres[:, None]), terrain, dt, every)
         nodes = tr.nodes(params.strut_length)[:, -1]
         cog, sup, proj, margin = gravity_frame(nodes, face)
