@@ -19,6 +19,7 @@ from ..physics.params import Params
 from ..physics.twisted import TwistedString
 from ..validation.common import CheckSettings
 from ..workspace.gravity import GravitySetup
+from ..workspace.sensitivity import ActuationSettings
 from ..workspace.sweep import SweepSetup
 from ..workspace.two_pair import TwoPairSetup
 from .config import params_from_config
@@ -45,6 +46,7 @@ KEYS: dict[type, dict[str, str]] = {
     RollSettings: _section("locomotion", RollSettings, dt="sim.dt"),
     Scenarios: _section("locomotion", Scenarios),
     CheckSettings: _section("validate", CheckSettings),
+    ActuationSettings: _section("locomotion", ActuationSettings),
 }
 
 

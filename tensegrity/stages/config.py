@@ -105,7 +105,15 @@ STAGES: dict[str, Stage] = {
         "gravity:slope_limit",
         "slope_limit",
         SIMULATION,
-        (*_SIM, *_RAMP, *_GRAVITY, "gravity.iterations", "gravity.free_step"),
+        (
+            *_SIM,
+            *_RAMP,
+            *_GRAVITY,
+            "gravity.iterations",
+            "gravity.free_step",
+            "gravity.multi_iterations",
+            "locomotion.actuation_margin",
+        ),
     ),
     "gravity_figure": Stage("gravity:gravity_figure", "slope_limit", FIGURE, ()),
     "locomotion_runs": Stage(

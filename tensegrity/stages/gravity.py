@@ -67,32 +67,41 @@ def slope_limit(
 ) -> Path:
     """Stage `slope_limit`: results/slope_limit.nc and results/figures/slope_limit.png. With
     `two_pair_path` (results/workspace_two_pair.nc) the free prediction also tries the measured
-    two-pair combinations; the simulated check drives single pairs only."""
+    two-pair combinations; the simulated check drives single pairs only; beside it, the limit
+    with optimised actions of any set of pairs (`workspace.slope_multi`)."""
     from ..render.gravity import slope_limit_figure
     from ..workspace import slope_limit as sl
+    from ..workspace.sensitivity import ActuationSettings
+    from ..workspace.slope_multi import multi_limits
 
     setup = settings.build(GravitySetup, cfg)
     ws = formats.read_workspace(workspace_path, two_pair_path)
     params = setup.rolling(settings.params(cfg))
+    sweeps = gf.read_gravity(gravity_path)
     lim = sl.limits(
         ws,
         params,
-        gf.read_gravity(gravity_path),
+        sweeps,
         setup,
         iterations=int(cfg["gravity"]["iterations"]),
         free_step=float(cfg["gravity"]["free_step"]),
     )
+    act = settings.build(ActuationSettings, cfg)
+    multi = multi_limits(ws, params, sweeps, lim, setup, act, int(cfg["gravity"]["multi_iterations"]))
     for k, kind in enumerate(lim.kinds):
         for c, contact in enumerate(lim.contacts):
             print(
                 f"{kind:9s} {contact:12s} simulated "
                 + " ".join(f"{v:5.1f}" for v in lim.simulated[k, c])
                 + " | free "
-                + " ".join(f"{v:5.1f}" for v in lim.predicted_free[k, c]),
+                + " ".join(f"{v:5.1f}" for v in lim.predicted_free[k, c])
+                + " | any set of pairs "
+                + " ".join(f"{v:5.1f}" for v in multi.simulated[k, c]),
                 flush=True,
             )
     ds = gf.slope_limit_dataset(
         lim,
+        multi,
         {
             "friction_angle_deg": sl.friction_angle(params),
             "max_pressure_MPa": setup.max_pressure,

@@ -74,11 +74,14 @@ def multi_limits(
     iterations: int = 3,
 ) -> MultiLimits:
     """The limits with optimised actions beside the single-pair ones `lim` (module docstring),
-    `iterations` bisection steps; the contacts and headings of `lim` (from `sweeps`)."""
+    `iterations` bisection steps (0: not computed, NaN); the contacts and headings of `lim`
+    (from `sweeps`)."""
     params = setup.rolling(params)
     sim, high = lim.simulated.copy(), lim.simulated_high.copy()
     weights = np.zeros((*sim.shape, topo.N_PAIRS))
     pres = np.full(sim.shape, np.nan)
+    if int(iterations) <= 0:  # not computed
+        return MultiLimits(np.full(sim.shape, np.nan), np.full(sim.shape, np.nan), weights, pres)
     for c, contact in enumerate(lim.contacts):
         face = sweeps[contact].face
         for kind in (1, 2):

@@ -3,7 +3,8 @@ read back into the package's arrays:
 
 - results/workspace_gravity.nc: `gravity_dataset` (from `workspace.gravity.GravitySweep` per
   contact case), read back by `sweeps_from_dataset`.
-- results/slope_limit.nc: `slope_limit_dataset` (from `workspace.slope_limit.SlopeLimits`).
+- results/slope_limit.nc: `slope_limit_dataset` (from `workspace.slope_limit.SlopeLimits` and
+  `workspace.slope_multi.MultiLimits`).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from .common import coords
 if TYPE_CHECKING:
     from ...workspace.gravity import GravitySetup, GravitySweep
     from ...workspace.slope_limit import SlopeLimits
+    from ...workspace.slope_multi import MultiLimits
 
 __all__ = [
     "GRAVITY_ALLOW_NAN",
@@ -155,15 +157,48 @@ def read_gravity(path: str | os.PathLike) -> dict[str, GravitySweep]:
     return sweeps_from_dataset(datasets.read(path))
 
 
-SLOPE_LIMIT_ALLOW_NAN = ["predicted_free", "predicted_gravity", "simulated", "simulated_high", "pressure"]
+SLOPE_LIMIT_ALLOW_NAN = [
+    "predicted_free",
+    "predicted_gravity",
+    "simulated",
+    "simulated_high",
+    "pressure",
+    "simulated_multi",
+    "simulated_multi_high",
+    "multi_pressure",
+]
 
 
-def slope_limit_dataset(lim: SlopeLimits, attrs: dict) -> xr.Dataset:
+def slope_limit_dataset(lim: SlopeLimits, multi: MultiLimits, attrs: dict) -> xr.Dataset:
     """results/slope_limit.nc: per kind (stand, uphill, downhill), contact and heading the
     steepest slope predicted from the free workspace, from the gravity-aware one and found by
-    simulation, what sets it, and the pair and pressure used."""
+    simulation, what sets it, and the pair and pressure used; the simulated limit with optimised
+    actions of any set of pairs (`multi`, `workspace.slope_multi`) and its action."""
     var = datasets.var
     dims = ("kind", "contact", "heading")
+    with_multi = {
+        "simulated_multi": var(
+            dims,
+            multi.simulated,
+            "degree",
+            "steepest slope found by direct simulation with a single pair or an action of any set of pairs "
+            "optimised on the statics, the low end of its bisection bracket (NaN: not computed)",
+        ),
+        "simulated_multi_high": var(
+            dims,
+            multi.simulated_high,
+            "degree",
+            "high end of that bracket: the least slope where the optimised action did not work (or the "
+            "stand limit's high end, if none failed) (NaN: not computed)",
+        ),
+        "multi_weights": var(
+            (*dims, "actuator"),
+            multi.weights,
+            "1",
+            "weights w of the optimised action at simulated_multi, pressures s w (all 0: the single pair's limit)",
+        ),
+        "multi_pressure": var(dims, multi.pressure, "MPa", "its tipping scale s at simulated_multi (NaN: none)"),
+    }
     return xr.Dataset(
         {
             "predicted_free": var(
@@ -198,10 +233,16 @@ def slope_limit_dataset(lim: SlopeLimits, attrs: dict) -> xr.Dataset:
                 lim.limited_by.astype(str),
                 {"long_name": "what sets the limit: geometry, pressure range, friction or grid"},
             ),
+            **with_multi,
         },
         coords={
             "kind": ("kind", list(lim.kinds), {"long_name": "stand, roll uphill, roll downhill under control"}),
             "contact": ("contact", list(lim.contacts), {"long_name": "contact case (canonical face type)"}),
+            "actuator": (
+                "actuator",
+                np.arange(1, topo.N_PAIRS + 1),
+                {"units": "1", "long_name": "actuator pair (1-based)"},
+            ),
             "heading": (
                 "heading",
                 lim.headings,
