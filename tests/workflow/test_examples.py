@@ -233,6 +233,16 @@ BENCHMARKS = {
         "--tiny",
         "--steps",
     ],
+    "bench_slope_multi.py": [
+        "--gravity",
+        "{tiny}/results/workspace_gravity.nc",
+        "--workspace",
+        "{tiny}/results/workspace.nc",
+        "--contacts",
+        "isosceles",
+        "--iterations",
+        "1",
+    ],
     "bench_slope_reach.py": [
         "--workspace",
         "{tiny}/results/workspace.nc",
