@@ -233,6 +233,7 @@ BENCHMARKS = {
         "--tiny",
         "--steps",
     ],
+    "bench_actuation.py": ["--slopes", "0", "--headings", "0", "--max-pressure", "3"],
     "bench_slope_multi.py": [
         "--gravity",
         "{tiny}/results/workspace_gravity.nc",
