@@ -17,7 +17,9 @@ def cmd_query(args: argparse.Namespace) -> int:
     from ..io.provenance import check_together
     from ..workspace import query
 
-    curves, workspace = formats.read_curves(args.curves), formats.read_workspace(args.workspace)
+    curves = formats.read_curves(args.curves)
+    formats.actuation.require_pneumatic(curves, args.curves, "tensegrity query")
+    workspace = formats.read_workspace(args.workspace)
     check_together({args.curves: curves.get("config"), args.workspace: formats.config_of(args.workspace)})
     ans = query.query(curves, workspace, args.face, args.pair, args.pressure, wsname=args.workspace)
     out = {

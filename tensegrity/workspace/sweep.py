@@ -15,6 +15,7 @@ from ..physics.contact import clearance, resting_face
 from ..physics.params import Params
 from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
+from ..physics.twisted import TwistedString, Voltages
 
 MODES = ("free", "grounded")
 
@@ -63,17 +64,24 @@ def setup(params: Params, mode: str) -> tuple[Params, Terrain]:
     return (params.replace(gravity=0.0), Terrain.none()) if mode == "free" else (params, Terrain.flat())
 
 
-def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, sweep: SweepSetup) -> Sweep:
+def run(
+    params: Params,
+    face: int | Sequence[int],
+    pairs: ArrayLike,
+    sweep: SweepSetup,
+    motors: TwistedString | None = None,
+) -> Sweep:
     """Stand the robot on `face`, apply the staircase of `sweep` to each pair in `pairs` (one
-    robot each, batched)."""
+    robot each, batched). With `motors` (the twisted-string actuator, docs/design.md §10) the
+    levels and `pressure_cmd` are motor voltages, V."""
     face = topo.face_number(face)
     pairs = np.array([topo.check_pair(p) for p in np.atleast_1d(pairs)])
     levels = np.asarray(sweep.levels, dtype=float)
     hold, settle, dt, record_every = sweep.hold, sweep.settle, sweep.dt, sweep.record_every
     prm, terrain = setup(params, sweep.mode)
     state = d.stand_on(prm, face, terrain, batch=len(pairs))
-    sched = Schedule.staircase(pairs, levels, hold, settle)
-    _, tr = d.simulate(prm, state, sched, terrain, dt, record_every)
+    sched = (Schedule if motors is None else Voltages).staircase(pairs, levels, hold, settle)
+    _, tr = d.simulate(prm, state, sched, terrain, dt, record_every, motors=motors)
     nodes = tr.nodes(prm.strut_length)
     cog, support = frames.in_support_frame(nodes, face)
     seg = np.searchsorted(np.cumsum(sched.durations), tr.t - 0.5 * dt * record_every)
