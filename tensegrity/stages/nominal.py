@@ -49,6 +49,7 @@ def nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: str |
         rolled[i, k:] = 1
         tip[i] = nom.mask_after_roll(levels, k, tip[i], cog[i], std[i], sup[i], margin[i], err[i])
     kind = actuation.common_kind(sweeps)  # the unit of the levels: the sweeps' (MPa or V)
+    locked = [ds["strands_locked"] for ds in sweeps if "strands_locked" in ds]  # twisted strings only
     ds = formats.nominal_dataset(
         pairs,
         levels,
@@ -62,6 +63,8 @@ def nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: str |
         {k: first.attrs[k] for k in ("contact", "face", "face_nodes", "mode")} | {"discard_s": discard},
         datasets.strut_length(first),
     )
+    if locked:
+        ds["strands_locked"] = ("pair", np.array([int(v) for v in locked], np.int8), dict(locked[0].attrs))
     return datasets.write(
         actuation.relabel(ds, kind),
         out_path,

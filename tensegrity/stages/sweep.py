@@ -6,10 +6,17 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import numpy as np
+
 from ..io import datasets, formats, settings
 from ..io.formats import actuation
 from ..physics import topology as topo
 from ..workspace.sweep import SweepSetup
+
+LOCKED = (
+    "1 if a motor twisted its strands past their lock (theta r / p = pi / 2, Palli et al. 2013) by "
+    "the end of the staircase: the twisting model (T1) does not hold there (docs/design.md 10)"
+)
 
 
 def sweep(cfg: dict, contact: str, out_dir: str | os.PathLike) -> list[Path]:
@@ -27,6 +34,8 @@ def sweep(cfg: dict, contact: str, out_dir: str | os.PathLike) -> list[Path]:
     paths = []
     for b, pair in enumerate(res.pairs):
         ds = formats.sweep_dataset(res, b, contact, setup, int(cfg["sweep"]["node_stride"]), float(params.strut_length))
+        if res.locked is not None:
+            ds["strands_locked"] = datasets.var((), np.int8(res.locked[b]), "1", LOCKED)
         paths.append(
             datasets.write(
                 actuation.relabel(ds, kind),

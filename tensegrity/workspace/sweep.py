@@ -41,7 +41,9 @@ class Sweep:
     support (B, T, 3, 3) m in the support frame of the deformed contact face; nodes (B, T, 12, 3)
     m world positions; level (T,) index of the level held (-1 while settling); on_face (B, T)
     whether the robot rests on `face`; resting_face (B, T) the face it rests on, 0 for none
-    (contact.resting_face; `face` throughout in the free mode)."""
+    (contact.resting_face; `face` throughout in the free mode); locked (B,) with the twisted-string
+    actuator, whether a motor had twisted its strands past their lock by the end (the twist grows
+    with the level; `TwistedString.locked`: the model (T1) does not hold there), else None."""
 
     pairs: np.ndarray
     levels: np.ndarray
@@ -54,6 +56,7 @@ class Sweep:
     level: np.ndarray
     on_face: np.ndarray
     resting_face: np.ndarray
+    locked: np.ndarray | None = None
 
 
 def setup(params: Params, mode: str) -> tuple[Params, Terrain]:
@@ -81,7 +84,7 @@ def run(
     prm, terrain = setup(params, sweep.mode)
     state = d.stand_on(prm, face, terrain, batch=len(pairs))
     sched = (Schedule if motors is None else Voltages).staircase(pairs, levels, hold, settle)
-    _, tr = d.simulate(prm, state, sched, terrain, dt, record_every, motors=motors)
+    end, tr = d.simulate(prm, state, sched, terrain, dt, record_every, motors=motors)
     nodes = tr.nodes(prm.strut_length)
     cog, support = frames.in_support_frame(nodes, face)
     seg = np.searchsorted(np.cumsum(sched.durations), tr.t - 0.5 * dt * record_every)
@@ -102,6 +105,7 @@ def run(
         level,
         resting == face,
         resting,
+        None if motors is None else motors.locked(end.motor_angle).any(axis=1),
     )
 
 

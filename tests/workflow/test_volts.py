@@ -60,19 +60,38 @@ def test_a_higher_voltage_twists_further(volts_run):
     """Physics of the nominal CoGs in volts: a motor at a higher voltage stalls against a larger
     string tension, so each pair that moves the CoG (#9, #10 on the equilateral face) moves it
     farther from the unactuated robot's at every higher level; the curves pass through the nominal
-    CoGs they were fitted to (their max_residual, m)."""
+    CoGs they were fitted to within the error curves.json states for each (max_residual, m), read
+    in volts; whether a motor twisted its strands past their lock is in the sweep and nominal files."""
     import xarray as xr
 
     from tensegrity.physics import frames
 
+    def evaluate(curve, p):  # README's evaluator of curves.json
+        b, c = curve["breaks"], curve["coefs"]
+        i = 0
+        while i < len(c) - 1 and p >= b[i + 1]:
+            i += 1
+        y = 0.0
+        for a in c[i]:
+            y = y * (p - b[i]) + a
+        return y
+
     res = volts_run / "results"
+    doc = json.loads((res / "curves" / "curves.json").read_text())["contacts"]["equilateral"]["pairs"]
     with xr.open_dataset(res / "nominal" / "equilateral.nc") as nm:
         rest = frames.rest_frame(int(nm.attrs["face"]), float(nm["strut_length"]))[0]
         for pair in (9, 10):
             d = np.linalg.norm(nm["cog"].sel(pair=pair).values - rest, axis=-1)
             assert np.all(np.diff(d) > 1e-3), (pair, d)  # at least a millimetre per level
-    with xr.open_dataset(res / "curves" / "equilateral.nc") as cv:
-        assert float(cv["max_residual"].max()) < 1e-4
+        for pair in nm["pair"].values:
+            for k, axis in enumerate("xyz"):
+                curve = doc[str(int(pair))][axis]
+                for v, cog in zip(nm["pressure"].values, nm["cog"].sel(pair=pair).values[:, k]):
+                    assert abs(evaluate(curve, float(v)) - cog) <= curve["max_residual"] + 1e-12
+        assert set(nm["strands_locked"].values.tolist()) <= {0, 1}
+        locked = int(nm["strands_locked"].sel(pair=10))
+    with xr.open_dataset(res / "sweeps" / "equilateral" / "pair10.nc") as sw:
+        assert int(sw["strands_locked"]) == locked
 
 
 def test_its_datasets_pass_the_cf_check(volts_run, tmp_path):
