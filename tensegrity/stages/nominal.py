@@ -64,7 +64,7 @@ def nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: str |
         datasets.strut_length(first),
     )
     if locked:
-        ds["strands_locked"] = ("pair", np.array([int(v) for v in locked], np.int8), dict(locked[0].attrs))
+        ds["strands_locked"] = (("pair", "pressure"), np.stack([v.values for v in locked]), dict(locked[0].attrs))
     return datasets.write(
         actuation.relabel(ds, kind),
         out_path,

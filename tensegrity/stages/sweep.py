@@ -14,8 +14,8 @@ from ..physics import topology as topo
 from ..workspace.sweep import SweepSetup
 
 LOCKED = (
-    "1 if a motor twisted its strands past their lock (theta r / p = pi / 2, Palli et al. 2013) by "
-    "the end of the staircase: the twisting model (T1) does not hold there (docs/design.md 10)"
+    "1 if a motor had twisted its strands past their lock (theta r / p = pi / 2, Palli et al. 2013) "
+    "by the end of the level: the twisting model (T1) does not hold there (docs/design.md 10)"
 )
 
 
@@ -35,7 +35,7 @@ def sweep(cfg: dict, contact: str, out_dir: str | os.PathLike) -> list[Path]:
     for b, pair in enumerate(res.pairs):
         ds = formats.sweep_dataset(res, b, contact, setup, int(cfg["sweep"]["node_stride"]), float(params.strut_length))
         if res.locked is not None:
-            ds["strands_locked"] = datasets.var((), np.int8(res.locked[b]), "1", LOCKED)
+            ds["strands_locked"] = datasets.var(("levels",), res.locked[b].astype(np.int8), "1", LOCKED)
         paths.append(
             datasets.write(
                 actuation.relabel(ds, kind),

@@ -35,6 +35,24 @@ def test_a_voltage_staircase_pulls_the_cog_where_the_muscles_of_that_pair_do():
     assert np.all(np.diff(dist[5:]) > -1e-7)  # after the first samples (the strands take up slack)
 
 
+def test_a_staircase_run_level_by_level_is_the_same_run():
+    """The sweep in volts runs one level at a time to read the motors' twist at the end of each
+    (`sweep.run_levels`); each call continues from the last one's state (time, motor angles and
+    speeds), so the trajectory is the one of a single call, to round-off (1e-12 m)."""
+    from tensegrity.physics import dynamics as d
+    from tensegrity.physics.terrain import Terrain
+    from tensegrity.physics.twisted import Voltages
+
+    prm, motors = Params().replace(gravity=0.0), TwistedString()
+    state = d.stand_on(prm, FACE, Terrain.none(), batch=2)
+    sched = Voltages.staircase([9, 10], [9.0, 12.0], 0.3)
+    _, whole = d.simulate(prm, state, sched, Terrain.none(), 1e-4, 100, motors=motors)
+    parts, locked = sw.run_levels(prm, state, sched, Terrain.none(), 1e-4, 100, motors)
+    assert np.array_equal(parts.t, whole.t) and np.array_equal(parts.pressure, whole.pressure)
+    assert np.abs(parts.x - whole.x).max() < 1e-12 and np.abs(parts.q - whole.q).max() < 1e-12
+    assert locked.shape == (2, 2) and not locked.any()  # 0.6 s twists far less than the lock
+
+
 def test_the_unit_is_in_the_file_and_a_pneumatic_file_is_left_as_it_was():
     import xarray as xr
 
