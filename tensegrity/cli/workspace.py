@@ -62,7 +62,8 @@ def cmd_faces(args: argparse.Namespace) -> int:
 def cmd_table(args: argparse.Namespace) -> int:
     """One face's workspace as a CSV table: pair, pressure (MPa, 0: the unactuated robot), the
     nominal CoG (m, support frame), the margin (m, positive inside) and the pair's tipping
-    pressure (MPa, empty: never), from the workspace file."""
+    pressure (MPa, empty: never), from the workspace file; a workspace in volts (the
+    twisted-string actuator) gives V, and the columns say so."""
     from .. import atomic
     from ..io.formats.workspace import face_table
     from ..physics.topology import face_number

@@ -123,3 +123,22 @@ def test_a_target_not_built_in_volts_is_refused_before_any_job(tmp_path):
     assert "config key actuator.kind: 'twisted_string'" in r.stdout + r.stderr
     assert "stage validate (rule validate)" in r.stdout + r.stderr
     assert not (wd / "results").exists()  # no job ran
+
+
+def test_the_commands_read_the_unit_and_refuse_locomotion_in_volts(volts_run, monkeypatch, capsys):
+    """`tensegrity table` labels its columns in V; `query` and `plan` (with the pneumatic default
+    configuration) refuse the files in volts, naming the file, instead of reading volts as MPa."""
+    from tensegrity import cli
+
+    monkeypatch.chdir(volts_run)
+    assert cli.main(["table", "--face", "8", "--out", "face8.csv"]) == 0
+    assert (
+        (volts_run / "face8.csv")
+        .read_text()
+        .startswith("pair,pressure_V,cog_x_m,cog_y_m,cog_z_m,margin_m,tip_pressure_V")
+    )
+    capsys.readouterr()
+    for argv in (["query", "--face", "8", "--pair", "10", "--pressure", "6"], ["plan", "--direction", "75"]):
+        assert cli.main(argv) == cli.EXIT_INPUT, argv
+        err = capsys.readouterr().err
+        assert "is of the twisted_string actuator" in err and "pneumatic muscle's pressures only" in err, err
