@@ -88,9 +88,13 @@ def cmd_render(args: argparse.Namespace) -> int:
 def cmd_study(args: argparse.Namespace) -> int:
     """Run a design study (config/studies/NAME.yaml or a YAML path) without Snakemake: every chunk
     not yet written, the merge and the analysis, into results/studies/NAME (docs/datasets.md)."""
+    from ..stages.config import actuator_error
     from .study import run
 
-    return run(cli_args.load_cfg(args), args.study, args.out, args.limit)
+    cfg = cli_args.load_cfg(args)
+    if why := actuator_error(cfg, "study_chunk"):
+        raise ValueError(why)
+    return run(cfg, args.study, args.out, args.limit)
 
 
 def build_parser() -> argparse.ArgumentParser:

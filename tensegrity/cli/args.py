@@ -138,7 +138,12 @@ def load_cfg(args: argparse.Namespace) -> dict:
 
 
 def stage_cfg(args: argparse.Namespace, stage: str) -> dict:
-    """The keys of the resolved configuration that `stage` reads, as its rule passes them."""
-    from ..stages.config import stage_config
+    """The keys of the resolved configuration that `stage` reads, as its rule passes them;
+    ValueError naming actuator.kind if `stage` does not run with the configured actuator."""
+    from ..stages.config import actuator_error, stage_config
 
-    return stage_config(load_cfg(args), stage)
+    cfg = load_cfg(args)
+    why = actuator_error(cfg, stage)  # a stage the configured actuator cannot run: before any work
+    if why:
+        raise ValueError(why)
+    return stage_config(cfg, stage)

@@ -18,9 +18,12 @@ def cmd_export(args: argparse.Namespace) -> int:
     from ..physics import topology as topo
     from ..physics.state import stand_on
     from ..physics.terrain import Terrain
+    from ..stages.config import actuator_error
     from .args import load_cfg
 
     cfg = load_cfg(args)
+    if why := actuator_error(cfg, "the command `tensegrity export`"):  # it writes eq. 1-2 only
+        raise ValueError(why)
     params, dt = settings.params(cfg), float(settings.value(cfg, "sim.dt"))
     face = topo.face_number(args.face)  # ValueError (exit 3) naming a bad face, before any work
     state = stand_on(params, face, Terrain.flat() if args.mode == "grounded" else Terrain.none())

@@ -26,14 +26,17 @@ def _two_pair_file(args: argparse.Namespace) -> str | None:
 def _locomotion_setup(args: argparse.Namespace):
     """Configuration keys, start face, terrain, parameters, settings and workspace of plan and
     roll: those of the pipeline's demonstration runs (stage `locomotion_runs`)."""
-    from ..io import formats, settings
+    from ..io import datasets, formats, settings
     from ..locomotion.settings import RollSettings
     from ..physics.topology import face_number
 
     cfg = cli_args.stage_cfg(args, "locomotion_runs")
     face = None if args.face is None else face_number(args.face)  # bad input first, before any file is read
     two_pair = _two_pair_file(args)
-    ws = formats.read_workspace(args.workspace, two_pair)
+    ws = formats.read_workspace(args.workspace, two_pair)  # a missing or corrupted file first
+    for path in (args.workspace, two_pair):
+        if path and Path(path).is_file():  # a workspace in volts (issue 31) is not planned with yet
+            formats.actuation.require_pneumatic(datasets.read_attrs(path), path, f"tensegrity {args.command}")
     print(
         f"workspace {args.workspace}; two pairs: "
         + (

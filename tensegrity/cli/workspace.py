@@ -17,7 +17,9 @@ def cmd_query(args: argparse.Namespace) -> int:
     from ..io.provenance import check_together
     from ..workspace import query
 
-    curves, workspace = formats.read_curves(args.curves), formats.read_workspace(args.workspace)
+    curves = formats.read_curves(args.curves)
+    formats.actuation.require_pneumatic(curves, args.curves, "tensegrity query")
+    workspace = formats.read_workspace(args.workspace)
     check_together({args.curves: curves.get("config"), args.workspace: formats.config_of(args.workspace)})
     ans = query.query(curves, workspace, args.face, args.pair, args.pressure, wsname=args.workspace)
     out = {
@@ -60,7 +62,8 @@ def cmd_faces(args: argparse.Namespace) -> int:
 def cmd_table(args: argparse.Namespace) -> int:
     """One face's workspace as a CSV table: pair, pressure (MPa, 0: the unactuated robot), the
     nominal CoG (m, support frame), the margin (m, positive inside) and the pair's tipping
-    pressure (MPa, empty: never), from the workspace file."""
+    pressure (MPa, empty: never), from the workspace file; a workspace in volts (the
+    twisted-string actuator) gives V, and the columns say so."""
     from .. import atomic
     from ..io.formats.workspace import face_table
     from ..physics.topology import face_number

@@ -12,7 +12,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from ..physics.params import Params, rest_length
-from ..physics.schedule import whole_steps
+from ..physics.schedule import MAX_PRESSURE, whole_steps
+from ..physics.twisted import MAX_VOLTAGE
 from . import job_costs
 
 # the keys each job's cost grows with, the first named when several would lower it as much
@@ -45,13 +46,13 @@ def semantic_errors(cfg: dict, defaults: Mapping | None = None) -> list[str]:
     """Checks the schema cannot express; `cfg` has passed the schema. `defaults`, the schema's
     complete default configuration, lets a job over a cost limit name the key that costs most
     (without it the job's first key is named)."""
-    out = []
+    out = level_errors(cfg, "sweep")
     levels = cfg["sweep"]["levels"]
     for i in range(1, len(levels)):
         if levels[i] <= levels[i - 1]:
             out.append(
                 f"config key sweep.levels[{i}]: {levels[i]} is not greater than the "
-                f"previous level {levels[i - 1]} (levels must be strictly increasing, MPa)"
+                f"previous level {levels[i - 1]} (levels must be strictly increasing, {_unit(cfg)})"
             )
             break
     discard, hold = cfg["nominal"]["discard"], cfg["sweep"]["hold"]
@@ -95,16 +96,6 @@ def semantic_errors(cfg: dict, defaults: Mapping | None = None) -> list[str]:
             f"params.strut_length = {strut} m: the runs {', '.join(goal_runs)} refuse a goal closer than "
             "the robot's size"
         )
-    kind = cfg.get("actuator", {}).get("kind", "pneumatic")
-    if kind != "pneumatic":
-        # the simulator has the prototype's actuator (physics.twisted), but no stage or command
-        # reads `actuator` yet: running them would give the pneumatic robot under this name
-        out.append(
-            f"config key actuator.kind: {kind!r} is simulated by the API (tensegrity.physics.twisted, "
-            "settings.motors) and benchmarks/bench_prototype.py, but the pipeline and the commands "
-            "run the pneumatic muscle only (sweeps, workspaces and the planner in volts are not built "
-            "yet); use actuator.kind: pneumatic here"
-        )
     out += section_errors(cfg, "two_pair") + section_errors(cfg, "gravity")
     for estimate, keys in JOBS.values():
         out += job_costs.over_limit(estimate, cfg, defaults or cfg, keys)
@@ -116,6 +107,24 @@ def semantic_errors(cfg: dict, defaults: Mapping | None = None) -> list[str]:
     return out
 
 
+def _unit(cfg: Mapping) -> str:
+    """The unit of the actuation levels: MPa, or V with actuator.kind twisted_string."""
+    return "V" if cfg.get("actuator", {}).get("kind", "pneumatic") == "twisted_string" else "MPa"
+
+
+def level_errors(cfg: Mapping, section: str) -> list[str]:
+    """The levels of `section` (sweep or two_pair) within the actuator's bound: a pressure at most
+    schedule.MAX_PRESSURE MPa, a motor voltage at most twisted.MAX_VOLTAGE V (the schema allows
+    the larger of the two); the levels are read in the unit of actuator.kind."""
+    volts = _unit(cfg) == "V"
+    top, what = (MAX_VOLTAGE, "V of the motors") if volts else (MAX_PRESSURE, "MPa of the pneumatic muscle")
+    for i, v in enumerate(cfg[section]["levels"]):
+        if v > top:
+            hint = "" if volts else " (levels are in V only with actuator.kind: twisted_string)"
+            return [f"config key {section}.levels[{i}]: {v} is greater than the maximum of {top:g} {what}{hint}"]
+    return []
+
+
 def section_errors(cfg: Mapping, section: str) -> list[str]:
     """What the schema cannot check in section `two_pair` (levels increasing, discard < hold, hold
     a whole number of recording intervals) or `gravity` (slopes increasing, validate_slopes among
@@ -125,11 +134,12 @@ def section_errors(cfg: Mapping, section: str) -> list[str]:
     if section == "two_pair":
         s, dt = cfg["two_pair"], float(cfg["sim"]["dt"])
         lv = s["levels"]
+        out += level_errors(cfg, "two_pair")
         bad = [i for i in range(1, len(lv)) if lv[i] <= lv[i - 1]]
         if bad:
             out.append(
                 f"config key two_pair.levels[{bad[0]}]: {lv[bad[0]]} is not greater than "
-                f"{lv[bad[0] - 1]} (MPa, strictly increasing)"
+                f"{lv[bad[0] - 1]} ({_unit(cfg)}, strictly increasing)"
             )
         if s["discard"] >= s["hold"]:
             out.append(f"config key two_pair.discard: {s['discard']} s is not less than two_pair.hold = {s['hold']} s")

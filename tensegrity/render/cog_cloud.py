@@ -47,6 +47,7 @@ def fig_cog_cloud(
     sample_pressure: ArrayLike | None = None,
     corner_labels: Sequence[int] | np.ndarray | None = None,
     title: str | None = None,
+    unit: str = "MPa",
 ) -> dict:
     """Fig. 6: the CoG during a pressure sweep, projected on the support plane (mm): samples
     as a point cloud coloured by pressure level, nominal CoGs (level averages, paper III.A)
@@ -56,7 +57,8 @@ def fig_cog_cloud(
     samples: (T, 3) CoG in the support frame, m; nominal: (n, 3) m; levels: (n,) MPa;
     support: (3, 3) support triangle in the support frame, m (corners in face order);
     sample_pressure: (T,) MPa of each sample (default: n equal consecutive blocks);
-    corner_labels: three node numbers for the support's corners.
+    corner_labels: three node numbers for the support's corners; unit: of the levels (MPa, or V
+    for the twisted-string actuator's motor voltages).
     Returns {"path", "size", "title", "actors", "samples", "nominal", "labels" (every level;
     the legend), "labelled" (those written beside their marker: the others would overlap),
     "support_edges" (edges in the main view), "view_mm" (xmin, xmax, ymin, ymax), "scale_bars"
@@ -72,7 +74,7 @@ def fig_cog_cloud(
     if title is None:
         title = (
             f"Fig. 6  CoG path when #{pair} works, face {face_label}, "
-            f"{levels.min():g}-{levels.max():g} MPa (support frame, top view)"
+            f"{levels.min():g}-{levels.max():g} {unit} (support frame, top view)"
         )
     pl = plotter(title, panels=3)
 
@@ -93,7 +95,7 @@ def fig_cog_cloud(
     box, nx, ny = plot2d.nice_box(lo - 0.06 * size.max(), hi + 0.06 * size.max(), n=8)
     r = 0.016 * max(box[1] - box[0], box[3] - box[2])
 
-    labels = [f"{p:g} MPa" for p in levels]
+    labels = [f"{p:g} {unit}" for p in levels]
     direction = nom[-1, :2] - nom[0, :2]
     side = np.array([-direction[1], direction[0]]) / max(np.linalg.norm(direction), 1e-12)
     label_xy = nom[:, :2] + 3.2 * r * side

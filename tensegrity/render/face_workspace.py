@@ -43,6 +43,7 @@ def fig_workspace(
     corner_labels: Sequence[int] | np.ndarray | None = None,
     zoom_mm: float | None = None,
     tip_supports: dict | None = None,
+    unit: str = "MPa",
 ) -> dict:
     """Fig. 7: the kinematic workspace of one contact face, viewed from above (support-frame z
     toward the camera, CoG projected on the support plane, mm): each pair's CoG curve as a
@@ -57,7 +58,8 @@ def fig_workspace(
     pressure}; support: (3, 3) support triangle in the support frame, m; tip_points:
     {pair: (3,) m or None}; tip_supports: {pair: (3, 3) m or None}, the deformed support at
     the tipping pressure; corner_labels: three node numbers for the support's corners;
-    zoom_mm: half-width of the zoom panel, mm (default: from the short curves).
+    zoom_mm: half-width of the zoom panel, mm (default: from the short curves); unit: of the
+    actuation level at the curves' start (MPa, or V for the twisted-string actuator).
     Returns {"path", "size", "title", "actors", "cog_paths" {pair: number of points},
     "labels" (main view), "zoom_labels", "tips" [pairs], "tip_points" {pair: (2,) mm},
     "tip_supports" {pair: (3, 2) mm}, "legend" [entries], "zoom_mm", "view_mm", "scale_bars"
@@ -159,7 +161,7 @@ def fig_workspace(
     )
     pl.add_point_labels(
         np.array([[*(start + [0.0, -0.12 * zoom_mm]), 5.0]]),
-        ["0 MPa"],
+        [f"0 {unit}"],
         font_size=13,
         name="zoom start label",
         **{**LABEL, "shape_opacity": 0.0},

@@ -171,9 +171,43 @@ STAGES: dict[str, Stage] = {
 }
 
 
+# the stages that run with the twisted-string actuator (issue 31; docs/design.md §10): the workspace
+# pipeline in volts. The others (gravity, locomotion, validation, studies, ...) refuse it by name.
+VOLTS = frozenset(
+    (
+        *("sweep", "nominal", "workspace", "curves", "curves_json", "two_pair", "two_pair_map"),
+        *("two_pair_surfaces", "robot_figures", "cog_cloud", "workspace_figure", "two_pair_figure"),
+    )
+)
+
+
+def actuator_kind(cfg: Mapping) -> str:
+    """The configured actuator.kind; pneumatic where `cfg` has no `actuator` section (a stage's
+    keys of a pneumatic configuration: `stage_config` leaves the section out)."""
+    return str(cfg.get("actuator", {}).get("kind", "pneumatic"))
+
+
+def actuator_error(cfg: Mapping, stage: str) -> str | None:
+    """Why `stage` (a name of `STAGES`, or words naming a command) cannot run with the actuator
+    of `cfg`, naming the key; None if it can."""
+    kind = actuator_kind(cfg)
+    if kind == "pneumatic" or stage in VOLTS:
+        return None
+    rule = STAGES[stage].rule if stage in STAGES else ""
+    what = f"stage {stage}" + (f" (rule {rule})" if rule else "") if stage in STAGES else stage
+    return (
+        f"config key actuator.kind: {kind!r} runs the workspace pipeline in volts (sweeps, nominal, "
+        f"curves, workspaces, their figures), but {what} runs "
+        "the pneumatic muscle only (the gravity-aware workspace, locomotion, validation and studies in "
+        "volts are not built yet); use actuator.kind: pneumatic for it"
+    )
+
+
 def stage_config(cfg: Mapping, stage: str) -> dict:
     """The keys of the resolved configuration `cfg` that `stage` reads (`STAGES`), as nested
-    sections: e.g. {"nominal": {"discard": 0.2}}. KeyError naming the key if `cfg` lacks one."""
+    sections: e.g. {"nominal": {"discard": 0.2}}. KeyError naming the key if `cfg` lacks one.
+    With an actuator other than the pneumatic muscle every stage reads the `actuator` section
+    too; a pneumatic configuration leaves it out, so that its files stay as they were."""
     if stage not in STAGES:
         raise ValueError(f"unknown stage {stage!r}: use one of {sorted(STAGES)}")
     out: dict = {}
@@ -185,6 +219,8 @@ def stage_config(cfg: Mapping, stage: str) -> dict:
             out.setdefault(section, {})[name] = cfg[section][name]
         else:
             out[section] = cfg[section]
+    if actuator_kind(cfg) != "pneumatic":
+        out["actuator"] = cfg["actuator"]
     return out
 
 

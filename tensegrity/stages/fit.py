@@ -13,6 +13,7 @@ import numpy as np
 
 from .. import atomic
 from ..io import datasets, formats
+from ..io.formats import actuation
 from ..io.formats import two_pair as tpf
 from ..physics import topology as topo
 from . import provenance
@@ -24,15 +25,15 @@ def curves(cfg: dict, nominal_path: str | os.PathLike, out_path: str | os.PathLi
     from ..workspace import fit
 
     src = datasets.read(nominal_path)
-    f = cfg["fit"]
+    f, kind = cfg["fit"], actuation.kind_of(src)
     p, cog = src["pressure"].values, src["cog"].values
     ok = np.isfinite(cog).all(axis=-1)  # levels before a grounded robot rolled off its face
     for i, pair in enumerate(src["pair"].values):
         if ok[i].sum() < 2:
             raise ValueError(
                 f"pair #{pair} on {topo.face_label(int(src.attrs['face']))} stood at fewer than 2 "
-                f"levels (it rolled off at {float(src['tip_pressure'][i]):g} MPa): nothing to fit; "
-                "sweep lower pressures or use the free mode"
+                f"levels (it rolled off at {float(src['tip_pressure'][i]):g} {actuation.units(kind)}): "
+                f"nothing to fit; sweep lower {actuation.words('pressures', kind)} or use the free mode"
             )
     found = [
         [
@@ -54,7 +55,7 @@ def curves(cfg: dict, nominal_path: str | os.PathLike, out_path: str | os.PathLi
         {k: src.attrs[k] for k in ("contact", "face", "face_nodes", "mode")},
     )
     return datasets.write(
-        ds,
+        actuation.relabel(ds, kind),
         out_path,
         provenance(cfg, nominal_path),
         f"Fitted CoG curves of the {src.attrs['contact']} contact case",
@@ -68,16 +69,17 @@ def curves_json(cfg: dict, curve_paths: Iterable[str | os.PathLike], out_path: s
     in any language; `formats.curves_document`), naming the configuration of the curve files."""
     from ..workspace import fit
 
-    contacts = {}
+    contacts, read = {}, []
     for path in curve_paths:
         ds = datasets.read(path)
+        read.append(ds)
         contacts[ds.attrs["contact"]] = (
             ds.attrs["face_nodes"],
             ds["pair"].values,
             fit.arrays_to_curves({k: ds[k].values for k in fit.ARRAY_DIMS if k in ds}),
         )
     curve_paths = list(curve_paths)
-    doc = formats.curves_document(contacts, provenance(cfg, *curve_paths))
+    doc = formats.curves_document(contacts, provenance(cfg, *curve_paths), actuation.common_kind(read))
     return atomic.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))
 
 
@@ -99,5 +101,5 @@ def two_pair_surfaces(cfg: dict, contact_paths: Sequence[str | os.PathLike], out
         rows = [c for c in range(cog.shape[0]) if np.isfinite(cog[c]).all()]
         surf = [[fit_surface(pa, pb, cog[c, ..., a], f["max_degree"], f["folds"]) for a in range(3)] for c in rows]
         contacts[contact] = (ds.attrs["face_nodes"], ds["combo_pairs"].values[rows], surf)
-    doc = tpf.surfaces_document(contacts, provenance(cfg, *contact_paths))
+    doc = tpf.surfaces_document(contacts, provenance(cfg, *contact_paths), actuation.common_kind(src.values()))
     return atomic.write_text(out_path, json.dumps(doc, indent=1, sort_keys=True, allow_nan=False))

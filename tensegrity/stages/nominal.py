@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..io import datasets, formats
+from ..io.formats import actuation
 from ..physics import frames
 from ..physics import topology as topo
 from ..workspace import mapping
@@ -47,6 +48,8 @@ def nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: str |
         k = nom.first_roll(ds["level"].values, ds["on_face"].values, len(levels))
         rolled[i, k:] = 1
         tip[i] = nom.mask_after_roll(levels, k, tip[i], cog[i], std[i], sup[i], margin[i], err[i])
+    kind = actuation.common_kind(sweeps)  # the unit of the levels: the sweeps' (MPa or V)
+    locked = [ds["strands_locked"] for ds in sweeps if "strands_locked" in ds]  # twisted strings only
     ds = formats.nominal_dataset(
         pairs,
         levels,
@@ -60,8 +63,10 @@ def nominal(cfg: dict, sweep_paths: Sequence[str | os.PathLike], out_path: str |
         {k: first.attrs[k] for k in ("contact", "face", "face_nodes", "mode")} | {"discard_s": discard},
         datasets.strut_length(first),
     )
+    if locked:
+        ds["strands_locked"] = (("pair", "pressure"), np.stack([v.values for v in locked]), dict(locked[0].attrs))
     return datasets.write(
-        ds,
+        actuation.relabel(ds, kind),
         out_path,
         provenance(cfg, *sweep_paths),
         f"Nominal CoG of the {first.attrs['contact']} contact case {topo.face_label(int(first.attrs['face']))}",
@@ -80,7 +85,7 @@ def workspace(cfg: dict, nominal_paths: Sequence[str | os.PathLike], out_path: s
     )
     ds = formats.workspace_dataset(levels, ws, datasets.strut_length(next(iter(src.values()))))
     return datasets.write(
-        ds,
+        actuation.relabel(ds, actuation.common_kind(src.values())),
         out_path,
         provenance(cfg, *nominal_paths),
         "Kinematic workspace of all 20 contact faces, mapped by symmetry",

@@ -11,6 +11,7 @@ import numpy as np
 
 from .. import paper
 from ..io import datasets, settings
+from ..io.formats import actuation
 from ..physics import frames
 from ..physics import topology as topo
 from ..workspace import nominal as nom
@@ -42,15 +43,20 @@ def cog_cloud(
     sweep_path: str | os.PathLike,
     nominal_path: str | os.PathLike,
     out: str | os.PathLike,
-    max_pressure: float = paper.FIG6_MAX_PRESSURE,
+    max_pressure: float | None = None,
 ) -> dict:
     """Stage `cog_cloud`: Fig. 6, the CoG point cloud and nominal CoGs of one pair, levels up to
-    max_pressure (MPa). A grounded robot that rolled off its face (`rolled`) is drawn only at
-    the levels before the roll, and the title says so. Returns what the figure drew
-    (render.cog_cloud.fig_cog_cloud)."""
+    max_pressure (MPa; default the paper's Fig. 6 range, paper.FIG6_MAX_PRESSURE; every level
+    of a sweep in volts, whose unit the files give: `formats.actuation`). A grounded robot that
+    rolled off its face (`rolled`) is drawn only at the levels before the roll, and the title
+    says so. Returns what the figure drew (render.cog_cloud.fig_cog_cloud)."""
     from ..render import cog_cloud as fig6
 
     sw_ds, nm = datasets.read(sweep_path), datasets.read(nominal_path)
+    kind = actuation.kind_of(nm)
+    unit = actuation.units(kind)
+    if max_pressure is None:
+        max_pressure = paper.FIG6_MAX_PRESSURE if kind == actuation.PNEUMATIC else np.inf
     pair, face = int(sw_ds.attrs["pair"]), int(sw_ds.attrs["face"])
     levels = nm["pressure"].values
     cog = nm["cog"].sel(pair=pair).values
@@ -60,14 +66,14 @@ def cog_cloud(
     if not keep.any():
         raise ValueError(
             f"pair #{pair} on {topo.face_label(face)} rolled off its face at the first "
-            f"level ({levels[0]:g} MPa): no level to draw"
+            f"level ({levels[0]:g} {unit}): no level to draw"
         )
     sel = (sw_ds["level"].values >= 0) & (sw_ds["level"].values < keep.sum())
     title = None
     if n_stood < len(levels) and levels[n_stood] <= max_pressure + 1e-9:
         title = (
             f"Fig. 6  CoG path when #{pair} works, face {topo.face_label(face)}, "
-            f"{levels[0]:g}-{levels[keep][-1]:g} MPa: it rolled off at {levels[n_stood]:g} MPa"
+            f"{levels[0]:g}-{levels[keep][-1]:g} {unit}: it rolled off at {levels[n_stood]:g} {unit}"
         )
     return fig6.fig_cog_cloud(
         sw_ds["cog"].values[sel],
@@ -80,6 +86,7 @@ def cog_cloud(
         sample_pressure=sw_ds["pressure_cmd"].values[sel],
         corner_labels=_corners(face),
         title=title,
+        unit=unit,
     )
 
 
@@ -116,7 +123,7 @@ def workspace_figure(
     from ..workspace import fit
 
     cv, nm = datasets.read(curves_path), datasets.read(nominal_path)
-    face = int(nm.attrs["face"])
+    face, unit = int(nm.attrs["face"]), actuation.units(actuation.kind_of(nm))
     rest_cog, rest_support = frames.rest_frame(face, datasets.strut_length(nm))
     curves = fit.arrays_to_curves({k: cv[k].values for k in fit.ARRAY_DIMS if k in cv})
     levels = nm["pressure"].values
@@ -132,7 +139,7 @@ def workspace_figure(
             rolled[int(pair)] = tp
     title = (
         f"Fig. 7  Kinematic workspace, {nm.attrs['contact']} face {topo.face_label(face)}, "
-        f"{levels[0]:g}-{levels[-1]:g} MPa"
+        f"{levels[0]:g}-{levels[-1]:g} {unit}"
     )
     if rolled:
         title += (
@@ -140,10 +147,17 @@ def workspace_figure(
             + ", ".join(f"#{v}" for v in rolled)
             + f" rolled off at {min(rolled.values()):g}"
             + (f"-{max(rolled.values()):g}" if max(rolled.values()) > min(rolled.values()) else "")
-            + " MPa"
+            + f" {unit}"
         )
     return fig7.fig_workspace(
-        lines, rest_support, out, tip_points=tips, tip_supports=tip_supports, title=title, corner_labels=_corners(face)
+        lines,
+        rest_support,
+        out,
+        tip_points=tips,
+        tip_supports=tip_supports,
+        title=title,
+        corner_labels=_corners(face),
+        unit=unit,
     )
 
 
@@ -159,11 +173,11 @@ def two_pair_figure(
     _, rest = frames.rest_frame(face, datasets.strut_length(tw))
     one = nm["cog"].values.reshape(-1, 3)
     two = tw["cog"].values.reshape(-1, 3)
-    levels = tw["pressure_a"].values
+    levels, unit = tw["pressure_a"].values, actuation.units(actuation.common_kind([nm, tw]))
     title = (
         f"Two-pair workspace, {tw.attrs['contact']} face {topo.face_label(face)}, CoG projections\n"
-        f"one pair {nm['pressure'].values[0]:g}-{nm['pressure'].values[-1]:g} MPa, "
-        f"two pairs {levels[0]:g}-{levels[-1]:g} MPa each"
+        f"one pair {nm['pressure'].values[0]:g}-{nm['pressure'].values[-1]:g} {unit}, "
+        f"two pairs {levels[0]:g}-{levels[-1]:g} {unit} each"
     )
     return draw.fig_two_pair(
         one[np.isfinite(one).all(1)], two[np.isfinite(two).all(1)], rest, topo.FACES[face - 1] + 1, out, title
@@ -193,6 +207,7 @@ def render_dataset(path: str | os.PathLike, out: str | os.PathLike, face: int | 
             face_label=topo.face_label(face_),
             sample_pressure=ds["pressure_cmd"].values[sel],
             corner_labels=_corners(face_),
+            unit=actuation.units(actuation.kind_of(ds)),
         )
         return "sweep: CoG cloud and level means"
     if "margin" in ds and "face" in ds.dims:  # the workspace
@@ -233,6 +248,13 @@ def _render_nominal(ds, face: int, strut_length: float, out: str | os.PathLike, 
             tips[int(p)] = fig7.at_pressure(levels[:n], cog[:n], tp)
             tip_supports[int(p)] = fig7.at_pressure(levels[:n], ds["support"].sel(pair=p).values[:n], tp)
     fig7.fig_workspace(
-        lines, rest_support, out, title=title, tip_points=tips, tip_supports=tip_supports, corner_labels=_corners(face)
+        lines,
+        rest_support,
+        out,
+        title=title,
+        tip_points=tips,
+        tip_supports=tip_supports,
+        corner_labels=_corners(face),
+        unit=actuation.units(actuation.kind_of(ds)),
     )
     return "workspace: nominal CoG per pair"

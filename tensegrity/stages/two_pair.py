@@ -9,6 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ..io import datasets, settings
+from ..io.formats import actuation
 from ..io.formats import two_pair as tpf
 from ..physics import topology as topo
 from ..workspace import two_pair as tp
@@ -19,7 +20,7 @@ from . import provenance
 def two_pair(cfg: dict, contact: str, out_path: str | os.PathLike) -> Path:
     """Stage `two_pair`: sweep one combination of two_pair.pairs per stabiliser orbit on the
     canonical face of `contact` (free mode, one batched run), map to the other combinations of
-    that face, write results/two_pair/{contact}.nc."""
+    that face, write results/two_pair/{contact}.nc (in volts with the twisted-string actuator)."""
     if contact not in topo.CONTACT_FACES:
         raise ValueError(f"unknown contact {contact!r}: use one of {list(topo.CONTACT_FACES)}")
     setup = settings.build(TwoPairSetup, cfg)
@@ -30,7 +31,8 @@ def two_pair(cfg: dict, contact: str, out_path: str | os.PathLike) -> Path:
         f"{len(setup.levels)}x{len(setup.levels)} levels",
         flush=True,
     )
-    res = tp.sweep(settings.params(cfg), face, reps, setup)
+    motors = settings.motors(cfg) if "actuator" in cfg else None
+    res = tp.sweep(settings.params(cfg), face, reps, setup, motors)
     ws, swept, std = tp.contact_workspace(face, reps, res, setup.levels)
     attrs = {
         "contact": contact,
@@ -42,7 +44,7 @@ def two_pair(cfg: dict, contact: str, out_path: str | os.PathLike) -> Path:
     }
     ds = tpf.contact_dataset(setup.levels, tp.COMBOS, ws, swept, std, attrs, float(settings.params(cfg).strut_length))
     return datasets.write(
-        ds,
+        actuation.relabel(ds, actuation.PNEUMATIC if motors is None else actuation.TWISTED),
         out_path,
         cfg,
         f"Two-pair workspace of the {contact} contact case {topo.face_label(face)}",
@@ -63,7 +65,7 @@ def two_pair_map(cfg: dict, contact_paths: Sequence[str | os.PathLike], out_path
     )
     ds = tpf.workspace_dataset(levels, tp.COMBOS, ws, {"mode": "free"}, datasets.strut_length(next(iter(src.values()))))
     return datasets.write(
-        ds,
+        actuation.relabel(ds, actuation.common_kind(src.values())),
         out_path,
         provenance(cfg, *contact_paths),
         "Two-pair workspace of all 20 contact faces, mapped by symmetry",

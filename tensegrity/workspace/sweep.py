@@ -15,6 +15,7 @@ from ..physics.contact import clearance, resting_face
 from ..physics.params import Params
 from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
+from ..physics.twisted import TwistedString, Voltages
 
 MODES = ("free", "grounded")
 
@@ -40,7 +41,9 @@ class Sweep:
     support (B, T, 3, 3) m in the support frame of the deformed contact face; nodes (B, T, 12, 3)
     m world positions; level (T,) index of the level held (-1 while settling); on_face (B, T)
     whether the robot rests on `face`; resting_face (B, T) the face it rests on, 0 for none
-    (contact.resting_face; `face` throughout in the free mode)."""
+    (contact.resting_face; `face` throughout in the free mode); locked (B, P) with the
+    twisted-string actuator, whether a motor had twisted its strands past their lock by the end
+    of each level (`TwistedString.locked`: the model (T1) does not hold there), else None."""
 
     pairs: np.ndarray
     levels: np.ndarray
@@ -53,6 +56,7 @@ class Sweep:
     level: np.ndarray
     on_face: np.ndarray
     resting_face: np.ndarray
+    locked: np.ndarray | None = None
 
 
 def setup(params: Params, mode: str) -> tuple[Params, Terrain]:
@@ -63,17 +67,30 @@ def setup(params: Params, mode: str) -> tuple[Params, Terrain]:
     return (params.replace(gravity=0.0), Terrain.none()) if mode == "free" else (params, Terrain.flat())
 
 
-def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, sweep: SweepSetup) -> Sweep:
+def run(
+    params: Params,
+    face: int | Sequence[int],
+    pairs: ArrayLike,
+    sweep: SweepSetup,
+    motors: TwistedString | None = None,
+) -> Sweep:
     """Stand the robot on `face`, apply the staircase of `sweep` to each pair in `pairs` (one
-    robot each, batched)."""
+    robot each, batched). With `motors` (the twisted-string actuator, docs/design.md §10) the
+    levels and `pressure_cmd` are motor voltages, V."""
     face = topo.face_number(face)
     pairs = np.array([topo.check_pair(p) for p in np.atleast_1d(pairs)])
     levels = np.asarray(sweep.levels, dtype=float)
     hold, settle, dt, record_every = sweep.hold, sweep.settle, sweep.dt, sweep.record_every
     prm, terrain = setup(params, sweep.mode)
     state = d.stand_on(prm, face, terrain, batch=len(pairs))
-    sched = Schedule.staircase(pairs, levels, hold, settle)
-    _, tr = d.simulate(prm, state, sched, terrain, dt, record_every)
+    if motors is None:
+        sched = Schedule.staircase(pairs, levels, hold, settle)
+        _, tr = d.simulate(prm, state, sched, terrain, dt, record_every)
+        locked = None
+    else:
+        sched = Voltages.staircase(pairs, levels, hold, settle)
+        tr, locked = run_levels(prm, state, sched, terrain, dt, record_every, motors)
+        locked = locked[:, 1:] if settle > 0 else locked
     nodes = tr.nodes(prm.strut_length)
     cog, support = frames.in_support_frame(nodes, face)
     seg = np.searchsorted(np.cumsum(sched.durations), tr.t - 0.5 * dt * record_every)
@@ -94,7 +111,34 @@ def run(params: Params, face: int | Sequence[int], pairs: ArrayLike, sweep: Swee
         level,
         resting == face,
         resting,
+        locked,
     )
+
+
+def run_levels(
+    params: Params,
+    state: d.State,
+    sched: Voltages,
+    terrain: Terrain,
+    dt: float,
+    record_every: int,
+    motors: TwistedString,
+) -> tuple[d.Trajectory, np.ndarray]:
+    """`dynamics.simulate` of a staircase of voltages one segment at a time (the same run: each
+    continues from the last one's state), and whether a motor of each robot is past its strands'
+    lock at the end of each segment, (B, K)."""
+    parts, locked = [], []
+    for k, duration in enumerate(sched.durations):
+        segment = Voltages(np.array([duration]), sched.pressure[:, k : k + 1])
+        state, tr = d.simulate(params, state, segment, terrain, dt, record_every, motors=motors)
+        parts.append(tr)
+        locked.append(motors.locked(state.motor_angle).any(axis=1))
+
+    def joined(field: str, axis: int) -> np.ndarray:
+        return np.concatenate([getattr(p, field) for p in parts], axis=axis)
+
+    tr = d.Trajectory(joined("t", 0), joined("x", 1), joined("q", 1), joined("pressure", 1))
+    return tr, np.stack(locked, axis=1)
 
 
 def resting_faces(nodes: np.ndarray, terrain: Terrain, radius: float | np.ndarray) -> np.ndarray:

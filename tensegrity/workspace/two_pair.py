@@ -22,7 +22,8 @@ from ..physics import frames
 from ..physics import symmetry as sym
 from ..physics import topology as topo
 from ..physics.params import Params
-from ..physics.schedule import Schedule, check_pressures, whole_steps
+from ..physics.schedule import Schedule, whole_steps
+from ..physics.twisted import TwistedString, Voltages
 from . import nominal as nom
 from .mapping import CANONICAL
 
@@ -90,26 +91,29 @@ def grid_order(n: int) -> np.ndarray:
     return np.array([(i, j) for i in range(n) for j in (range(n) if i % 2 == 0 else range(n - 1, -1, -1))])
 
 
-def schedule(combos: ArrayLike, levels: ArrayLike, hold: float) -> Schedule:
+def schedule(combos: ArrayLike, levels: ArrayLike, hold: float, kind: type[Schedule] = Schedule) -> Schedule:
     """The staircase over the grid (`grid_order`), each point held `hold` s, one robot per
-    combination (n, 2) 1-based; levels (P,) MPa."""
-    combos, levels = np.asarray(combos, int), check_pressures(levels, "two_pair.levels")
+    combination (n, 2) 1-based; levels (P,) MPa, or V for kind=`twisted.Voltages`."""
+    combos, levels = np.asarray(combos, int), kind.check(levels, "two_pair.levels")
     order = grid_order(levels.size)
     p = np.zeros((len(combos), len(order), topo.N_PAIRS))
     rows = np.arange(len(combos))[:, None]
     p[rows, :, combos[:, :1] - 1] = levels[order[:, 0]][None]
     p[rows, :, combos[:, 1:] - 1] = levels[order[:, 1]][None]
-    return Schedule(np.full(len(order), float(hold)), p)
+    return kind(np.full(len(order), float(hold)), p)
 
 
-def sweep(params: Params, face: int, combos: ArrayLike, setup: TwoPairSetup) -> dict[str, np.ndarray]:
+def sweep(
+    params: Params, face: int, combos: ArrayLike, setup: TwoPairSetup, motors: TwistedString | None = None
+) -> dict[str, np.ndarray]:
     """Free-mode staircase of `setup` of every combination (n, 2) standing on `face`, one
     batched run; each grid point's nominal CoG is the mean after the first `discard` s of its
     hold (paper III.A). Returns cog and cog_std (n, 3, P, P, 3) m, support (n, 3, P, P, 3, 3) m: in the
     support frame of the deformed face whose +y points to corner k (axis 1; corner k = the
     reference corner is the face's own support frame, docs/design.md §2, the others are what a
     map of the stabiliser that moves the reference corner needs, `map_face`; NaN for corners
-    no such map needs), and margin (n, P, P) m."""
+    no such map needs), and margin (n, P, P) m. With `motors` (the twisted-string actuator,
+    docs/design.md §10) the levels are motor voltages, V."""
     from ..physics import dynamics as d  # the simulator (numba) only here: mapping, fitting
     from .sweep import setup as mode_setup  # and drawing the two-pair workspace do not load it
 
@@ -117,8 +121,8 @@ def sweep(params: Params, face: int, combos: ArrayLike, setup: TwoPairSetup) -> 
     hold, discard, dt, record_every = setup.hold, setup.discard, setup.dt, setup.record_every
     P, n = levels.size, len(combos)
     prm, terrain = mode_setup(params, "free")
-    sched = schedule(combos, levels, hold)
-    _, tr = d.simulate(prm, d.stand_on(prm, face, terrain, batch=n), sched, terrain, dt, record_every)
+    sched = schedule(combos, levels, hold, Schedule if motors is None else Voltages)
+    _, tr = d.simulate(prm, d.stand_on(prm, face, terrain, batch=n), sched, terrain, dt, record_every, motors=motors)
     seg = np.searchsorted(np.cumsum(sched.durations), tr.t - 0.5 * dt * record_every)
     nodes = tr.nodes(prm.strut_length)
     tri = nodes[..., topo.FACES[face - 1], :]

@@ -141,10 +141,13 @@ def test_a_chunk_over_the_cost_limits_is_refused_naming_the_key(over, key):
         _study(design={"method": "lhs", "n": 16}, **over)
 
 
-def test_an_actuator_the_pipeline_does_not_run_is_refused_naming_the_key():
-    """`actuator.kind: twisted_string` is simulated by the API only; the pipeline and the
-    commands refuse it before any job instead of running the pneumatic robot under its name."""
+def test_the_twisted_string_actuator_passes_the_checks_and_its_levels_are_volts():
+    """`actuator.kind: twisted_string` runs the workspace pipeline in volts (issue 31), so the
+    configuration checks let it through, with the sweep's levels read in V; the stages and commands
+    that do not run it refuse it naming the key (tests/workspace/test_volts.py)."""
     from tensegrity.io import config
 
-    with pytest.raises(config.ConfigError, match="actuator.kind: 'twisted_string'"):
-        config.load(None, ["actuator.kind=twisted_string"])
+    cfg = config.load(None, ["actuator.kind=twisted_string", "sweep.levels=[6.0, 11.1]"])
+    assert cfg["actuator"]["kind"] == "twisted_string" and cfg["sweep"]["levels"] == [6.0, 11.1]
+    with pytest.raises(config.ConfigError, match=r"sweep.levels\[1\]: 11.1 is greater than the maximum of 10 MPa"):
+        config.load(None, ["sweep.levels=[6.0, 11.1]"])  # the same levels are pressures of the muscle

@@ -2,7 +2,7 @@
 # and `cfg(stage)`, the configuration keys a stage reads (tensegrity.stages.config.STAGES): each
 # rule's params carry exactly those, so editing a key re-runs the jobs that read it and no other.
 from tensegrity import paper
-from tensegrity.stages.config import stage_config
+from tensegrity.stages.config import actuator_error, stage_config
 
 CONTACTS = config["sweep"]["contacts"]
 PAIRS = config["sweep"]["pairs"]
@@ -16,6 +16,19 @@ FIG6_PAIR = paper.FIG6_PAIR if paper.FIG6_PAIR in PAIRS else PAIRS[0]
 FIG6_CONTACT = "equilateral" if "equilateral" in CONTACTS else CONTACTS[0]
 
 
+# the actuator (issue 31): with twisted_string the workspace pipeline runs in volts and `all` is it
+PNEUMATIC = config["actuator"]["kind"] == "pneumatic"
+
+
 def cfg(stage):
-    """The configuration keys `stage` reads (stages.config.stage_config)."""
-    return stage_config(config, stage)
+    """The configuration keys `stage` reads (stages.config.stage_config). A stage that cannot run
+    with the configured actuator gets a params function instead, which refuses it naming the key
+    when its job enters the plan (before any job runs): no job of it is ever started."""
+    why = actuator_error(config, stage)
+    if why is None:
+        return stage_config(config, stage)
+
+    def refuse(wildcards):
+        raise ValueError(why)
+
+    return refuse

@@ -3,7 +3,7 @@ family, each with the builder of its files (`*_dataset`: arrays or results -> an
 with units and long names, written by `io.datasets.write`) and, where the package reads them
 back, the reader (`read_*`) with its contract check.
 
-- `common`: coordinates and the robot's geometry every file shares;
+- `common`: coordinates and the robot's geometry every file shares;   `actuation`: the unit (MPa or V);
 - `sweep`: results/sweeps/{contact}/pairNN.nc;   `nominal`: results/nominal/{contact}.nc;
 - `curves`: results/curves/{contact}.nc, curves.json;   `workspace`: results/workspace.nc;
 - `two_pair`: results/two_pair/{contact}.nc, workspace_two_pair.nc, curves/two_pair.json;
@@ -14,6 +14,7 @@ back, the reader (`read_*`) with its contract check.
 The names of the light modules (no simulator, no validation) are available here too.
 """
 
+from . import actuation
 from .common import AXES, coords, rest_vars
 from .curves import CURVES_ALLOW_NAN, check_curves, curves_dataset, curves_document, read_curves
 from .nominal import NOMINAL_ALLOW_NAN, nominal_dataset, nominal_from_dataset, read_nominal, read_nominals
@@ -29,6 +30,7 @@ from .workspace import (
 )
 
 __all__ = [
+    "actuation",
     "AXES",
     "coords",
     "rest_vars",

@@ -12,6 +12,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ...physics import topology as topo
+from . import actuation
 from .common import AXES
 
 CURVES_ALLOW_NAN = ["breaks", "coefs", "cv_rmse", "max_residual"]
@@ -53,10 +54,11 @@ def curves_dataset(arrays: dict, pair: ArrayLike, axis: ArrayLike, attrs: dict) 
     return xr.Dataset(data, coords={"pair": pair, "axis": axis}, attrs=attrs)
 
 
-def curves_document(contacts: dict, config: dict | None = None) -> dict:
+def curves_document(contacts: dict, config: dict | None = None, kind: str = actuation.PNEUMATIC) -> dict:
     """results/curves/curves.json: `contacts` maps a contact case to (face_nodes, pairs (n,),
     curves [n][3] of workspace.fit.Curve); plain numbers, evaluable in any language; `config`:
-    the configuration the curves were made with (their files' provenance; `io.provenance`)."""
+    the configuration the curves were made with (their files' provenance; `io.provenance`).
+    `kind`: the actuator; twisted_string writes "units": {"pressure": "V"} and "actuator"."""
     from ...workspace.fit import to_dict
 
     doc = {
@@ -67,6 +69,7 @@ def curves_document(contacts: dict, config: dict | None = None) -> dict:
         "the curve's own error at its data; cv_rmse (m) estimates it between the levels",
         "contacts": {},
     }
+    actuation.document(doc, kind)
     if config is not None:
         doc["config"] = config
     for contact, (face_nodes, pairs, curves) in contacts.items():

@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike
 from ...physics import topology as topo
 from ...workspace.nominal import TwoPairNominal
 from .. import datasets
+from . import actuation
 from .common import coords, rest_vars
 
 CONTACT_FILE = "{contact}.nc"
@@ -220,10 +221,11 @@ def read_two_pair(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.n
 # ------------------------------------------------------------ results/curves/two_pair.json
 
 
-def surfaces_document(contacts: Mapping[str, tuple], config: dict | None = None) -> dict:
+def surfaces_document(contacts: Mapping[str, tuple], config: dict | None = None, kind: str = "pneumatic") -> dict:
     """results/curves/two_pair.json: `contacts` maps a contact case to (face_nodes (3,), combos
     (n, 2), surfaces [n][3] of `workspace.surfaces.fit_surface` dicts, per axis x, y, z);
-    `config`: the configuration the surfaces were made with (`io.provenance`)."""
+    `config`: the configuration the surfaces were made with (`io.provenance`); `kind`: the
+    actuator (twisted_string: volts, `actuation.document`)."""
     doc = {
         "units": {"pressure": "MPa", "cog": "m"},
         "frame": "support frame of the contact face (docs/design.md section 2)",
@@ -236,6 +238,7 @@ def surfaces_document(contacts: Mapping[str, tuple], config: dict | None = None)
         "a polynomial whose residual would exceed 0.1 mm is replaced by the spline interpolating the grid",
         "contacts": {},
     }
+    actuation.document(doc, kind)
     if config is not None:
         doc["config"] = config
     for contact, (face_nodes, combos, surfaces) in contacts.items():

@@ -196,12 +196,15 @@ def face_table(path: str | os.PathLike, face: int) -> str:
     """One face (1..20) of the workspace file at `path` as CSV text: a row per pair swept and
     pressure (0 MPa: the unactuated robot, the file's rest state), columns pair, pressure_MPa,
     cog_x_m, cog_y_m, cog_z_m (support frame), margin_m (positive inside) and tip_pressure_MPa
-    (empty: never). Read and checked by `read_workspace`."""
+    (empty: never); a workspace in volts (`actuation`) has pressure_V and tip_pressure_V.
+    Read and checked by `read_workspace`."""
     from ...physics import frames
+    from . import actuation
 
-    ws = read_workspace(path)
-    rows = ["pair,pressure_MPa,cog_x_m,cog_y_m,cog_z_m,margin_m,tip_pressure_MPa"]
-    tips = datasets.read(path)["tip_pressure"].sel(face=face).values
+    ws, ds = read_workspace(path), datasets.read(path)
+    u = actuation.units(actuation.kind_of(ds))
+    rows = [f"pair,pressure_{u},cog_x_m,cog_y_m,cog_z_m,margin_m,tip_pressure_{u}"]
+    tips = ds["tip_pressure"].sel(face=face).values
     for p in ws.pairs(face):
         tip = "" if not np.isfinite(tips[p - 1]) else f"{tips[p - 1]:.6g}"
         cog = np.concatenate([ws.rest_cog[face - 1][None], ws.cog[face - 1, p - 1]])
