@@ -75,7 +75,7 @@ rule validate_prototype:
         "results/logs/validate_prototype.log",
     benchmark:
         "results/benchmarks/validate_prototype.tsv"
-    priority: 42  # read by `validate`
+    priority: 42  # before `validate`, which reads it; after the sweep and two-pair chain heads (45)
     threads: 1
     resources:
         mem_mb=1000,
