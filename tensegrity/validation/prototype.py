@@ -1,8 +1,10 @@
 """The paper's experiment (IV.B) in the grounded simulation, with the prototype's twisted-string
 actuators (`physics.twisted`, docs/design.md §10): on (9,10,12) pair #10 at 11.1 V rolls the robot
 to (10,11,12); then #11 at 6 V rolls it on to (6,10,11); #10 at 6 V does not roll; the lowest
-voltage of each roll, by multisection (`lowest_voltage`); and how each depends on the assumed
-parameters, +-20 % (`sensitivity`). Numbers only; `benchmarks/bench_prototype.py` prints them."""
+voltage of each roll, by multisection (`voltage_bracket`); and how each depends on the assumed
+parameters, +-20 % (`sensitivity`). Numbers only: `benchmarks/bench_prototype.py` prints them;
+the stage `validate_prototype` writes them with the two rolls' `Trace` (results/validation/
+prototype.nc, by `ExperimentSettings`) for validation check 8 (`prototype_check`) and Fig. 12."""
 
 from __future__ import annotations
 

@@ -35,7 +35,7 @@ def _trace(t_end: float = 2.0) -> Trace:
 def _steps(tmp_path, e: Experiment, rounds: int = 2):
     """`e` written to prototype.nc and read back as check 8 reads it."""
     ds = pf.prototype_dataset(e, _trace(), Protocol(), rounds, 8, 0.5)
-    path = datasets.write(ds, tmp_path / "prototype.nc", config.load(), "t", allow_nan=pf.PROTOTYPE_ALLOW_NAN)
+    path = datasets.write(ds, tmp_path / "prototype.nc", {}, "t", allow_nan=pf.PROTOTYPE_ALLOW_NAN)
     assert datasets.read(path)["lowest_voltage"].attrs["units"] == "V"
     return pf.read_prototype(path)
 
@@ -100,3 +100,19 @@ def test_the_stage_reproduces_section_iv_and_draws_fig12(tmp_path):
     assert drawn["faces"] == [START, F1, F2]
     pixels = np.asarray(Image.open(tmp_path / "fig12.png").convert("L"))
     assert (pixels < 200).mean() > 0.02  # drawn, not blank
+
+
+def test_a_bad_prototype_setting_is_refused_naming_the_key():
+    import copy
+
+    from tensegrity.io import settings
+    from tensegrity.validation.prototype import ExperimentSettings
+
+    default = config.load()
+    for key, bad in (("rounds", -1), ("points", 0), ("drive", 0.0), ("rounds", 1.5)):
+        with pytest.raises(config.ConfigError, match=f"prototype.*{key}"):
+            config.validate({"prototype": {key: bad}})
+        cfg = copy.deepcopy(default)
+        cfg["prototype"][key] = bad
+        with pytest.raises(ValueError, match=f"config key prototype.{key}"):
+            settings.build(ExperimentSettings, cfg)
