@@ -43,7 +43,7 @@ def main() -> None:
     print(f"{'#10 at 11.1 V from (9,10,12)':<34} {label(topo.face_number(f1)):>12} {label(e.face_1):>12}")
     print(f"{'then #11 at 6 V':<34} {label(topo.face_number(f2)):>12} {label(e.face_2):>12}")
     print(f"{'#10 at 6 V from (9,10,12)':<34} {'no roll':>12} {label(e.face_low):>12}")
-    res = (span := 12.0) / (a.points + 1) ** a.rounds
+    res = (span := 12.0) / a.points**a.rounds
     print(f"time from the voltage's start to the landing: {e.time_1:.1f} s (#10), {e.time_2:.1f} s (#11)")
     print(f"lowest rolling voltage (resolution {res:.2f} V over 0-{span:g} V):")
     print(f"  #10 from (9,10,12): {volts(e.lowest_1)} V (paper drove {paper.VOLTAGE[p1]} V)")

@@ -18,13 +18,14 @@ from ..locomotion.settings import RollSettings
 from ..physics.params import Params
 from ..physics.twisted import TwistedString
 from ..validation.common import CheckSettings
+from ..validation.prototype import ExperimentSettings
 from ..workspace.gravity import GravitySetup
 from ..workspace.sensitivity import ActuationSettings
 from ..workspace.sweep import SweepSetup
 from ..workspace.two_pair import TwoPairSetup
 from .config import params_from_config
 
-__all__ = ["KEYS", "build", "params", "motors"]
+__all__ = ["KEYS", "build", "params", "motors", "prototype_motors"]
 
 T = TypeVar("T")
 
@@ -47,6 +48,7 @@ KEYS: dict[type, dict[str, str]] = {
     Scenarios: _section("locomotion", Scenarios),
     CheckSettings: _section("validate", CheckSettings),
     ActuationSettings: _section("locomotion", ActuationSettings),
+    ExperimentSettings: _section("prototype", ExperimentSettings),
 }
 
 
@@ -85,3 +87,9 @@ def motors(cfg: Mapping) -> TwistedString | None:
     if kind != "twisted_string":
         raise ValueError(f"config key actuator.kind: unknown actuator {kind!r}")
     return TwistedString.from_dict(dict(cfg["actuator"].get("twisted_string", {})))
+
+
+def prototype_motors(cfg: Mapping) -> TwistedString:
+    """The prototype's twisted-string actuators from `actuator.twisted_string` whatever
+    `actuator.kind` (the experiment of validation check 8 runs the prototype; docs/design.md §10)."""
+    return TwistedString.from_dict(dict(value(cfg, "actuator.twisted_string")))

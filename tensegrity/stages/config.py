@@ -163,6 +163,13 @@ STAGES: dict[str, Stage] = {
             "gravity.tip_tolerance",
         ),
     ),
+    "validate_prototype": Stage(
+        "prototype:validate_prototype",
+        "validate_prototype",
+        VALIDATION,
+        ("params", "sim.dt", "actuator.twisted_string", "prototype"),
+    ),
+    "prototype_figure": Stage("prototype:prototype_figure", "render_prototype", FIGURE, ()),
     "study_chunk": Stage("study:study_chunk", "study_chunk", SIMULATION, (*_SIM, *ROLL_KEYS)),
     "study_merge": Stage("study:study_merge", "study_merge", DATA, ()),
     "study_analyse": Stage("study:study_analyse", "study_analyse", DATA, ()),

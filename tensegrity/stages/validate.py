@@ -47,11 +47,14 @@ def validate(
     md_path: str | os.PathLike,
     html_path: str | os.PathLike | None = None,
     run_paths: Sequence[str | os.PathLike] = (),
+    prototype_path: str | os.PathLike | None = None,
 ) -> list[Path]:
     """Stage `validate`: every check of `validation.checks` on the pipeline's nominal CoG files
     (results/nominal/{contact}.nc), workspace (results/workspace.nc) and demonstration runs
-    (`run_paths`; none: check 6 is not evaluated); writes validation.nc, the Markdown summary
-    and, if `html_path`, the HTML summary. Returns the paths written."""
+    (`run_paths`; none: check 6 is not evaluated), and check 8 on the prototype's experiment
+    (results/validation/prototype.nc, stage `validate_prototype`; None: no check 8); writes
+    validation.nc, the Markdown summary and, if `html_path`, the HTML summary. Returns the paths
+    written."""
     from ..validation import checks, report
 
     nominals = read_nominals(nominal_paths)
@@ -68,6 +71,12 @@ def validate(
         on_result=report.log,
         runs=run_formats.read_run_summaries(run_paths),
     )
+    if prototype_path:
+        from ..io.formats.prototype import read_prototype
+        from ..validation.prototype_check import check_prototype
+
+        results.append(check_prototype(read_prototype(prototype_path)))
+        report.log(results[-1])
     levels = common_levels(nominals)
     ds, allow = vf.workspace_validation_dataset(results, levels, checks_.faces, checks_.statics_pressures)
     note = (
@@ -75,7 +84,12 @@ def validate(
         f"{', '.join(f'{p:g}' for p in setup.levels)} MPa held {setup.hold:g} s, "
         f"{setup.mode} mode, dt {setup.dt:g} s, nominal = mean after the first {discard:g} s of each level."
     )
-    prov = provenance(cfg, *nominal_paths, *([workspace_path] if workspace_path else []))
+    prov = provenance(
+        cfg,
+        *nominal_paths,
+        *([workspace_path] if workspace_path else []),
+        *([prototype_path] if prototype_path else []),
+    )
     path = datasets.write(
         ds,
         nc_path,

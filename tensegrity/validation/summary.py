@@ -14,6 +14,7 @@ from .checks import MappingResult, StaticsResult, TimestepResult
 from .common import CheckError, Result
 from .grounded import GroundedResult
 from .paper import PaperResult
+from .prototype_check import PrototypeResult, prototype_table, prototype_verdicts
 from .runs import RunsResult
 from .words import Table, Verdict, edge_label, label, mm
 from .words_ground import grounded_table, grounded_verdicts, runs_table, runs_verdicts
@@ -38,6 +39,7 @@ def verdicts(result: Result) -> list[Verdict]:
         (TimestepResult, timestep_verdicts),
         (RunsResult, runs_verdicts),
         (AveragingResult, averaging_verdicts),
+        (PrototypeResult, prototype_verdicts),
     ):
         if isinstance(result, kind):
             return words(result)
@@ -46,9 +48,11 @@ def verdicts(result: Result) -> list[Verdict]:
 
 def tables(result: Result) -> list[Table]:
     """The extra tables (title, header, rows) of one check's result: check 4's per-pair table,
-    check 6's per-run table."""
+    check 6's per-run table, check 8's voltages."""
     if isinstance(result, GroundedResult):
         return [grounded_table(result)]
     if isinstance(result, RunsResult) and result.runs:
         return [runs_table(result)]
+    if isinstance(result, PrototypeResult):
+        return [prototype_table(result)]
     return []

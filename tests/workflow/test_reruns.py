@@ -35,6 +35,11 @@ EDITS = {
     "gravity.tip_tolerance": 0.3,
     "locomotion.animation_fps": 12,
     "locomotion.animation_speed": 6.0,
+    "prototype.drive": 25.0,
+    "prototype.settle": 3.0,
+    "prototype.rounds": 2,
+    "prototype.points": 3,
+    "actuator.twisted_string": {"pretension": 21.0},
 }
 SIMULATION_RULES = {st.rule for st in STAGES.values() if st.kind == SIMULATION and st.rule}
 

@@ -31,6 +31,7 @@ def test_tiny_workflow_makes_every_output(tiny):
         "fig6_cog_cloud",
         "fig7_workspace_equilateral",
         "fig7_workspace_isosceles",
+        "fig12_prototype",
     ):
         assert (res / "figures" / f"{name}.png").stat().st_size > 20_000
     assert (res / "curves" / "curves.json").stat().st_size > 1000
@@ -40,6 +41,7 @@ def test_tiny_workflow_makes_every_output(tiny):
     assert list(val["run"].values) == ["paper", "slope_down"]
     st = dict(zip(val["check"].values, val["status"].values))
     assert st["6"] == ("pass" if val["run_arrived"].values.all() else "fail")
+    assert [st[k] for k in ("8.1", "8.2", "8.3", "8.4")] == ["pass"] * 4  # the prototype's experiment
     cfg = datasets.provenance_config(res / "nominal" / "equilateral.nc")
     assert cfg["sweep"]["levels"] == [1.2, 2.4, 3.6, 4.8] and cfg["nominal"]["discard"] == 0.1
 
@@ -137,6 +139,7 @@ def test_report_holds_every_figure_and_the_validation_table(tiny):
         "fig6_cog_cloud.png",
         "fig7_workspace_equilateral.png",
         "fig7_workspace_isosceles.png",
+        "fig12_prototype.png",
         "summary.html",
         "workspace_3d.html",  # the interactive page
     ):

@@ -32,6 +32,27 @@ rule render:
         "../scripts/render.py"
 
 
+rule render_prototype:
+    """Fig. 12 simulated: the prototype at the start, after roll 1 and after roll 2 of IV.B, the
+    voltages and the resting face over time (results/validation/prototype.nc)."""
+    input:
+        prototype="results/validation/prototype.nc",
+    output:
+        fig12=report("results/figures/fig12_prototype.png", caption="../report/fig12.rst", category="Figures",
+                     subcategory="prototype"),
+    params:
+        cfg=cfg("prototype_figure"),
+    log:
+        "results/logs/render_prototype.log",
+    benchmark:
+        "results/benchmarks/render_prototype.tsv"
+    priority: 20
+    localrule: True
+    script:
+        "../scripts/render_prototype.py"
+
+
 rule render_all:
     input:
         rules.render.output,
+        rules.render_prototype.output,

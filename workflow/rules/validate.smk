@@ -10,6 +10,7 @@ rule validate:
         runs=expand("results/locomotion/{run}.nc", run=LOCO_RUNS),
         two_pair_contacts=expand("results/two_pair/{contact}.nc", contact=CONTACTS),
         two_pair="results/workspace_two_pair.nc",
+        prototype="results/validation/prototype.nc",
     output:
         nc="results/validation/validation.nc",
         md="results/validation/summary.md",
@@ -59,3 +60,25 @@ rule validate_gravity:
         runtime=10,
     script:
         "../scripts/validate_gravity.py"
+
+
+rule validate_prototype:
+    """The paper's experiment (IV.B) with the prototype's twisted-string actuators in the grounded
+    simulation, for validation check 8 and Fig. 12 simulated: #10 at 11.1 V, then #11 at 6 V,
+    #10 at 6 V, and each roll's lowest voltage (prototype.rounds x prototype.points robots; about
+    10 s with the defaults, once the motor kernel is compiled)."""
+    output:
+        nc="results/validation/prototype.nc",
+    params:
+        cfg=cfg("validate_prototype"),
+    log:
+        "results/logs/validate_prototype.log",
+    benchmark:
+        "results/benchmarks/validate_prototype.tsv"
+    priority: 42  # before `validate`, which reads it; after the sweep and two-pair chain heads (45)
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    script:
+        "../scripts/validate_prototype.py"
