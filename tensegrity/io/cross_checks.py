@@ -105,6 +105,7 @@ def semantic_errors(cfg: dict, defaults: Mapping | None = None) -> list[str]:
             "run the pneumatic muscle only (sweeps, workspaces and the planner in volts are not built "
             "yet); use actuator.kind: pneumatic here"
         )
+    out += statics_errors(cfg)
     out += section_errors(cfg, "two_pair") + section_errors(cfg, "gravity")
     for estimate, keys in JOBS.values():
         out += job_costs.over_limit(estimate, cfg, defaults or cfg, keys)
@@ -113,6 +114,25 @@ def semantic_errors(cfg: dict, defaults: Mapping | None = None) -> list[str]:
             Params(**p)
         except ValueError as e:
             out.append(f"config key params: {e}")
+    return out
+
+
+def statics_errors(cfg: Mapping) -> list[str]:
+    """nominal.method statics solves the free-mode equilibrium of linear cables
+    (`workspace.equilibria`): refused, naming the key, with sweep.mode grounded or a != 1."""
+    if cfg["nominal"].get("method", "averaging") != "statics":
+        return []
+    out, a = [], float(cfg["params"]["cable_exponent"])
+    if a != 1.0:
+        out.append(
+            f"config key nominal.method: statics needs linear cables (params.cable_exponent = 1), got a = {a:g}; "
+            "use nominal.method: averaging"
+        )
+    if cfg["sweep"]["mode"] != "free":
+        out.append(
+            f"config key nominal.method: statics is the free mode's equilibrium, but sweep.mode = "
+            f"{cfg['sweep']['mode']}; use nominal.method: averaging"
+        )
     return out
 
 
