@@ -96,6 +96,7 @@ def semantic_errors(cfg: dict, defaults: Mapping | None = None) -> list[str]:
             f"params.strut_length = {strut} m: the runs {', '.join(goal_runs)} refuse a goal closer than "
             "the robot's size"
         )
+    out += statics_errors(cfg)
     out += section_errors(cfg, "two_pair") + section_errors(cfg, "gravity")
     for estimate, keys in JOBS.values():
         out += job_costs.over_limit(estimate, cfg, defaults or cfg, keys)
@@ -123,6 +124,32 @@ def level_errors(cfg: Mapping, section: str) -> list[str]:
             hint = "" if volts else " (levels are in V only with actuator.kind: twisted_string)"
             return [f"config key {section}.levels[{i}]: {v} is greater than the maximum of {top:g} {what}{hint}"]
     return []
+
+
+def statics_errors(cfg: Mapping) -> list[str]:
+    """nominal.method statics solves the free-mode equilibrium of linear cables
+    (`workspace.equilibria`): refused, naming the key, with sweep.mode grounded, a != 1 or the
+    twisted-string actuator."""
+    if cfg["nominal"].get("method", "averaging") != "statics":
+        return []
+    out, a = [], float(cfg["params"]["cable_exponent"])
+    if a != 1.0:
+        out.append(
+            f"config key nominal.method: statics needs linear cables (params.cable_exponent = 1), got a = {a:g}; "
+            "use nominal.method: averaging"
+        )
+    if cfg["sweep"]["mode"] != "free":
+        out.append(
+            f"config key nominal.method: statics is the free mode's equilibrium, but sweep.mode = "
+            f"{cfg['sweep']['mode']}; use nominal.method: averaging"
+        )
+    if _unit(cfg) == "V":
+        out.append(
+            "config key nominal.method: statics solves the pneumatic muscle's equilibrium, but "
+            "actuator.kind = twisted_string (a motor's stall is not built into the statics); use "
+            "nominal.method: averaging"
+        )
+    return out
 
 
 def section_errors(cfg: Mapping, section: str) -> list[str]:

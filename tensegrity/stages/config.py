@@ -93,7 +93,11 @@ STAGES: dict[str, Stage] = {
             "sweep.node_stride",
         ),
     ),
-    "nominal": Stage("nominal:nominal", "nominal", DATA, ("nominal.discard",)),
+    "nominal": Stage("nominal:nominal", "nominal", DATA, ("nominal.discard", "nominal.method")),
+    # the same rule under nominal.method statics: no sweep, the robot's equilibria
+    "nominal_statics": Stage(
+        "nominal:nominal_statics", "nominal", SIMULATION, ("params", "sweep.pairs", "sweep.levels", "nominal.method")
+    ),
     "workspace": Stage("nominal:workspace", "nominal", DATA, ()),
     "curves": Stage("fit:curves", "fit", DATA, ("fit.max_degree", "fit.spline_knots", "fit.folds")),
     "curves_json": Stage("fit:curves_json", "fit", DATA, ()),
@@ -148,7 +152,14 @@ STAGES: dict[str, Stage] = {
         "validate:validate_two_pair",
         "validate",
         VALIDATION,
-        (*_SIM, *_TWO_PAIR, "two_pair.check_combos", "two_pair.check_faces", "two_pair.tolerance"),
+        (
+            *_SIM,
+            *_TWO_PAIR,
+            "two_pair.check_combos",
+            "two_pair.check_faces",
+            "two_pair.tolerance",
+            "validate.averaging_tolerance",
+        ),
     ),
     "validate_gravity": Stage(
         "validate:validate_gravity",

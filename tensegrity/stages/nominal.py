@@ -1,6 +1,7 @@
 """Rule `nominal` (workflow/rules/nominal.smk): each level's CoG samples averaged into the
-nominal CoG of every contact case (results/nominal/{contact}.nc), and the canonical workspaces
-mapped to all 20 faces (results/workspace.nc)."""
+nominal CoG of every contact case (results/nominal/{contact}.nc), or under nominal.method statics
+the static equilibria in their place (`nominal_statics`), and the canonical workspaces mapped to
+all 20 faces (results/workspace.nc)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io import datasets, formats
+from ..io import datasets, formats, settings
 from ..io.formats import actuation
 from ..physics import frames
 from ..physics import topology as topo
@@ -92,3 +93,42 @@ def workspace(cfg: dict, nominal_paths: Sequence[str | os.PathLike], out_path: s
         stage="map",
         allow_nan=formats.WORKSPACE_ALLOW_NAN,
     )
+
+
+def nominal_statics(cfg: dict, contacts: Sequence[str], out_paths: Sequence[str | os.PathLike]) -> list[Path]:
+    """Stage `nominal_statics` (rule `nominal` under nominal.method statics): the nominal CoG file
+    of each contact case (`contacts`, in the order of `out_paths`) from the free-mode static
+    equilibria of sweep.pairs at sweep.levels (`workspace.equilibria`, no sweep): the same
+    variables as `nominal`, cog_std and averaging_error 0 (nothing averaged), the tipping
+    pressures found by root-finding on the margin."""
+    from ..workspace import equilibria
+
+    if cfg["nominal"]["method"] != "statics":
+        raise ValueError(f"stage nominal_statics: nominal.method is {cfg['nominal']['method']!r}, not 'statics'")
+    if len(contacts) != len(out_paths):
+        raise ValueError(f"stage nominal_statics: {len(contacts)} contact cases but {len(out_paths)} output files")
+    faces = [topo.face_number(topo.CONTACT_FACES[c]) for c in contacts]  # KeyError: an unknown case
+    params, pairs, levels = settings.params(cfg), list(cfg["sweep"]["pairs"]), list(cfg["sweep"]["levels"])
+    ws = equilibria.free_workspace([params], faces, pairs, levels)
+    out = []
+    for c, (contact, face, path) in enumerate(zip(contacts, faces, out_paths)):
+        cog, zeros = ws.cog[0, c], np.zeros(ws.margin[0, c].shape)
+        attrs = {"contact": contact, "face": face, "face_nodes": topo.FACES[face - 1] + 1, "mode": "free"}
+        ds = formats.nominal_dataset(
+            pairs,
+            levels,
+            cog,
+            np.zeros(cog.shape),
+            ws.support[0, c],
+            ws.margin[0, c],
+            ws.tip_pressure[0, c],
+            zeros.astype(np.int8),
+            zeros,
+            attrs,
+            float(params.strut_length),
+            method="statics",
+        )
+        title = f"Nominal CoG of the {contact} contact case {topo.face_label(face)}, by statics"
+        nan = formats.NOMINAL_ALLOW_NAN
+        out.append(datasets.write(ds, path, provenance(cfg), title, stage="nominal_statics", allow_nan=nan))
+    return out

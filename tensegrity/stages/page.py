@@ -31,9 +31,9 @@ def _by_contact(paths: Sequence[str | os.PathLike], what: str) -> dict:
 
 def _workspace(contact: str, nm, cv, sweeps: list, points: int):
     """The render.page.Workspace of one contact case from its nominal and curves datasets and
-    its sweeps: each pair's samples at the levels it stood at, its nominal CoGs there, its
-    fitted curve from the unactuated CoG and the curve at its tipping pressure (as Fig. 7,
-    stages.render.curve_line and tip_point)."""
+    its sweeps: each pair's samples at the levels it stood at (none without sweeps, under
+    nominal.method statics), its nominal CoGs there, its fitted curve from the unactuated CoG
+    and the curve at its tipping pressure (as Fig. 7, stages.render.curve_line and tip_point)."""
     from ..render.page import Workspace
     from ..workspace import fit
     from .render import curve_line, tip_point
@@ -47,13 +47,13 @@ def _workspace(contact: str, nm, cv, sweeps: list, points: int):
     lines = {p: curve_line(curves[i], rest_cog, points) for i, p in enumerate(pairs)}
     tips = {p: tip_point(curves[i], float(nm["tip_pressure"].sel(pair=p))) for i, p in enumerate(pairs)}
     clouds, nominal = {}, {}
-    for sw in sweeps:
-        pair = int(sw.attrs["pair"])
+    for pair in sorted({int(p) for p in nm["pair"].values} | {int(sw.attrs["pair"]) for sw in sweeps}):
         cog = nm["cog"].sel(pair=pair).values
-        n = nom.levels_stood(cog, nm["rolled"].sel(pair=pair).values if "rolled" in nm else None)
+        nominal[pair] = cog[: nom.levels_stood(cog, nm["rolled"].sel(pair=pair).values if "rolled" in nm else None)]
+    for sw in sweeps:  # none under nominal.method statics: nothing oscillated
+        pair = int(sw.attrs["pair"])
         level = sw["level"].values
-        clouds[pair] = sw["cog"].values[(level >= 0) & (level < n)]
-        nominal[pair] = cog[:n]
+        clouds[pair] = sw["cog"].values[(level >= 0) & (level < len(nominal[pair]))]
     tips = {p: t for p, t in tips.items() if t is not None}
     return Workspace(contact, face, nodes, rest_support, clouds, lines, nominal, tips)
 

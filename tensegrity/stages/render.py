@@ -40,7 +40,7 @@ def _corners(face: int) -> list[int]:
 
 def cog_cloud(
     cfg: dict,
-    sweep_path: str | os.PathLike,
+    sweep_path: str | os.PathLike | None,
     nominal_path: str | os.PathLike,
     out: str | os.PathLike,
     max_pressure: float | None = None,
@@ -49,9 +49,13 @@ def cog_cloud(
     max_pressure (MPa; default the paper's Fig. 6 range, paper.FIG6_MAX_PRESSURE; every level
     of a sweep in volts, whose unit the files give: `formats.actuation`). A grounded robot that
     rolled off its face (`rolled`) is drawn only at the levels before the roll, and the title
-    says so. Returns what the figure drew (render.cog_cloud.fig_cog_cloud)."""
+    says so. Without a sweep (nominal.method statics) the nominal CoGs of Fig. 6's pair are the
+    equilibria themselves: no cloud, one point per level, and the title says so. Returns what
+    the figure drew (render.cog_cloud.fig_cog_cloud)."""
     from ..render import cog_cloud as fig6
 
+    if sweep_path is None:
+        return _statics_cloud(datasets.read(nominal_path), out, max_pressure)
     sw_ds, nm = datasets.read(sweep_path), datasets.read(nominal_path)
     kind = actuation.kind_of(nm)
     unit = actuation.units(kind)
@@ -87,6 +91,34 @@ def cog_cloud(
         corner_labels=_corners(face),
         title=title,
         unit=unit,
+    )
+
+
+def _statics_cloud(nm, out: str | os.PathLike, max_pressure: float) -> dict:
+    """Fig. 6 of a nominal file made by statics: paper.FIG6_PAIR's equilibria (or the first pair
+    of the file) up to max_pressure MPa, each the one sample of its level."""
+    from ..render import cog_cloud as fig6
+
+    pairs = [int(p) for p in nm["pair"].values]
+    pair, face = (paper.FIG6_PAIR if paper.FIG6_PAIR in pairs else pairs[0]), int(nm.attrs["face"])
+    levels = nm["pressure"].values
+    keep = levels <= max_pressure + 1e-9
+    cog = nm["cog"].sel(pair=pair).values[keep]
+    title = (  # no longer than the sweep's title: the figure is 1200 px wide
+        f"Fig. 6  Equilibria when #{pair} works, face {topo.face_label(face)}, "
+        f"{levels[keep][0]:g}-{levels[keep][-1]:g} MPa (statics: no samples)"
+    )
+    return fig6.fig_cog_cloud(
+        cog,
+        cog,
+        levels[keep],
+        frames.rest_frame(face, datasets.strut_length(nm))[1],
+        out,
+        pair=pair,
+        face_label=topo.face_label(face),
+        sample_pressure=levels[keep],
+        corner_labels=_corners(face),
+        title=title,
     )
 
 

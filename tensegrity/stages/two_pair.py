@@ -49,7 +49,7 @@ def two_pair(cfg: dict, contact: str, out_path: str | os.PathLike) -> Path:
         cfg,
         f"Two-pair workspace of the {contact} contact case {topo.face_label(face)}",
         stage="two_pair",
-        allow_nan=tpf.ALLOW_NAN,
+        allow_nan=tpf.CONTACT_ALLOW_NAN,
     )
 
 

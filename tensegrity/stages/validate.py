@@ -115,7 +115,8 @@ def validate_two_pair(
     html_path: str | os.PathLike | None = None,
 ) -> list[Path]:
     """Stage `validate_two_pair`: the two-pair workspace against statics, direct simulation of
-    two_pair.check_combos on two_pair.check_faces, and superposition (`validation.two_pair`);
+    two_pair.check_combos on two_pair.check_faces, and superposition, and its averaging error
+    against validate.averaging_tolerance (`validation.two_pair`);
     writes results/validation/two_pair.nc, .md and .html."""
     from ..validation import two_pair as v
 
@@ -134,6 +135,7 @@ def validate_two_pair(
         combos=s["check_combos"],
         faces=s["check_faces"],
         tolerance=float(s["tolerance"]),
+        averaging_tolerance=float(cfg["validate"]["averaging_tolerance"]),
     )
     for row in r.rows:
         print(f"  {row.id} {row.status}: {row.measured}", flush=True)

@@ -31,6 +31,7 @@ class AveragingResult(Result):
     tolerance: float
     faces: dict[str, int]
     error: np.ndarray
+    statics: bool = False  # the nominal files hold static equilibria: nothing averaged
 
     def above(self) -> list[tuple[str, int, float, float]]:
         """(contact, pair 1..12, level MPa, error m) of every case above the tolerance, largest
@@ -44,16 +45,20 @@ class AveragingResult(Result):
 
 def check_averaging(nominals: Mapping[str, Nominal], tolerance: float) -> AveragingResult:
     """The estimated averaging error of every pair and level of the nominal CoG files (contact ->
-    `Nominal`) against `tolerance` m; not evaluated if no file holds an estimate."""
+    `Nominal`) against `tolerance` m; not evaluated if no file holds an estimate, or if the
+    files were made by statics (`Nominal.method`: nothing was averaged, their 0 would pass)."""
     levels = common_levels(nominals)
     err = np.full((N_CONTACTS, topo.N_PAIRS, levels.size), np.nan)
     faces = {}
+    statics_made = any(n.method == "statics" for n in nominals.values())
     for c, contact in enumerate(CONTACTS):
         n = nominals.get(contact)
-        if n is not None and n.averaging_error is not None:
+        if n is not None and n.averaging_error is not None and not statics_made:
             err[c], faces[contact] = n.averaging_error, n.face
     ok = SKIP if not np.isfinite(err).any() else status(bool(np.nanmax(err) <= tolerance))
-    return AveragingResult(status={"7": ok}, levels=levels, tolerance=float(tolerance), faces=faces, error=err)
+    return AveragingResult(
+        status={"7": ok}, levels=levels, tolerance=float(tolerance), faces=faces, error=err, statics=statics_made
+    )
 
 
 def averaging_verdicts(r: AveragingResult) -> list[Verdict]:
@@ -62,7 +67,9 @@ def averaging_verdicts(r: AveragingResult) -> list[Verdict]:
         "Nominal CoG averaged well enough: the estimated error of every pair's average at every level "
         "(the oscillation left in its window, results/nominal/{contact}.nc averaging_error)"
     )
-    if r.status["7"] == SKIP:
+    if r.statics:
+        meas = "the nominal files are static equilibria (nominal.method statics): nothing averaged (see check 2)"
+    elif r.status["7"] == SKIP:
         meas = "no estimate in the nominal files (made before issue 34: rerun the nominal stage)"
     else:
         meas = largest_case(r.error, r.levels, r.faces)

@@ -6,7 +6,7 @@ SKIP), never words or files:
 1. `paper.check_paper`         the paper's statements (III.A, III.C, IV.B) against the nominal CoG;
 2. `check_statics`             the nominal CoG against a static equilibrium (energy minimisation);
 3. `check_mapping`             the workspace mapped by symmetry against direct simulations on
-                               other faces;
+                               other faces (a workspace made by statics: against statics);
 4. `grounded.check_grounded`   the paper's assumption: the same sweep with gravity, ground and
                                friction;
 5. `check_timestep`            the nominal CoG at the time step against half of it;
@@ -35,8 +35,9 @@ from ..workspace.nominal import Nominal
 from ..workspace.sweep import SweepSetup
 from . import averaging, grounded, paper
 from . import runs as demo_runs
-from .common import FAIL, LEVEL_TOL, N_CONTACTS, SKIP, CheckError, CheckSettings, Result, status
+from .common import FAIL, LEVEL_TOL, N_CONTACTS, SKIP, CheckError, CheckSettings, MappingResult, Result, status
 from .nominals import common_levels, simulate_nominal
+from .statics_mapping import check_mapping_statics
 
 # ----------------------------------------------------------------------- 2. statics
 
@@ -73,12 +74,8 @@ def check_statics(
     S = len(pressures)
     scog = np.full((N_CONTACTS, topo.N_PAIRS, S, 3), np.nan)
     diff = np.full((N_CONTACTS, topo.N_PAIRS, S), np.nan)
-    at = [
-        int(np.flatnonzero(np.isclose(levels, p, rtol=0, atol=LEVEL_TOL))[0])
-        if np.isclose(levels, p, rtol=0, atol=LEVEL_TOL).any()
-        else -1
-        for p in pressures
-    ]
+    near = [np.flatnonzero(np.isclose(levels, p, rtol=0, atol=LEVEL_TOL)) for p in pressures]
+    at = [int(k[0]) if k.size else -1 for k in near]
     modes = tuple(sorted({n.mode for n in nominals.values()}))
     missing = tuple(float(p) for p, k in zip(pressures, at) if k < 0)
     faces = {c: nominals[c].face for c in CONTACTS if c in nominals}
@@ -113,30 +110,6 @@ def check_statics(
 
 
 # ------------------------------------------------------------------ 3. symmetry mapping
-
-
-@dataclass(frozen=True)
-class MappingResult(Result):
-    """Numbers of check 3 on the F sample `faces` (1..20), all N_PAIRS pairs and the P `levels`
-    MPa: tolerance m, min_per_kind, levels_match (the workspace was swept at `levels`), kinds
-    (face type -> number of non-canonical sample faces), cog (F, N_PAIRS, P, 3) m of the direct
-    simulations, difference (F, N_PAIRS, P) m from the mapped CoG and support_difference
-    (F, N_PAIRS, P) m, the largest corner distance of the triangles; NaN where not computed."""
-
-    faces: np.ndarray
-    levels: np.ndarray
-    tolerance: float
-    min_per_kind: int
-    levels_match: bool
-    kinds: dict[str, int]
-    cog: np.ndarray
-    difference: np.ndarray
-    support_difference: np.ndarray
-
-    @property
-    def faces_with_data(self) -> int:
-        """Number of sample faces for which the workspace held data."""
-        return int(np.isfinite(self.difference).any(axis=(1, 2)).sum())
 
 
 def check_mapping(
@@ -208,6 +181,7 @@ class TimestepResult(Result):
     faces: dict[str, int]
     cog: np.ndarray
     difference: np.ndarray
+    statics: bool = False  # the nominal files hold static equilibria: no time step to halve
 
 
 def check_timestep(
@@ -218,15 +192,18 @@ def check_timestep(
     tolerance: float = CheckSettings.timestep_tolerance,
 ) -> TimestepResult:
     """The pipeline's nominal CoG (time step setup.dt) against the same sweep at dt/2 (the same
-    sample times: record_every doubled); goal: largest distance under `tolerance` m."""
+    sample times: record_every doubled); goal: largest distance under `tolerance` m. Not
+    evaluated for nominal files made by statics (`Nominal.method`): no time step made them
+    (check 2 compares them with the independent statics solve)."""
     levels = common_levels(nominals)
     P = levels.size
     hcog = np.full((N_CONTACTS, topo.N_PAIRS, P, 3), np.nan)
     diff = np.full((N_CONTACTS, topo.N_PAIRS, P), np.nan)
     faces = {}
+    statics_made = any(n.method == "statics" for n in nominals.values())
     for c, contact in enumerate(CONTACTS):
         n = nominals.get(contact)
-        if n is None:
+        if n is None or statics_made:
             continue
         fc = n.cog
         pairs = [p + 1 for p in range(topo.N_PAIRS) if np.isfinite(fc[p]).all()]
@@ -240,9 +217,7 @@ def check_timestep(
         hcog[c, idx] = run.cog
         diff[c, idx] = np.linalg.norm(fc[idx] - run.cog, axis=-1)
     st = SKIP if not np.isfinite(diff).any() else status(bool(np.nanmax(diff) <= tolerance))
-    return TimestepResult(
-        status={"5": st}, levels=levels, dt=setup.dt, tolerance=tolerance, faces=faces, cog=hcog, difference=diff
-    )
+    return TimestepResult({"5": st}, levels, setup.dt, tolerance, faces, hcog, diff, statics_made)
 
 
 # -------------------------------------------------------------------- all checks
@@ -266,6 +241,10 @@ def run_checks(
     A check that raises gives a `CheckError` (FAIL; the traceback goes to stderr, i.e. the job's
     log). `on_result` is called with each result as soon as it is known (progress logging)."""
     s = settings or CheckSettings()
+    if any(n.method == "statics" for n in nominals.values()):  # made without sweeps: check 3 against statics
+        check3 = lambda: check_mapping_statics(params, workspace, s.faces, setup.levels, s.mapping_tolerance)
+    else:
+        check3 = lambda: check_mapping(params, workspace, s.faces, setup, discard, s.mapping_tolerance)
     todo = [
         (
             "paper",
@@ -275,7 +254,7 @@ def run_checks(
             ),
         ),
         ("statics", "2", lambda: check_statics(params, nominals, s.statics_pressures, s.statics_tolerance)),
-        ("mapping", "3", lambda: check_mapping(params, workspace, s.faces, setup, discard, s.mapping_tolerance)),
+        ("mapping", "3", check3),
         (
             "grounded",
             "4",

@@ -1,11 +1,14 @@
 """What every validation check shares: the verdict statuses, the settings of the checks (the
-configuration's `validate` section as a dataclass) and the result every check derives from.
+configuration's `validate` section as a dataclass), the result every check derives from and the
+result of check 3 (two modules make it).
 Numbers and statuses only: the words are written by `validation.summary`, the datasets by
 `validation.report`."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+import numpy as np
 
 from ..physics import topology as topo
 
@@ -54,3 +57,29 @@ class CheckError(Result):
     name: str
     number: str
     error: str
+
+
+@dataclass(frozen=True)
+class MappingResult(Result):
+    """Numbers of check 3 on the F sample `faces` (1..20), all N_PAIRS pairs and the P `levels`
+    MPa: tolerance m, min_per_kind, levels_match (the workspace was swept at `levels`), kinds
+    (face type -> number of non-canonical sample faces), cog (F, N_PAIRS, P, 3) m of the direct
+    simulations (reference 'simulation') or of the statics solve ('statics'), difference
+    (F, N_PAIRS, P) m from the mapped CoG and support_difference (F, N_PAIRS, P) m, the largest
+    corner distance of the triangles; NaN where not computed."""
+
+    faces: np.ndarray
+    levels: np.ndarray
+    tolerance: float
+    min_per_kind: int
+    levels_match: bool
+    kinds: dict[str, int]
+    cog: np.ndarray
+    difference: np.ndarray
+    support_difference: np.ndarray
+    reference: str = "simulation"  # or "statics" (`statics_mapping`: a workspace made by statics)
+
+    @property
+    def faces_with_data(self) -> int:
+        """Number of sample faces for which the workspace held data."""
+        return int(np.isfinite(self.difference).any(axis=(1, 2)).sum())

@@ -7,7 +7,8 @@
     simulation along the other order is reported as the path dependence of the nominal;
 (c) reported: the superposition error (sum of the single-pair shifts of results/workspace.nc
     against the measured two-pair shift) and the combinations that tip at a lower equal pressure
-    than the best single pair needs.
+    than the best single pair needs;
+(d) every swept grid point's estimated averaging error within a tolerance (`two_pair_averaging`).
 The files are read by `io.formats.two_pair` and `io.formats.workspace`; the checks take arrays,
 `workspace.nominal.TwoPairNominal` and `workspace.lookup.Workspace`.
 """
@@ -28,6 +29,7 @@ from ..workspace import two_pair as tp
 from ..workspace.lookup import Workspace
 from ..workspace.nominal import TwoPairNominal
 from ..workspace.two_pair import TwoPairSetup
+from . import two_pair_averaging as tpa
 from .common import INFO, SKIP, status
 from .words import Verdict, label, mm
 
@@ -199,9 +201,9 @@ TITLE = "Validation of the two-pair workspace"
 
 @dataclass(frozen=True)
 class TwoPairCheck:
-    """The numbers of checks (a)-(c) and their verdict rows: statics (C, K, 3) m, direct and
+    """The numbers of checks (a)-(d) and their verdict rows: statics (C, K, 3) m, direct and
     path (F, K) m, superposition (`superposition`), the check combinations (K, 2), faces (F,),
-    levels (P,) MPa and the tolerance m."""
+    levels (P,) MPa and the tolerance m; the averaging error of (d) and its tolerance m."""
 
     rows: list[Verdict]
     statics: np.ndarray
@@ -212,6 +214,8 @@ class TwoPairCheck:
     faces: list[int]
     levels: np.ndarray
     tolerance: float
+    averaging: np.ndarray | None = None  # (C, 66, P, P) m, check (d); None: not asked for
+    averaging_tolerance: float = float("nan")  # m, of (d)
 
 
 def validate(
@@ -226,16 +230,24 @@ def validate(
     combos: ArrayLike,
     faces: Sequence[int],
     tolerance: float,
+    averaging_tolerance: float | None = None,
 ) -> TwoPairCheck:
     """(a)-(c) on the two-pair nominal CoG of the contact cases (contact -> `TwoPairNominal`,
     results/two_pair/{contact}.nc), the 20-face grid cog and staircase (`check_direct`,
     results/workspace_two_pair.nc) and the single-pair workspace `single` with its tipping
     pressures `single_tip` (20, 12) MPa (results/workspace.nc), for the check `combos` (K, 2) on
-    the check `faces`, goal `tolerance` m. A failed check does not raise."""
+    the check `faces`, goal `tolerance` m; (d) against `averaging_tolerance` m if given. A failed
+    check does not raise."""
     combos = np.asarray(combos, int).reshape(-1, 2)
     faces = [int(f) for f in faces]
     a, a_st = check_statics(params, contacts, combos, tolerance)
     same, other, b_st = check_direct(params, setup, cog, staircase, faces, combos, tolerance)
     sup = superposition(contacts, single, single_tip)
     rows = _verdicts(tolerance, faces, combos, a, a_st, same, other, b_st, sup)
-    return TwoPairCheck(rows, a, same, other, sup, combos, faces, next(iter(contacts.values())).levels, tolerance)
+    levels, err, tol_d = next(iter(contacts.values())).levels, None, float("nan")
+    if averaging_tolerance is not None:
+        tol_d = float(averaging_tolerance)
+        err, d_st = tpa.check_averaging(contacts, averaging_tolerance)
+        on = {c: n.face for c, n in contacts.items()}
+        rows.append(tpa.averaging_verdict(err, d_st, levels, averaging_tolerance, on))
+    return TwoPairCheck(rows, a, same, other, sup, combos, faces, levels, tolerance, err, tol_d)

@@ -15,6 +15,7 @@ from ..physics import topology as topo
 from .mapping import all_pairs
 
 MODES = ("free", "grounded")
+METHODS = ("averaging", "statics")  # how a nominal CoG is made (nominal.method)
 
 
 @dataclass(frozen=True)
@@ -25,8 +26,9 @@ class Nominal:
     (12, P, 3, 3) m (mean deformed triangle) in the face's support frame, margin (12, P) m
     (positive inside), all NaN for the pairs not swept (and, in the grounded mode, from the
     level the robot rolled off its face on); averaging_error (12, P) m the estimated error of
-    each average (`averaging_error`), None if the file predates it. Build it from the swept
-    pairs with `of_pairs`."""
+    each average (`averaging_error`), None if the file predates it; method how the nominal was
+    made, 'averaging' (the sweeps' means) or 'statics' (the static equilibria, nominal.method).
+    Build it from the swept pairs with `of_pairs`."""
 
     contact: str
     face: int
@@ -37,10 +39,13 @@ class Nominal:
     support: np.ndarray
     margin: np.ndarray
     averaging_error: np.ndarray | None = None
+    method: str = "averaging"
 
     def __post_init__(self):
         if self.mode not in MODES:
             raise ValueError(f"nominal mode must be one of {MODES}, got {self.mode!r}")
+        if self.method not in METHODS:
+            raise ValueError(f"nominal method must be one of {METHODS}, got {self.method!r}")
         topo.face_number(self.face)  # ValueError unless 1..20
         P = np.shape(self.levels)[0]
         for name, shape in (
@@ -67,10 +72,11 @@ class Nominal:
         support: ArrayLike,
         margin: ArrayLike,
         averaging_error: ArrayLike | None = None,
+        method: str = "averaging",
     ) -> Nominal:
         """From the swept 1-based `pairs` (n,): cog (n, P, 3) m, support (n, P, 3, 3) m,
         margin (n, P) m and averaging_error (n, P) m (or None) at `levels` (P,) MPa, spread over
-        all pairs (`mapping.all_pairs`)."""
+        all pairs (`mapping.all_pairs`); `method` as the field."""
         pairs = np.asarray(pairs)
         return cls(
             str(contact),
@@ -80,6 +86,7 @@ class Nominal:
             pairs,
             *(all_pairs(pairs, a) for a in (cog, support, margin)),
             None if averaging_error is None else all_pairs(pairs, averaging_error),
+            str(method),
         )
 
 
@@ -90,13 +97,16 @@ class TwoPairNominal:
     `workspace.two_pair.COMBOS`) and grid point (P, P) (the first pair at levels[i], the second
     at levels[j]) cog (66, P, P, 3) m in the face's support frame (NaN: not available), and the
     least equal pressure of both pairs at which the CoG projection leaves the triangle,
-    tip_pressure (66,) MPa (NaN: never)."""
+    tip_pressure (66,) MPa (NaN: never); averaging_error (66, P, P) m the estimated error of
+    each swept grid point's average (`averaging_error`; NaN: mapped), None if the file predates
+    it."""
 
     contact: str
     face: int
     levels: np.ndarray
     cog: np.ndarray
     tip_pressure: np.ndarray
+    averaging_error: np.ndarray | None = None
 
 
 def nominal(

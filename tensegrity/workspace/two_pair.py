@@ -112,8 +112,9 @@ def sweep(
     support frame of the deformed face whose +y points to corner k (axis 1; corner k = the
     reference corner is the face's own support frame, docs/design.md §2, the others are what a
     map of the stabiliser that moves the reference corner needs, `map_face`; NaN for corners
-    no such map needs), and margin (n, P, P) m. With `motors` (the twisted-string actuator,
-    docs/design.md §10) the levels are motor voltages, V."""
+    no such map needs), margin (n, P, P) m and averaging_error (n, P, P) m, the estimated error
+    of each grid point's average (`nominal.averaging_error`, in the face's support frame). With
+    `motors` (the twisted-string actuator, docs/design.md §10) the levels are motor voltages, V."""
     from ..physics import dynamics as d  # the simulator (numba) only here: mapping, fitting
     from .sweep import setup as mode_setup  # and drawing the two-pair workspace do not load it
 
@@ -130,6 +131,7 @@ def sweep(
         "cog": np.full((n, 3, P, P, 3), np.nan),
         "cog_std": np.full((n, 3, P, P, 3), np.nan),
         "support": np.full((n, 3, P, P, 3, 3), np.nan),
+        "averaging_error": np.full((n, P, P), np.nan),
     }
     i, j = grid_order(P).T
     ref_node = topo.FACES[face - 1, topo.FACE_REFERENCE[face - 1]]
@@ -142,6 +144,8 @@ def sweep(
         for b in range(n):  # grid point k of the staircase is level k of workspace.nominal
             c, sd, t, _ = nom.nominal(tr.t, seg, cog[b], support[b], P * P, hold, discard)
             out["cog"][b, corner, i, j], out["cog_std"][b, corner, i, j], out["support"][b, corner, i, j] = c, sd, t
+            if corner == topo.FACE_REFERENCE[face - 1]:
+                out["averaging_error"][b, i, j] = nom.averaging_error(tr.t, seg, cog[b], P * P, hold, discard)
     ref = topo.FACE_REFERENCE[face - 1]
     out["margin"] = margins(out["cog"][:, ref], out["support"][:, ref])
     return out
@@ -158,8 +162,9 @@ def contact_workspace(
     """The two-pair workspace of every combination on the canonical `face` from the sweep `res`
     (`sweep`) of the representatives `reps` (R, 2) at `levels` (P,) MPa: the arrays of
     `map_face` (cog, support, staircase) with the margin, the tipping pressure, its edge and the
-    tipping boundary of each (`tipping`); which combinations were swept (66,) and their CoG
-    spread (66, P, P, 3) m (NaN: mapped)."""
+    tipping boundary of each (`tipping`) and the averaging error (66, P, P) m of the swept ones
+    (`sweep`; NaN: mapped, the same samples as the combination they map from); which
+    combinations were swept (66,) and their CoG spread (66, P, P, 3) m (NaN: mapped)."""
     cog, support, path = map_face(face, face, reps, res["cog"], res["support"])
     ws = {"cog": cog, "support": support, "staircase": path, "margin": margins(cog, support)}
     ws |= tipping(levels, cog, support, ws["margin"], face)
@@ -167,6 +172,8 @@ def contact_workspace(
     swept = np.isin(np.arange(len(COMBOS)), rows)
     std = np.full(cog.shape, np.nan)
     std[rows] = res["cog_std"][:, topo.FACE_REFERENCE[face - 1]]
+    ws["averaging_error"] = np.full(cog.shape[:-1], np.nan)
+    ws["averaging_error"][rows] = res["averaging_error"]
     return ws, swept, std
 
 

@@ -26,7 +26,7 @@ def test_every_key_is_a_key_of_the_schema():
 
 def test_stage_config_holds_exactly_the_keys():
     cfg = stage_config(config.defaults(), "nominal")
-    assert cfg == {"nominal": {"discard": 0.2}}
+    assert cfg == {"nominal": {"discard": 0.2, "method": "averaging"}}
     two = stage_config(config.defaults(), "two_pair")
     assert set(two["two_pair"]) == {"levels", "hold", "discard", "record_every", "pairs"}  # no tolerance
     with pytest.raises(KeyError, match="stage nominal: the configuration has no key nominal.discard"):

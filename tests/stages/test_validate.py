@@ -218,7 +218,7 @@ def test_the_two_pair_readers_hand_the_checks_the_files_numbers(tmp_path):
         "tip_boundary": np.full((*lead, 66, 2), np.nan),
         "staircase": np.tile(tp.COMBOS, (*lead, 1, 1)),
     }
-    ws = grid()
+    ws = grid() | {"averaging_error": rng.uniform(0, 1e-4, (66, 2, 2))}
     face = topo.face_number(topo.CONTACT_FACES["isosceles"])
     ds = tpf.contact_dataset(
         levels, tp.COMBOS, ws, np.ones(66), np.zeros((66, 2, 2, 3)), {"contact": "isosceles", "face": face}, 0.5
@@ -229,6 +229,7 @@ def test_the_two_pair_readers_hand_the_checks_the_files_numbers(tmp_path):
     np.testing.assert_array_equal(n.levels, levels)
     np.testing.assert_array_equal(n.cog, ws["cog"])
     np.testing.assert_array_equal(n.tip_pressure, ws["tip_pressure"])
+    np.testing.assert_array_equal(n.averaging_error, ws["averaging_error"])
     ws20 = grid(20)
     tpf.workspace_dataset(levels, tp.COMBOS, ws20, {}, 0.5).to_netcdf(tmp_path / "workspace_two_pair.nc")
     cog, staircase = tpf.read_two_pair_grid(tmp_path / "workspace_two_pair.nc")

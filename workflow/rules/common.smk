@@ -15,6 +15,10 @@ SLOPE_RUN = "slope_down" if "slope_down" in LOCO_RUNS or "slope_up" not in LOCO_
 FIG6_PAIR = paper.FIG6_PAIR if paper.FIG6_PAIR in PAIRS else PAIRS[0]
 FIG6_CONTACT = "equilateral" if "equilateral" in CONTACTS else CONTACTS[0]
 
+# nominal.method statics: the nominal CoG files are the robot's static equilibria (stage
+# nominal_statics), made without the sweeps, and Fig. 6 and the page draw no samples
+NOMINAL_STATICS = config["nominal"]["method"] == "statics"
+
 
 # the actuator (issue 31): with twisted_string the workspace pipeline runs in volts and `all` is it
 PNEUMATIC = config["actuator"]["kind"] == "pneumatic"

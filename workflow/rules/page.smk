@@ -3,7 +3,7 @@ rule page:
     nominal CoGs and fitted curve of each contact case (Figs. 6-7 in 3D), and every
     demonstration run's path; one self-contained HTML file that opens offline."""
     input:
-        sweeps=expand("results/sweeps/{contact}/pair{pair:02d}.nc", contact=CONTACTS, pair=PAIRS),
+        sweeps=[] if NOMINAL_STATICS else expand("results/sweeps/{contact}/pair{pair:02d}.nc", contact=CONTACTS, pair=PAIRS),
         nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
         curves=expand("results/curves/{contact}.nc", contact=CONTACTS),
         runs=expand("results/locomotion/{run}.nc", run=LOCO_RUNS),

@@ -5,7 +5,7 @@ rule render:
     the support triangle, of every contact case (one job: each job would pay the renderer's
     start-up again, about 2 s)."""
     input:
-        sweep=f"results/sweeps/{FIG6_CONTACT}/pair{FIG6_PAIR:02d}.nc",
+        sweep=[] if NOMINAL_STATICS else f"results/sweeps/{FIG6_CONTACT}/pair{FIG6_PAIR:02d}.nc",  # statics: none
         curves=expand("results/curves/{contact}.nc", contact=CONTACTS),
         nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
         two_pair=expand("results/two_pair/{contact}.nc", contact=CONTACTS),

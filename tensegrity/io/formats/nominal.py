@@ -9,10 +9,14 @@ from collections.abc import Sequence
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ...workspace.nominal import Nominal
+from ...workspace.nominal import METHODS, Nominal
 from .. import datasets
 from .common import coords, rest_vars
 
+STATICS_COMMENT = (
+    "0: no average (nominal_method statics); the nominal CoG is the static equilibrium, converged to Newton "
+    "steps below 1e-8 m, which leaves ~1e-15 m (tensegrity.workspace.equilibria, physics.equilibrium)"
+)
 NOMINAL_ALLOW_NAN = ["tip_pressure", "cog", "cog_std", "support", "margin", "averaging_error"]
 
 
@@ -28,14 +32,19 @@ def nominal_dataset(
     averaging_error: ArrayLike,
     attrs: dict,
     strut_length: float,
+    method: str = "averaging",
 ) -> xr.Dataset:
     """The nominal file of one contact case: per pair (n,) and level (P,) MPa the nominal CoG,
     its spread and the mean support (m, support frame), the margin (m), the tipping pressure
     (MPa), where the grounded robot rolled off and the estimated error of each average (n, P) m
     (`workspace.nominal.averaging_error`); the robot's strut length and rest state on the face
-    (`rest_vars`); `attrs` of the sweep files."""
+    (`rest_vars`); `attrs` of the sweep files; `method` (nominal.method) the attribute
+    nominal_method: averaging (the sweeps' means) or statics (the static equilibria: cog_std and
+    averaging_error are 0, the latter with a comment saying why)."""
     var = datasets.var
-    return xr.Dataset(
+    if method not in METHODS:
+        raise ValueError(f"nominal.method: {method!r} is not one of {METHODS}")
+    ds = xr.Dataset(
         {
             "averaging_error": var(
                 ("pair", "pressure"),
@@ -69,15 +78,19 @@ def nominal_dataset(
             **rest_vars(strut_length, int(attrs["face"])),
         },
         coords=coords(pairs, levels),
-        attrs=attrs,
+        attrs=attrs | {"nominal_method": method},
     )
+    if method == "statics":
+        ds["averaging_error"].attrs["comment"] = STATICS_COMMENT
+    return ds
 
 
 def nominal_from_dataset(ds: xr.Dataset) -> Nominal:
     """The `Nominal` of a dataset with the contract of results/nominal/{contact}.nc: cog
     (pair, pressure, axis) m, support (pair, pressure, corner, axis) m and margin (pair,
     pressure) m of the pairs swept at the levels `pressure` MPa; attributes contact, face and
-    mode. ValueError naming the file if one is missing."""
+    mode (and nominal_method; absent: averaging, a file made before it). ValueError naming the
+    file if one is missing."""
     try:
         return Nominal.of_pairs(
             ds.attrs["contact"],
@@ -89,6 +102,7 @@ def nominal_from_dataset(ds: xr.Dataset) -> Nominal:
             ds["support"].transpose("pair", "pressure", "corner", "axis").values,
             ds["margin"].transpose("pair", "pressure").values,
             ds["averaging_error"].transpose("pair", "pressure").values if "averaging_error" in ds else None,
+            method=str(ds.attrs.get("nominal_method", "averaging")),
         )
     except (KeyError, ValueError) as e:
         src = ds.encoding.get("source", "<dataset>")

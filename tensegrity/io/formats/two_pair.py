@@ -29,6 +29,7 @@ from .common import coords, rest_vars
 
 CONTACT_FILE = "{contact}.nc"
 ALLOW_NAN = ["cog", "cog_std", "support", "margin", "tip_pressure", "tip_boundary"]
+CONTACT_ALLOW_NAN = [*ALLOW_NAN, "averaging_error"]  # results/two_pair/{contact}.nc
 _GRID = ("level_a", "level_b")
 
 
@@ -119,8 +120,10 @@ def contact_dataset(
     """results/two_pair/{contact}.nc: the 66 combinations on one canonical face. ws as
     `workspace.two_pair.map_workspace` gives for one face (cog (66, P, P, 3), ...); swept (66,)
     1 where the combination was simulated (else mapped by the face's stabiliser); cog_std
-    (66, P, P, 3) m the oscillation spread of the swept ones (NaN for the mapped); the robot's
-    strut length and rest state on the face (`formats.rest_vars`)."""
+    (66, P, P, 3) m the oscillation spread of the swept ones (NaN for the mapped), and
+    ws["averaging_error"] (66, P, P) m their estimated averaging error (`workspace.nominal.
+    averaging_error`; all NaN if ws lacks it); the robot's strut length and rest state on the
+    face (`formats.rest_vars`)."""
     var = datasets.var
     data = _grid_vars(("combo",), ws) | _level_vars(levels, combos)
     data["swept"] = var(
@@ -134,6 +137,14 @@ def contact_dataset(
         cog_std,
         "m",
         "standard deviation of the CoG over the grid point's hold (oscillation; NaN: mapped)",
+    )
+    err = ws.get("averaging_error", np.full(np.shape(cog_std)[:-1], np.nan))
+    data["averaging_error"] = var(
+        ("combo", *_GRID),
+        err,
+        "m",
+        "estimated error of the nominal CoG from the oscillation left in the grid point's window: a quarter of "
+        "the range of the mean CoG over all half-length sub-windows (NaN: mapped)",
     )
     data |= rest_vars(strut_length, int(attrs["face"]))
     return xr.Dataset(data, coords=_coords(levels), attrs=attrs)
@@ -175,6 +186,7 @@ def two_pair_nominal(ds: xr.Dataset) -> TwoPairNominal:
         np.asarray(ds["pressure_a"].values, float),
         ds["cog"].transpose("combo", *_GRID, "axis").values,
         ds["tip_pressure"].values,
+        ds["averaging_error"].transpose("combo", *_GRID).values if "averaging_error" in ds else None,
     )
 
 

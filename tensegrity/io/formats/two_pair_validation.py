@@ -1,5 +1,5 @@
 """The two-pair validation file (docs/datasets.md, "Two-pair workspace"): every number of checks
-(a)-(c) of the two-pair workspace, with units and long names, and the verdicts.
+(a)-(d) of the two-pair workspace, with units and long names, and the verdicts.
 
 - results/validation/two_pair.nc: `two_pair_validation_dataset` (`validation.two_pair`).
 """
@@ -22,14 +22,24 @@ TWO_PAIR_ALLOW_NAN = [
     "measured_shift",
     "tip_pressure",
     "single_tip_pressure",
+    "averaging_error",
 ]
 
 
 def two_pair_validation_dataset(r: TwoPairCheck) -> xr.Dataset:
-    """results/validation/two_pair.nc: the numbers of checks (a)-(c) of the two-pair workspace
-    (`validation.two_pair.validate`) and the verdicts."""
+    """results/validation/two_pair.nc: the numbers of checks (a)-(d) of the two-pair workspace
+    (`validation.two_pair.validate`; (d) if it ran) and the verdicts."""
     var = datasets.var
     sup, P = r.superposition, r.superposition["error"].shape[-1]
+    extra = {}
+    if r.averaging is not None:
+        extra["averaging_error"] = var(
+            ("contact", "combo", "level_a", "level_b"),
+            r.averaging,
+            "m",
+            "estimated averaging error of the two-pair nominal CoG (d; NaN: mapped)",
+            goal_m=r.averaging_tolerance,
+        )
     return xr.Dataset(
         {
             "statics_difference": var(
@@ -75,6 +85,7 @@ def two_pair_validation_dataset(r: TwoPairCheck) -> xr.Dataset:
                 np.array([f"{v.id}: {v.status}: {v.measured}" for v in r.rows]),
                 {"long_name": "verdicts"},
             ),
+            **extra,
         },
         coords={
             "contact": ("contact", list(CONTACTS), {"long_name": "contact case"}),
