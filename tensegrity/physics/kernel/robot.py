@@ -1,11 +1,13 @@
 """One robot alone, in SIMD lanes of its own: its struts, nodes and cables side by side (a batch
-of one or two robots, `kernel.advance`). The stages of `kernel.stages` are written for a group of
+of one or two robots, `kernel.driver.alone`), its cables pneumatic muscles or twisted strings
+(`kernel.strings`). The stages of `kernel.stages` are written for a group of
 robots, one per lane; a lone robot would leave all lanes but one empty. Here the same per-item
 functions (`ks.rotations`, `ks.node`, `ks.cable_force`, `kc.ground_node`, `ks.strut`) run with the
 item as the lane: strut i in lane i of 8 (lanes 6, 7: padding), node STRUT_A[i] in lane i and
 STRUT_B[i] in lane 8 + i of 16, cable j in lane j of 24. The only new code is the layout: the
 cable ends and a node's four cables are picked from those lanes by whole-vector shuffles (`take`).
-The results are the same bits as in a group of lanes (tests/physics/test_kernel_lanes).
+The pneumatic results are the same bits as in a group of lanes (tests/physics/test_kernel_lanes),
+the twisted strings' the same to round-off (tests/physics/test_twisted).
 
 The working arrays (SHAPES): struts X, V, W (1, 3, 8), Q (1, 4, 8), Rm (1, 3, 3, 8); nodes P, U,
 G, AN (1, 3, 16), ST (1, 16), on (16,); cable ends E (4, 3, 16 -> 24: P1, P2, U1, U2), cable
