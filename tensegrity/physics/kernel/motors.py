@@ -37,7 +37,10 @@ def advance(x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, met
             every, dt, out_x, out_q, status, fail_step):
     """Advance all robots and their motors in place: as `kernel.advance`, with the motor angles
     theta and speeds omega (B, 24) rad, rad/s, their constants mprm (B, NM)
-    (`TwistedString.pack`, at this dt) and the pair voltages volts (B, 12) V."""
+    (`TwistedString.pack`, at this dt) and the pair voltages volts (B, 12) V. A read-only mprm
+    (`pack` of one robot is a view) is copied: one compiled signature for every batch."""
+    if not mprm.flags.writeable:
+        mprm = mprm.copy()
     args = (x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz, n_rec,
             every, dt, out_x, out_q, status, fail_step)
     if not _advance.overloads:
