@@ -3,7 +3,8 @@
 Usage: python benchmarks/bench_step.py [--seconds 0.5] [--cpu] [--actuator both]
 
 Both actuators by default (docs/design.md §10): the pneumatic muscles (pair #10 at 0.4-2.4 MPa)
-and the prototype's twisted strings (kernel/motors.py; pair #10 at 2-11 V), in the same run.
+and the prototype's twisted strings (kernel/motors.py; pair #10 at 2-11 V), in the same run, the
+two taking turns run by run.
 """
 
 from __future__ import annotations
@@ -36,26 +37,31 @@ def run(
     dt: float = 1e-4,
     repeat: int = 3,
     cpu: bool = False,
-    motors: TwistedString | None = None,
-) -> float:
-    """Robot-steps per second, the median of `repeat` timed runs; with `cpu`, per CPU second
-    of the process, the best of `repeat` runs. With `motors`, the twisted-string kernel."""
+    kinds: tuple[TwistedString | None, ...] = (None,),
+) -> list[float]:
+    """Robot-steps per second of each actuator of `kinds` (None: the pneumatic muscles; a
+    TwistedString: the twisted-string kernel), the median of `repeat` timed runs; with `cpu`,
+    per CPU second of the process, the best of `repeat` runs. The kinds take turns, run by run,
+    so that a change of the machine's load falls on all of them alike."""
     params = Params() if grounded else Params(gravity=0.0)
     terrain = Terrain.flat() if grounded else Terrain.none()
     state = d.stand_on(params, (9, 10, 12), terrain, batch=batch)
-    pressure = np.zeros((batch, 12))
-    pressure[:, 9] = np.linspace(0.4, 2.4, batch)  # pair #10, differing per robot
-    kind = Schedule
-    if motors is not None:
-        pressure[:, 9], kind = np.linspace(2.0, 11.0, batch), Voltages  # volts
-    sched = kind.constant(pressure, sim_seconds)
-    d.simulate(params, state, kind.constant(pressure, 0.001), terrain, dt, motors=motors)  # warm
-    walls = []
+    cases = []
+    for motors in kinds:
+        level = np.zeros((batch, 12))
+        level[:, 9] = np.linspace(0.4, 2.4, batch)  # pair #10, differing per robot
+        kind = Schedule
+        if motors is not None:
+            level[:, 9], kind = np.linspace(2.0, 11.0, batch), Voltages  # volts
+        d.simulate(params, state, kind.constant(level, 0.001), terrain, dt, motors=motors)  # warm
+        cases.append((kind.constant(level, sim_seconds), motors))
+    walls = [[] for _ in kinds]
     for _ in range(repeat):
-        t0 = _cpu_seconds() if cpu else time.perf_counter()
-        d.simulate(params, state, sched, terrain, dt, record_every=100, motors=motors)
-        walls.append((_cpu_seconds() if cpu else time.perf_counter()) - t0)
-    return batch * round(sim_seconds / dt) / (np.min(walls) if cpu else np.median(walls))
+        for k, (sched, motors) in enumerate(cases):
+            t0 = _cpu_seconds() if cpu else time.perf_counter()
+            d.simulate(params, state, sched, terrain, dt, record_every=100, motors=motors)
+            walls[k].append((_cpu_seconds() if cpu else time.perf_counter()) - t0)
+    return [batch * round(sim_seconds / dt) / (np.min(w) if cpu else np.median(w)) for w in walls]
 
 
 _MOTORS = {"twisted_string": TwistedString()}
@@ -85,9 +91,9 @@ def main() -> None:
     with tqdm(cases, desc="cases", unit="case", disable=None, file=sys.stderr, leave=False) as bar:
         for grounded, batch in bar:
             secs = a.seconds if batch > 1 else 4 * a.seconds
-            speeds = [
-                run(batch, grounded, secs, repeat=7 if a.cpu else 3, cpu=a.cpu, motors=_MOTORS.get(k)) for k in kinds
-            ]
+            speeds = run(
+                batch, grounded, secs, repeat=7 if a.cpu else 3, cpu=a.cpu, kinds=tuple(_MOTORS.get(k) for k in kinds)
+            )
             ratio = f"   twisted/pneumatic {speeds[1] / speeds[0]:.2f}" if len(kinds) == 2 else ""
             bar.write(
                 f"{batch:>6} {'grounded' if grounded else 'free':>9} "

@@ -4,6 +4,7 @@ no-load speed from its datasheet, the energy balance of a closed run, the kernel
 scalar law, and the pneumatic path unchanged."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -11,6 +12,7 @@ from scipy.optimize import brentq
 
 from tensegrity.physics import actuator, dynamics, kernel
 from tensegrity.physics import topology as topo
+from tensegrity.physics.kernel import motors as km
 from tensegrity.physics.params import Params
 from tensegrity.physics.schedule import Schedule
 from tensegrity.physics.terrain import Terrain
@@ -162,12 +164,12 @@ def test_kernel_step_matches_the_scalar_law():
 
 
 def test_a_robot_alone_is_the_same_robot_in_a_group():
-    """The motor kernel runs a batch under WIDE_FROM robots one lane per group and larger ones 8
-    lanes a group (kernel/motors.py): a robot's run does not depend on which, grounded, its pair
-    driven. To round-off, not bit for bit: freshly compiled (an empty numba cache, as in CI) the
-    two layouts differ by up to 1e-16 m in x and 1e-13 rad/s in w after 0.2 s (a cached build
-    gave equal bits); the pneumatic kernel's layouts are equal bit for bit
-    (tests/physics/test_kernel_lanes.py)."""
+    """The motor kernel runs a batch under WIDE_FROM robots with each robot's struts, nodes and
+    cables side by side (kernel/robot.py) and larger ones 8 robots a group (kernel/driver.py): a
+    robot's run does not depend on which, grounded, its pair driven. To round-off, not bit for
+    bit: the two layouts differ by up to 1e-16 m in x and 1e-13 rad/s in w after 0.2 s (fused
+    multiply-adds chosen differently in the string law); the pneumatic kernel's layouts are equal
+    bit for bit (tests/physics/test_kernel_lanes.py)."""
     params, m = Params(), TwistedString()
     start = dynamics.stand_on(params, (9, 10, 12), Terrain.flat())
     volts = np.zeros(12)
@@ -187,6 +189,50 @@ def test_a_robot_alone_is_the_same_robot_in_a_group():
         np.testing.assert_allclose(getattr(alone, k)[0], getattr(group, k)[8], rtol=0, atol=atol, err_msg=k)
         assert np.array_equal(getattr(group, k)[0], getattr(group, k)[8]), k  # one layout: equal bits
     assert alone.motor_angle[0, 15] > 1.0  # the motors did turn
+
+
+def _advance(params, m, state, volts, terrain, n_rec, dt):
+    """kernel/motors.advance on a copy of the state, from motors at rest: final state and motors,
+    status and fail step."""
+    B = state.batch
+    s, th, om = state.copy(), np.zeros((B, 24)), np.zeros((B, 24))
+    status, fail = np.zeros(B, np.int64), np.zeros(B, np.int64)
+    out_x, out_q = np.empty((B, n_rec, 6, 3)), np.empty((B, n_rec, 6, 4))
+    args = (s.x, s.v, s.q, s.w, s.anchor, s.stuck, th, om, params.pack(B), m.pack(params, B, dt), volts)
+    km.advance(*args, *terrain.packed(), n_rec, 10, dt, out_x, out_q, status, fail)
+    return dict(x=s.x, w=s.w, motor_angle=th, motor_speed=om, status=status, fail=fail)
+
+
+def test_a_failing_robot_stops_alone_with_its_motors():
+    """The one driver (kernel/driver.py) retires a twisted-string robot at its failure, motors
+    included, in both layouts. In a 1 m field: robot 1 (strings of 1e9 N/m) blows up (TOO_FAST
+    or NON_FINITE), robot 2 is thrown off the edge (OFF_TERRAIN); the others run on. Each robot
+    alone (its cables side by side) fails at the same step with the same status, and its state
+    and motors agree with the group's to round-off (as test_a_robot_alone_is_the_same...)."""
+    terrain = Terrain.random(seed=1, size=1.0)
+    B, dt = kernel.LANES + 1, 5e-4
+    stiff = np.where(np.arange(B) == 1, 1e9, 1000.0)
+    m = TwistedString(spring_stiffness=stiff, fibre_stiffness=np.where(stiff > 1e3, 1e9, 1.8e5))
+    params = Params()
+    s = dynamics.stand_on(params, (9, 10, 12), terrain, batch=B, position=(0.2, 0.0))
+    v = s.v.copy()
+    v[2] += [5.0, 0.0, 0.0]
+    s = replace(s, v=v)
+    volts = np.zeros((B, 12))
+    volts[:, 9] = 11.1
+    together = _advance(params, m, s, volts, terrain, 40, dt)
+    assert together["status"][1] in (kernel.TOO_FAST, kernel.NON_FINITE)
+    assert together["status"][2] == kernel.OFF_TERRAIN
+    assert together["fail"][1] < together["fail"][2] < 400
+    assert np.all(together["status"][3:] == kernel.OK) and together["status"][0] == kernel.OK
+    for b in range(B):
+        one = m.replace(spring_stiffness=m.spring_stiffness[[b]], fibre_stiffness=m.fibre_stiffness[[b]])
+        alone = _advance(params, one, s.take([b]), volts[[b]], terrain, 40, dt)
+        assert (alone["status"][0], alone["fail"][0]) == (together["status"][b], together["fail"][b]), b
+        if together["status"][b] in (kernel.OK, kernel.OFF_TERRAIN):
+            for k in ("x", "w", "motor_angle", "motor_speed"):
+                np.testing.assert_allclose(alone[k][0], together[k][b], rtol=1e-9, atol=1e-12, err_msg=k)
+    assert np.abs(together["motor_angle"][2]).max() > 0.01  # turned before its failure, written back
 
 
 def test_pneumatic_path_is_the_pneumatic_kernel():

@@ -1,11 +1,13 @@
 """One robot alone, in SIMD lanes of its own: its struts, nodes and cables side by side (a batch
-of one or two robots, `kernel.advance`). The stages of `kernel.stages` are written for a group of
+of one or two robots, `kernel.driver.alone`), its cables pneumatic muscles or twisted strings
+(`kernel.strings`). The stages of `kernel.stages` are written for a group of
 robots, one per lane; a lone robot would leave all lanes but one empty. Here the same per-item
 functions (`ks.rotations`, `ks.node`, `ks.cable_force`, `kc.ground_node`, `ks.strut`) run with the
 item as the lane: strut i in lane i of 8 (lanes 6, 7: padding), node STRUT_A[i] in lane i and
 STRUT_B[i] in lane 8 + i of 16, cable j in lane j of 24. The only new code is the layout: the
 cable ends and a node's four cables are picked from those lanes by whole-vector shuffles (`take`).
-The results are the same bits as in a group of lanes (tests/physics/test_kernel_lanes).
+The pneumatic results are the same bits as in a group of lanes (tests/physics/test_kernel_lanes),
+the twisted strings' the same to round-off (tests/physics/test_twisted).
 
 The working arrays (SHAPES): struts X, V, W (1, 3, 8), Q (1, 4, 8), Rm (1, 3, 3, 8); nodes P, U,
 G, AN (1, 3, 16), ST (1, 16), on (16,); cable ends E (4, 3, 16 -> 24: P1, P2, U1, U2), cable
@@ -21,6 +23,7 @@ from numba.extending import intrinsic
 
 from . import contact as kc
 from . import stages as ks
+from . import strings as kst
 from .compiling import jit
 from .stages import DT_I, DT_M, GRAV, HL, INLINE, NC, R
 
@@ -80,14 +83,27 @@ def _cable(j, E, C, act, TF, linear):
 
 
 @jit(**INLINE)
-def _cables(P, U, E, C, act, linear, TF, TN, FN):
-    """FN (3, 16) <- the force (N) of each node's four cables (`ks.cable_force`), summed in
-    cable order as `ks.cable_sum`."""
+def _string(j, E, TF, A):
+    """`_cable` of a twisted string (`kst.string`; its motor A: TH, OM, VO (1, 24), M (NM, 24))."""
+    TF[0, j], TF[1, j], TF[2, j] = kst.string(
+        E[1, 0, j] - E[0, 0, j], E[1, 1, j] - E[0, 1, j], E[1, 2, j] - E[0, 2, j],
+        E[3, 0, j] - E[2, 0, j], E[3, 1, j] - E[2, 1, j], E[3, 2, j] - E[2, 2, j],
+        A[0], A[1], A[2], A[3], 0, j)[1:]
+
+
+@jit(**INLINE)
+def _cables(P, U, E, C, act, linear, TF, TN, FN, strings):
+    """FN (3, 16) <- the force (N) of each node's four cables, summed in cable order as
+    `ks.cable_sum`: pneumatic muscles (`ks.cable_force`) if `strings` is None, else twisted
+    strings (`kst.string`) with their motors `strings` (`kst.ALONE`)."""
     _END1(E[0], P[0])
     _END2(E[1], P[0])
     _END1(E[2], U[0])
     _END2(E[3], U[0])
-    if linear:  # a constant inside each lane loop
+    if strings is not None:
+        for j in range(24):
+            _string(j, E, TF, strings)
+    elif linear:  # a constant inside each lane loop
         for j in range(24):
             _cable(j, E, C, act, TF, True)
     else:
@@ -133,16 +149,17 @@ def _ground(P, U, G, AN, ST, C, on, kind, meta, hz):
 
 
 @jit(**INLINE)
-def step(S, linear, kind, meta, hz, dt):
-    """One time step of dt s of the robot in S (the arrays of SHAPES). Returns the largest
-    squared end speed of its struts (`ks.faster`), or -1.0 if a node has no terrain under it;
-    the struts are then not moved."""
+def step(S, linear, kind, meta, hz, dt, strings):
+    """One time step of dt s of the robot in S (the arrays of SHAPES), its cables pneumatic
+    muscles or, unless `strings` is None, twisted strings with those motors (`_cables`). Returns
+    the largest squared end speed of its struts (`ks.faster`), or -1.0 if a node has no terrain
+    under it; the struts are then not moved."""
     X, V, W, Q, Rm, P, U, G, AN, ST, on, E, TF, TN, FN, C, act, fast = S
     ks.rotations(Q, Rm, STRUT_LANES)
     for i in range(8):
         ks.node(P, U, 0, i, X, V, W, Rm, 0, i, 1.0 * C[HL, i])
         ks.node(P, U, 0, 8 + i, X, V, W, Rm, 0, i, -1.0 * C[HL, i])
-    _cables(P, U, E, C, act, linear, TF, TN, FN)
+    _cables(P, U, E, C, act, linear, TF, TN, FN, strings)
     if kind == kc.PLANE:
         if not _ground(P, U, G, AN, ST, C, on, kc.PLANE, meta, hz):
             return -1.0
