@@ -23,7 +23,7 @@ from ..workspace.sweep import SweepSetup
 from ..workspace.two_pair import TwoPairSetup
 from .config import params_from_config
 
-__all__ = ["KEYS", "build", "params", "motors"]
+__all__ = ["KEYS", "build", "params", "motors", "twisted_strings"]
 
 T = TypeVar("T")
 
@@ -82,4 +82,13 @@ def motors(cfg: Mapping) -> TwistedString | None:
         return None
     if kind != "twisted_string":
         raise ValueError(f"config key actuator.kind: unknown actuator {kind!r}")
+    return TwistedString.from_dict(dict(cfg["actuator"].get("twisted_string", {})))
+
+
+def twisted_strings(cfg: Mapping) -> TwistedString:
+    """The twisted strings of the `actuator.twisted_string` section of `cfg`, whatever
+    actuator.kind says: `tensegrity calibrate` replays a run driven in volts with them.
+    KeyError naming the section if `cfg` lacks it."""
+    if "actuator" not in cfg:
+        raise KeyError("config section actuator is needed here (a run driven in volts) but was not given")
     return TwistedString.from_dict(dict(cfg["actuator"].get("twisted_string", {})))
