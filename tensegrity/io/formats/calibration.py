@@ -134,9 +134,9 @@ def calibrated_yaml(c: Calibration, header: str) -> str:
     which the commands keep at pneumatic). Parameters the data could not determine keep a comment."""
     from ..config import validate
 
-    section = validate({})["params"]
+    section, params = validate({})["params"], c.params
     for k in section:
-        section[k] = float(getattr(c.params, k))
+        section[k] = float(getattr(params, k))
     out = {"params": section}
     motors = c.motors
     if motors is not None:
