@@ -52,7 +52,7 @@ def main() -> None:
     )
     print(
         f"calibration (fit and prediction check): {wall:.1f} s wall, {cpu:.1f} s CPU; the fit: {c.nfev} "
-        f"evaluations, {c.njev} Jacobians (batches of {len(c.x) + 1} robots)"
+        f"evaluations, {c.njev} Jacobians (batches of {len(c.x)} robots)"
     )
     print(f"{'parameter':<18} {'true':>9} {'estimate':>12} {'95 % interval':>28} {'error/se':>9}")
     for k, e, lo, hi, se in zip(c.names, c.estimate, c.unc.lower, c.unc.upper, c.unc.se, strict=True):

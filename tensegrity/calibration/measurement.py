@@ -4,7 +4,9 @@ grid, the gaps, and the pressure schedule (docs/design.md §9).
 Conventions (the same as `tensegrity simulate --out` records): node positions (T, 12, 3) m in
 the measurement's own frame, pair pressures (T, 12) MPa, where the pressure of sample k is the
 one applied over the interval (t[k-1], t[k]] that ends at it (a zero-order hold; the pressure of
-the first sample is not used).
+the first sample is not used). A run of the prototype's twisted strings (docs/design.md §10) is
+driven in volts instead: the same array holds pair voltages (T, 12) V (`command` 'voltage'), and
+the replay is a `twisted.Voltages` schedule.
 
 Gaps: time must increase strictly and lie on one grid t0 + k h, h the smallest interval (within
 1e-6 h); rows missing from the grid are allowed (the pressure of the next row is held over the
@@ -21,22 +23,28 @@ import numpy as np
 
 from ..physics import topology as topo
 from ..physics.schedule import Schedule, check_pressures
+from ..physics.twisted import Voltages, check_voltages
 
-__all__ = ["Measurement", "Grid", "grid", "schedule"]
+__all__ = ["Measurement", "Grid", "grid", "schedule", "COMMANDS"]
+
+# what the robot was driven by: its unit and its check
+COMMANDS = {"pressure": ("MPa", check_pressures), "voltage": ("V", check_voltages)}
 
 GRID_TOLERANCE = 1e-6  # of a sampling interval: a time off the grid by more is refused
 
 
 @dataclass(frozen=True)
 class Measurement:
-    """t (T,) s; nodes (T, 12, 3) m (NaN: an occluded marker); pressure (T, 12) MPa; mode
-    'free' or 'grounded' if the source says so, else ''; source: what it was read from."""
+    """t (T,) s; nodes (T, 12, 3) m (NaN: an occluded marker); pressure (T, 12) the command:
+    pair pressures in MPa, or pair voltages in V if `command` is 'voltage'; mode 'free' or
+    'grounded' if the source says so, else ''; source: what it was read from."""
 
     t: np.ndarray
     nodes: np.ndarray
     pressure: np.ndarray
     mode: str = ""
     source: str = ""
+    command: str = "pressure"
 
     def __post_init__(self):
         t = np.asarray(self.t, dtype=float).reshape(-1)
@@ -60,10 +68,14 @@ class Measurement:
         if not np.isfinite(p[0]).all():
             n = int(np.argwhere(~np.isfinite(p[0]))[0, 0]) + 1
             raise ValueError(f"nodes{where}: the first sample lacks node {n} (NaN); it fixes the initial pose")
+        if self.command not in COMMANDS:
+            raise ValueError(f"command{where}: {self.command!r} is not one of {', '.join(COMMANDS)}")
         if not np.isfinite(u).all():
             k, j = np.argwhere(~np.isfinite(u))[0]
-            raise ValueError(f"pressure{where}: sample {k + 1} (t = {t[k]!r} s) has no pressure for pair {j + 1} (NaN)")
-        check_pressures(u, f"pressure{where}")
+            raise ValueError(
+                f"{self.command}{where}: sample {k + 1} (t = {t[k]!r} s) has no {self.command} for pair {j + 1} (NaN)"
+            )
+        COMMANDS[self.command][1](u, f"{self.command}{where}")
         if self.mode not in ("", "free", "grounded"):
             raise ValueError(f"mode{where}: {self.mode!r} is not 'free' or 'grounded'")
         for name, val in (("t", t), ("nodes", p), ("pressure", u)):
@@ -71,7 +83,7 @@ class Measurement:
 
     def head(self, n: int) -> Measurement:
         """The first n samples."""
-        return Measurement(self.t[:n], self.nodes[:n], self.pressure[:n], self.mode, self.source)
+        return Measurement(self.t[:n], self.nodes[:n], self.pressure[:n], self.mode, self.source, self.command)
 
 
 @dataclass(frozen=True)
@@ -96,8 +108,9 @@ def grid(t: np.ndarray) -> Grid:
 
 
 def schedule(m: Measurement, g: Grid) -> Schedule:
-    """The pressures of m as a `Schedule` starting at t[0], in segments of whole sampling
-    intervals: sample k's pressure over (t[k-1], t[k]], consecutive equal pressures merged."""
+    """The pressures of m as a `Schedule` (its voltages as `Voltages`) starting at t[0], in
+    segments of whole sampling intervals: sample k's command over (t[k-1], t[k]], consecutive
+    equal commands merged."""
     steps = np.diff(g.index)
     durations, levels = [], []
     for k in range(1, m.t.size):
@@ -106,4 +119,5 @@ def schedule(m: Measurement, g: Grid) -> Schedule:
         else:
             durations.append(int(steps[k - 1]))
             levels.append(m.pressure[k])
-    return Schedule(np.array(durations, float) * g.h, np.array(levels)[None])
+    kind = Voltages if m.command == "voltage" else Schedule
+    return kind(np.array(durations, float) * g.h, np.array(levels)[None])

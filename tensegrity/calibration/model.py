@@ -7,6 +7,12 @@ start), the initial state (`initial.INITIAL_NAMES`, if fitted) and the frame's t
 (`initial.FRAME_NAMES`, grounded mode, if fitted). The residual is simulated minus measured node
 coordinate (m, world frame) of every sample and every node that was measured (a node with a NaN
 coordinate left out of that sample); sample 0 is the initial state's own nodes.
+
+A run driven in volts (`Measurement.command` 'voltage') is replayed with the twisted strings
+(`twisted.TwistedString`, docs/design.md §10), whose fields are fitted by their configuration
+keys `actuator.twisted_string.<field>` (`ACTUATOR_FITTABLE`); the muscles' fields (eq. 1-2) then
+have no effect. Its motors start untwisted and at rest (theta = omega = 0): the motor angles are
+not measured, and a run must start from the strings' zero twist (where every cable carries T0).
 """
 
 from __future__ import annotations
@@ -15,19 +21,26 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from ..physics import actuator
 from ..physics import dynamics as d
 from ..physics.params import Params
 from ..physics.schedule import Schedule, whole_steps
 from ..physics.terrain import Terrain
+from ..physics.twisted import TwistedString
 from . import initial
 from .measurement import Grid, Measurement, grid, schedule
 
-__all__ = ["Problem", "problem", "FITTABLE", "UNIT"]
+__all__ = ["Problem", "problem", "FITTABLE", "ACTUATOR", "ACTUATOR_FITTABLE", "UNIT"]
 
 MODES = ("free", "grounded")
 # Params fields a calibration may fit, and those that do nothing in the free mode (no ground)
 FITTABLE = tuple(f.name for f in fields(Params) if f.name not in ("cable_rest_length", "max_speed"))
 _GROUND_ONLY = ("gravity", "ground_stiffness", "ground_damping", "friction", "friction_stiffness", "friction_damping")
+# the twisted strings' fields by their configuration keys, and the muscles' Params fields, which
+# a run in volts does not use (the strings' law replaces eq. 1-2)
+ACTUATOR = "actuator.twisted_string."
+ACTUATOR_FITTABLE = tuple(ACTUATOR + f.name for f in fields(TwistedString))
+_MUSCLE_ONLY = (*actuator.NAMES, "cable_pretension")
 # scaled unit of each unknown of the initial state and the frame: m, rad, m/s, rad/s per unit
 UNIT = {"x": 1e-2, "y": 1e-2, "z": 1e-2, "tilt_a": 1e-2, "tilt_b": 1e-2}
 UNIT |= {"vx": 1e-2, "vy": 1e-2, "vz": 1e-2, "wa": 1e-1, "wb": 1e-1}
@@ -40,7 +53,8 @@ class Problem:
     sample with time step dt s recorded every `every` steps, in `mode` on `terrain`; the start
     parameters `params` (gravity 0 in the free mode); the unknowns `names` with scaled units
     `units` (value = x * unit) and start x0; the first-guess frame (R, o) and the robot's first
-    centroid `centre` (m, world); `mask` (T, 12, 3): which coordinates were measured."""
+    centroid `centre` (m, world); `mask` (T, 12, 3): which coordinates were measured; `motors`
+    the twisted strings a run in volts is replayed with (None: the pneumatic muscles)."""
 
     m: Measurement
     g: Grid
@@ -58,6 +72,7 @@ class Problem:
     o: np.ndarray
     centre: np.ndarray
     mask: np.ndarray
+    motors: TwistedString | None = None
 
     @property
     def n_params(self) -> int:
@@ -78,33 +93,65 @@ class Problem:
         R, o = self.frame(x)
         return self.m.nodes @ R.T + o
 
+    def _frames(self, X: np.ndarray) -> list[np.ndarray]:
+        """The rows of X (B, p) grouped by their frame (most vectors share one: the frame's
+        unknowns are 3 of them), as index arrays."""
+        F = np.atleast_2d(X)[:, len(self.names) - 3 :] if self.names[-1] == initial.FRAME_NAMES[-1] else None
+        if F is None:
+            return [np.arange(len(np.atleast_2d(X)))]
+        _, inv = np.unique(F, axis=0, return_inverse=True)
+        return [np.flatnonzero(inv.ravel() == j) for j in range(int(inv.max()) + 1)]
+
     def state(self, X: np.ndarray) -> d.State:
         """The initial states of vectors X (B, p): the first sample in each one's frame, fitted
         strut by strut, then changed by its initial-state unknowns."""
+        X = np.atleast_2d(X)
         n, k = self.n_params, len(initial.INITIAL_NAMES)
         fitted = len(self.names) >= n + k and self.names[n] == initial.INITIAL_NAMES[0]
-        out = []
-        for x in np.atleast_2d(X):
-            R, o = self.frame(x)
+        D = self.values(X)[:, n : n + k] if fitted else np.zeros((len(X), k))
+        groups, out = self._frames(X), []
+        for rows in groups:
+            R, o = self.frame(X[rows[0]])
             p = self.m.nodes[:3] @ R.T + o
             u = initial.node_velocities(p, self.g.index[:3], self.g.h)
-            s = initial.state_from(p[0], u)
-            out.append(initial.perturbed(s, self.values(x)[n : n + k] if fitted else np.zeros(k)))
-        return d.State.concat(out)
+            out.append(initial.perturbed(initial.state_from(p[0], u), D[rows]))
+        s = d.State.concat(out)
+        return s if len(groups) == 1 else s.take(np.argsort(np.concatenate(groups), kind="stable"))
 
     def params_of(self, X: np.ndarray) -> Params:
         """The Params of vectors X (B, p): the fitted fields as arrays (B,)."""
         V = self.values(np.atleast_2d(X))
-        return self.params.replace(**{name: V[:, j].copy() for j, name in enumerate(self.fit)})
+        own = {name: V[:, j].copy() for j, name in enumerate(self.fit) if not name.startswith(ACTUATOR)}
+        return self.params.replace(**own)
+
+    def motors_of(self, X: np.ndarray) -> TwistedString | None:
+        """The twisted strings of vectors X (B, p): their fitted fields as arrays (B,)."""
+        if self.motors is None:
+            return None
+        V = self.values(np.atleast_2d(X))
+        own = {name[len(ACTUATOR) :]: V[:, j].copy() for j, name in enumerate(self.fit) if name.startswith(ACTUATOR)}
+        return self.motors.replace(**own)
+
+    def constants(self, theta: np.ndarray) -> np.ndarray:
+        """Every number the simulator reads that the fitted parameters theta (n,) (their own
+        units) set: the packed Params and, for a run in volts, the strings' (T1)-(T5) constants."""
+        n = self.n_params
+        x = np.concatenate([np.asarray(theta, float) / self.units[:n], self.x0[n:]])[None]
+        prm, motors = self.params_of(x), self.motors_of(x)
+        packed = prm.pack(1)[0]
+        return packed if motors is None else np.concatenate([packed, motors.pack(prm, 1, self.dt)[0]])
 
     def simulate(self, X: np.ndarray) -> np.ndarray:
         """Simulated nodes (B, T, 12, 3) m (world) at the measured samples, vectors X (B, p), in
         one batched simulation. Raises SimulationError or ValueError (invalid parameters)."""
         X = np.atleast_2d(X)
         prm, s0 = self.params_of(X), self.state(X)
-        _, tr = d.simulate(prm, s0, self.sched, self.terrain, self.dt, self.every)
-        S = np.broadcast_to(np.asarray(prm.strut_length, float), (len(X),))
-        first = np.stack([d.nodes(s0.x[b], s0.q[b], S[b]) for b in range(len(X))])[:, None]
+        _, tr = d.simulate(prm, s0, self.sched, self.terrain, self.dt, self.every, motors=self.motors_of(X))
+        S = np.asarray(prm.strut_length, float)  # (B,) only if fitted
+        if S.ndim:
+            first = np.stack([d.nodes(s0.x[b], s0.q[b], S[b]) for b in range(len(X))])[:, None]
+        else:
+            first = d.nodes(s0.x, s0.q, S)[:, None]
         rec = tr.nodes(S)[:, self.g.index[1:] - 1]
         return np.concatenate([first, rec], axis=1)
 
@@ -112,7 +159,10 @@ class Problem:
         """Simulated minus measured coordinates (B, N) m, N the measured coordinates."""
         X = np.atleast_2d(X)
         sim = self.simulate(X)
-        return np.stack([(sim[b] - self.measured(x))[self.mask] for b, x in enumerate(X)])
+        out = np.empty((len(X), int(self.mask.sum())))
+        for rows in self._frames(X):  # the measured nodes once per frame
+            out[rows] = (sim[rows] - self.measured(X[rows[0]]))[:, self.mask]
+        return out
 
 
 def problem(
@@ -123,22 +173,23 @@ def problem(
     dt: float,
     fit_initial: bool = True,
     fit_frame: bool = True,
+    motors: TwistedString | None = None,
 ) -> Problem:
-    """The calibration problem of measurement m: fit the Params fields `fit` (start: `params`)
-    in `mode` ('free': no gravity, no ground; 'grounded': flat ground at z = 0), simulating with
-    time step dt s; with the initial state (`fit_initial`) and, grounded, the frame (`fit_frame`)
-    fitted too. ValueError naming a bad field, mode or time step before any simulation."""
+    """The calibration problem of measurement m: fit the Params fields `fit` (start: `params`;
+    with `motors`, a run in volts, also `ACTUATOR_FITTABLE` keys, start: `motors`) in `mode`
+    ('free': no gravity, no ground; 'grounded': flat ground at z = 0), simulating with time step
+    dt s; with the initial state (`fit_initial`) and, grounded, the frame (`fit_frame`) fitted
+    too. ValueError naming a bad field, mode, actuator or time step before any simulation."""
     if mode not in MODES:
         raise ValueError(f"mode {mode!r}: use one of {MODES}")
+    _check_actuator(m, motors)
     if not fit:
         raise ValueError("fit: name at least one parameter")
     for name in fit:
-        if name not in FITTABLE:
-            raise ValueError(f"fit: {name!r} is not a parameter that can be fitted; use some of {', '.join(FITTABLE)}")
-        if mode == "free" and name in _GROUND_ONLY:
-            raise ValueError(f"fit: {name} has no effect in the free mode (no gravity, no ground)")
-        if float(getattr(params, name)) == 0.0:
-            raise ValueError(f"fit: {name} starts at 0; give it a non-zero starting value (--set params.{name}=...)")
+        _check_name(name, mode, motors)
+        if _start(name, params, motors) == 0.0:
+            key = name if name.startswith(ACTUATOR) else f"params.{name}"
+            raise ValueError(f"fit: {name} starts at 0; give it a non-zero starting value (--set {key}=...)")
     if len(set(fit)) != len(fit):
         raise ValueError(f"fit: a parameter is named twice in {', '.join(fit)}")
     g = grid(m.t)
@@ -148,7 +199,7 @@ def problem(
     g = Grid(every * dt, g.index)
     prm, terrain = (params.replace(gravity=0.0), Terrain.none()) if mode == "free" else (params, Terrain.flat())
     names = tuple(fit) + (initial.INITIAL_NAMES if fit_initial else ())
-    units = [float(getattr(params, k)) for k in fit] + [UNIT[n.split("_", 1)[1]] for n in names[len(fit) :]]
+    units = [_start(k, params, motors) for k in fit] + [UNIT[n.split("_", 1)[1]] for n in names[len(fit) :]]
     if mode == "grounded":
         R, o = initial.level_frame(m.nodes[0], float(params.strut_radius))
         if fit_frame:
@@ -161,5 +212,59 @@ def problem(
     mask = np.repeat(np.isfinite(m.nodes).all(axis=-1, keepdims=True), 3, axis=-1)
     centre = (m.nodes[0] @ R.T + o).mean(axis=0)
     return Problem(
-        m, g, schedule(m, g), dt, every, mode, terrain, prm, tuple(fit), names, np.array(units), x0, R, o, centre, mask
+        m,
+        g,
+        schedule(m, g),
+        dt,
+        every,
+        mode,
+        terrain,
+        prm,
+        tuple(fit),
+        names,
+        np.array(units),
+        x0,
+        R,
+        o,
+        centre,
+        mask,
+        motors,
     )
+
+
+def _start(name: str, params: Params, motors: TwistedString | None) -> float:
+    """The starting value of the fitted `name` (a Params field or an actuator key)."""
+    if name.startswith(ACTUATOR):
+        return float(np.asarray(getattr(motors, name[len(ACTUATOR) :])))
+    return float(np.asarray(getattr(params, name)))
+
+
+def _check_actuator(m: Measurement, motors: TwistedString | None) -> None:
+    """A run in volts is replayed with twisted strings, a run in MPa with the muscles."""
+    if m.command == "voltage" and motors is None:
+        raise ValueError(
+            f"{m.source or 'the measurement'} is driven in volts: it is replayed with the prototype's twisted "
+            "strings; give motors (the actuator.twisted_string section)"
+        )
+    if m.command == "pressure" and motors is not None:
+        raise ValueError(
+            f"{m.source or 'the measurement'} is driven by pressures (MPa): it is replayed with the pneumatic "
+            "muscles, not the twisted strings; give no motors, or a run in volts (voltage_cmd, v1 .. v12)"
+        )
+
+
+def _check_name(name: str, mode: str, motors: TwistedString | None) -> None:
+    """ValueError if `name` cannot be fitted, or has no effect, in this mode and actuator."""
+    fittable = FITTABLE + (ACTUATOR_FITTABLE if motors is not None else ())
+    if name not in fittable:
+        hint = "" if motors is not None or name not in ACTUATOR_FITTABLE else " (a run driven by pressures)"
+        raise ValueError(
+            f"fit: {name!r} is not a parameter that can be fitted{hint}; use some of {', '.join(fittable)}"
+        )
+    if mode == "free" and name in _GROUND_ONLY:
+        raise ValueError(f"fit: {name} has no effect in the free mode (no gravity, no ground)")
+    if motors is not None and name in _MUSCLE_ONLY:
+        raise ValueError(
+            f"fit: {name} has no effect in a run driven in volts (the twisted strings replace the muscles' "
+            f"eq. 1-2); fit their keys: {', '.join(ACTUATOR_FITTABLE)}"
+        )

@@ -1,6 +1,6 @@
 """Measurements made by our own simulator, for tests, benchmarks and examples: a robot standing
-on a face, driven by pressure steps, sampled at a rate with Gaussian noise on every coordinate,
-in a frame that may be turned and shifted."""
+on a face, driven by pressure steps (or voltage steps of the twisted strings), sampled at a rate
+with Gaussian noise on every coordinate, in a frame that may be turned and shifted."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
+from ..physics.twisted import TwistedString, Voltages
 from .measurement import Measurement
 
 __all__ = ["excitation", "measure"]
@@ -46,20 +47,24 @@ def measure(
     seed: int = 0,
     rotation: np.ndarray | None = None,
     offset: ArrayLike = (0.0, 0.0, 0.0),
+    motors: TwistedString | None = None,
 ) -> Measurement:
     """The robot standing on `face`, driven by `steps` (K, 12) MPa each held `hold` s, in `mode`
     ('free' or 'grounded' on flat ground), simulated with time step dt s and sampled at `rate` Hz
     from t = 0 (the state at rest) with Gaussian noise of `noise` m on every coordinate (seeded),
-    seen in a frame where measured = rotation^T (world - offset)."""
+    seen in a frame where measured = rotation^T (world - offset). With `motors` the robot has the
+    twisted strings (untwisted at t = 0) and `steps` are pair voltages in V."""
     prm, terrain = (params.replace(gravity=0.0), Terrain.none()) if mode == "free" else (params, Terrain.flat())
     every = int(round(1 / (rate * dt)))
     state = d.stand_on(prm, face, terrain)
-    sched = Schedule(np.full(len(steps), hold), np.asarray(steps, float)[None])
-    _, tr = d.simulate(prm, state, sched, terrain, dt, every)
+    kind = Schedule if motors is None else Voltages
+    sched = kind(np.full(len(steps), hold), np.asarray(steps, float)[None])
+    _, tr = d.simulate(prm, state, sched, terrain, dt, every, motors=motors)
     p = np.concatenate([d.nodes(state.x, state.q, prm.strut_length), tr.nodes(prm.strut_length)[0]])
     u = np.concatenate([np.zeros((1, topo.N_PAIRS)), tr.pressure[0]])
     t = np.concatenate([[0.0], tr.t])
     R = np.eye(3) if rotation is None else np.asarray(rotation, float)
     p = (p - np.asarray(offset, float)) @ R
     p = p + np.random.default_rng(seed).normal(0.0, noise, p.shape) if noise > 0 else p
-    return Measurement(t, p, u, mode, f"simulated ({mode}, {rate:g} Hz, noise {noise * 1e3:g} mm, seed {seed})")
+    source = f"simulated ({mode}, {rate:g} Hz, noise {noise * 1e3:g} mm, seed {seed})"
+    return Measurement(t, p, u, mode, source, "pressure" if motors is None else "voltage")

@@ -10,15 +10,19 @@ import numpy as np
 def cmd_calibrate(args: argparse.Namespace) -> int:
     """Fit named `params` keys to a measured trajectory (a run file of `tensegrity simulate
     --out`, or a motion-capture CSV: time_s, n1_x .. n12_z in m, p1 .. p12 in MPa); the other
-    parameters come from the configuration (--config, --set). Writes a YAML with a `params:`
-    section that --config and `snakemake --configfile` accept, and with --report a netCDF of
-    estimates, 95 % intervals, correlations and residuals, and its figure (same name, .png)."""
+    parameters come from the configuration (--config, --set). A run of the twisted strings is
+    driven in volts (voltage_cmd, or v1 .. v12 in V) and replayed with the actuator.twisted_string
+    section; its keys are fitted by their configuration names, actuator.twisted_string.<key>.
+    Writes a YAML with a `params:` section (and `actuator.twisted_string` for a run in volts) that --config and
+    `snakemake --configfile` accept, and with --report a netCDF of estimates, 95 % intervals,
+    correlations and residuals, and its figure (same name, .png)."""
     from ..io import datasets
     from ..stages.calibrate import calibrate, parse_fit
     from . import args as cli_args
 
+    cfg = cli_args.stage_cfg(args, "calibrate")  # with actuator.twisted_string: a run in volts
     out = calibrate(
-        cli_args.stage_cfg(args, "calibrate"),
+        cfg,
         args.measured,
         parse_fit(args.fit),
         args.out,
@@ -56,7 +60,11 @@ def add_parser(sub: argparse._SubParsersAction, common: argparse.ArgumentParser)
         "calibrate", parents=[common], help="fit parameters to a measured trajectory", description=cmd_calibrate.__doc__
     )
     p.add_argument("measured", help="run file (tensegrity simulate --out) or motion-capture CSV")
-    p.add_argument("--fit", required=True, help="params keys to fit, e.g. cable_stiffness,cable_damping")
+    p.add_argument(
+        "--fit",
+        required=True,
+        help="params keys to fit, e.g. cable_stiffness,cable_damping; a run in volts: actuator.twisted_string.<key>",
+    )
     p.add_argument("--out", required=True, help="calibrated configuration to write (YAML, a params: section)")
     p.add_argument("--report", help="report to write (netCDF) and its figure beside it (.png)")
     p.add_argument("--mode", choices=["free", "grounded"], help="default: the file's attribute mode")

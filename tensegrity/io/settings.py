@@ -25,7 +25,7 @@ from ..workspace.sweep import SweepSetup
 from ..workspace.two_pair import TwoPairSetup
 from .config import params_from_config
 
-__all__ = ["KEYS", "build", "params", "motors", "prototype_motors"]
+__all__ = ["KEYS", "build", "params", "motors", "twisted_strings"]
 
 T = TypeVar("T")
 
@@ -89,7 +89,11 @@ def motors(cfg: Mapping) -> TwistedString | None:
     return TwistedString.from_dict(dict(cfg["actuator"].get("twisted_string", {})))
 
 
-def prototype_motors(cfg: Mapping) -> TwistedString:
-    """The prototype's twisted-string actuators from `actuator.twisted_string` whatever
-    `actuator.kind` (the experiment of validation check 8 runs the prototype; docs/design.md §10)."""
-    return TwistedString.from_dict(dict(value(cfg, "actuator.twisted_string")))
+def twisted_strings(cfg: Mapping) -> TwistedString:
+    """The twisted strings of the `actuator.twisted_string` section of `cfg`, whatever
+    actuator.kind says: `tensegrity calibrate` replays a run driven in volts with them, and the
+    experiment of validation check 8 runs the prototype with them (docs/design.md §10).
+    KeyError naming the section if `cfg` lacks it."""
+    if "actuator" not in cfg:
+        raise KeyError("config section actuator is needed here (a run driven in volts) but was not given")
+    return TwistedString.from_dict(dict(cfg["actuator"].get("twisted_string", {})))

@@ -30,9 +30,10 @@ def calibrate(
     frame: str = "fit",
     check: float = 0.25,
 ) -> list[Path]:
-    """Stage `calibrate`: fit the `params` keys `fit` ('a,b,c' or a list) to the measured
-    trajectory `measured` (a run file or a motion-capture CSV) in `mode` ('free', 'grounded';
-    default the file's attribute `mode`), the other parameters and sim.dt from `cfg`; the initial
+    """Stage `calibrate`: fit the `params` keys `fit` ('a,b,c' or a list; for a run driven in
+    volts, replayed with the `actuator.twisted_string` section, its keys `actuator.twisted_string.<key>`)
+    to the measured trajectory `measured` (a run file or a motion-capture CSV) in `mode` ('free',
+    'grounded'; default the file's attribute `mode`), the other parameters and sim.dt from `cfg`; the initial
     state fitted too (`initial` 'fit') or taken from the first samples ('data'), the grounded
     frame's tilt and height fitted ('fit') or levelled from the first sample ('data'); a prediction
     check on the last `check` of the samples (0: none). Writes the calibrated configuration
@@ -48,10 +49,13 @@ def calibrate(
     params = settings.params(cfg)
     dt = float(settings.value(cfg, "sim.dt"))
     m = read_measured(measured)
+    # the measurement says the actuator: a run in volts has the twisted strings (actuator.kind,
+    # which the commands keep at pneumatic, is not read)
+    motors = settings.twisted_strings(cfg) if m.command == "voltage" else None
     mode = mode or m.mode
     if not mode:
         raise ValueError(f"{measured}: the file does not say its mode; give --mode free or --mode grounded")
-    c = fit_model(m, params, names, mode, dt, initial == "fit", frame == "fit", check)
+    c = fit_model(m, params, names, mode, dt, initial == "fit", frame == "fit", check, motors)
     header = (
         f"calibrated by tensegrity calibrate from {measured} ({mode} mode)\n"
         f"fitted: {', '.join(names)}; residual RMS {c.rms_mm:.3g} mm\n"

@@ -185,7 +185,7 @@ STAGES: dict[str, Stage] = {
     "study_merge": Stage("study:study_merge", "study_merge", DATA, ()),
     "study_analyse": Stage("study:study_analyse", "study_analyse", DATA, ()),
     "simulate": Stage("simulate:simulate", "", SIMULATION, (*_SIM, "sim.record_every")),
-    "calibrate": Stage("calibrate:calibrate", "", SIMULATION, _SIM),
+    "calibrate": Stage("calibrate:calibrate", "", SIMULATION, (*_SIM, "actuator.twisted_string")),
 }
 
 

@@ -25,7 +25,7 @@ def validate_prototype(cfg: dict, nc_path: str | os.PathLike) -> Path:
     from ..validation.prototype_check import check_prototype, prototype_verdicts
 
     s = settings.build(pt.ExperimentSettings, cfg)
-    params, motors = settings.params(cfg), settings.prototype_motors(cfg)
+    params, motors = settings.params(cfg), settings.twisted_strings(cfg)
     protocol = s.protocol(float(settings.value(cfg, "sim.dt")))
     e, trace = pt.experiment_trace(params, motors, protocol, rounds=s.rounds, points=s.points)
     for row in prototype_verdicts(check_prototype(pf.steps(e, s.rounds > 0))):

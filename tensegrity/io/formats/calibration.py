@@ -10,6 +10,7 @@ import xarray as xr
 import yaml
 
 from ...calibration.fit import Calibration
+from ...calibration.model import ACTUATOR
 from ...physics import topology as topo
 from .. import datasets
 
@@ -33,6 +34,26 @@ UNITS = {
     "friction_stiffness": "N m-1",
     "friction_damping": "N s m-1",
     "strut_damping": "s-1",
+}
+# and of the twisted strings' keys (a run in volts; physics/twisted.py, config/README.md)
+UNITS |= {
+    ACTUATOR + k: u
+    for k, u in {
+        "rated_voltage": "V",
+        "stall_torque": "N m",
+        "stall_current": "A",
+        "no_load_speed": "rad s-1",
+        "no_load_current": "A",
+        "gear_ratio": "1",
+        "rotor_inertia": "kg m2",
+        "viscous_friction": "N m s rad-1",
+        "string_length": "m",
+        "string_radius": "m",
+        "spring_stiffness": "N m-1",
+        "fibre_stiffness": "N m-1",
+        "pretension": "N",
+        "damping": "N s m-1",
+    }.items()
 }
 _STATS = ("standard_error", "lower_95", "upper_95", "check_estimate")
 CALIBRATION_ALLOW_NAN = ("measured", "residual", "relative_error", "correlation") + tuple(
@@ -108,15 +129,19 @@ def calibration_dataset(c: Calibration) -> xr.Dataset:
 def calibrated_yaml(c: Calibration, header: str) -> str:
     """The calibrated configuration: a `params:` section (every field of the configuration's
     section, the fitted ones calibrated) after the comment lines `header`, for `--config FILE`
-    and `snakemake --configfile FILE`. Parameters the data could not determine keep a comment."""
+    and `snakemake --configfile FILE`; for a run in volts also `actuator.twisted_string` (every
+    key of the strings, the fitted ones calibrated; actuator.kind is left to the configuration,
+    which the commands keep at pneumatic). Parameters the data could not determine keep a comment."""
     from ..config import validate
 
-    section = validate({})["params"]
-    base = c.base
+    section, params = validate({})["params"], c.params
     for k in section:
-        section[k] = float(getattr(base, k))
-    for k, v in zip(c.names, c.estimate, strict=True):
-        section[k] = float(v)
+        section[k] = float(getattr(params, k))
+    out = {"params": section}
+    motors = c.motors
+    if motors is not None:
+        strings = {k: float(getattr(motors, k)) for k in validate({})["actuator"]["twisted_string"]}
+        out["actuator"] = {"twisted_string": strings}
     lines = [f"# {h}" for h in header.splitlines()]
     lines += [f"# not determined by the measurement: {u}" for u in c.unc.undetermined]
-    return "\n".join(lines) + "\n" + yaml.safe_dump({"params": section}, sort_keys=False)
+    return "\n".join(lines) + "\n" + yaml.safe_dump(out, sort_keys=False)
