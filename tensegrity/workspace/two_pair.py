@@ -38,8 +38,8 @@ class TwoPairSetup:
     defaults are the schema's `two_pair` and `sim` defaults (pinned by tests/io/test_settings.py)."""
 
     levels: tuple[float, ...] = (0.8, 1.6, 2.4, 3.2, 4.0, 4.8)
-    hold: float = 1.0
-    discard: float = 0.2
+    hold: float = 2.0
+    discard: float = 0.5
     record_every: int = 50
     dt: float = 1e-4
 
