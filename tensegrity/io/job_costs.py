@@ -5,7 +5,7 @@ a limit would fail (out of memory) or run for days only after Snakemake deleted 
 `io.study_config` a study whose chunk job is, naming the key that costs most (`over_limit`).
 
 The limits, for one job: MEMORY_LIMIT, 8 GiB of recorded samples (the rules ask for 1-2 GB, a
-laptop has 8-16 GiB; the default pipeline's largest job holds 0.4 GiB); STEP_LIMIT, 1e11
+laptop has 8-16 GiB; the default pipeline's largest job holds 0.8 GiB); STEP_LIMIT, 1e11
 robot-steps (time steps of one robot: about 10 h on one core at the 3-5 M robot-steps per second
 the simulator makes, 1000 times the default pipeline's largest job, the gravity-aware workspace).
 

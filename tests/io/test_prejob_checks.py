@@ -64,13 +64,13 @@ def test_a_job_over_the_cost_limits_is_refused_naming_the_key(over, key, words):
 
 
 def test_the_default_jobs_are_far_within_the_limits():
-    """As config/README.md says: the two-pair job holds the most samples (0.4 GiB), the gravity
+    """As config/README.md says: the two-pair job holds the most samples (0.8 GiB), the gravity
     job simulates the most steps (9e7), 1000 times less than the limit."""
     cfg = config.defaults()
     costs = {e.__name__: e(cfg) for e in (job_costs.sweep, job_costs.two_pair, job_costs.gravity)}
     assert all(c.burden() < 0.1 for c in costs.values())
     assert max(costs, key=lambda k: costs[k].memory) == "two_pair"
-    assert job_costs._size(costs["two_pair"].memory) == "401 MiB"
+    assert job_costs._size(costs["two_pair"].memory) == "802 MiB"
     assert max(costs, key=lambda k: costs[k].steps) == "gravity"
     assert f"{costs['gravity'].steps:.0e}" == "9e+07" and job_costs.STEP_LIMIT / costs["gravity"].steps > 1000
     assert job_costs._size(job_costs.MEMORY_LIMIT) == "8 GiB"

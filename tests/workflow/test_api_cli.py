@@ -91,7 +91,7 @@ def test_stage_files_carry_the_keys_their_stage_reads(small_results):
     over its inputs' (the curves: fit.*, nominal.discard, the sweep's keys; no validate section)."""
     cfg = datasets.provenance_config(small_results / "curves" / "equilateral.nc")
     assert set(cfg) == {"params", "sim", "sweep", "nominal", "fit"}
-    assert set(cfg["sim"]) == {"dt", "record_every"} and set(cfg["nominal"]) == {"discard"}
+    assert set(cfg["sim"]) == {"dt", "record_every"} and set(cfg["nominal"]) == {"discard", "method"}
     assert cfg["sweep"]["levels"] == [1.2, 2.4, 3.6, 4.8] and "contacts" not in cfg["sweep"]
 
 

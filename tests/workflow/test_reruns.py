@@ -39,7 +39,6 @@ EDITS = {
     "prototype.settle": 3.0,
     "prototype.rounds": 2,
     "prototype.points": 3,
-    "actuator.twisted_string": {"pretension": 21.0},
 }
 SIMULATION_RULES = {st.rule for st in STAGES.values() if st.kind == SIMULATION and st.rule}
 
