@@ -54,8 +54,9 @@ def cog_cloud(
     the figure drew (render.cog_cloud.fig_cog_cloud)."""
     from ..render import cog_cloud as fig6
 
-    if sweep_path is None:
-        return _statics_cloud(datasets.read(nominal_path), out, max_pressure)
+    if sweep_path is None:  # statics: pneumatic only (io.cross_checks)
+        top = paper.FIG6_MAX_PRESSURE if max_pressure is None else max_pressure
+        return _statics_cloud(datasets.read(nominal_path), out, top)
     sw_ds, nm = datasets.read(sweep_path), datasets.read(nominal_path)
     kind = actuation.kind_of(nm)
     unit = actuation.units(kind)
