@@ -81,11 +81,12 @@ def drive(
                     outcome, message = "stuck", (f"edge {e[0]}-{e[1]} is not an edge of face {topo.face_label(face)}")
                     break
                 target = dict(direction=ct.edge_outward(obs.nodes[topo.FACES[face - 1]])[corners.index(e)])
-                cost = lookahead.over_edge(face, e)
+                cost, now = lookahead.over_edge(face, e), 1.0
             elif direction is None:
                 cost = lambda r, t=travel, h=lift: lookahead.rolls_to_goal(r.cog_after, goal, terrain, t, h)  # noqa: E731
+                now = lookahead.rolls_to_goal(obs.nodes.mean(axis=0), goal, terrain, travel, lift)
             else:
-                cost = lookahead.along(target["direction"], travel)
+                cost, now = lookahead.along(target["direction"], travel), 0.0
             visited = (visited + [face])[-_TABU - 1 :]
             cpu = time.process_time()  # planning CPU: the plan and every roll simulated ahead
             pl = plan(
@@ -113,6 +114,7 @@ def drive(
                     expect,
                     cost,
                     memory,
+                    now,
                 )
             else:  # the workspace's order, tried in the world
                 todo = [(c.pairs, braked) for c in pl.candidates[: s.max_attempts]]

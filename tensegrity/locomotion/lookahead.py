@@ -182,25 +182,28 @@ def choose(
     expect: dict[tuple[int, ...], float],
     cost: Callable[[RollResult], float],
     memory: Memory,
+    now: float = np.inf,
 ) -> tuple[list[Act], tuple[RollResult, ...]]:
     """A run's step: simulate the candidates `todo` in order in batches of growing horizon (the
     first; then up to s.lookahead; then all), stopping at the first batch after which one is
-    acceptable: it rolls onto another face, `lands` (no tumble, no slide) and at a state not in
-    `memory`. Return the s.max_attempts acceptable candidates of least `cost` and every roll
+    acceptable: it rolls onto another face, `lands` (no tumble, no slide), at a state not in
+    `memory`, and makes progress (`cost` below `now`, the cost of staying). Return the
+    s.max_attempts acceptable candidates of least `cost` (if none makes progress, those that
+    are acceptable otherwise: a detour, which the memory keeps from cycling) and every roll
     simulated, in the order simulated. A tumble, a slide or a return is never returned."""
     simulated: list[RollResult] = []
-    ok: list[int] = []
+    fine: list[int] = []
     for k in (1, s.lookahead, len(todo)):
         if k <= len(simulated):
             continue
         simulated += foresee(params, terrain, s, obs, todo[len(simulated) : k], max_pressure, brake, expect)
-        ok = [
+        fine = [
             i for i, r in enumerate(simulated) if r.rolled and lands(r) and not memory.seen(r.face_after, r.cog_after)
         ]
-        if ok:
+        if any(cost(simulated[i]) < now for i in fine):
             break
-    ok.sort(key=lambda i: (round(cost(simulated[i]), 9), i))
-    return [todo[i] for i in ok[: s.max_attempts]], tuple(simulated)
+    fine.sort(key=lambda i: (round(cost(simulated[i]), 9), i))
+    return [todo[i] for i in fine[: s.max_attempts]], tuple(simulated)
 
 
 def over_edge(face: int, edge: tuple[int, int]) -> Callable[[RollResult], float]:

@@ -102,7 +102,8 @@ def test_rolls_to_goal_counts_height_lost_by_the_lift():
 def test_choose_widens_the_horizon_only_while_nothing_is_acceptable(ws, monkeypatch):
     """The first candidate alone, then up to `lookahead`, then all: a tumble (no face), a slide
     (CoG moved > SLIDE m), a roll that does not roll and a return to a state in memory are never
-    chosen; the rest come least cost first."""
+    chosen, and the horizon widens while none makes progress (costs less than staying); the rest
+    come least cost first."""
     batches = []
     plans = {}
 
@@ -136,6 +137,10 @@ def test_choose_widens_the_horizon_only_while_nothing_is_acceptable(ws, monkeypa
     batches.clear()
     chosen, simulated = lookahead.choose(DAMPED, Terrain.flat(), s, obs, todo[4:], 4.8, None, {}, cost, mem)
     assert [len(b) for b in batches] == [1] and chosen == [((5,), True)]
+    # the same, but staying costs 9 rolls: (5,) (9.25) makes no progress, (6,) (8.75) does
+    batches.clear()
+    chosen, simulated = lookahead.choose(DAMPED, Terrain.flat(), s, obs, todo[4:], 4.8, None, {}, cost, mem, 9.0)
+    assert [len(b) for b in batches] == [1, 2] and chosen == [((6,), True), ((5,), True)]
     with pytest.raises(ValueError, match="no state"):
         monkeypatch.undo()
         lookahead.foresee(DAMPED, Terrain.flat(), s, obs, [((1,), False)], 4.8, None, {})
