@@ -22,11 +22,11 @@ DAMPED = Params(strut_damping=1.0)
 
 
 def test_the_roll_made_is_the_least_cost_roll_foreseen(ws):
-    """On a 20 deg slope, the first step's roll ends exactly as its simulation did (the same
+    """On a 15 deg slope, the first step's roll ends exactly as its simulation did (the same
     face, CoG, times and peak pressure), and it is the acceptable simulated roll needing the
     fewest rolls to the goal (`rolls_to_goal` by the robot's own `stride`)."""
     s = lo.RollSettings(lookahead=4, max_attempts=1, max_rolls=1)
-    slope = Terrain.slope(20.0)
+    slope = Terrain.slope(15.0)
     run = lo.roll_to(ws, (0.0, -2.0), DAMPED, slope, settings=s)
     step = run.steps[0]
     assert step.simulated and len(step.attempts) == 1
