@@ -157,7 +157,7 @@ def main() -> None:
         state = d.State.concat([place(params, f, terrain, (0.0, 0.0), h, len(actions)) for _, f, h in poses])
 
         def ctl(b, obs, terrain=terrain):
-            brake = Brake(ws, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None
+            brake = Brake(ws, s.brake_margin) if s.brake else None
             face, obs = yield from settle_controller(s, obs, brake)
             if face is None:
                 return "fell", None

@@ -7,7 +7,8 @@ inside the support triangle, chosen as the robot lands (from its pose rotated on
 `contact.roll_over`) so that it is on before the robot can tumble on. It keeps a robot standing on a
 20 deg slope where it tumbles off without, and with a slow release of the rolling pressure
 (`brake_release_time`) it keeps most rolls on 15 deg slopes under control; not yet on 20 deg
-(benchmarks/bench_locomotion.py). It acts only on even inclines (`Brake.active`).
+(benchmarks/bench_locomotion.py). It acts only where the unbraked robot is predicted not to stand
+on its face or on a face it can roll onto (`Brake.active`), whatever the ground.
 `escape` orders the actions not yet tried on a face where the planned candidates all failed
 ("stuck"): those predicted to roll toward the target first, then the others.
 """
@@ -20,11 +21,10 @@ import numpy as np
 
 from ..physics import contact as ct
 from ..physics import topology as topo
-from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace, predict
 from .plan import candidates, direction_of
 
-__all__ = ["Brake", "hold", "escape", "on_incline"]
+__all__ = ["Brake", "hold", "escape"]
 
 
 def _actions(workspace: Workspace, face: int, combos: bool) -> list[tuple[int, ...]]:
@@ -55,42 +55,33 @@ def hold(workspace: Workspace, face: int, nodes: np.ndarray, margin: float) -> n
     return out
 
 
-def on_incline(terrain: Terrain, face: int, nodes: np.ndarray, min_tilt: float) -> bool:
-    """The ground under 1-based `face` of the robot `nodes` (12, 3) m is one plane tilted by at
-    least `min_tilt` deg (`Terrain.incline`; uneven ground is not)."""
-    p = np.asarray(nodes)[topo.FACES[face - 1]]
-    return bool(terrain.incline(p[:, 0], p[:, 1]) >= min_tilt)  # NaN: uneven
-
-
 class Brake:
     """The braking policy of a run: `for_face(face, nodes)` returns the pressures (12,) MPa of
     `hold` on `face`, chosen once per visit of a face (a new face, a new choice) so that the
-    actuation does not chatter while the robot settles. Given the `terrain`, it brakes only
-    where the ground under the face is an even incline of at least `min_tilt` deg (`active`):
-    on rough ground the workspace's planar prediction misleads the brake, which then throws the
-    robot more often than it holds it (benchmarks/bench_locomotion.py, config/README.md)."""
+    actuation does not chatter while the robot settles. A roll is braked only where the brake
+    acts (`active`); elsewhere it is the unbraked roll (`control.roll_controller`)."""
 
-    def __init__(
-        self,
-        workspace: Workspace,
-        margin: float,
-        confirm: int = 3,
-        terrain: Terrain | None = None,
-        min_tilt: float = 0.0,
-    ):
+    def __init__(self, workspace: Workspace, margin: float, confirm: int = 3):
         self.workspace, self.margin, self.confirm = workspace, float(margin), int(confirm)
-        self.terrain, self.min_tilt = terrain, float(min_tilt)
         self._face, self._p, self._seen = None, np.zeros(topo.N_PAIRS), (None, 0)
 
     def active(self, face: int, nodes: np.ndarray) -> bool:
-        """Braking applies to the robot `nodes` (12, 3) m on 1-based `face`: everywhere without
-        a terrain, else where the ground under the face's nodes is one plane tilted by at least
-        min_tilt deg (`Terrain.incline`)."""
-        return self.terrain is None or on_incline(self.terrain, face, nodes, self.min_tilt)
+        """The unbraked robot `nodes` (12, 3) m is predicted not to stand on 1-based `face` or on
+        a face across one of its edges (posed as it lands there, `contact.roll_over`): `hold`
+        would brake it there (its CoG projection predicted less than `margin` inside)."""
+        if hold(self.workspace, face, nodes, self.margin).any():
+            return True
+        for k in range(3):
+            nxt, posed = ct.roll_over(nodes, face, topo.edge_nodes(face, k))
+            if hold(self.workspace, nxt, posed, self.margin).any():
+                return True
+        return False
+
+    def forget(self) -> None:
+        """Drop the braced face (after a roll made without this brake): the next face is taken at once."""
+        self._face, self._seen = None, (None, 0)
 
     def _hold(self, face: int, nodes: np.ndarray) -> np.ndarray:
-        if not self.active(face, nodes):
-            return np.zeros(topo.N_PAIRS)
         return hold(self.workspace, face, nodes, self.margin)
 
     def for_face(self, face: int | None, nodes: np.ndarray) -> np.ndarray:

@@ -1,11 +1,11 @@
 """The controller of one run (paper III.C, repeated; docs/design.md §6), one robot of a `lockstep`
 batch: `drive` settles the robot, then finds its contact face, plans from the workspace (`plan`),
-rolls in the simulator (`control.roll_controller`) and repeats, toward a goal or over given edges,
-until the run ends with one of `outcome.OUTCOMES`; it returns the outcome, its message and the
-`Step`s. A candidate that does not roll the robot is followed by the next; rolls are foreseen in
-simulation (`lookahead`) on an incline before the first try and on uneven ground after a failed
-one, a switchback leads up a steep slope, and the escape actions (`brake.escape`) come once the
-candidates are spent. `runs` checks the arguments and runs it.
+simulates candidate rolls from the robot's state and picks the one with the best simulated outcome
+(`lookahead.choose`, on every ground), rolls in the simulator (`control.roll_controller`) and
+repeats, toward a goal or over given edges, until the run ends with one of `outcome.OUTCOMES`; it
+returns the outcome, its message and the `Step`s. With lookahead 0 the plan's candidates are tried
+in the world instead, then the escape actions (`brake.escape`). `runs` checks the arguments and
+runs it.
 """
 
 from __future__ import annotations
@@ -22,14 +22,14 @@ from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace
 from . import lookahead
-from .brake import Brake, escape, on_incline
+from .brake import Brake, escape
 from .control import RollResult, roll_controller, settle_controller
 from .lockstep import Controller, Obs
 from .outcome import Step
 from .plan import plan
 from .settings import RollSettings
 
-_TABU = 4  # a run avoids rolling back onto the faces of its last four steps
+_TABU = 4  # the plan ranks rolls back onto the faces of the last four steps after the others
 
 
 def drive(
@@ -47,19 +47,10 @@ def drive(
     steps: list[Step] = []
     visited: list[int] = []
     outcome, message = "step_limit", f"step limit of {s.max_rolls} rolls reached"
-    brk = Brake(workspace, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None
-    turn = None  # the turning point of a switchback up a steep incline (lookahead.switchback)
+    brk = Brake(workspace, s.brake_margin) if s.brake else None
+    memory: lookahead.Memory | None = None
     try:
         face, obs = yield from settle_controller(s, obs, brk)
-        if (
-            goal is not None
-            and direction is None
-            and s.lookahead
-            and face is not None
-            and on_incline(terrain, face, obs.nodes, s.lookahead_tilt)
-        ):
-            turn = lookahead.switchback(terrain, obs.nodes.mean(axis=0), goal)
-        via = turn  # while the run heads for the turning point
         for k in range(s.max_rolls + 1):
             if face is None:
                 outcome, message = (
@@ -79,12 +70,10 @@ def drive(
                 break
             if k == s.max_rolls:
                 break
-            if via is not None:  # reached (or passed above) the turning point: on to the goal
-                c = obs.nodes.mean(axis=0)
-                if np.linalg.norm(c[:2] - via[:2]) <= s.arrive_tolerance or terrain.height(c[0], c[1]) >= via[2]:
-                    via = None
-            aim = goal if via is None else via
-            target = dict(goal=aim) if direction is None else dict(direction=direction)
+            target = dict(goal=goal) if direction is None else dict(direction=direction)
+            travel, lift = lookahead.stride(obs.nodes, face)
+            memory = memory or lookahead.Memory(travel / 2)
+            memory.add(face, obs.nodes.mean(axis=0))
             if edges is not None:
                 e = tuple(sorted(int(n) for n in edges[k]))
                 corners = [topo.edge_nodes(face, j) for j in range(3)]
@@ -92,6 +81,12 @@ def drive(
                     outcome, message = "stuck", (f"edge {e[0]}-{e[1]} is not an edge of face {topo.face_label(face)}")
                     break
                 target = dict(direction=ct.edge_outward(obs.nodes[topo.FACES[face - 1]])[corners.index(e)])
+                cost, now = lookahead.over_edge(face, e), 1.0
+            elif direction is None:
+                cost = lambda r, t=travel, h=lift: lookahead.rolls_to_goal(r.cog_after, goal, terrain, t, h)  # noqa: E731
+                now = lookahead.rolls_to_goal(obs.nodes.mean(axis=0), goal, terrain, travel, lift)
+            else:
+                cost, now = lookahead.along(target["direction"], travel), 0.0
             visited = (visited + [face])[-_TABU - 1 :]
             cpu = time.process_time()  # planning CPU: the plan and every roll simulated ahead
             pl = plan(
@@ -104,47 +99,62 @@ def drive(
                 **target,
             )
             tries: list[RollResult] = []
-            todo = [c.pairs for c in pl.candidates[: s.max_attempts]]
             expect = {c.pairs: c.pressure for c in pl.candidates}
             simulated: tuple[RollResult, ...] = ()
-            look = bool(s.lookahead) and goal is not None
-            uneven = not on_incline(terrain, face, obs.nodes, 0.0)
-            incline = look and on_incline(terrain, face, obs.nodes, s.lookahead_tilt)
-            if incline:
+            braked = brk is not None
+            if s.lookahead:
                 todo, simulated = lookahead.choose(
-                    workspace, params, terrain, s, obs, face, pl, set(), aim, brk, target, visited[:-1], incline=True
+                    params,
+                    terrain,
+                    s,
+                    obs,
+                    lookahead.acts(workspace, face, obs.nodes, pl, target, brk),
+                    workspace.max_pressure,
+                    brk,
+                    expect,
+                    cost,
+                    memory,
+                    now,
                 )
+            else:  # the workspace's order, tried in the world
+                todo = [(c.pairs, braked) for c in pl.candidates[: s.max_attempts]]
             cpu = time.process_time() - cpu
             while todo:
-                act = todo.pop(0)
+                act, with_brake = todo.pop(0)
                 res, obs = yield from roll_controller(
-                    params, s, obs, act, workspace.max_pressure, brk, expect.get(act, float("nan"))
+                    params,
+                    s,
+                    obs,
+                    act,
+                    workspace.max_pressure,
+                    brk if with_brake else None,
+                    expect.get(act, float("nan")),
                 )
+                if brk is not None and not with_brake:
+                    brk.forget()
                 tries.append(res)
                 if res.face_after is None or res.rolled:
                     break
-                if look and uneven and not simulated:
-                    # on uneven ground the planned roll failed: foresee the others
-                    c0 = time.process_time()
-                    todo, simulated = lookahead.choose(
-                        workspace, params, terrain, s, obs, face, pl, {r.pairs for r in tries}, aim, brk, target
-                    )
-                    cpu += time.process_time() - c0
-                elif (
+                if (
                     not todo
-                    and not simulated
+                    and not s.lookahead
                     and len(tries) == min(s.max_attempts, len(pl.candidates))
                     and s.escape_attempts
                 ):
                     # stuck: other actions, those predicted to roll toward the target first
-                    todo = escape(workspace, face, obs.nodes, {r.pairs for r in tries}, **target)[: s.escape_attempts]
+                    todo = [
+                        (a, braked)
+                        for a in escape(workspace, face, obs.nodes, {r.pairs for r in tries}, **target)[
+                            : s.escape_attempts
+                        ]
+                    ]
             if not tries:  # nothing tried: no step
                 outcome, message = (
                     "stuck",
                     (
-                        f"every one of the {len(simulated)} actions simulated on face "
-                        f"{topo.face_label(face)} (lookahead) tumbles the robot"
-                        + (f" or slides it more than {lookahead.SLIDE} m" if incline else "")
+                        f"every one of the {len(simulated)} candidate rolls simulated on face "
+                        f"{topo.face_label(face)} tumbles the robot, slides it more than "
+                        f"{lookahead.SLIDE} m, does not roll it, or returns it to where it was"
                     ),
                 )
                 break
@@ -162,8 +172,4 @@ def drive(
     except d.SimulationError as e:
         outcome = "off_terrain" if "no terrain" in str(e) else "sim_error"
         message = str(e)
-    if edges is None and turn is not None:
-        message += (
-            f"; by a switchback: straight uphill toward ({turn[0]:.2f}, {turn[1]:.2f}) m first, then toward the goal"
-        )
     return outcome, message, steps

@@ -1,56 +1,84 @@
-"""Rolls tried in simulation before the robot acts (issue 10 item 3; docs/design.md §6).
+"""The planner's model: every roll is simulated before the robot makes it (issue 30 item 2;
+docs/design.md §6).
 
-On a steep even slope which roll lands under control is a matter of the landing's dynamics,
-which neither workspace predicts (benchmarks/bench_slope_reach.py: on 20 deg a third of the rolls
-that move the robot tumble). `foresee` simulates candidate rolls from the robot's current state
-with the run's own controller (`control.roll_controller`, a copy of its brake), all in one batch, so
-each result is the roll the run would make; `rank` orders them for a goal; `choose` does both
-for a run's step. `switchback` routes a run to a goal across a steep slope: straight uphill
-first (the robot climbs in a two-roll gait, but loses height on most rolls across), then down.
+One method on every ground. The candidate actions of a step come from GENERATORS (every single
+pair in the workspace's order toward the target, then every two-pair combination; another source
+of actions is one more entry), each rolled with the brake (`brake.Brake`, which acts only where
+the unbraked robot is predicted not to stand) and, where that brake acts, also without it.
+`foresee` simulates candidates from the robot's current state with the run's own controller, all
+in one batch, so each result is the roll the run would make. `choose` keeps a roll that lands on
+another face (`lands`: on a face, its CoG moved at most SLIDE m, else a tumble) at a state the run
+has not been at (`Memory`), and ranks those by `rolls_to_goal`, the rolls still needed by the
+robot's own stride and lift (`stride`). The horizon grows by cost alone: the workspace's best
+candidate first, then `lookahead` candidates, then all of them, only while none is acceptable.
 """
 
 from __future__ import annotations
 
 import copy
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..physics import dynamics as d
+from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace
 from .brake import Brake, escape
 from .control import RollResult, roll_controller
 from .lockstep import Obs, lockstep
-from .plan import Plan
+from .plan import Candidate, Plan
 from .settings import RollSettings
 
 __all__ = [
-    "foresee",
-    "moved",
-    "lands",
-    "rank",
-    "choose",
-    "switchback",
-    "CLIMB_COST",
-    "INCLINE_CLIMB_COST",
+    "Act",
+    "GENERATORS",
+    "Memory",
     "SLIDE",
-    "REVISIT_COST",
-    "CLIMB_CONE",
-    "DESCENT_CONE",
+    "acts",
+    "choose",
+    "foresee",
+    "lands",
+    "moved",
+    "rolls_to_goal",
+    "stride",
 ]
 
-CLIMB_COST = 5.0  # m of distance per m of height an end below the goal costs (climbing back is slow)
-INCLINE_CLIMB_COST = 10.0  # the same on an even incline, where height lost is lost for good
-SLIDE = 0.5  # m: on an even incline, a roll that moves the CoG further (horizontally) slid: a tumble
-REVISIT_COST = 0.25  # m, landing on a face of the run's last few steps (a back-and-forth on a slope)
-# On a steep even incline (lookahead_tilt) the robot climbs straight uphill in a two-roll gait and
-# descends under control, but loses height on most rolls across (docs/benchmarks.md, 20 deg): a
-# goal more than CLIMB_CONE deg and less than DESCENT_CONE deg from straight uphill is reached by
-# a switchback, straight uphill first, then down toward the goal (`switchback`).
-CLIMB_CONE = 10.0  # deg from straight uphill: 22.5 deg goals got stuck heading there directly
-DESCENT_CONE = 135.0  # deg from straight uphill: the 135-225 deg goals arrive directly
+SLIDE = 0.5  # m: a roll that moves the CoG further (horizontally) slid: a tumble (issue 30's definition)
+Act = tuple[tuple[int, ...], bool]  # (1-based pairs, braked): one candidate roll
+
+
+def _singles(workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict) -> list[Candidate]:
+    """Every single pair, in the plan's order (predicted to roll toward the target first)."""
+    return [c for c in pl.candidates if len(c.pairs) == 1]
+
+
+def _pairs(workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict) -> list[tuple[int, ...]]:
+    """The plan's own combinations, then every other action in `brake.escape`'s order."""
+    own = [c.pairs for c in pl.candidates if len(c.pairs) > 1]
+    return own + escape(workspace, face, nodes, {c.pairs for c in pl.candidates}, **target)
+
+
+# Sources of candidate actions, tried in this order: f(workspace, face, nodes (12, 3) m, plan,
+# target) -> Candidates or pair tuples (1-based). A new kind of action is one more entry.
+GENERATORS: list[Callable] = [_singles, _pairs]
+
+
+def acts(workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict, brake: Brake | None) -> list[Act]:
+    """The step's candidate rolls in the order to simulate them: every generator's actions,
+    each once, braked (if the run brakes); then, where the brake acts on this face, each unbraked."""
+    seen: list[tuple[int, ...]] = []
+    for gen in GENERATORS:
+        for a in gen(workspace, face, nodes, pl, target):
+            a = a.pairs if isinstance(a, Candidate) else tuple(int(q) for q in a)
+            if a not in seen:
+                seen.append(a)
+    first = [(a, brake is not None) for a in seen]
+    if brake is not None and brake.active(face, nodes):
+        first += [(a, False) for a in seen]
+    return first
 
 
 def foresee(
@@ -58,26 +86,26 @@ def foresee(
     terrain: Terrain,
     s: RollSettings,
     obs: Obs,
-    acts: Sequence[tuple[int, ...]],
+    todo: Sequence[Act],
     max_pressure: float,
     brake: Brake | None,
     expect: dict[tuple[int, ...], float],
 ) -> list[RollResult]:
-    """The rolls (one RollResult per action of `acts`, 1-based pairs) the robot observed in
-    `obs` (with its `state`) would make, each with the run's settings `s`, a copy of `brake` and
-    the planned pressure `expect[act]` MPa (NaN if absent), simulated together from the same
-    state. Raises SimulationError if a simulation blows up."""
+    """The rolls (one RollResult per candidate of `todo`) the robot observed in `obs` (with its
+    `state`) would make, each with the run's settings `s`, a copy of `brake` if braked, and the
+    planned pressure `expect[pairs]` MPa (NaN if absent), simulated together from the same state.
+    Raises SimulationError if a simulation blows up."""
     if obs.state is None:
         raise ValueError("the observation carries no state to simulate from")
-    if not acts:
+    if not todo:
         return []
-    state = d.State.concat([obs.state] * len(acts))
+    state = d.State.concat([obs.state] * len(todo))
 
     def make(b: int, ob: Obs):
         ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy())
-        return roll_controller(
-            params, s, ob, tuple(acts[b]), max_pressure, copy.deepcopy(brake), expect.get(tuple(acts[b]), float("nan"))
-        )
+        pairs, braked = todo[b]
+        brk = copy.deepcopy(brake) if braked else None
+        return roll_controller(params, s, ob, pairs, max_pressure, brk, expect.get(pairs, float("nan")))
 
     return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
 
@@ -87,94 +115,106 @@ def moved(r: RollResult) -> float:
     return float(np.linalg.norm(np.subtract(r.cog_after, r.cog_before)[:2]))
 
 
-def lands(r: RollResult, slide: float = np.inf) -> bool:
+def lands(r: RollResult, slide: float = SLIDE) -> bool:
     """The roll `r` ends on a face, its CoG moved at most `slide` m horizontally (`moved`; more
-    is a slide down an incline, which counts as a tumble)."""
+    is a slide, which counts as a tumble)."""
     return r.face_after is not None and moved(r) <= slide
 
 
-def rank(
-    results: Sequence[RollResult],
-    goal: np.ndarray,
-    terrain: Terrain,
-    avoid: Sequence[int] = (),
-    climb: float = CLIMB_COST,
-    slide: float = np.inf,
-) -> list[int]:
-    """Indices of `results` in the order to try them toward `goal` (3,) m: the rolls that end
-    on another face first, closest to the goal first (horizontal distance, m, plus `climb`
-    (m per m) times the height the CoG's ground point ends below the goal's, plus REVISIT_COST
-    for landing on a face of `avoid`, 1-based); then those that did not roll; those that tumble
-    (end on no face, or slide further than `slide` m: `lands`) last."""
-
-    def key(i: int) -> tuple[int, float]:
-        r = results[i]
-        c = np.asarray(r.cog_after, float)
-        below = max(0.0, float(goal[2] - terrain.height(c[0], c[1])))
-        landed = lands(r, slide)
-        return (
-            0 if r.rolled and landed else 1 if landed else 2,
-            float(np.linalg.norm(c[:2] - goal[:2])) + climb * below + REVISIT_COST * (r.face_after in avoid),
-        )
-
-    return sorted(range(len(results)), key=key)
+def stride(nodes: np.ndarray, face: int) -> tuple[float, float]:
+    """(travel m, lift m) of one roll of the robot `nodes` (12, 3) on 1-based `face`, means over
+    the face's three edges: the CoG's travel 2 r and its rise sqrt(h^2 + r^2) - h as it tips onto
+    the edge, r the distance from the CoG's foot on the face plane to the edge, h its height above
+    that plane. A rigid roll onto a congruent face; the robot's faces differ (two types), so a
+    single roll's travel differs from this by up to ~30 %, its lift by up to ~50 %."""
+    p = np.asarray(nodes, float)
+    tri = p[topo.FACES[face - 1]]
+    c = p.mean(axis=0)
+    n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+    n /= np.linalg.norm(n)
+    h = abs(float((c - tri[0]) @ n))
+    foot = c - ((c - tri[0]) @ n) * n
+    r = np.empty(3)
+    for k in range(3):
+        a, b = tri[k], tri[(k + 1) % 3]
+        e = (b - a) / np.linalg.norm(b - a)
+        v = foot - a
+        r[k] = np.linalg.norm(v - (v @ e) * e)
+    return float(np.mean(2 * r)), float(np.mean(np.hypot(h, r) - h))
 
 
-def switchback(terrain: Terrain, start: np.ndarray, goal: np.ndarray) -> np.ndarray | None:
-    """The turning point (3,) m (on the ground) of a switchback from `start` to `goal` (world
-    points, m) on an incline: straight uphill of `start`, so far that the goal then lies
-    DESCENT_CONE deg from straight uphill; None where the goal lies within CLIMB_CONE deg of
-    straight uphill or at least DESCENT_CONE deg from it (headed for directly), or on level
-    ground."""
-    n = terrain.normal_at(start[0], start[1])
-    if np.hypot(n[0], n[1]) < 1e-12:
-        return None
-    up = -n[:2] / np.hypot(n[0], n[1])  # uphill, horizontal unit vector
-    g = np.subtract(goal[:2], start[:2])
-    along, across = float(g @ up), abs(float(g @ [-up[1], up[0]]))
-    angle = np.degrees(np.arctan2(across, along))
-    if not CLIMB_CONE + 1e-6 < angle < DESCENT_CONE - 1e-6:
-        return None
-    turn = np.asarray(start[:2], float) + (along + across / np.tan(np.radians(180.0 - DESCENT_CONE))) * up
-    return np.array([turn[0], turn[1], float(terrain.height(turn[0], turn[1]))])
+def rolls_to_goal(point: np.ndarray, goal: np.ndarray, terrain: Terrain, travel: float, lift: float) -> float:
+    """Rolls still needed from the CoG `point` (3,) m to `goal` (3,) m (on the ground): the
+    horizontal distance over the travel of one roll, plus the height the ground under the CoG
+    lies below the goal's over the lift of one roll (each roll can raise the robot by at most
+    about its lift against gravity: height lost on an incline costs the rolls that regain it).
+    An estimate for ranking, not a count: rolls zig-zag, and on a slope not every roll climbs."""
+    c = np.asarray(point, float)
+    below = max(0.0, float(goal[2] - terrain.height(c[0], c[1])))
+    return float(np.linalg.norm(c[:2] - np.asarray(goal[:2], float))) / travel + below / lift
+
+
+@dataclass
+class Memory:
+    """The states a run has been at: (1-based face, CoG (2,) m horizontal). A roll may not
+    return to a face at a place within `radius` m of where the robot stood on it before (half a
+    roll's travel): a route then cannot cycle; it ends stuck or at the step limit instead."""
+
+    radius: float
+    states: list[tuple[int, np.ndarray]] = field(default_factory=list)
+
+    def add(self, face: int, cog: np.ndarray) -> None:
+        self.states.append((int(face), np.asarray(cog, float)[:2].copy()))
+
+    def seen(self, face: int | None, cog: np.ndarray) -> bool:
+        c = np.asarray(cog, float)[:2]
+        return any(f == face and np.linalg.norm(c - p) < self.radius for f, p in self.states)
 
 
 def choose(
-    workspace: Workspace,
     params: Params,
     terrain: Terrain,
     s: RollSettings,
     obs: Obs,
-    face: int,
-    pl: Plan,
-    tried: set,
-    goal: np.ndarray,
+    todo: Sequence[Act],
+    max_pressure: float,
     brake: Brake | None,
-    target: dict,
-    avoid: Sequence[int] = (),
-    incline: bool = False,
-) -> tuple[list[tuple[int, ...]], tuple[RollResult, ...]]:
-    """A run's step by lookahead on `face` (1-based): simulate up to s.lookahead actions not in
-    `tried` (the plan's candidates, then `brake.escape`'s order toward `target`, a dict with
-    goal= or direction=), and if every one of them tumbles, the face's other actions; return
-    the s.max_attempts that land on a face, best first (`rank` toward `goal` (3,) m, landing on
-    a face of `avoid` penalised; on an even `incline`, with INCLINE_CLIMB_COST and a slide
-    further than SLIDE counted as a tumble), and the simulated rolls in the order simulated.
-    A tumble is never returned."""
-    climb, slide = (INCLINE_CLIMB_COST, SLIDE) if incline else (CLIMB_COST, np.inf)
-    acts = [c.pairs for c in pl.candidates if c.pairs not in tried][: s.lookahead]
-    acts += escape(workspace, face, obs.nodes, tried | set(acts), **target)[: s.lookahead - len(acts)]
-    expect = {c.pairs: c.pressure for c in pl.candidates}
-    simulated = tuple(foresee(params, terrain, s, obs, acts, workspace.max_pressure, brake, expect))
-    if not any(lands(r, slide) for r in simulated):
-        # every one tumbles: foresee the face's other actions too before giving up
-        acts += escape(workspace, face, obs.nodes, tried | set(acts), **target)
-        simulated += tuple(
-            foresee(params, terrain, s, obs, acts[len(simulated) :], workspace.max_pressure, brake, expect)
-        )
-    return (
-        [acts[i] for i in rank(simulated, goal, terrain, avoid, climb, slide) if lands(simulated[i], slide)][
-            : s.max_attempts
-        ],
-        simulated,
-    )
+    expect: dict[tuple[int, ...], float],
+    cost: Callable[[RollResult], float],
+    memory: Memory,
+    now: float = np.inf,
+) -> tuple[list[Act], tuple[RollResult, ...]]:
+    """A run's step: simulate the candidates `todo` in order in batches of growing horizon (the
+    first; then up to s.lookahead; then all), stopping at the first batch after which one is
+    acceptable: it rolls onto another face, `lands` (no tumble, no slide), at a state not in
+    `memory`, and makes progress (`cost` below `now`, the cost of staying). Return the
+    s.max_attempts acceptable candidates of least `cost` (if none makes progress, those that
+    are acceptable otherwise: a detour, which the memory keeps from cycling) and every roll
+    simulated, in the order simulated. A tumble, a slide or a return is never returned."""
+    simulated: list[RollResult] = []
+    fine: list[int] = []
+    for k in (1, s.lookahead, len(todo)):
+        if k <= len(simulated):
+            continue
+        simulated += foresee(params, terrain, s, obs, todo[len(simulated) : k], max_pressure, brake, expect)
+        fine = [
+            i for i, r in enumerate(simulated) if r.rolled and lands(r) and not memory.seen(r.face_after, r.cog_after)
+        ]
+        if any(cost(simulated[i]) < now for i in fine):
+            break
+    fine.sort(key=lambda i: (round(cost(simulated[i]), 9), i))
+    return [todo[i] for i in fine[: s.max_attempts]], tuple(simulated)
+
+
+def over_edge(face: int, edge: tuple[int, int]) -> Callable[[RollResult], float]:
+    """The cost of a roll toward `edge` (1-based nodes) of 1-based `face`: 0 onto the face across
+    it, else 1 (another face: the plan may choose any pair, not any edge)."""
+    to = topo.neighbour(face, edge)
+    return lambda r: 0.0 if r.face_after == to else 1.0
+
+
+def along(direction: np.ndarray, travel: float) -> Callable[[RollResult], float]:
+    """The cost of a roll toward a world `direction` (3,): minus its CoG's travel along it, in rolls."""
+    u = np.asarray(direction, float)[:2]
+    u = u / np.linalg.norm(u)
+    return lambda r: -float(np.subtract(r.cog_after, r.cog_before)[:2] @ u) / travel

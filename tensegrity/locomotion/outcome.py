@@ -28,7 +28,7 @@ OUTCOMES = ("arrived", "step_limit", "stuck", "no_contact", "off_terrain", "sim_
 class Step:
     """One step of a run: the plan made on `face` (1-based), the attempts in order, and the
     face the robot ended on (None if on no face); `simulated`: the rolls tried in simulation
-    first (`lookahead.foresee`, where lookahead applies), in the order they were simulated;
+    first (`lookahead.foresee`; none with lookahead 0), in the order they were simulated;
     plan_cpu: CPU seconds (process time, all threads) the step spent planning: the plan and the
     rolls simulated ahead, not the rolls made."""
 

@@ -24,8 +24,8 @@ class RollSettings:
     """ramp_rate MPa/s; interval s (pressure step and check period); lift_tolerance m;
     hold_time s; release_margin m; release_time s; catch_time s; settle_speed m/s; settle_time s;
     contact_tolerance m; combine; min_alignment; max_attempts; max_rolls; arrive_tolerance m;
-    brake; brake_margin m; brake_rate MPa/s; brake_tilt deg; brake_release_time s;
-    escape_attempts; lookahead; lookahead_tilt deg; strut_damping 1/s; dt s (the simulator's
+    brake; brake_margin m; brake_rate MPa/s; brake_release_time s;
+    escape_attempts; lookahead; strut_damping 1/s; dt s (the simulator's
     time step, config sim.dt).
 
     A roll (see `control.roll`) ramps the pressure at ramp_rate; a support node lifted by more
@@ -37,14 +37,13 @@ class RollSettings:
     (contact_tolerance) for three checks, or after settle_time. With brake, a run holds the
     robot on each face where the workspace puts its CoG projection less than brake_margin
     inside, with the pair `brake.hold` chooses, changed at most at brake_rate and handed over to
-    a roll as its pressure nears the plan's; only where the ground under the face is an even
-    incline of at least brake_tilt (`brake.Brake.active`), and there a roll's pressure falls
-    over brake_release_time instead of release_time. When all max_attempts candidates fail,
-    escape_attempts more actions are tried in the order of `brake.escape` before the run ends
-    "stuck". Where the ground under the face is an even incline of at least lookahead_tilt (on
-    uneven ground, once the planned roll has failed), a run toward a goal first simulates up to
-    lookahead actions and tries the max_attempts best that do not tumble (`lookahead.rank`); on
-    such an incline a goal across the slope is reached by a switchback (`lookahead.switchback`).
+    a roll as its pressure nears the plan's; a roll is braked only where the unbraked robot is
+    predicted not to stand (`brake.Brake.active`), and then its pressure falls over
+    brake_release_time instead of release_time. Before each roll, on every ground, a run
+    simulates candidate rolls from the robot's state, the first, then up to lookahead, then all
+    while none is acceptable, and makes the max_attempts best (`lookahead.choose`). With
+    lookahead 0 the plan's max_attempts candidates are tried in the world, then escape_attempts
+    more actions in the order of `brake.escape`, before the run ends "stuck".
     Every rolling simulation damps the struts by strut_damping (`rolling`), whatever the
     `Params` given: the robot of the pipeline's runs and of `roll_to` is the same."""
 
@@ -62,13 +61,11 @@ class RollSettings:
     min_alignment: float = 0.0
     max_attempts: int = 3
     lookahead: int = 30
-    lookahead_tilt: float = 17.0
     max_rolls: int = 80
     arrive_tolerance: float = 0.3
     brake: bool = True
     brake_margin: float = 0.035
     brake_rate: float = 6.0
-    brake_tilt: float = 8.0
     brake_release_time: float = 1.5
     escape_attempts: int = 8
     strut_damping: float = 1.0

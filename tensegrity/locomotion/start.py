@@ -52,7 +52,7 @@ class Start:
 
 
 def _brake(workspace: Workspace, terrain: Terrain, s: RollSettings) -> Brake | None:
-    return Brake(workspace, s.brake_margin, terrain=terrain, min_tilt=s.brake_tilt) if s.brake else None
+    return Brake(workspace, s.brake_margin) if s.brake else None
 
 
 def stands(

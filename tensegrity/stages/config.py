@@ -44,11 +44,9 @@ ROLL_KEYS = _RAMP + tuple(
         "arrive_tolerance",
         "escape_attempts",
         "lookahead",
-        "lookahead_tilt",
         "brake",
         "brake_margin",
         "brake_rate",
-        "brake_tilt",
         "brake_release_time",
     )
 )

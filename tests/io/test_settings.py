@@ -42,8 +42,8 @@ def test_params_defaults_are_the_schemas():
 
 def test_a_missing_key_is_an_error_naming_it():
     cfg = config.defaults()
-    del cfg["locomotion"]["brake_tilt"]
-    with pytest.raises(KeyError, match="config key locomotion.brake_tilt"):
+    del cfg["locomotion"]["brake_margin"]
+    with pytest.raises(KeyError, match="config key locomotion.brake_margin"):
         build(RollSettings, cfg)
     with pytest.raises(KeyError, match="config section params"):
         settings.params({})

@@ -159,15 +159,22 @@ def test_escape_orders_actions_that_roll_first(ws):
 
 def test_escape_from_a_stuck_face(ws):
     """With the workspace swept only to 1.6 MPa no single pair rolls the robot off (9,10,12)
-    ("stuck", see test_stuck_when_the_workspace_cannot_roll_the_robot); the escape tries two
+    ("stuck", see test_stuck_when_the_workspace_cannot_roll_the_robot); tried in the world (lookahead
+    0), the escape tries two
     pairs together as well and rolls it off."""
     low = lo.Workspace.from_arrays(LEVELS[:2], ws.cog[:, :, :2], ws.support[:, :, :2])
     stuck = lo.roll_to(
-        low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(max_attempts=2, combine=False, max_rolls=1, escape_attempts=0)
+        low,
+        (2.0, 0.0),
+        DAMPED,
+        settings=lo.RollSettings(max_attempts=2, combine=False, max_rolls=1, escape_attempts=0, lookahead=0),
     )
     assert stuck.outcome == "stuck" and stuck.rolls == 0
     run = lo.roll_to(
-        low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(max_attempts=2, combine=False, max_rolls=1, escape_attempts=4)
+        low,
+        (2.0, 0.0),
+        DAMPED,
+        settings=lo.RollSettings(max_attempts=2, combine=False, max_rolls=1, escape_attempts=4, lookahead=0),
     )
     assert run.outcome == "step_limit" and run.rolls == 1
     assert len(run.steps[0].attempts) > 2 and len(run.steps[0].used.pairs) == 2

@@ -343,10 +343,11 @@ def test_a_robot_that_stays_tipped_gets_the_whole_escalation(ws):
 
 def test_stuck_when_the_workspace_cannot_roll_the_robot(ws):
     """A workspace swept only to 1.6 MPa rolls nothing off (9,10,12): the run stops "stuck"
-    after trying max_attempts candidates, each escalated to 1.6 MPa, and says so."""
+    after trying max_attempts candidates in the world (lookahead 0), each escalated to 1.6 MPa,
+    and says so."""
     low = lo.Workspace.from_arrays(LEVELS[:2], ws.cog[:, :, :2], ws.support[:, :, :2])
     run = lo.roll_to(
-        low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(max_attempts=2, combine=False, escape_attempts=0)
+        low, (2.0, 0.0), DAMPED, settings=lo.RollSettings(max_attempts=2, combine=False, escape_attempts=0, lookahead=0)
     )
     assert run.outcome == "stuck"
     assert len(run.steps) == 1 and len(run.steps[0].attempts) == 2

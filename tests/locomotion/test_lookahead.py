@@ -1,12 +1,15 @@
-"""Issue 10 item 3: rolls tried in simulation before the robot acts on steep slopes
-(`locomotion.lookahead`). What is simulated must be what the run then does: the same state, the
-same controller and brake, so the executed roll equals its prediction to round-off."""
+"""Issue 30 item 2: the simulator as the planner's model (`locomotion.lookahead`), one method on
+every ground. What is simulated must be what the run then does (the same state, controller and
+brake, so the executed roll equals its prediction to round-off); what is chosen is the acceptable
+roll (on a new face, no tumble, no slide, no return) needing the fewest rolls to the goal; the
+horizon widens only while nothing is acceptable."""
 
 import numpy as np
 import pytest
 
 from tensegrity import locomotion as lo
 from tensegrity.locomotion import lookahead
+from tensegrity.locomotion.brake import Brake
 from tensegrity.locomotion.control import RollResult
 from tensegrity.locomotion.lockstep import Obs
 from tensegrity.physics import dynamics as d
@@ -18,72 +21,62 @@ EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
 DAMPED = Params(strut_damping=1.0)
 
 
-def test_the_roll_made_is_the_roll_foreseen(ws):
-    """On a 20 deg slope (lookahead applies: an even incline of at least lookahead_tilt) the
-    first step simulates the plan's candidates and escape actions from the robot's settled state;
-    the attempt the run then makes is the first of `rank`'s order toward the switchback's turning
-    point (the goal lies across the slope), and it ends exactly as its simulation did: the same
-    face, the same CoG and times, the same peak pressure."""
-    s = lo.RollSettings(lookahead=4, max_attempts=1, max_rolls=1, escape_attempts=0)
-    slope = Terrain.slope(20.0)
+def test_the_roll_made_is_the_least_cost_roll_foreseen(ws):
+    """On a 15 deg slope, the first step's roll ends exactly as its simulation did (the same
+    face, CoG, times and peak pressure), and it is the acceptable simulated roll needing the
+    fewest rolls to the goal (`rolls_to_goal` by the robot's own `stride`)."""
+    s = lo.RollSettings(lookahead=4, max_attempts=1, max_rolls=1)
+    slope = Terrain.slope(15.0)
     run = lo.roll_to(ws, (0.0, -2.0), DAMPED, slope, settings=s)
     step = run.steps[0]
-    assert len(step.simulated) == 4 and len(step.attempts) == 1
+    assert step.simulated and len(step.attempts) == 1
     done = step.attempts[0]
-    via = lookahead.switchback(slope, done.cog_before, run.goal)  # from the settled robot
-    assert via is not None and via[0] > 1.5  # straight uphill (+x) first
-    assert f"by a switchback: straight uphill toward ({via[0]:.2f}, {via[1]:.2f}) m" in run.message
-    first = step.simulated[
-        lookahead.rank(step.simulated, via, slope, [], lookahead.INCLINE_CLIMB_COST, lookahead.SLIDE)[0]
-    ]
-    assert done.pairs == first.pairs
-    assert (done.rolled, done.face_after) == (first.rolled, first.face_after)
-    assert np.allclose(done.cog_after, first.cog_after, rtol=0, atol=1e-12)
-    assert (done.t_start, done.t_end, done.peak_pressure) == (first.t_start, first.t_end, first.peak_pressure)
-    # with lookahead off the same run plans blindly: nothing simulated
-    off = lo.roll_to(
-        ws,
-        (0.0, -2.0),
-        DAMPED,
-        Terrain.slope(20.0),
-        settings=lo.RollSettings(lookahead=0, max_attempts=1, max_rolls=1, escape_attempts=0),
-    )
-    assert off.steps[0].simulated == ()
+    ok = [r for r in step.simulated if r.rolled and lookahead.lands(r)]
+    assert ok
+    travel, lift = lookahead.stride(_settled(ws, slope), EQUI)
+    best = min(ok, key=lambda r: lookahead.rolls_to_goal(r.cog_after, run.goal, slope, travel, lift))
+    assert done.pairs == best.pairs and done.face_after == best.face_after
+    assert np.allclose(done.cog_after, best.cog_after, rtol=0, atol=1e-12)
+    assert (done.t_start, done.t_end, done.peak_pressure) == (best.t_start, best.t_end, best.peak_pressure)
 
 
-def test_no_lookahead_on_gentler_slopes(ws):
-    """Below lookahead_tilt (17 deg) a run plans from the workspace alone."""
-    s = lo.RollSettings(lookahead=4, max_attempts=1, max_rolls=1, escape_attempts=0)
-    assert lo.roll_to(ws, (0.0, -2.0), DAMPED, Terrain.slope(10.0), settings=s).steps[0].simulated == ()
+def _settled(ws, terrain):
+    """Nodes (12, 3) m of the robot settled (braked) on (9,10,12), as a run starts."""
+    from tensegrity.locomotion.control import settle_controller
+    from tensegrity.locomotion.lockstep import lockstep
+
+    s = lo.RollSettings()
+    st = d.stand_on(DAMPED, EQUI, terrain)
+
+    def ctl(b, obs):
+        _, obs = yield from settle_controller(s, obs, Brake(ws, s.brake_margin))
+        return obs.nodes
+
+    ((nodes, _, _),) = lockstep(DAMPED, terrain, st, ctl, s)
+    return nodes
 
 
-@pytest.mark.parametrize("azimuth", [0.0, 30.0, -120.0])
-def test_switchback_climbs_first_then_descends_at_the_descent_cone(azimuth):
-    """A goal across a steep slope is reached via a turning point straight uphill of the start,
-    from which the goal lies DESCENT_CONE deg from uphill; goals within CLIMB_CONE of uphill or
-    at least DESCENT_CONE from it, and level ground, need none."""
-    slope = Terrain.slope(20.0, azimuth)
-    up = np.array([np.cos(np.radians(azimuth)), np.sin(np.radians(azimuth))])
-    assert slope.height(*(up * 0.1)) > slope.height(0.0, 0.0)  # uphill: along the azimuth
-    start = np.array([0.3, -0.2, 0.4])
+def test_on_flat_ground_the_same_method_with_the_shortest_horizon(ws):
+    """On flat ground the workspace's best candidate lands on a new face: one roll is simulated
+    per step (the horizon never widens), and the brake never acts (every face stands unbraked by
+    the workspace), so the run is the unbraked one. The stride's travel (2 r) agrees with the
+    CoG's travel of the rolls made to its stated 30 %."""
+    s = lo.RollSettings(max_rolls=4)
+    run = lo.roll_to(ws, (2.0, 0.0), DAMPED, settings=s)
+    assert run.rolls == 4
+    assert all(len(st.simulated) == 1 for st in run.steps)
+    travel, _ = lookahead.stride(d.nodes(*_stand(EQUI), DAMPED.strut_length)[0], EQUI)
+    moves = [lookahead.moved(st.used) for st in run.steps]
+    assert np.mean(moves) == pytest.approx(travel, rel=0.3)
+    brk = Brake(ws, s.brake_margin)
+    assert not brk.active(EQUI, d.nodes(*_stand(EQUI), DAMPED.strut_length)[0])
+    steep = d.stand_on(DAMPED, EQUI, Terrain.slope(20.0))
+    assert brk.active(EQUI, d.nodes(steep.x, steep.q, DAMPED.strut_length)[0])
 
-    def goal(angle, dist=2.0):  # `angle` deg from uphill, to the left
-        a = np.radians(azimuth + angle)
-        p = start[:2] + dist * np.array([np.cos(a), np.sin(a)])
-        return np.array([p[0], p[1], float(slope.height(*p))])
 
-    for angle in (20.0, 90.0, 120.0, -100.0):
-        g = goal(angle)
-        via = lookahead.switchback(slope, start, g)
-        off = via[:2] - start[:2]
-        assert np.allclose(off / np.linalg.norm(off), up)  # straight uphill
-        assert via[2] == pytest.approx(float(slope.height(via[0], via[1])))
-        leg = g[:2] - via[:2]
-        seen = np.degrees(np.arccos(leg @ up / np.linalg.norm(leg)))
-        assert seen == pytest.approx(lookahead.DESCENT_CONE)
-    for angle in (0.0, 5.0, -10.0, 10.0, 135.0, 180.0, -150.0):
-        assert lookahead.switchback(slope, start, goal(angle)) is None
-    assert lookahead.switchback(Terrain.flat(), start, goal(90.0)) is None
+def _stand(face, terrain=None):
+    st = d.stand_on(DAMPED, face, terrain or Terrain.flat())
+    return st.x, st.q
 
 
 def _res(pairs, rolled, face_after, cog, before=(0.0, 0.0, 0.0)):
@@ -92,64 +85,84 @@ def _res(pairs, rolled, face_after, cog, before=(0.0, 0.0, 0.0)):
     )
 
 
-def test_rank_puts_landed_rolls_first_and_tumbles_last():
-    """Landed rolls by distance to the goal (ending below it costs CLIMB_COST per m of height),
-    then the attempts that did not roll, then the tumbles, however close they ended."""
+def test_rolls_to_goal_counts_height_lost_by_the_lift():
+    """Ending below the goal costs height/lift rolls, above it nothing; horizontal distance
+    costs distance/travel."""
     slope = Terrain.slope(20.0)
-    goal = np.array([0.0, -2.0, 0.0])  # across the slope, at the start's height
+    goal = np.array([0.0, -2.0, 0.0])
     t = np.tan(np.radians(20.0))
-    res = [
-        _res((1,), False, None, (0.0, -2.0, 0.0)),  # tumbled, right at the goal
-        _res((2,), False, EQUI, (0.0, 0.0, 0.0)),  # did not roll
-        _res((3,), True, 5, (0.0, -0.2, 0.0)),  # 1.8 m away, level
-        _res((4,), True, 6, (-0.1, -0.3, -0.1 * t)),  # 1.70 m away, 0.036 m lower: 1.88
-        _res((5,), True, 7, (0.0, -0.25, 0.0)),
-    ]  # 1.75 m away, level
-    assert lookahead.rank(res, goal, slope) == [4, 2, 3, 1, 0]
-    assert lookahead.rank(res, goal, slope, climb=0.0) == [3, 4, 2, 1, 0]  # height ignored
-    # a landing whose CoG moved further than `slide` (1.0 m from (0, 0.8)) is a tumble
-    slid = res[:4] + [_res((5,), True, 7, (0.0, -0.25, 0.0), before=(0.0, 0.8, 0.0))]
-    assert lookahead.rank(slid, goal, slope) == [4, 2, 3, 1, 0]
-    assert lookahead.rank(slid, goal, slope, slide=0.5) == [2, 3, 1, 0, 4]
-    assert lookahead.lands(slid[4], 1.06) and not lookahead.lands(slid[4], 1.04)
-    # a face of the last steps costs REVISIT_COST: landing back on 7 falls behind 5 and 6
-    assert lookahead.REVISIT_COST > 0.18
-    assert lookahead.rank(res, goal, slope, avoid=[7, 9]) == [2, 3, 4, 1, 0]
-    with pytest.raises(ValueError, match="no state"):
-        lookahead.foresee(
-            DAMPED,
-            slope,
-            lo.RollSettings(),
-            Obs(0.0, np.zeros((12, 3)), np.zeros(12), EQUI, np.nan),
-            [(1,)],
-            4.8,
-            None,
-            {},
-        )
+    level = lookahead.rolls_to_goal(np.array([0.0, -1.0, 0.0]), goal, slope, 0.2, 0.01)
+    assert level == pytest.approx(5.0)
+    lower = lookahead.rolls_to_goal(np.array([-0.1, -1.0, 0.0]), goal, slope, 0.2, 0.01)
+    assert lower == pytest.approx(np.hypot(0.1, 1.0) / 0.2 + 0.1 * t / 0.01)
+    higher = lookahead.rolls_to_goal(np.array([0.1, -1.0, 0.0]), goal, slope, 0.2, 0.01)
+    assert higher == pytest.approx(np.hypot(0.1, 1.0) / 0.2)
 
 
-def test_choose_foresees_every_action_before_giving_up(ws, monkeypatch):
-    """When every one of the first `lookahead` actions tumbles, `choose` foresees the face's
-    other actions (each once) before a run ends stuck, and returns those that land."""
+def test_choose_widens_the_horizon_only_while_nothing_is_acceptable(ws, monkeypatch):
+    """The first candidate alone, then up to `lookahead`, then all: a tumble (no face), a slide
+    (CoG moved > SLIDE m), a roll that does not roll and a return to a state in memory are never
+    chosen, and the horizon widens while none makes progress (costs less than staying); the rest
+    come least cost first."""
     batches = []
+    plans = {}
 
-    def fake(params, terrain, s, obs, acts, max_pressure, brake, expect):
-        batches.append(list(acts))
-        land = len(batches) > 1  # the first batch all tumbles, the second lands
-        return [_res(a, land, 5 if land else None, (0.0, -0.1 * k, 0.0)) for k, a in enumerate(acts)]
+    def fake(params, terrain, s, obs, todo, max_pressure, brake, expect):
+        batches.append(list(todo))
+        return [plans[a[0]] for a in todo]
 
     monkeypatch.setattr(lookahead, "foresee", fake)
-    s = lo.RollSettings(lookahead=3, max_attempts=2)
-    slope = Terrain.slope(20.0)
-    st = d.stand_on(DAMPED, EQUI, slope)
-    obs = Obs(0.0, d.nodes(st.x, st.q, DAMPED.strut_length)[0], np.zeros(12), EQUI, 0.0)
-    pl = lo.plan(ws, EQUI, obs.nodes, goal=np.array([0.0, -2.0, 0.0]))
-    todo, simulated = lookahead.choose(
-        ws, DAMPED, slope, s, obs, EQUI, pl, set(), np.array([0.0, -2.0, 0.0]), None, dict(goal=np.array([0.0, -2.0]))
+    plans.update(
+        {
+            (1,): _res((1,), True, None, (0.0, -0.2, 0.0)),  # tumbles
+            (2,): _res((2,), True, 5, (0.0, -0.6, 0.0)),  # slides 0.6 m
+            (3,): _res((3,), False, EQUI, (0.0, 0.0, 0.0)),  # does not roll
+            (4,): _res((4,), True, 6, (0.0, -0.2, 0.0)),  # back where it was on face 6
+            (5,): _res((5,), True, 7, (0.0, -0.15, 0.0)),
+            (6,): _res((6,), True, 8, (0.0, -0.25, 0.0)),  # closer to the goal: first
+            (7,): _res((7,), True, 9, (0.0, 0.2, 0.0)),
+        }
     )
-    first, rest = batches
-    assert len(first) == 3 and rest and not set(first) & set(rest)
-    every = {(int(q),) for q in ws.pairs(EQUI)}
-    assert set(first) | set(rest) >= every  # every single pair foreseen
-    assert len(simulated) == len(first) + len(rest)
-    assert len(todo) == 2 and all(a in rest for a in todo)
+    mem = lookahead.Memory(0.05)
+    mem.add(6, np.array([0.0, -0.21]))
+    todo = [((q,), True) for q in range(1, 8)]
+    s = lo.RollSettings(lookahead=3, max_attempts=2)
+    goal = np.array([0.0, -2.0, 0.0])
+    obs = Obs(0.0, np.zeros((12, 3)), np.zeros(12), EQUI, 0.0)
+    cost = lambda r: lookahead.rolls_to_goal(r.cog_after, goal, Terrain.flat(), 0.2, 0.01)  # noqa: E731
+    chosen, simulated = lookahead.choose(DAMPED, Terrain.flat(), s, obs, todo, 4.8, None, {}, cost, mem)
+    assert [len(b) for b in batches] == [1, 2, 4] and len(simulated) == 7
+    assert chosen == [((6,), True), ((5,), True)]
+    # one acceptable roll in the first batch: nothing more simulated
+    batches.clear()
+    chosen, simulated = lookahead.choose(DAMPED, Terrain.flat(), s, obs, todo[4:], 4.8, None, {}, cost, mem)
+    assert [len(b) for b in batches] == [1] and chosen == [((5,), True)]
+    # the same, but staying costs 9 rolls: (5,) (9.25) makes no progress, (6,) (8.75) does
+    batches.clear()
+    chosen, simulated = lookahead.choose(DAMPED, Terrain.flat(), s, obs, todo[4:], 4.8, None, {}, cost, mem, 9.0)
+    assert [len(b) for b in batches] == [1, 2] and chosen == [((6,), True), ((5,), True)]
+    with pytest.raises(ValueError, match="no state"):
+        monkeypatch.undo()
+        lookahead.foresee(DAMPED, Terrain.flat(), s, obs, [((1,), False)], 4.8, None, {})
+
+
+def test_candidates_come_from_every_generator_once(ws):
+    """Every single pair, then every two-pair combination, once each; braked where the run brakes,
+    and where the brake acts also unbraked; a new generator adds its actions."""
+    nodes = d.nodes(*_stand(EQUI), DAMPED.strut_length)[0]
+    pl = lo.plan(ws, EQUI, nodes, goal=np.array([2.0, 0.0]))
+    target = dict(goal=np.array([2.0, 0.0]))
+    acts = lookahead.acts(ws, EQUI, nodes, pl, target, Brake(ws, 0.035))
+    n = len(ws.pairs(EQUI))
+    assert len(acts) == n + n * (n - 1) // 2 and len(set(acts)) == len(acts)  # flat: no unbraked twin
+    assert all(b for _, b in acts) and all(len(a) == 1 for a, _ in acts[:n])
+    steep = d.stand_on(DAMPED, EQUI, Terrain.slope(20.0))
+    sn = d.nodes(steep.x, steep.q, DAMPED.strut_length)[0]
+    both = lookahead.acts(ws, EQUI, sn, lo.plan(ws, EQUI, sn, goal=np.array([2.0, 0.0])), target, Brake(ws, 0.035))
+    assert len(both) == 2 * len(acts) and {a for a, b in both if not b} == {a for a, _ in acts}
+    extra = lambda w, f, p, pl, t: [(1, 2, 3)]  # noqa: E731
+    lookahead.GENERATORS.append(extra)
+    try:
+        assert lookahead.acts(ws, EQUI, nodes, pl, target, None)[-1] == ((1, 2, 3), False)
+    finally:
+        lookahead.GENERATORS.remove(extra)

@@ -70,9 +70,11 @@ def test_a_braked_downhill_roll_lands_and_holds(ws):
     by a face or two, where it stops, still short of the unbraked tumble (0.51 against 0.61 m)."""
     edge = (9, 10)
     nxt = topo.neighbour(EQUI, edge)
-    free = lo.roll_over(ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings(brake=False))
-    held = lo.roll_over(ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings(brake_release_time=0.4, brake_rate=10.0))
-    slow = lo.roll_over(ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings())
+    free = lo.roll_over(ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings(brake=False, lookahead=0))
+    held = lo.roll_over(
+        ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings(brake_release_time=0.4, brake_rate=10.0, lookahead=0)
+    )
+    slow = lo.roll_over(ws, [edge], DAMPED, SLOPE, settings=lo.RollSettings(lookahead=0))
     assert free.faces[0] == EQUI and free.faces[-1] != nxt
     assert held.faces == [EQUI, nxt] and held.outcome == "arrived"
     assert slow.outcome == "arrived"  # at rest on a face
