@@ -103,19 +103,13 @@ def drive(
             simulated: tuple[RollResult, ...] = ()
             braked = brk is not None
             if s.lookahead:
+                acts = lookahead.acts(workspace, face, obs.nodes, pl, target, brk)
                 todo, simulated = lookahead.choose(
-                    params,
-                    terrain,
-                    s,
-                    obs,
-                    lookahead.acts(workspace, face, obs.nodes, pl, target, brk),
-                    workspace.max_pressure,
-                    brk,
-                    expect,
-                    cost,
-                    memory,
-                    now,
+                    params, terrain, s, obs, acts, workspace.max_pressure, brk, expect, cost, memory, now
                 )
+                if not todo:  # none acceptable: make the first foreseen roll that keeps the robot on its
+                    # face (no tumble: the run records what it tried, and ends stuck below)
+                    todo = [acts[i] for i, r in enumerate(simulated) if r.face_after == face][:1]
             else:  # the workspace's order, tried in the world
                 todo = [(c.pairs, braked) for c in pl.candidates[: s.max_attempts]]
             cpu = time.process_time() - cpu
@@ -166,6 +160,12 @@ def drive(
                     f"no candidate rolled the robot off face {topo.face_label(face)}: tried "
                     + ", ".join(f"{'+'.join(f'#{q}' for q in r.pairs)} up to {r.peak_pressure:.2f} MPa" for r in tries)
                     + ("" if pl.predicted else "; the workspace predicted no roll here (e.g. a slope too steep for it)")
+                    + (
+                        f"; none of the {len(simulated)} candidate rolls simulated here rolls it without a tumble, "
+                        f"a slide over {lookahead.SLIDE} m or a return"
+                        if simulated
+                        else ""
+                    )
                 )
                 break
             face = after
