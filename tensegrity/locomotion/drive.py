@@ -103,18 +103,31 @@ def drive(
             simulated: tuple[RollResult, ...] = ()
             braked = brk is not None
             if s.lookahead:
-                acts = lookahead.acts(workspace, face, obs.nodes, pl, target, brk)
+                world = lookahead.World(params, terrain, obs.state, workspace.max_pressure, s.optimised_actions)
+                args = (workspace, face, obs.nodes, pl, target, brk, world)
+                acts = lookahead.acts(*args)
                 todo, simulated = lookahead.choose(
-                    params, terrain, s, obs, acts, workspace.max_pressure, brk, expect, cost, memory, now
+                    params,
+                    terrain,
+                    s,
+                    obs,
+                    acts,
+                    workspace.max_pressure,
+                    brk,
+                    expect,
+                    cost,
+                    memory,
+                    now,
+                    (lambda a=args: lookahead.acts(*a, lazy=True)) if s.optimised_actions else None,
                 )
                 if not todo:  # none acceptable: make the first foreseen roll that keeps the robot on its
                     # face (no tumble: the run records what it tried, and ends stuck below)
-                    todo = [acts[i] for i, r in enumerate(simulated) if r.face_after == face][:1]
+                    todo = [acts[i] for i, r in enumerate(simulated[: len(acts)]) if r.face_after == face][:1]
             else:  # the workspace's order, tried in the world
                 todo = [(c.pairs, braked) for c in pl.candidates[: s.max_attempts]]
             cpu = time.process_time() - cpu
             while todo:
-                act, with_brake = todo.pop(0)
+                act, with_brake, w = todo[0][0], todo[0][1], lookahead.weights_of(todo.pop(0))
                 res, obs = yield from roll_controller(
                     params,
                     s,
@@ -122,7 +135,8 @@ def drive(
                     act,
                     workspace.max_pressure,
                     brk if with_brake else None,
-                    expect.get(act, float("nan")),
+                    expect.get(act, float("nan")) if w is None else float("nan"),
+                    weights=w,
                 )
                 if brk is not None and not with_brake:
                     brk.forget()

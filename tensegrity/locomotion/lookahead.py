@@ -2,15 +2,17 @@
 docs/design.md §6).
 
 One method on every ground. The candidate actions of a step come from GENERATORS (every single
-pair in the workspace's order toward the target, then every two-pair combination; another source
-of actions is one more entry), each rolled with the brake (`brake.Brake`, which acts only where
+pair in the workspace's order toward the target, then every two-pair combination, then, with
+`locomotion.optimised_actions`, the optimised weight vectors of `actuation.candidates`; another
+source of actions is one more entry), each rolled with the brake (`brake.Brake`, which acts only where
 the unbraked robot is predicted not to stand) and, where that brake acts, also without it.
 `foresee` simulates candidates from the robot's current state with the run's own controller, all
 in one batch, so each result is the roll the run would make. `choose` keeps a roll that lands on
 another face (`lands`: on a face, its CoG moved at most SLIDE m, else a tumble) at a state the run
 has not been at (`Memory`), and ranks those by `rolls_to_goal`, the rolls still needed by the
 robot's own stride and lift (`stride`). The horizon grows by cost alone: the workspace's best
-candidate first, then `lookahead` candidates, then all of them, only while none is acceptable.
+candidate first, then `lookahead` candidates, then all of them, then the lazy generators' (`LAZY`:
+computed only when the horizon reaches them), only while none is acceptable.
 """
 
 from __future__ import annotations
@@ -26,6 +28,8 @@ from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace
+from .actuation import World
+from .actuation import optimised as _optimised
 from .brake import Brake, escape
 from .control import RollResult, roll_controller
 from .lockstep import Obs, lockstep
@@ -35,8 +39,10 @@ from .settings import RollSettings
 __all__ = [
     "Act",
     "GENERATORS",
+    "LAZY",
     "Memory",
     "SLIDE",
+    "World",
     "acts",
     "choose",
     "foresee",
@@ -44,41 +50,76 @@ __all__ = [
     "moved",
     "rolls_to_goal",
     "stride",
+    "weights_of",
 ]
 
 SLIDE = 0.5  # m: a roll that moves the CoG further (horizontally) slid: a tumble (issue 30's definition)
-Act = tuple[tuple[int, ...], bool]  # (1-based pairs, braked): one candidate roll
+# One candidate roll: (1-based pairs, braked), or (pairs, braked, weights) with a weight vector (12,)
+# as a tuple (largest 1; pairs: its nonzero entries; `control.action_weights`).
+Act = tuple
 
 
-def _singles(workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict) -> list[Candidate]:
+def _singles(workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict, world=None) -> list[Candidate]:
     """Every single pair, in the plan's order (predicted to roll toward the target first)."""
     return [c for c in pl.candidates if len(c.pairs) == 1]
 
 
-def _pairs(workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict) -> list[tuple[int, ...]]:
+def _pairs(
+    workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict, world=None
+) -> list[tuple[int, ...]]:
     """The plan's own combinations, then every other action in `brake.escape`'s order."""
     own = [c.pairs for c in pl.candidates if len(c.pairs) > 1]
     return own + escape(workspace, face, nodes, {c.pairs for c in pl.candidates}, **target)
 
 
 # Sources of candidate actions, tried in this order: f(workspace, face, nodes (12, 3) m, plan,
-# target) -> Candidates or pair tuples (1-based). A new kind of action is one more entry.
-GENERATORS: list[Callable] = [_singles, _pairs]
+# target, world: World | None) -> Candidates, pair tuples (1-based) or weight vectors (12,). A new
+# kind of action is one more entry. Those in LAZY are computed only when the horizon reaches them.
+GENERATORS: list[Callable] = [_singles, _pairs, _optimised]
+LAZY: set[Callable] = {_optimised}
 
 
-def acts(workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict, brake: Brake | None) -> list[Act]:
-    """The step's candidate rolls in the order to simulate them: every generator's actions,
-    each once, braked (if the run brakes); then, where the brake acts on this face, each unbraked."""
-    seen: list[tuple[int, ...]] = []
+def _act(a) -> tuple:
+    """A generator's action as (pairs,) or (pairs, weights tuple): a weight vector of ones and
+    zeros is the pairs action it equals."""
+    if isinstance(a, Candidate):
+        return (a.pairs,)
+    if isinstance(a, np.ndarray) and a.shape == (12,):
+        pairs = tuple(int(q) + 1 for q in np.flatnonzero(a > 0))
+        return (pairs,) if np.all((a == 0) | (a == 1)) else (pairs, tuple(float(x) for x in a))
+    return (tuple(int(q) for q in a),)
+
+
+def acts(
+    workspace: Workspace,
+    face: int,
+    nodes: np.ndarray,
+    pl: Plan,
+    target: dict,
+    brake: Brake | None,
+    world: World | None = None,
+    lazy: bool = False,
+) -> list[Act]:
+    """The step's candidate rolls in the order to simulate them: every generator's actions (not
+    in LAZY; lazy: only those in LAZY), each once, braked (if the run brakes); then, where the
+    brake acts on this face, each unbraked."""
+    seen: list[tuple] = []
     for gen in GENERATORS:
-        for a in gen(workspace, face, nodes, pl, target):
-            a = a.pairs if isinstance(a, Candidate) else tuple(int(q) for q in a)
+        if (gen in LAZY) != lazy:
+            continue
+        for a in gen(workspace, face, nodes, pl, target, world):
+            a = _act(a)
             if a not in seen:
                 seen.append(a)
-    first = [(a, brake is not None) for a in seen]
+    first = [(a[0], brake is not None, *a[1:]) for a in seen]
     if brake is not None and brake.active(face, nodes):
-        first += [(a, False) for a in seen]
+        first += [(a[0], False, *a[1:]) for a in seen]
     return first
+
+
+def weights_of(act: Act) -> np.ndarray | None:
+    """The weight vector (12,) of the action `act`, None for a pairs action."""
+    return np.asarray(act[2], float) if len(act) > 2 else None
 
 
 def foresee(
@@ -93,7 +134,8 @@ def foresee(
 ) -> list[RollResult]:
     """The rolls (one RollResult per candidate of `todo`) the robot observed in `obs` (with its
     `state`) would make, each with the run's settings `s`, a copy of `brake` if braked, and the
-    planned pressure `expect[pairs]` MPa (NaN if absent), simulated together from the same state.
+    planned pressure `expect[pairs]` MPa (NaN if absent or weighted), simulated together from
+    the same state.
     Raises SimulationError if a simulation blows up."""
     if obs.state is None:
         raise ValueError("the observation carries no state to simulate from")
@@ -103,9 +145,10 @@ def foresee(
 
     def make(b: int, ob: Obs):
         ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy())
-        pairs, braked = todo[b]
+        pairs, braked, w = todo[b][0], todo[b][1], weights_of(todo[b])
         brk = copy.deepcopy(brake) if braked else None
-        return roll_controller(params, s, ob, pairs, max_pressure, brk, expect.get(pairs, float("nan")))
+        planned = expect.get(pairs, float("nan")) if w is None else float("nan")
+        return roll_controller(params, s, ob, pairs, max_pressure, brk, planned, weights=w)
 
     return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
 
@@ -183,17 +226,25 @@ def choose(
     cost: Callable[[RollResult], float],
     memory: Memory,
     now: float = np.inf,
+    more: Callable[[], Sequence[Act]] | None = None,
 ) -> tuple[list[Act], tuple[RollResult, ...]]:
     """A run's step: simulate the candidates `todo` in order in batches of growing horizon (the
-    first; then up to s.lookahead; then all), stopping at the first batch after which one is
-    acceptable: it rolls onto another face, `lands` (no tumble, no slide), at a state not in
-    `memory`, and makes progress (`cost` below `now`, the cost of staying). Return the
+    first; then up to s.lookahead; then all; then `more()`'s, called only then), stopping at
+    the first batch after which one is acceptable: it rolls onto another face, `lands` (no
+    tumble, no slide), at a state not in `memory`, and makes progress (`cost` below `now`, the
+    cost of staying). Return the
     s.max_attempts acceptable candidates of least `cost` (if none makes progress, those that
     are acceptable otherwise: a detour, which the memory keeps from cycling) and every roll
     simulated, in the order simulated. A tumble, a slide or a return is never returned."""
+    todo = list(todo)
     simulated: list[RollResult] = []
     fine: list[int] = []
-    for k in (1, s.lookahead, len(todo)):
+    for k in (1, s.lookahead, len(todo), None):
+        if k is None:  # the lazy actions: only now computed
+            if more is None:
+                break
+            todo += [a for a in more() if a not in todo]
+            k = len(todo)
         if k <= len(simulated):
             continue
         simulated += foresee(params, terrain, s, obs, todo[len(simulated) : k], max_pressure, brake, expect)

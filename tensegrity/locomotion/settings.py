@@ -15,7 +15,7 @@ from ..physics.schedule import whole_steps
 
 __all__ = ["RollSettings"]
 
-_FLAGS = ("combine", "min_alignment", "brake", "escape_attempts", "lookahead")  # may be 0 or False
+_FLAGS = ("combine", "min_alignment", "brake", "escape_attempts", "lookahead", "optimised_actions")  # may be 0 or False
 _COUNTS = ("max_attempts", "max_rolls", "escape_attempts", "lookahead")
 
 
@@ -25,7 +25,7 @@ class RollSettings:
     hold_time s; release_margin m; release_time s; catch_time s; settle_speed m/s; settle_time s;
     contact_tolerance m; combine; min_alignment; max_attempts; max_rolls; arrive_tolerance m;
     brake; brake_margin m; brake_rate MPa/s; brake_release_time s;
-    escape_attempts; lookahead; strut_damping 1/s; dt s (the simulator's
+    escape_attempts; lookahead; optimised_actions; strut_damping 1/s; dt s (the simulator's
     time step, config sim.dt).
 
     A roll (see `control.roll`) ramps the pressure at ramp_rate; a support node lifted by more
@@ -42,7 +42,9 @@ class RollSettings:
     brake_release_time instead of release_time. Before each roll, on every ground, a run
     simulates candidate rolls from the robot's state, the first, then up to lookahead, then all
     while none is acceptable, and makes the max_attempts best (`lookahead.choose`). With
-    lookahead 0 the plan's max_attempts candidates are tried in the world, then escape_attempts
+    optimised_actions, the optimised actions of any set of pairs (`actuation.candidates`)
+    come last, computed only when the horizon reaches them. With lookahead 0 the plan's
+    max_attempts candidates are tried in the world, then escape_attempts
     more actions in the order of `brake.escape`, before the run ends "stuck".
     Every rolling simulation damps the struts by strut_damping (`rolling`), whatever the
     `Params` given: the robot of the pipeline's runs and of `roll_to` is the same."""
@@ -68,6 +70,7 @@ class RollSettings:
     brake_rate: float = 6.0
     brake_release_time: float = 1.5
     escape_attempts: int = 8
+    optimised_actions: bool = False
     strut_damping: float = 1.0
     dt: float = 1e-4
 

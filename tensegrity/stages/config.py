@@ -44,6 +44,7 @@ ROLL_KEYS = _RAMP + tuple(
         "arrive_tolerance",
         "escape_attempts",
         "lookahead",
+        "optimised_actions",
         "brake",
         "brake_margin",
         "brake_rate",

@@ -160,7 +160,7 @@ def test_candidates_come_from_every_generator_once(ws):
     sn = d.nodes(steep.x, steep.q, DAMPED.strut_length)[0]
     both = lookahead.acts(ws, EQUI, sn, lo.plan(ws, EQUI, sn, goal=np.array([2.0, 0.0])), target, Brake(ws, 0.035))
     assert len(both) == 2 * len(acts) and {a for a, b in both if not b} == {a for a, _ in acts}
-    extra = lambda w, f, p, pl, t: [(1, 2, 3)]  # noqa: E731
+    extra = lambda w, f, p, pl, t, world: [(1, 2, 3)]  # noqa: E731
     lookahead.GENERATORS.append(extra)
     try:
         assert lookahead.acts(ws, EQUI, nodes, pl, target, None)[-1] == ((1, 2, 3), False)

@@ -47,9 +47,19 @@ def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "") -> x
     rec, steps = run.record, run.steps
     n = len(steps)
     used = [st.used for st in steps]
-    pairs = np.zeros((n, 2), np.int64)
+    slots = max([2] + [len(r.pairs) for r in used])  # more than two: an optimised action's pairs
+    pairs = np.zeros((n, slots), np.int64)
     for i, r in enumerate(used):
         pairs[i, : len(r.pairs)] = r.pairs
+    weighted = {}  # only if a step rolled with a weight vector: pairs-only runs stay as they were
+    if any(r.weights is not None for r in used):
+        w = np.array([np.zeros(12) if r.weights is None else r.weights for r in used]).reshape(n, 12)
+        for i, r in enumerate(used):
+            if r.weights is None:
+                w[i, np.asarray(r.pairs, int) - 1] = 1.0
+        weighted["step_weight"] = var(
+            ("step", "pair"), w, "1", "weights of the step's action: pair pressures level x weight (largest 1)"
+        )
     edge = np.array([st.plan.edge for st in steps], np.int64).reshape(n, 2)
     return xr.Dataset(
         {
@@ -115,6 +125,7 @@ def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "") -> x
                 "m",
                 "centre of gravity after the step, world frame",
             ),
+            **weighted,
             "faces": var(("visit",), np.array(run.faces, np.int64), "1", "contact faces visited, in order"),
             "goal": var(("axis",), run.goal, "m", "goal, world frame (NaN: a run over given edges)"),
             "start": var(("axis",), run.start, "m", "centre of gravity at the start, world frame"),
@@ -129,7 +140,11 @@ def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "") -> x
             "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "actuator pair number"}),
             "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "world axis"}),
             "step": ("step", np.arange(1, n + 1), {"units": "1", "long_name": "step number"}),
-            "slot": ("slot", [1, 2], {"units": "1", "long_name": "pair slot (two pairs when combined)"}),
+            "slot": (
+                "slot",
+                np.arange(1, slots + 1),
+                {"units": "1", "long_name": "pair slot (two pairs when combined)"},
+            ),
             "end": ("end", [1, 2], {"units": "1", "long_name": "edge end"}),
             "visit": ("visit", np.arange(1, len(run.faces) + 1), {"units": "1", "long_name": "visit number"}),
         },
