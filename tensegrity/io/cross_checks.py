@@ -184,11 +184,16 @@ def section_errors(cfg: Mapping, section: str) -> list[str]:
             out.append(
                 f"config key gravity.validate_slopes: {bad} deg are not among gravity.slopes {list(g['slopes'])}"
             )
+        unit, top = (_unit(cfg), MAX_VOLTAGE if _unit(cfg) == "V" else MAX_PRESSURE)
+        if g["max_pressure"] > top:
+            hint = "" if unit == "V" else " (in V only with actuator.kind: twisted_string)"
+            top_ = f"{top:g} {unit}{hint}"
+            out.append(f"config key gravity.max_pressure: {g['max_pressure']} is greater than the maximum of {top_}")
         step = loc["ramp_rate"] * loc["interval"]
         if not whole_steps(g["grid_step"], step):
             out.append(
-                f"config key gravity.grid_step: {g['grid_step']} MPa is not a whole number of ramp "
-                f"increments ({step:g} MPa = locomotion.ramp_rate x locomotion.interval)"
+                f"config key gravity.grid_step: {g['grid_step']} {unit} is not a whole number of ramp "
+                f"increments ({step:g} {unit} = locomotion.ramp_rate x locomotion.interval)"
             )
     else:
         raise ValueError(f"no cross-key checks for section {section!r}")

@@ -26,11 +26,13 @@ def slope_limit_figure(
     predicted_gravity: np.ndarray,
     friction: float,
     max_pressure: float,
+    unit: str = "MPa",
 ) -> Path:
     """Slope limit (deg) vs heading (deg), one panel per contact case, one colour per kind:
     simulated (solid), predicted from the free workspace (dashed), the gravity-aware grid
-    (markers); arrays (kind, contact, heading). Written to the PNG `path`."""
-    args = (kinds, contacts, headings, simulated, predicted_free, predicted_gravity, friction, max_pressure)
+    (markers); arrays (kind, contact, heading). Written to the PNG `path`. `unit`: of the
+    actuation level, MPa (pressures) or V (motor voltages)."""
+    args = (kinds, contacts, headings, simulated, predicted_free, predicted_gravity, friction, max_pressure, unit)
     return save_figure(slope_limit_axes(*args), path)
 
 
@@ -43,6 +45,7 @@ def slope_limit_axes(
     predicted_gravity: np.ndarray,
     friction: float,
     max_pressure: float,
+    unit: str = "MPa",
 ) -> Figure:
     """The Figure of `slope_limit_figure` (same arguments but the path), not yet written."""
     fig = Figure(figsize=(6.2 * len(contacts), 4.8))
@@ -75,8 +78,9 @@ def slope_limit_axes(
     axes[0, 0].set_ylabel("steepest slope (deg)")
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
+    levels = "pressures" if unit == "MPa" else "motor voltages"
     fig.suptitle(
-        f"Slope limits: stand, roll uphill, roll downhill under control (pressures up to {max_pressure:g} MPa)"
+        f"Slope limits: stand, roll uphill, roll downhill under control ({levels} up to {max_pressure:g} {unit})"
     )
     fig.tight_layout(rect=(0, 0.17, 1, 0.95))
     return fig
@@ -90,9 +94,12 @@ def tip_figure(
     tip: np.ndarray,
     stood: np.ndarray,
     max_pressure: float,
+    unit: str = "MPa",
 ) -> Path:
-    """Least tipping pressure over the pairs (MPa) vs heading (deg), one line per slope, one
-    panel per contact; tip (contact, slope, heading, pair), stood (contact, slope, heading)."""
+    """Least tipping pressure over the pairs (`unit`: MPa, or V for motor voltages) vs heading
+    (deg), one line per slope, one panel per contact; tip (contact, slope, heading, pair), stood
+    (contact, slope, heading)."""
+    level = "pressure" if unit == "MPa" else "motor voltage"
     fig = Figure(figsize=(6.2 * len(contacts), 4.4))
     axes = fig.subplots(1, len(contacts), sharey=True, squeeze=False)
     cmap = colormaps["viridis"]
@@ -110,8 +117,8 @@ def tip_figure(
         ax.set_xticks(headings)
         ax.set_ylim(-0.2, max_pressure)
         ax.grid(alpha=0.3)
-    axes[0, 0].set_ylabel("least tipping pressure over the pairs (MPa)")
+    axes[0, 0].set_ylabel(f"least tipping {level} over the pairs ({unit})")
     axes[0, -1].legend(title="slope", fontsize=8)
-    fig.suptitle("Gravity-aware workspace: pressure at which the robot rolls")
+    fig.suptitle(f"Gravity-aware workspace: {level} at which the robot rolls")
     fig.tight_layout(rect=(0, 0, 1, 0.95))
     return save_figure(fig, path)

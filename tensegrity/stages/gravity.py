@@ -8,6 +8,7 @@ import os
 from pathlib import Path
 
 from ..io import datasets, formats, settings
+from ..io.formats import actuation
 from ..io.formats import gravity as gf
 from ..physics import topology as topo
 from ..workspace.gravity import GravitySetup
@@ -16,22 +17,25 @@ from . import provenance
 
 def gravity(cfg: dict, out_path: str | os.PathLike) -> Path:
     """Stage `gravity`: the gravity-aware workspace of both contact cases, every pair of
-    gravity.pairs on every slope and heading (results/workspace_gravity.nc)."""
+    gravity.pairs on every slope and heading (results/workspace_gravity.nc). With the
+    twisted-string actuator (an `actuator` section in `cfg`) the ramp (locomotion.ramp_rate V/s,
+    gravity.max_pressure and grid_step V) and the tipping levels are motor voltages, and the
+    file says V (`formats.actuation`)."""
     from ..workspace import gravity as gv
 
     setup, g = settings.build(GravitySetup, cfg), cfg["gravity"]
-    params = settings.params(cfg)
+    params, motors = settings.params(cfg), _motors(cfg)
     sweeps = {}
     for contact, face in topo.CONTACT_FACES.items():
-        sw = sweeps[contact] = gv.run(params, face, g["pairs"], g["slopes"], g["headings"], setup)
+        sw = sweeps[contact] = gv.run(params, face, g["pairs"], g["slopes"], g["headings"], setup, motors=motors)
         print(
             f"{contact}: stands at {int(sw.stood.sum())} of {sw.stood.size} slope/heading cases; "
             f"{int(sw.rolled.sum())} of {sw.rolled.size} ramps rolled",
             flush=True,
         )
-    ds = gf.gravity_dataset(sweeps, setup)
+    kind = actuation.PNEUMATIC if motors is None else actuation.TWISTED
     return datasets.write(
-        ds,
+        actuation.relabel(gf.gravity_dataset(sweeps, setup), kind),
         out_path,
         cfg,
         "Gravity-aware workspace: single pairs ramped on flat ground and slopes until the robot rolls",
@@ -41,8 +45,8 @@ def gravity(cfg: dict, out_path: str | os.PathLike) -> Path:
 
 
 def gravity_figure(cfg: dict, gravity_path: str | os.PathLike, figure_path: str | os.PathLike) -> Path:
-    """Stage `gravity_figure`: the tipping pressures of the gravity-aware workspace file
-    `gravity_path` (results/figures/workspace_gravity.png)."""
+    """Stage `gravity_figure`: the tipping pressures (or motor voltages: the file's unit) of the
+    gravity-aware workspace file `gravity_path` (results/figures/workspace_gravity.png)."""
     from ..render.gravity import tip_figure
 
     ds = datasets.read(gravity_path)
@@ -54,6 +58,7 @@ def gravity_figure(cfg: dict, gravity_path: str | os.PathLike, figure_path: str 
         ds["tip_pressure"].values,
         ds["stood"].values.astype(bool),
         float(ds.attrs["max_pressure_setting"]),
+        actuation.units(actuation.kind_of(ds)),
     )
 
 
@@ -68,13 +73,17 @@ def slope_limit(
     """Stage `slope_limit`: results/slope_limit.nc and results/figures/slope_limit.png. With
     `two_pair_path` (results/workspace_two_pair.nc) the free prediction also tries the measured
     two-pair combinations; the simulated check drives single pairs only; beside it, the limit
-    with optimised actions of any set of pairs (`workspace.slope_multi`)."""
+    with optimised actions of any set of pairs (`workspace.slope_multi`). With the twisted-string
+    actuator everything is in volts (the inputs must be too), but the optimised actions are not
+    computed (NaN, the attribute `multi_not_computed` says why)."""
     from ..render.gravity import slope_limit_figure
     from ..workspace import slope_limit as sl
     from ..workspace.sensitivity import ActuationSettings
     from ..workspace.slope_multi import multi_limits
 
-    setup = settings.build(GravitySetup, cfg)
+    setup, motors = settings.build(GravitySetup, cfg), _motors(cfg)
+    actuator = actuation.PNEUMATIC if motors is None else actuation.TWISTED
+    _same_kind(actuator, gravity_path, workspace_path, two_pair_path)
     ws = formats.read_workspace(workspace_path, two_pair_path)
     params = setup.rolling(settings.params(cfg))
     sweeps = gf.read_gravity(gravity_path)
@@ -85,9 +94,12 @@ def slope_limit(
         setup,
         iterations=int(cfg["gravity"]["iterations"]),
         free_step=float(cfg["gravity"]["free_step"]),
+        motors=motors,
     )
     act = settings.build(ActuationSettings, cfg)
-    multi = multi_limits(ws, params, sweeps, lim, setup, act, int(cfg["gravity"]["multi_iterations"]))
+    # the optimised actions solve the statics of the muscles (eq. 1-2): none in volts
+    multi_iterations = int(cfg["gravity"]["multi_iterations"]) if motors is None else 0
+    multi = multi_limits(ws, params, sweeps, lim, setup, act, multi_iterations)
     for k, kind in enumerate(lim.kinds):
         for c, contact in enumerate(lim.contacts):
             print(
@@ -99,15 +111,15 @@ def slope_limit(
                 + " ".join(f"{v:5.1f}" for v in multi.simulated[k, c]),
                 flush=True,
             )
-    ds = gf.slope_limit_dataset(
-        lim,
-        multi,
-        {
-            "friction_angle_deg": sl.friction_angle(params),
-            "max_pressure_MPa": setup.max_pressure,
-            "two_pair_combinations": int(two_pair_path is not None),
-        },
-    )
+    unit = actuation.units(actuator)
+    attrs = {
+        "friction_angle_deg": sl.friction_angle(params),
+        f"max_pressure_{unit}": setup.max_pressure,
+        "two_pair_combinations": int(two_pair_path is not None),
+    }
+    if motors is not None:
+        attrs["multi_not_computed"] = MULTI_NOT_IN_VOLTS
+    ds = actuation.relabel_texts(gf.slope_limit_dataset(lim, multi, attrs), actuator)
     path = datasets.write(
         ds,
         out_path,
@@ -126,5 +138,31 @@ def slope_limit(
         lim.predicted_gravity,
         sl.friction_angle(params),
         setup.max_pressure,
+        unit,
     )
     return path
+
+
+MULTI_NOT_IN_VOLTS = (
+    "the slope limit with optimised actions of any set of pairs (simulated_multi) is not computed "
+    "with the twisted-string actuator: its actions are solved on the statics of the pneumatic "
+    "muscles (eq. 1-2, workspace.sensitivity), which knows no motor stall"
+)
+
+
+def _motors(cfg: dict):
+    """The twisted strings of `cfg` (an `actuator` section: `stage_config` adds it for
+    twisted_string only), or None for the pneumatic muscles."""
+    return settings.motors(cfg) if "actuator" in cfg else None
+
+
+def _same_kind(kind: str, *paths) -> None:
+    """ValueError naming the file if an input file is of another actuator than `kind` (the
+    configured one): a slope limit of volts ramps read against a workspace of pressures has no
+    unit."""
+    for path in paths:
+        if path is not None and (got := actuation.kind_of(datasets.read_attrs(path))) != kind:
+            raise ValueError(
+                f"{path} is of the {got} actuator, but config key actuator.kind is {kind}: "
+                "make every input of the slope limit with one actuator.kind"
+            )

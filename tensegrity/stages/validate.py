@@ -6,12 +6,14 @@ Failed checks do not raise: they are verdicts in the files."""
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from .. import atomic
 from ..io import datasets, settings
+from ..io.formats import actuation
 from ..io.formats import gravity as gf
 from ..io.formats import gravity_validation as gvf
 from ..io.formats import run as run_formats
@@ -27,12 +29,61 @@ from ..validation.nominals import common_levels
 from ..workspace.sweep import SweepSetup
 from ..workspace.two_pair import TwoPairSetup
 from . import provenance
+from .config import actuator_error
+
+# check 6 with the twisted-string actuator while the demonstration runs are not made in volts
+NO_RUNS_IN_VOLTS = (
+    "the demonstration runs are not made with the twisted-string actuator (stage locomotion_runs refuses "
+    "actuator.kind: twisted_string)"
+)
+# check G.1 with the twisted-string actuator while the controller's rolls are not in volts
+NO_ROLLS_IN_VOLTS = (
+    "the controller's grounded rolls (locomotion.control.roll) are not made with the "
+    "twisted-string actuator (stage locomotion_runs refuses actuator.kind: twisted_string)"
+)
+
+
+def _kind(cfg: dict):
+    """The twisted strings of `cfg` (an `actuator` section: `stage_config` adds it for
+    twisted_string only) or None, and the actuator kind of the files."""
+    motors = settings.motors(cfg) if "actuator" in cfg else None
+    return motors, actuation.PNEUMATIC if motors is None else actuation.TWISTED
+
+
+def _worded(kind: str, obj):
+    """`obj` (a string, a Verdict, a table (title, header, rows) or a list of them) in the wording
+    of `kind` (`actuation.words`: pressure -> motor voltage, MPa -> V; identity for pneumatic)."""
+    if kind == actuation.PNEUMATIC:
+        return obj
+    if isinstance(obj, str):
+        return actuation.words(obj, kind)
+    if dataclasses.is_dataclass(obj):
+        return dataclasses.replace(
+            obj, **{k: _worded(kind, getattr(obj, k)) for k in ("statement", "measured", "reference")}
+        )
+    return type(obj)(_worded(kind, x) for x in obj)
+
+
+def _log(result, kind: str) -> None:
+    """Print each verdict of a check's `result` as it is known (the job's log), in the wording of
+    `kind`."""
+    from ..validation import summary
+
+    for row in _worded(kind, list(summary.verdicts(result))):
+        print(f"  {row.id} {row.status}: {row.measured}", flush=True)
 
 
 def _pages(
-    md_path: str | os.PathLike, html_path: str | os.PathLike | None, title: str, lead: Sequence[str], tables: Sequence
+    md_path: str | os.PathLike,
+    html_path: str | os.PathLike | None,
+    title: str,
+    lead: Sequence[str],
+    tables: Sequence,
+    kind: str = actuation.PNEUMATIC,
 ) -> list[Path]:
-    """A validation page as Markdown and, if `html_path`, HTML (`validation.pages`)."""
+    """A validation page as Markdown and, if `html_path`, HTML (`validation.pages`), in the
+    wording of the actuator `kind`."""
+    lead, tables = _worded(kind, list(lead)), _worded(kind, list(tables))
     out = [atomic.write_text(md_path, pages.markdown(title, lead, tables))]
     if html_path:
         out.append(atomic.write_text(html_path, pages.html_page(title, lead, tables)))
@@ -54,9 +105,11 @@ def validate(
     (`run_paths`; none: check 6 is not evaluated), and check 8 on the prototype's experiment
     (results/validation/prototype.nc, stage `validate_prototype`; None: no check 8); writes
     validation.nc, the Markdown summary and, if `html_path`, the HTML summary. Returns the paths
-    written."""
+    written. With the twisted-string actuator (the files in volts) the checks run in volts where
+    they can (`checks.run_checks`) and the files say V."""
     from ..validation import checks, report
 
+    motors, kind = _kind(cfg)
     nominals = read_nominals(nominal_paths)
     workspace = wf.read_workspace(workspace_path) if workspace_path else None
     setup, checks_ = settings.build(SweepSetup, cfg), settings.build(CheckSettings, cfg)
@@ -68,15 +121,17 @@ def validate(
         nominals,
         workspace,
         checks_,
-        on_result=report.log,
+        on_result=lambda r: _log(r, kind),
         runs=run_formats.read_run_summaries(run_paths),
+        motors=motors,
+        no_runs="" if motors is None or actuator_error(cfg, "locomotion_runs") is None else NO_RUNS_IN_VOLTS,
     )
     if prototype_path:
         from ..io.formats.prototype import read_prototype
         from ..validation.prototype_check import check_prototype
 
         results.append(check_prototype(read_prototype(prototype_path)))
-        report.log(results[-1])
+        _log(results[-1], kind)
     levels = common_levels(nominals)
     ds, allow = vf.workspace_validation_dataset(results, levels, checks_.faces, checks_.statics_pressures)
     note = (
@@ -91,7 +146,7 @@ def validate(
         *([prototype_path] if prototype_path else []),
     )
     path = datasets.write(
-        ds,
+        actuation.relabel_texts(ds, kind),
         nc_path,
         prov,
         "Validation of the workspace against the paper, statics, symmetry, "
@@ -101,7 +156,7 @@ def validate(
     )
     return [
         path,
-        *_pages(md_path, html_path, report.TITLE, [report.counts(results), note], report.summary_tables(results)),
+        *_pages(md_path, html_path, report.TITLE, [report.counts(results), note], report.summary_tables(results), kind),
     ]
 
 
@@ -117,9 +172,11 @@ def validate_two_pair(
     """Stage `validate_two_pair`: the two-pair workspace against statics, direct simulation of
     two_pair.check_combos on two_pair.check_faces, and superposition, and its averaging error
     against validate.averaging_tolerance (`validation.two_pair`);
-    writes results/validation/two_pair.nc, .md and .html."""
+    writes results/validation/two_pair.nc, .md and .html (in volts with the twisted-string
+    actuator: the statics check is then not evaluated)."""
     from ..validation import two_pair as v
 
+    motors, kind = _kind(cfg)
     setup, s = settings.build(TwoPairSetup, cfg), cfg["two_pair"]
     contacts = tpf.read_two_pair_nominals(contact_paths)
     grid_cog, staircase = tpf.read_two_pair_grid(two_pair_path)
@@ -136,8 +193,9 @@ def validate_two_pair(
         faces=s["check_faces"],
         tolerance=float(s["tolerance"]),
         averaging_tolerance=float(cfg["validate"]["averaging_tolerance"]),
+        motors=motors,
     )
-    for row in r.rows:
+    for row in _worded(kind, r.rows):
         print(f"  {row.id} {row.status}: {row.measured}", flush=True)
     note = (
         f"Levels {', '.join(f'{x:g}' for x in setup.levels)} MPa held {setup.hold:g} s "
@@ -145,7 +203,7 @@ def validate_two_pair(
     )
     prov = provenance(cfg, *contact_paths, two_pair_path, workspace_path)
     path = datasets.write(
-        tpvf.two_pair_validation_dataset(r),
+        actuation.relabel_texts(tpvf.two_pair_validation_dataset(r), kind),
         nc_path,
         prov,
         v.TITLE,
@@ -155,7 +213,12 @@ def validate_two_pair(
     return [
         path,
         *_pages(
-            md_path, html_path, v.TITLE, [pages.counts([x.status for x in r.rows]), note], [pages.verdict_table(r.rows)]
+            md_path,
+            html_path,
+            v.TITLE,
+            [pages.counts([x.status for x in r.rows]), note],
+            [pages.verdict_table(r.rows)],
+            kind,
         ),
     ]
 
@@ -170,26 +233,37 @@ def validate_gravity(
 ) -> list[Path]:
     """Stage `validate_gravity`: checks G.1-G.3 (`validation.gravity`) of the gravity-aware
     workspace on gravity.validate_slopes, within gravity.tip_tolerance; writes
-    results/validation/gravity.nc, .md and .html."""
+    results/validation/gravity.nc, .md and .html. With the twisted-string actuator (the file in
+    volts) G.2 and G.3 are measured in volts, and G.1 where the controller rolls in volts (the
+    stage locomotion_runs runs with the actuator), else not evaluated, saying why."""
     from ..validation import gravity as vg
 
+    motors, kind = _kind(cfg)
+    no_rolls = motors is not None and actuator_error(cfg, "locomotion_runs") is not None
     g, s = cfg["gravity"], settings.build(RollSettings, cfg)
     sweeps = gf.read_gravity(gravity_path)
-    rc = vg.check_rolls(settings.params(cfg), sweeps, g["validate_slopes"], s, float(g["max_pressure"]))
+    slopes = [] if no_rolls else g["validate_slopes"]
+    rc = vg.check_rolls(settings.params(cfg), sweeps, slopes, s, float(g["max_pressure"]))
     flat = {
         contact: vg.flat_comparison(sweeps[contact], free, CheckSettings.grounded_tolerance)
         for contact, free in read_nominals(nominal_paths).items()
         if contact in sweeps
     }
     rows, status = vg.verdicts(rc, flat, float(g["tip_tolerance"]))
+    if no_rolls:
+        rows[0] = dataclasses.replace(rows[0], measured=NO_ROLLS_IN_VOLTS)
+    rows = _worded(kind, rows)
     for r in rows:
         print(f"  {r.id} {r.status}: {r.measured}", flush=True)
     note = (
         f"Ramps at {s.ramp_rate:g} MPa/s in steps of {s.interval:g} s after {float(g['settle']):g} s at rest; "
         f"grounded rolls with the controller's settings (config locomotion) up to {float(g['max_pressure']):g} MPa."
     )
+    ds = actuation.relabel_texts(gvf.gravity_validation_dataset(rc, flat, status), kind)
+    if no_rolls:
+        ds.attrs["not_evaluated_G1"] = NO_ROLLS_IN_VOLTS
     path = datasets.write(
-        gvf.gravity_validation_dataset(rc, flat, status),
+        ds,
         nc_path,
         provenance(cfg, gravity_path),
         vg.TITLE,
@@ -204,6 +278,7 @@ def validate_gravity(
             vg.TITLE,
             [pages.counts([r.status for r in rows]), note],
             [pages.verdict_table(rows), vg.roll_table(rc)],
+            kind,
         ),
     ]
 

@@ -30,10 +30,11 @@ from ..physics import statics
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.topology import CONTACTS
+from ..physics.twisted import TwistedString
 from ..workspace.lookup import Workspace
 from ..workspace.nominal import Nominal
 from ..workspace.sweep import SweepSetup
-from . import averaging, grounded, paper
+from . import averaging, common, grounded, paper
 from . import runs as demo_runs
 from .common import FAIL, LEVEL_TOL, N_CONTACTS, SKIP, CheckError, CheckSettings, MappingResult, Result, status
 from .nominals import common_levels, simulate_nominal
@@ -120,11 +121,13 @@ def check_mapping(
     discard: float,
     tolerance: float = CheckSettings.mapping_tolerance,
     min_per_kind: int = 2,
+    motors: TwistedString | None = None,
 ) -> MappingResult:
     """The workspace mapped by symmetry (results/workspace.nc, a `Workspace`) against a direct
     simulation standing on each face of `faces` (non-canonical; at least `min_per_kind` of each
     kind): the nominal CoG and the deformed support triangle (the staircase of `setup`, averaged
-    after `discard` s); goal: largest distance under `tolerance` m."""
+    after `discard` s; with `motors`, `twisted.TwistedString`, in volts); goal: largest distance
+    under `tolerance` m."""
     faces = np.array([topo.face_number(f) for f in faces], np.int64)
     levels = np.asarray(setup.levels, float)
     F, P = len(faces), len(levels)
@@ -153,7 +156,7 @@ def check_mapping(
         pairs = [p + 1 for p in range(topo.N_PAIRS) if np.isfinite(wc[p]).all()]
         if not pairs:
             continue
-        run = simulate_nominal(params, face, pairs, setup, discard)
+        run = simulate_nominal(params, face, pairs, setup, discard, motors)
         idx = np.array(pairs) - 1
         dcog[i, idx] = run.cog
         dcog_diff[i, idx] = np.linalg.norm(wc[idx] - run.cog, axis=-1)
@@ -190,6 +193,7 @@ def check_timestep(
     setup: SweepSetup,
     discard: float,
     tolerance: float = CheckSettings.timestep_tolerance,
+    motors: TwistedString | None = None,
 ) -> TimestepResult:
     """The pipeline's nominal CoG (time step setup.dt) against the same sweep at dt/2 (the same
     sample times: record_every doubled); goal: largest distance under `tolerance` m. Not
@@ -211,9 +215,8 @@ def check_timestep(
             continue
         idx = np.array(pairs) - 1
         faces[contact] = n.face
-        run = simulate_nominal(
-            params, faces[contact], pairs, setup, discard, dt=setup.dt / 2, record_every=2 * setup.record_every
-        )
+        half = {"dt": setup.dt / 2, "record_every": 2 * setup.record_every}
+        run = simulate_nominal(params, faces[contact], pairs, setup, discard, motors, **half)
         hcog[c, idx] = run.cog
         diff[c, idx] = np.linalg.norm(fc[idx] - run.cog, axis=-1)
     st = SKIP if not np.isfinite(diff).any() else status(bool(np.nanmax(diff) <= tolerance))
@@ -232,36 +235,47 @@ def run_checks(
     settings: CheckSettings | None = None,
     on_result: Callable[[Result], None] | None = None,
     runs: Mapping[str, demo_runs.RunSummary] | None = None,
+    motors: TwistedString | None = None,
+    no_runs: str = "",
 ) -> list[Result]:
     """Every check, in order 1-7, with `params`, the pipeline's sweep `setup` (its nominal average
     after `discard` s) and `settings` (default `CheckSettings()`) on the nominal CoG of the contact
     cases (contact -> `Nominal`, results/nominal/{contact}.nc), the workspace (results/workspace.nc)
     and the demonstration runs (name -> `runs.RunSummary` of results/locomotion/{run}.nc; None or
-    empty: check 6 is not evaluated).
+    empty: check 6 is not evaluated; `no_runs`, if given, says why). With `motors` (the
+    twisted-string actuator, `twisted.TwistedString`; the nominal files in volts) checks 3-5 and 7
+    are evaluated in volts; 1 (the paper's pressures) and 2 (the statics of the muscles) are not
+    evaluated, each with its reason (`IN_VOLTS`).
     A check that raises gives a `CheckError` (FAIL; the traceback goes to stderr, i.e. the job's
     log). `on_result` is called with each result as soon as it is known (progress logging)."""
     s = settings or CheckSettings()
     if any(n.method == "statics" for n in nominals.values()):  # made without sweeps: check 3 against statics
         check3 = lambda: check_mapping_statics(params, workspace, s.faces, setup.levels, s.mapping_tolerance)
     else:
-        check3 = lambda: check_mapping(params, workspace, s.faces, setup, discard, s.mapping_tolerance)
+        check3 = lambda: check_mapping(params, workspace, s.faces, setup, discard, s.mapping_tolerance, motors=motors)
+    check1 = lambda: paper.check_paper(
+        nominals, params.strut_length, s.ranking_pressure, s.tip_pressure_tolerance, s.orbit_tolerance
+    )
+    check2 = lambda: check_statics(params, nominals, s.statics_pressures, s.statics_tolerance)
+    if motors is not None:
+        check1 = lambda: common.NotEvaluated.of("paper", ("1.1", "1.2", "1.3", "1.4", "1.5"), common.IN_VOLTS["paper"])
+        check2 = lambda: common.NotEvaluated.of("statics", ("2",), common.IN_VOLTS["statics"])
+    check6 = lambda: demo_runs.check_runs(runs or {})
+    if not runs and no_runs:
+        check6 = lambda: common.NotEvaluated.of("runs", ("6",), no_runs)
     todo = [
-        (
-            "paper",
-            "1",
-            lambda: paper.check_paper(
-                nominals, params.strut_length, s.ranking_pressure, s.tip_pressure_tolerance, s.orbit_tolerance
-            ),
-        ),
-        ("statics", "2", lambda: check_statics(params, nominals, s.statics_pressures, s.statics_tolerance)),
+        ("paper", "1", check1),
+        ("statics", "2", check2),
         ("mapping", "3", check3),
         (
             "grounded",
             "4",
-            lambda: grounded.check_grounded(params, nominals, setup, discard, s.grounded_settle, s.grounded_tolerance),
+            lambda: grounded.check_grounded(
+                params, nominals, setup, discard, s.grounded_settle, s.grounded_tolerance, motors
+            ),
         ),
-        ("timestep", "5", lambda: check_timestep(params, nominals, setup, discard, s.timestep_tolerance)),
-        ("runs", "6", lambda: demo_runs.check_runs(runs or {})),
+        ("timestep", "5", lambda: check_timestep(params, nominals, setup, discard, s.timestep_tolerance, motors)),
+        ("runs", "6", check6),
         ("averaging", "7", lambda: averaging.check_averaging(nominals, s.averaging_tolerance)),
     ]
     out = []

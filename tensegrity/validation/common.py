@@ -16,6 +16,15 @@ PASS, FAIL, SKIP = "pass", "fail", "not evaluated"
 INFO = "reported"  # a row of numbers, not a check
 N_CONTACTS = len(topo.CONTACTS)
 LEVEL_TOL = 1e-9  # MPa: a pressure within this of a swept level is that level
+# why a check is not evaluated on files in volts (the twisted-string actuator)
+STATICS_IN_VOLTS = (
+    "the statics (physics.statics) solves the pneumatic muscles' equilibrium (eq. 1-2) and knows no motor stall"
+)
+IN_VOLTS = {
+    "paper": "the paper's statements (III.A, III.C) hold for its pneumatic muscles (eq. 1), not for the "
+    "prototype's motors; the prototype's experiment in volts (IV.B) is check 8",
+    "statics": STATICS_IN_VOLTS,
+}
 
 
 def status(ok: bool) -> str:
@@ -57,6 +66,20 @@ class CheckError(Result):
     name: str
     number: str
     error: str
+
+
+@dataclass(frozen=True)
+class NotEvaluated(Result):
+    """A check that does not apply to the configured robot: its `name` ('statics'), verdict
+    numbers (`status`: each SKIP) and `reason` (why it is not evaluated, e.g. the statics of the
+    pneumatic muscles knows no motor stall)."""
+
+    name: str
+    reason: str
+
+    @classmethod
+    def of(cls, name: str, numbers: tuple[str, ...], reason: str) -> NotEvaluated:
+        return cls(status=dict.fromkeys(numbers, SKIP), name=name, reason=reason)
 
 
 @dataclass(frozen=True)

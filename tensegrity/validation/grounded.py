@@ -15,6 +15,7 @@ from ..physics import frames
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.topology import CONTACTS
+from ..physics.twisted import TwistedString
 from ..workspace.nominal import Nominal
 from ..workspace.sweep import SweepSetup
 from .common import N_CONTACTS, SKIP, CheckSettings, Result, status
@@ -134,6 +135,7 @@ def check_grounded(
     discard: float,
     settle: float = CheckSettings.grounded_settle,
     tolerance: float = CheckSettings.grounded_tolerance,
+    motors: TwistedString | None = None,
 ) -> GroundedResult:
     """The paper's assumption (III.A-B: cable forces dominate, gravity does not change the
     shape, the robot rolls when the CoG projection leaves the triangle), measured: the pipeline's
@@ -144,6 +146,7 @@ def check_grounded(
         support plane by less than `tolerance` m;
     4.2 the grounded robot first rolls at the level where the free CoG projection first leaves
         the triangle, onto the face across the edge it crosses.
+    With `motors` (`twisted.TwistedString`) the levels are motor voltages, V.
     """
     levels = common_levels(nominals)
     shape = (N_CONTACTS, topo.N_PAIRS, levels.size)
@@ -166,7 +169,7 @@ def check_grounded(
         if idx.size == 0:
             continue
         faces[contact] = face
-        run = simulate_nominal(params, face, idx + 1, setup, discard, mode="grounded", settle=settle)
+        run = simulate_nominal(params, face, idx + 1, setup, discard, motors, mode="grounded", settle=settle)
         cmp_ = compare_grounded(levels, face, fc[idx], fs[idx], fm[idx], run.cog, run.margin, run.end_face, tolerance)
         gcog[c, idx] = np.where(cmp_.rolled[..., None], np.nan, run.cog)
         shift[c, idx], dmargin[c, idx] = cmp_.shift, cmp_.margin_change

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..physics import topology as topo
 from ..physics.params import Params
+from ..physics.twisted import TwistedString
 from ..workspace import nominal as nom
 from ..workspace import sweep as sw
 from ..workspace.mapping import same_levels
@@ -44,15 +45,16 @@ def simulate_nominal(
     pairs: Sequence[int],
     setup: SweepSetup,
     discard: float,
+    motors: TwistedString | None = None,
     **override: object,
 ) -> NominalRun:
     """Run the staircase of `setup` on `pairs` (1-based, batched) standing on `face` (1..20 or
     three node numbers) and average each level after its first `discard` s as the pipeline does
     (workspace.nominal.nominal); `override` replaces fields of the setup (mode, settle s, dt s,
-    record_every steps)."""
+    record_every steps); with `motors` (the twisted-string actuator) the levels are volts."""
     face = topo.face_number(face)
     setup = replace(setup, **override)
-    res = sw.run(params, face, pairs, setup)
+    res = sw.run(params, face, pairs, setup, motors)
     P = len(setup.levels)
     out = [
         nom.nominal(res.t, res.level, res.cog[b], res.support[b], P, setup.hold, discard) for b in range(len(res.pairs))

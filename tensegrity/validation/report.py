@@ -24,9 +24,3 @@ def summary_tables(results: Sequence[Result]) -> list[summary.Table]:
 def counts(results: Sequence[Result]) -> str:
     """'n of m checks passed, ...' over every verdict of `results` (`pages.counts`)."""
     return pages.counts([s for r in results for s in r.status.values()])
-
-
-def log(result: Result) -> None:
-    """Print each verdict of `result` as it is known (the job's log)."""
-    for row in summary.verdicts(result):
-        print(f"  {row.id} {row.status}: {row.measured}", flush=True)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from .averaging import AveragingResult, averaging_verdicts
 from .checks import MappingResult, StaticsResult, TimestepResult
-from .common import CheckError, Result
+from .common import CheckError, NotEvaluated, Result
 from .grounded import GroundedResult
 from .paper import PaperResult
 from .prototype_check import PrototypeResult, prototype_table, prototype_verdicts
@@ -31,6 +31,8 @@ def verdicts(result: Result) -> list[Verdict]:
                 result.number, f"{result.name} check", f"error: {result.error}", "runs", result.status[result.number]
             )
         ]
+    if isinstance(result, NotEvaluated):
+        return [Verdict(n, f"{result.name} check", result.reason, "-", s) for n, s in result.status.items()]
     for kind, words in (
         (PaperResult, paper_verdicts),
         (StaticsResult, statics_verdicts),

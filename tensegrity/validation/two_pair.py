@@ -16,7 +16,7 @@ The files are read by `io.formats.two_pair` and `io.formats.workspace`; the chec
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -25,12 +25,13 @@ from ..physics import statics
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.topology import CONTACTS
+from ..physics.twisted import TwistedString
 from ..workspace import two_pair as tp
 from ..workspace.lookup import Workspace
 from ..workspace.nominal import TwoPairNominal
 from ..workspace.two_pair import TwoPairSetup
 from . import two_pair_averaging as tpa
-from .common import INFO, SKIP, status
+from .common import INFO, SKIP, STATICS_IN_VOLTS, status
 from .words import Verdict, label, mm
 
 
@@ -66,13 +67,15 @@ def check_direct(
     faces: Sequence[int],
     combos: np.ndarray,
     tol: float,
+    motors: TwistedString | None = None,
 ) -> tuple[np.ndarray, np.ndarray, str]:
     """(b): per check face (F,) and combination (K,) the largest CoG difference m of the mapped
     grid from a direct simulation along the same staircase, and along the other order (the
     path dependence), both with the staircase of `setup`; NaN where the grid holds no numbers.
     cog (20, 66, P, P, 3) m and staircase (20, 66, 2), the pairs in the order of the grid axes of
     the staircase the numbers come from, per face and combination (rows of `two_pair.COMBOS`):
-    the 20-face two-pair workspace (results/workspace_two_pair.nc)."""
+    the 20-face two-pair workspace (results/workspace_two_pair.nc). With `motors`
+    (`twisted.TwistedString`) the levels are motor voltages, V."""
     same, other = np.full((len(faces), len(combos)), np.nan), np.full((len(faces), len(combos)), np.nan)
     rows = np.array([tp.combo_index(a, b) for a, b in combos], int)
     for fi, f in enumerate(faces):
@@ -82,7 +85,7 @@ def check_direct(
         if not ok.size:
             continue
         order = np.concatenate([path[ok], path[ok][:, ::-1]])
-        r = tp.sweep(params, f, order, setup)
+        r = tp.sweep(params, f, order, setup, motors)
         sim = r["cog"][:, topo.FACE_REFERENCE[f - 1]]
         for n, k in enumerate(ok):
             first = sim[n] if path[k, 0] < path[k, 1] else sim[n].swapaxes(0, 1)
@@ -231,19 +234,26 @@ def validate(
     faces: Sequence[int],
     tolerance: float,
     averaging_tolerance: float | None = None,
+    motors: TwistedString | None = None,
 ) -> TwoPairCheck:
     """(a)-(c) on the two-pair nominal CoG of the contact cases (contact -> `TwoPairNominal`,
     results/two_pair/{contact}.nc), the 20-face grid cog and staircase (`check_direct`,
     results/workspace_two_pair.nc) and the single-pair workspace `single` with its tipping
     pressures `single_tip` (20, 12) MPa (results/workspace.nc), for the check `combos` (K, 2) on
     the check `faces`, goal `tolerance` m; (d) against `averaging_tolerance` m if given. A failed
-    check does not raise."""
+    check does not raise. With `motors` (the twisted-string actuator; the files in volts) (b)-(d)
+    are evaluated in volts and (a) is not (`STATICS_IN_VOLTS`)."""
     combos = np.asarray(combos, int).reshape(-1, 2)
     faces = [int(f) for f in faces]
-    a, a_st = check_statics(params, contacts, combos, tolerance)
-    same, other, b_st = check_direct(params, setup, cog, staircase, faces, combos, tolerance)
+    if motors is None:
+        a, a_st = check_statics(params, contacts, combos, tolerance)
+    else:
+        a, a_st = np.full((len(CONTACTS), len(combos), 3), np.nan), SKIP
+    same, other, b_st = check_direct(params, setup, cog, staircase, faces, combos, tolerance, motors)
     sup = superposition(contacts, single, single_tip)
     rows = _verdicts(tolerance, faces, combos, a, a_st, same, other, b_st, sup)
+    if motors is not None:
+        rows[0] = replace(rows[0], measured=STATICS_IN_VOLTS)
     levels, err, tol_d = next(iter(contacts.values())).levels, None, float("nan")
     if averaging_tolerance is not None:
         tol_d = float(averaging_tolerance)

@@ -22,8 +22,9 @@ from ..physics import dynamics as d
 from ..physics import frames
 from ..physics import topology as topo
 from ..physics.params import Params
-from ..physics.schedule import MAX_PRESSURE, Schedule, check_pressures, hold_step, whole_steps
+from ..physics.schedule import MAX_PRESSURE, Schedule, hold_step, whole_steps
 from ..physics.terrain import Terrain
+from ..physics.twisted import MAX_VOLTAGE, TwistedString, Voltages
 from .slopes import gravity_frame, place, slope_field
 
 FALLING = 0.01  # m: a CoG projection this far past an edge means the robot is rolling over it
@@ -61,8 +62,9 @@ class GravitySetup:
     rest, then ramp_rate MPa/s in steps held `interval` s up to max_pressure MPa, held for
     hold_time s once a support node lifts by lift_tolerance m; the struts damped by
     strut_damping 1/s (the rolling simulations' robot); grid_step MPa, the pressure grid of the
-    results; dt s, the time step. Config `locomotion` (ramp, hold, damping), `gravity` and `sim`;
-    the defaults are the schema's (pinned by tests/io/test_settings.py)."""
+    results; dt s, the time step (V/s and V with the twisted-string actuator). Config `locomotion`
+    (ramp, hold, damping), `gravity` and `sim`; the defaults are the schema's (pinned by
+    tests/io/test_settings.py)."""
 
     ramp_rate: float = 1.0
     interval: float = 0.02
@@ -75,7 +77,6 @@ class GravitySetup:
     dt: float = 1e-4
 
     def __post_init__(self):
-        check_pressures(self.max_pressure, "gravity.max_pressure")
         for name in ("ramp_rate", "max_pressure", "grid_step", "interval", "lift_tolerance", "dt"):
             if not (np.isfinite(getattr(self, name)) and getattr(self, name) > 0):
                 raise ValueError(f"gravity setting {name} must be a positive number, got {getattr(self, name)!r}")
@@ -85,8 +86,8 @@ class GravitySetup:
         step = self.ramp_rate * self.interval
         if not whole_steps(self.grid_step, step):
             raise ValueError(
-                f"gravity.grid_step {self.grid_step} MPa is not a whole number of ramp "
-                f"increments ({step:g} MPa = ramp_rate x interval)"
+                f"gravity.grid_step {self.grid_step} is not a whole number of ramp "
+                f"increments ({step:g} = ramp_rate x interval; MPa, or V with the twisted-string actuator)"
             )
         if not whole_steps(self.interval, self.dt):
             raise ValueError(f"gravity interval {self.interval} s is not a whole number of time steps of {self.dt} s")
@@ -108,6 +109,7 @@ def run(
     headings: ArrayLike,
     setup: GravitySetup,
     flat_once: bool = True,
+    motors: TwistedString | None = None,
 ) -> GravitySweep:
     """The gravity-aware workspace of `face`: each pair of `pairs` on each slope (deg) and
     heading (deg), `settle` s at rest, then the pressure ramped from 0 at ramp_rate MPa/s in
@@ -115,7 +117,7 @@ def run(
     CoG projection FALLING m past an edge, or another face resting on the ground), holding it
     as the controller does once a support node lifts (`ramp`); all of `setup`. All robots in one
     batch; with `flat_once` a zero slope runs one heading and copies it to the others (on flat
-    ground the heading is a turn of the whole scene)."""
+    ground the heading is a turn of the whole scene). With `motors` (docs/design.md §10): volts."""
     face = topo.face_number(face)
     pairs = np.array([topo.check_pair(p) for p in np.atleast_1d(pairs)])
     slopes, headings = np.atleast_1d(np.asarray(slopes, float)), np.atleast_1d(np.asarray(headings, float))
@@ -127,7 +129,7 @@ def run(
     N = pairs.size
     state = d.State.concat([place(params, face, terrain, centres[i], headings[j], N) for i, j in cases])
     level, n_settle = setup.levels()
-    rec, gone = ramp(params, terrain, face, state, np.tile(pairs, len(cases)), level, n_settle, setup, copies=N)
+    rec, gone = ramp(params, terrain, face, state, np.tile(pairs, len(cases)), level, n_settle, setup, N, motors)
     return _collect(face, pairs, slopes, headings, cases, setup.max_pressure, n_settle, setup.grid_step, rec, gone)
 
 
@@ -154,6 +156,7 @@ def ramp(
     n_settle: int,
     setup: GravitySetup,
     copies: int = 1,
+    motors: TwistedString | None = None,
 ) -> tuple[dict, np.ndarray]:
     """Drive robot b of `state` (resting on `face`) with pair pair_of[b] (or, pair_of (R, 12),
     the pair pressures level pair_of[b], `locomotion.control.action_weights`) through the pressures
@@ -172,21 +175,17 @@ def ramp(
     of a case's pairs from one placement): the settling, at zero pressure, is simulated for the
     first robot of each run only and then copied to the others, with its records. The same
     numbers as simulating every copy (a robot's results do not depend on its batch); the
-    gravity-aware workspace settles a twelfth of its robots."""
+    gravity-aware workspace settles a twelfth of its robots. With `motors`: volts (`Voltages`)."""
     interval, dt, lift_tolerance = setup.interval, setup.dt, setup.lift_tolerance
+    (Schedule if motors is None else Voltages).check(level, "gravity.max_pressure")  # MPa or V: before any work
     R, L = state.batch, level.size
     copies = int(copies) if n_settle > 0 else 1
     if copies > 1 and (R % copies or np.any(level[:n_settle] != 0)):
         raise ValueError(f"copies = {copies} needs runs of that many robots ({R}) settling at zero pressure")
     T = L + int(np.ceil(MAX_HOLD / interval - 1e-9))
     every = int(round(interval / dt))
-    rec = {
-        "pressure": np.full((R, T), np.nan),
-        "cog": np.full((R, T, 3), np.nan),
-        "support": np.full((R, T, 3, 3), np.nan),
-        "proj": np.full((R, T, 2), np.nan),
-        "margin": np.full((R, T), np.nan),
-    }
+    shapes = {"pressure": (), "cog": (3,), "support": (3, 3), "proj": (2,), "margin": ()}
+    rec = {name: np.full((R, T, *shape), np.nan) for name, shape in shapes.items()}
     gone = np.full(R, T)
     active = np.arange(R)
     k = np.zeros(R, np.int64)  # level index of each robot
@@ -200,11 +199,12 @@ def ramp(
     for t in range(T):
         ka = k[active]
         if pair_of.ndim == 2:  # weight vectors (R, 12), largest entry 1: pressures level w
-            pres = np.minimum(level[ka, None] * pair_of[active], MAX_PRESSURE)
+            pres = np.minimum(level[ka, None] * pair_of[active], MAX_PRESSURE if motors is None else MAX_VOLTAGE)
         else:
             pres = np.zeros((active.size, topo.N_PAIRS))
             pres[np.arange(active.size), pair_of[active] - 1] = level[ka]
-        state, tr = d.simulate(params, state, Schedule(np.array([interval]), pres[:, None]), terrain, dt, every)
+        sched = (Schedule if motors is None else Voltages)(np.array([interval]), pres[:, None])
+        state, tr = d.simulate(params, state, sched, terrain, dt, every, motors=motors)
         nodes = tr.nodes(params.strut_length)[:, -1]
         cog, sup, proj, margin = gravity_frame(nodes, face)
         for name, v in (("pressure", level[ka]), ("cog", cog), ("support", sup), ("proj", proj), ("margin", margin)):
@@ -278,7 +278,8 @@ def _collect(face, pairs, slopes, headings, cases, max_pressure, n_settle, grid_
         if not stood:
             continue
         for n, row in enumerate(rows):
-            pr, end = rec["pressure"][row], min(gone[row], T)
+            pr = rec["pressure"][row]  # to its last record (gone = T after the whole ramp: NaN past it)
+            end = min(gone[row], int(np.flatnonzero(np.isfinite(pr))[-1]) + 1)
             p_tip, _, edge = tip(rec, row, face, n_settle, gone[row])
             rolled = edge is not None
             # a grid value is the mean over the samples within half a step of it (the nominal

@@ -17,18 +17,17 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import frames
 from ..physics import topology as topo
 from ..physics.params import Params
-from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
+from ..physics.twisted import TwistedString
 from . import gravity as gv
 from .lookup import Workspace, predict
-from .slopes import gravity_frame, heading_of, place, slope_field
+from .slopes import heading_of, place, slope_field, stands
 
 KINDS = ("stand", "uphill", "downhill")
 
@@ -179,23 +178,6 @@ def grid_ok(sw: gv.GravitySweep, look: Workspace, params: Params, max_pressure: 
     return ok, pair
 
 
-def stands(
-    params: Params, faces: Sequence[int], slopes: ArrayLike, headings: ArrayLike, settle: float = 1.0, dt: float = 1e-4
-) -> np.ndarray:
-    """Direct simulation: does the unactuated robot b, placed on faces[b] on a slope of
-    slopes[b] deg at headings[b] deg, still stand on it after `settle` s? (B,) bool."""
-    terrain, centres = slope_field(slopes)
-    state = d.State.concat(
-        [place(params, int(f), terrain, centres[b], h) for b, (f, h) in enumerate(zip(faces, headings))]
-    )
-    n = int(round(settle / dt))
-    _, tr = d.simulate(params, state, Schedule.constant(np.zeros(topo.N_PAIRS), settle), terrain, dt, n)
-    nodes = tr.nodes(params.strut_length)[:, -1]
-    r = float(params.strut_radius)
-    resting = ct.resting_face(ct.clearance(nodes, terrain, r), r)
-    return np.array([resting[b] == f and gravity_frame(nodes[b], int(f))[3] > 0 for b, f in enumerate(faces)])
-
-
 def _sim_ok(
     look: Workspace,
     params: Params,
@@ -205,17 +187,19 @@ def _sim_ok(
     headings: np.ndarray,
     pairs: np.ndarray,
     setup: gv.GravitySetup,
+    motors: TwistedString | None = None,
 ) -> tuple[np.ndarray, np.ndarray, list]:
     """Direct simulation of limit `kind` (1 uphill, 2 downhill; 0 stand) at slopes[j] and
-    headings[j] with pairs[j]: (ok (J,), tip pressure (J,) MPa, failure reason per robot)."""
+    headings[j] with pairs[j]: (ok (J,), tip pressure (J,) MPa, or V with `motors`, failure
+    reason per robot)."""
     J = len(slopes)
     if kind == 0:
-        ok = stands(params, [face] * J, slopes, headings, setup.settle + 0.5, setup.dt)
+        ok = stands(params, [face] * J, slopes, headings, setup.settle + 0.5, setup.dt, motors)
         return ok, np.full(J, np.nan), ["geometry"] * J
     terrain, centres = slope_field(slopes)
     state = d.State.concat([place(params, face, terrain, centres[j], headings[j]) for j in range(J)])
     level, n_settle = setup.levels()
-    rec, gone = gv.ramp(params, terrain, face, state, np.asarray(pairs), level, n_settle, setup)
+    rec, gone = gv.ramp(params, terrain, face, state, np.asarray(pairs), level, n_settle, setup, motors=motors)
     ok, tips, why, land = np.zeros(J, bool), np.full(J, np.nan), ["pressure range"] * J, []
     for j in range(J):
         if gone[j] <= n_settle:
@@ -239,6 +223,7 @@ def _sim_ok(
             [h for _, _, h, _ in land],
             setup.settle + 0.5,
             setup.dt,
+            motors,
         )
         for (j, _, _, e), h in zip(land, held):
             if not h and not _lands(look, face, pose(params, face, slopes[j], headings[j]), e, setup.max_pressure):
@@ -253,10 +238,12 @@ def limits(
     setup: gv.GravitySetup,
     iterations: int = 3,
     free_step: float = 1.0,
+    motors: TwistedString | None = None,
 ) -> SlopeLimits:
     """The slope limits of every contact case of `sweeps` (see the module docstring), simulated
     with the ramp of `setup` (the gravity-aware workspace's), `iterations` bisection steps, the
-    free workspace's slopes scanned in steps of `free_step` deg."""
+    free workspace's slopes scanned in steps of `free_step` deg. With `motors` (the
+    twisted-string actuator) the workspaces, the ramp and the tipping levels are in volts."""
     params = setup.rolling(params)
     contacts = tuple(sweeps)
     first = next(iter(sweeps.values()))
@@ -283,7 +270,7 @@ def limits(
             reason = ["friction" if h >= cap else ("geometry" if kind == 0 else "pressure range") for h in hi]
             for _ in range(int(iterations) if js else 0):
                 mid = 0.5 * (lo + hi)
-                good, t, r = _sim_ok(look, params, kind, sw.face, mid, sw.headings[js], p, setup)
+                good, t, r = _sim_ok(look, params, kind, sw.face, mid, sw.headings[js], p, setup, motors)
                 lo, hi = np.where(good, mid, lo), np.where(good, hi, mid)
                 tip = np.where(good, t, tip)
                 reason = [reason[i] if good[i] else r[i] for i in range(len(js))]

@@ -4,10 +4,12 @@ item 2). The ground is a height field of planar strips, one per slope, each risi
 uphill direction in the contact face's support frame (deg from the frame's x axis toward y;
 docs/design.md §2), is the one asked for (`place`, `heading_of`). `gravity_frame`: the CoG
 projected along gravity onto the plane of the deformed contact face and its margin (paper
-Fig. 10).
+Fig. 10). `stands`: whether the unactuated robot stays on its face there (direct simulation).
 """
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -15,8 +17,11 @@ from numpy.typing import ArrayLike
 from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import frames
+from ..physics import topology as topo
 from ..physics.params import Params
+from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
+from ..physics.twisted import TwistedString, Voltages
 
 STRIP = 2.5  # m, width of one slope strip of the test ground
 HALF_LENGTH = 2.0  # m, the strips run from x = -HALF_LENGTH to +HALF_LENGTH
@@ -62,3 +67,28 @@ def place(params: Params, face: int, terrain: Terrain, position: ArrayLike, head
     s0 = d.stand_on(params, face, terrain, position=position)
     h0 = float(heading_of(d.nodes(s0.x, s0.q, params.strut_length)[0], face))
     return d.stand_on(params, face, terrain, batch, position=position, yaw_deg=h0 - heading)
+
+
+def stands(
+    params: Params,
+    faces: Sequence[int],
+    slopes: ArrayLike,
+    headings: ArrayLike,
+    settle: float = 1.0,
+    dt: float = 1e-4,
+    motors: TwistedString | None = None,
+) -> np.ndarray:
+    """Direct simulation: does the unactuated robot b, placed on faces[b] on a slope of
+    slopes[b] deg at headings[b] deg, still stand on it after `settle` s? (B,) bool. With
+    `motors`, the twisted-string robot at 0 V."""
+    terrain, centres = slope_field(slopes)
+    state = d.State.concat(
+        [place(params, int(f), terrain, centres[b], h) for b, (f, h) in enumerate(zip(faces, headings))]
+    )
+    n = int(round(settle / dt))
+    sched = (Schedule if motors is None else Voltages).constant(np.zeros(topo.N_PAIRS), settle)
+    _, tr = d.simulate(params, state, sched, terrain, dt, n, motors=motors)
+    nodes = tr.nodes(params.strut_length)[:, -1]
+    r = float(params.strut_radius)
+    resting = ct.resting_face(ct.clearance(nodes, terrain, r), r)
+    return np.array([resting[b] == f and gravity_frame(nodes[b], int(f))[3] > 0 for b, f in enumerate(faces)])

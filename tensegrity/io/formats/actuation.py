@@ -12,6 +12,7 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Mapping
 
+import numpy as np
 import xarray as xr
 
 PNEUMATIC, TWISTED = "pneumatic", "twisted_string"
@@ -90,6 +91,18 @@ def relabel(ds: xr.Dataset, kind: str) -> xr.Dataset:
             attrs["long_name"] = words(str(attrs["long_name"]), kind)
         v.attrs = attrs
     out.attrs = {**ds.attrs, ATTR: kind}
+    return out
+
+
+def relabel_texts(ds: xr.Dataset, kind: str) -> xr.Dataset:
+    """`relabel`, and the text data variables (a verdict's words, what sets a slope limit) in the
+    wording of `kind` too."""
+    out = relabel(ds, kind)
+    if check_kind(kind) != PNEUMATIC:
+        for name, v in out.data_vars.items():
+            if v.dtype.kind == "U":
+                text = [words(str(x), kind) for x in v.values.ravel()]
+                out[name] = v.copy(data=np.array(text, dtype=str).reshape(v.shape))
     return out
 
 
