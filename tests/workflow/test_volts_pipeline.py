@@ -1,9 +1,10 @@
 """The workspace pipeline in volts, end to end (issue 31): Snakemake on tests/workflow/tiny_volts.yaml
-(the prototype's twisted-string actuator) makes the sweeps, nominal CoGs, curves, the 20-face and
-two-pair workspaces and their figures, with the unit V in every file and curve document, and its
-datasets pass the same CF check as the pneumatic ones (tests/workflow/test_cf_compliance.py). A
-target the pipeline does not run in volts is refused before any job, naming actuator.kind.
-About 2 min on 2 shared cores: the slow tier."""
+(the prototype's twisted-string actuator) makes the sweeps, nominal CoGs, curves, the 20-face,
+two-pair and gravity-aware workspaces, the slope limit, the validation and their figures, with the
+unit V in every file and curve document, and its datasets pass the same CF check as the pneumatic
+ones (tests/workflow/test_cf_compliance.py). A target the pipeline does not run in volts (a design
+study) is refused before any job, naming actuator.kind. About 3 min on 2 shared cores: the slow
+tier."""
 
 import importlib.util
 import json
@@ -40,16 +41,19 @@ def test_every_file_is_in_volts(volts_run):
         "two_pair",
         "workspace.nc",
         "workspace_two_pair.nc",
-        "validation",  # prototype.nc only: the paper's experiment runs whatever actuator.kind
+        "workspace_gravity.nc",
+        "slope_limit.nc",
+        "validation",
     }
-    assert [p.name for p in files if p.parts[-2] == "validation"] == ["prototype.nc"]
+    validation = sorted(p.name for p in files if p.parts[-2] == "validation")
+    assert validation == ["gravity.nc", "prototype.nc", "two_pair.nc", "validation.nc"]
     for path in files:
         with xr.open_dataset(path) as ds:
             if path.name != "prototype.nc":  # the prototype's file is in V whatever the pipeline's robot
                 assert ds.attrs["actuator"] == "twisted_string", path
             units = {k: v.attrs.get("units") for k, v in ds.variables.items()}
             assert "MPa" not in units.values(), (path, units)
-            for k in ("pressure", "pressure_cmd", "tip_pressure", "pressure_a", "breaks", "pmax"):
+            for k in ("pressure", "pressure_cmd", "tip_pressure", "pressure_a", "breaks", "pmax", "multi_pressure"):
                 if k in units:
                     assert units[k] == "V", (path, k)
     for name in ("curves.json", "two_pair.json"):
@@ -57,6 +61,9 @@ def test_every_file_is_in_volts(volts_run):
         assert doc["units"]["pressure"] == "V" and doc["actuator"] == "twisted_string"
     figures = {p.name for p in (res / "figures").glob("*.png")}
     assert {"fig6_cog_cloud.png", "fig7_workspace_equilateral.png", "two_pair_isosceles.png"} <= figures
+    assert {"workspace_gravity.png", "slope_limit.png"} <= figures
+    summary = (res / "validation" / "summary.md").read_text()
+    assert "MPa" not in summary and "statics (physics.statics)" in summary
 
 
 def test_a_higher_voltage_twists_further(volts_run):
@@ -114,17 +121,33 @@ def test_its_datasets_pass_the_cf_check(volts_run, tmp_path):
     assert not unexpected, json.dumps(unexpected, indent=1)
 
 
+def test_the_gravity_ramps_tip_the_robot_in_volts(volts_run):
+    """The tiny ramp (0.25 V/s to 11 V) tips the robot on both faces on flat ground, below the
+    top of the ramp: the gravity-aware workspace in volts measures tipping voltages; the slope
+    limit's simulated stand limit is no steeper than the friction angle."""
+    import xarray as xr
+
+    res = volts_run / "results"
+    with xr.open_dataset(res / "workspace_gravity.nc") as g:
+        flat = g["tip_pressure"].sel(slope=0.0).values
+        assert np.isfinite(flat).any(axis=(1, 2)).all()  # each contact case
+        assert np.nanmax(flat) <= 11.0
+    with xr.open_dataset(res / "slope_limit.nc") as s:
+        assert np.nanmax(s["simulated"].sel(kind="stand").values) <= s.attrs["friction_angle_deg"]
+        assert "multi_not_computed" in s.attrs
+
+
 def test_a_target_not_built_in_volts_is_refused_before_any_job(tmp_path):
     wd = copy_workflow(tmp_path)
     r = subprocess.run(
-        SNAKEMAKE + ["results/validation/validation.nc", "--cores", "1", "--configfile", str(VOLTS)],
+        SNAKEMAKE + ["study", "--config", "study=stiffness_pretension", "--cores", "1", "--configfile", str(VOLTS)],
         cwd=wd,
         capture_output=True,
         text=True,
     )
     assert r.returncode != 0
     assert "config key actuator.kind: 'twisted_string'" in r.stdout + r.stderr
-    assert "stage validate (rule validate)" in r.stdout + r.stderr
+    assert "stage study_" in r.stdout + r.stderr  # the first study job planned
     assert not (wd / "results").exists()  # no job ran
 
 
