@@ -59,7 +59,7 @@ rule all:
         # the pneumatic muscle's stages only (with twisted_string, common.smk's cfg refuses them)
         rules.page.output if PNEUMATIC else [],
         rules.validate.output if PNEUMATIC else [],
-        rules.locomotion_all.input if PNEUMATIC else [],
+        rules.locomotion_all.input,  # in volts too (issue 31)
         rules.gravity_all.input if PNEUMATIC else [],
     default_target: True
 

@@ -11,11 +11,12 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..physics.params import Params
-from ..physics.schedule import whole_steps
+from ..physics.schedule import MAX_PRESSURE, Schedule, whole_steps
+from ..physics.twisted import MAX_VOLTAGE, TwistedString, Voltages
 
 __all__ = ["RollSettings"]
 
-_FLAGS = ("combine", "min_alignment", "brake", "escape_attempts", "lookahead", "optimised_actions")  # may be 0 or False
+_FLAGS = ("motors", "combine", "min_alignment", "brake", "escape_attempts", "lookahead", "optimised_actions")  # may be 0 or False
 _COUNTS = ("max_attempts", "max_rolls", "escape_attempts", "lookahead")
 
 
@@ -26,7 +27,12 @@ class RollSettings:
     contact_tolerance m; combine; min_alignment; max_attempts; max_rolls; arrive_tolerance m;
     brake; brake_margin m; brake_rate MPa/s; brake_release_time s;
     escape_attempts; lookahead; optimised_actions; strut_damping 1/s; dt s (the simulator's
-    time step, config sim.dt).
+    time step, config sim.dt); motors: the twisted-string actuators the rolls drive (config
+    actuator.twisted_string under actuator.kind twisted_string; None: the pneumatic muscles).
+
+    The level is the actuator's (`unit`): pressure in MPa for the muscles, motor voltage in V
+    for the twisted strings; ramp_rate and brake_rate are then in V/s (one law, docs/design.md
+    §6, "Locomotion in volts").
 
     A roll (see `control.roll`) ramps the pressure at ramp_rate; a support node lifted by more
     than lift_tolerance holds it (at most hold_time s, then the ramp goes on; where the brake
@@ -73,6 +79,7 @@ class RollSettings:
     optimised_actions: bool = False
     strut_damping: float = 1.0
     dt: float = 1e-4
+    motors: TwistedString | None = None
 
     def __post_init__(self):
         for f in fields(self):
@@ -100,6 +107,21 @@ class RollSettings:
             raise ValueError(
                 f"locomotion interval {self.interval} s is not a whole number of time steps of {self.dt} s"
             )
+
+    @property
+    def unit(self) -> str:
+        """The unit of the rolls' level: MPa (pneumatic) or V (twisted strings)."""
+        return "MPa" if self.motors is None else "V"
+
+    @property
+    def max_level(self) -> float:
+        """The highest level a roll may command: MAX_PRESSURE MPa or MAX_VOLTAGE V."""
+        return MAX_PRESSURE if self.motors is None else MAX_VOLTAGE
+
+    def schedule(self, levels: np.ndarray) -> Schedule:
+        """The pair levels (B, 12) held one check interval, as the simulator takes them: pressures
+        (MPa) or, with motors, voltages (V, `twisted.Voltages`)."""
+        return (Schedule if self.motors is None else Voltages).constant(levels, self.interval)
 
     def rolling(self, params: Params) -> Params:
         """`params` as every rolling simulation runs them: struts damped by strut_damping 1/s."""
