@@ -69,7 +69,9 @@ def cmd_plan(args: argparse.Namespace) -> int:
     nodes = d.nodes(state.x, state.q, params.strut_length)[0]
     here = ct.face_from_gaps(ct.clearance(nodes, terrain, float(params.strut_radius)), s.contact_tolerance)
     target = {"goal": args.goal} if args.goal is not None else {"direction": args.direction}
-    print(plan(ws, here, nodes, terrain=terrain, combine=s.combine, min_alignment=s.min_alignment, unit=s.unit, **target))
+    print(
+        plan(ws, here, nodes, terrain=terrain, combine=s.combine, min_alignment=s.min_alignment, unit=s.unit, **target)
+    )
     return 0
 
 

@@ -14,11 +14,9 @@ def cmd_query(args: argparse.Namespace) -> int:
     """Nominal CoG and margin for a face, pair and pressure from the fitted curves (at 0 MPa: the
     unactuated robot); the curves and the workspace must come from one run. Files in volts (the
     twisted-string actuator) take and print the level in V (JSON key pressure_v)."""
-    from ..io import formats
+    from ..io import datasets, formats
     from ..io.provenance import check_together
     from ..workspace import query
-
-    from ..io import datasets
 
     curves = formats.read_curves(args.curves)
     workspace = formats.read_workspace(args.workspace)

@@ -4,10 +4,11 @@ A roll ramps the pressure slowly (quasi-static, as the paper's rolling is), hold
 support node lifts, releases it once the unactuated robot would fall over the pivot edge anyway
 (`contact.past_edge`), catches the robot on the next face and lets it settle. Controllers are
 generators: they yield the pair pressures (12,) MPa for the next check interval and receive an
-observation of the robot after it (with `RollSettings.motors`, the prototype's twisted strings,
-the same law on the motor voltages in V: every "pressure" below is then a voltage, MPa reads V); `yield from` composes them, and their return value is their
+observation of the robot after it; `yield from` composes them, and their return value is their
 result; `lockstep.lockstep` drives any number of them as one simulated batch. Each robot's
-samples are recorded (`lockstep.Record`).
+samples are recorded (`lockstep.Record`). With `RollSettings.motors` (the prototype's twisted
+strings) the same law drives the motor voltages: every pressure below is then a voltage, and
+MPa reads V (docs/design.md §6, "Locomotion in volts").
 """
 
 from __future__ import annotations
@@ -267,9 +268,7 @@ def roll(
     s = settings or RollSettings()
     pairs, _ = action_weights(pairs, weights)
     if not (np.isfinite(max_pressure) and 0 < max_pressure <= s.max_level):
-        raise ValueError(
-            f"max_pressure {np.asarray(max_pressure).tolist()!r} {s.unit} must be in (0, {s.max_level}]"
-        )
+        raise ValueError(f"max_pressure {np.asarray(max_pressure).tolist()!r} {s.unit} must be in (0, {s.max_level}]")
     if state.batch != 1:
         raise ValueError(f"roll drives one robot; the state holds {state.batch}")
     (res, _), st, rec = lockstep(

@@ -1,11 +1,12 @@
 """Closed-loop simulation of a batch of robots, one controller each (docs/design.md §6).
 
 `lockstep` advances every robot of a `State` by one check interval at a time with the pressures
-(or, with `RollSettings.motors`, the motor voltages) its controller asked for, observes them all (`observe`: one terrain query for the batch), and
-sends each controller its `Obs`. Controllers are generators (see `control`): they yield the pair
-pressures (12,) MPa for the next interval and receive the observation after it; their return
-value is their result. A robot that finishes leaves the batch; the others go on. Samples of every
-robot are kept in a `Record`.
+its controller asked for (with `RollSettings.motors`, motor voltages: `applied`), observes them
+all (`observe`: one terrain query for the batch), and sends each controller its `Obs`.
+Controllers are generators (see `control`): they yield the pair pressures (12,) MPa for the next
+interval and receive the observation after it; their return value is their result. A robot that
+finishes leaves the batch; the others go on. Samples of every robot are kept in a `Record` (the
+levels applied).
 """
 
 from __future__ import annotations
@@ -93,10 +94,10 @@ def observe(
 
 # The strands' rest (docs/design.md §6, "Locomotion in volts"): 0 V leaves them twisted (the gear
 # friction holds them), so a pair commanded 0 V is driven back to zero twist.
-UNWIND_GAIN = 2.0  # V/rad: the twist closes at about 9/s (a motor turns 4.4 rad/s per V), well
-# inside what a check interval of 0.02 s samples stably (below 100/s)
-UNWIND_TOLERANCE = 1.0  # rad: the twist left (contraction (theta r)^2 / 2 L0 < 1e-6 m; under
-# 2 V the motor does not overcome its friction anyway)
+UNWIND_GAIN = 2.0  # V/rad: the twist closes at about 9/s (a motor turns G/D = 4.4 rad/s per V,
+# design.md §10), slower than the motor's own 16/s (J/D = 62 ms) and the 50/s of the checks
+UNWIND_TOLERANCE = 1.0  # rad: the twist left, a contraction (theta r)^2 / 2 L0 < 1e-6 m; the 2 V
+# that drives it is above the 1.3 V (TC/G) under which the motor does not move
 
 
 def applied(s: RollSettings, levels: np.ndarray, state: d.State) -> np.ndarray:

@@ -16,7 +16,7 @@ from ..physics.twisted import MAX_VOLTAGE, TwistedString, Voltages
 
 __all__ = ["RollSettings"]
 
-_FLAGS = ("motors", "combine", "min_alignment", "brake", "escape_attempts", "lookahead", "optimised_actions")  # may be 0 or False
+_FLAGS = ("combine", "min_alignment", "brake", "escape_attempts", "lookahead", "optimised_actions")  # may be 0 or False
 _COUNTS = ("max_attempts", "max_rolls", "escape_attempts", "lookahead")
 
 
@@ -82,9 +82,11 @@ class RollSettings:
     motors: TwistedString | None = None
 
     def __post_init__(self):
+        if not (self.motors is None or isinstance(self.motors, TwistedString)):
+            raise ValueError(f"locomotion motors must be a TwistedString or None, got {type(self.motors).__name__}")
         for f in fields(self):
             v = getattr(self, f.name)
-            if f.name in _FLAGS:
+            if f.name in _FLAGS or f.name == "motors":
                 continue
             if f.name == "strut_damping":
                 if isinstance(v, bool) or not (np.isfinite(v) and v >= 0):

@@ -129,4 +129,3 @@ def test_a_pneumatic_run_is_the_bits_it_was(ws):
         h.update(repr(sorted(v.attrs.items())).encode())
     h.update(repr(sorted((k, str(v)) for k, v in ds.attrs.items())).encode())
     assert h.hexdigest() == PNEUMATIC_RUN
-
