@@ -78,7 +78,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
 def cmd_roll(args: argparse.Namespace) -> int:
     """Roll the robot toward a goal in the dynamic simulator, from a start pose that stands
     (`locomotion.start.choose`; a given pose that does not stand: exit 3, naming one that does);
-    exit 1 if it did not arrive."""
+    exit 1 if it did not arrive. With actuator.kind twisted_string the prototype's motors, in
+    volts (a workspace in volts; the run file's voltage_cmd)."""
     from ..io import datasets
     from ..io.formats.run import RUN_ALLOW_NAN, run_dataset
     from ..locomotion.outcome import describe
