@@ -197,7 +197,7 @@ VOLTS = frozenset(
         *("sweep", "nominal", "workspace", "curves", "curves_json", "two_pair", "two_pair_map"),
         *("two_pair_surfaces", "robot_figures", "cog_cloud", "workspace_figure", "two_pair_figure"),
         *("validate_prototype", "prototype_figure"),
-        *("locomotion_runs", "state_figures", "path_figures", "animation"),  # rolls in volts
+        *("locomotion_runs", "state_figures", "path_figures", "animation", "page"),  # rolls in volts
     )
 )
 

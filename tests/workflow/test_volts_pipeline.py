@@ -1,7 +1,7 @@
 """The workspace pipeline in volts, end to end (issue 31): Snakemake on tests/workflow/tiny_volts.yaml
 (the prototype's twisted-string actuator) makes the sweeps, nominal CoGs, curves, the 20-face and
-two-pair workspaces and their figures, the paper's locomotion run and its GIF, with the unit V in
-every file and curve document, and its
+two-pair workspaces and their figures, the paper's locomotion run, its GIF and the page, with the
+unit V in every file and curve document, and its
 datasets pass the same CF check as the pneumatic ones (tests/workflow/test_cf_compliance.py). A
 target the pipeline does not run in volts is refused before any job, naming actuator.kind.
 About 2 min on 2 shared cores: the slow tier."""
@@ -157,7 +157,7 @@ def test_the_commands_read_the_unit_and_refuse_the_other_actuator(volts_run, mon
 def test_the_paper_run_rolls_in_volts(volts_run):
     """The locomotion stage in volts: the paper run's file records the motor voltages applied
     (`voltage_cmd`, V), its first roll is #10 from (9,10,12) onto (10,11,12) (the prototype's
-    first roll, design.md §10), and its GIF is drawn."""
+    first roll, design.md §10), and its GIF and the page are drawn."""
     import xarray as xr
 
     with xr.open_dataset(volts_run / "results" / "locomotion" / "paper.nc") as ds:
@@ -165,3 +165,5 @@ def test_the_paper_run_rolls_in_volts(volts_run):
         assert ds["voltage_cmd"].attrs["units"] == "V" and ds["tip_pressure"].attrs["units"] == "V"
         assert ds["faces"].values[:2].tolist() == [8, 20] and ds["step_pair"].values[0, 0] == 10
     assert (volts_run / "results" / "figures" / "rolling_paper.gif").stat().st_size > 0
+    page = (volts_run / "results" / "figures" / "workspace_3d.html").read_text()
+    assert "robot (0 V)" in page and "robot (0 MPa)" not in page  # the interactive page, in volts
