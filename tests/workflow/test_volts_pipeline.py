@@ -157,7 +157,8 @@ def test_the_commands_read_the_unit_and_refuse_the_other_actuator(volts_run, mon
 def test_the_paper_run_rolls_in_volts(volts_run):
     """The locomotion stage in volts: the paper run's file records the motor voltages applied
     (`voltage_cmd`, V), its first roll is #10 from (9,10,12) onto (10,11,12) (the prototype's
-    first roll, design.md §10), and its GIF and the page are drawn."""
+    first roll, design.md §10), and Figs. 8-10, the slope run's paths, the GIF and the page are
+    drawn."""
     import xarray as xr
 
     with xr.open_dataset(volts_run / "results" / "locomotion" / "paper.nc") as ds:
@@ -165,5 +166,7 @@ def test_the_paper_run_rolls_in_volts(volts_run):
         assert ds["voltage_cmd"].attrs["units"] == "V" and ds["tip_pressure"].attrs["units"] == "V"
         assert ds["faces"].values[:2].tolist() == [8, 20] and ds["step_pair"].values[0, 0] == 10
     assert (volts_run / "results" / "figures" / "rolling_paper.gif").stat().st_size > 0
+    figures = {p.name for p in (volts_run / "results" / "figures").glob("*.png")}
+    assert {"fig8_stable.png", "fig9_rolling.png", "fig10_slope.png", "path_slope_down_top.png"} <= figures
     page = (volts_run / "results" / "figures" / "workspace_3d.html").read_text()
     assert "robot (0 V)" in page and "robot (0 MPa)" not in page  # the interactive page, in volts
