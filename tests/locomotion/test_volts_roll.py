@@ -31,25 +31,20 @@ VOLTS = RollSettings(motors=TwistedString(), hold_time=20.0, settle_time=15.0)
 
 
 @pytest.fixture(scope="module")
-def volts_ws() -> Workspace:
-    """A workspace in volts of #10 alone on the canonical equilateral face (9,10,12) at 11.1 V,
-    from the free-mode sweep with the motors (3 s hold, the last second averaged), mapped to the
-    equilateral faces by symmetry; the others hold no pair."""
+def volts_maps() -> dict:
+    """The 20-face workspace arrays (`mapping.map_workspace`) in volts of #10 alone on the
+    canonical equilateral face (9,10,12) at 11.1 V, from the free-mode sweep with the motors (3 s
+    hold, the last second averaged); the other pairs and the isosceles faces are NaN."""
     face = topo.face_number(topo.CONTACT_FACES["equilateral"])
-    setup = sw.SweepSetup(levels=(LEVEL,), hold=3.0)
-    res = sw.run(Params(), face, [10], setup, TwistedString())
+    res = sw.run(Params(), face, [10], sw.SweepSetup(levels=(LEVEL,), hold=3.0), TwistedString())
     last = res.t > res.t[-1] - 1.0
-    cog = np.full((12, 1, 3), np.nan)
-    sup = np.full((12, 1, 3, 3), np.nan)
-    cog[9, 0], sup[9, 0] = res.cog[0, last].mean(axis=0), res.support[0, last].mean(axis=0)
-    none = (np.full_like(cog, np.nan), np.full_like(sup, np.nan))
-    cogs, sups = zip(
-        *(
-            mapping.map_face(f, cog, sup) if topo.FACE_TYPES[f - 1] == "equilateral" else none
-            for f in range(1, topo.N_FACES + 1)
-        )
-    )
-    return Workspace.from_arrays([LEVEL], np.stack(cogs), np.stack(sups))
+    cog, sup = res.cog[:, last].mean(axis=1)[:, None], res.support[:, last].mean(axis=1)[:, None]
+    return mapping.map_workspace([LEVEL], {"equilateral": (np.array([10]), cog, sup)})
+
+
+@pytest.fixture(scope="module")
+def volts_ws(volts_maps) -> Workspace:
+    return Workspace.from_arrays([LEVEL], volts_maps["cog"], volts_maps["support"])
 
 
 def test_a_roll_in_volts_lands_where_the_workspace_says(volts_ws):
@@ -129,3 +124,30 @@ def test_a_pneumatic_run_is_the_bits_it_was(ws):
         h.update(repr(sorted(v.attrs.items())).encode())
     h.update(repr(sorted((k, str(v)) for k, v in ds.attrs.items())).encode())
     assert h.hexdigest() == PNEUMATIC_RUN
+
+
+def test_plan_refuses_a_workspace_of_the_other_actuator_naming_the_file_and_the_key(
+    volts_maps, tmp_path, monkeypatch, capsys
+):
+    """`tensegrity plan` with a workspace file in volts: planned in V under actuator.kind
+    twisted_string, refused before any simulation under the pneumatic configuration (and a
+    pneumatic file under twisted_string), naming the file and actuator.kind."""
+    from tensegrity import cli
+    from tensegrity.io import datasets
+    from tensegrity.io.formats import WORKSPACE_ALLOW_NAN, workspace_dataset
+
+    monkeypatch.chdir(tmp_path)
+    ds = workspace_dataset([LEVEL], volts_maps, 0.5)
+    for kind in ("twisted_string", "pneumatic"):
+        datasets.write(
+            actuation.relabel(ds, kind), f"{kind}.nc", {}, "workspace", stage="map", allow_nan=WORKSPACE_ALLOW_NAN
+        )
+    volts = ["--set", "actuator.kind=twisted_string"]
+    argv = ["plan", "--direction", "0", "--two-pair", "none", "--workspace"]
+    assert cli.main([*argv, "twisted_string.nc", *volts]) == 0
+    out = capsys.readouterr().out
+    assert "#10 toward edge 10-12" in out and "at 11.1 V" in out and "MPa" not in out, out
+    for path, cfg, want in (("twisted_string.nc", [], "pneumatic"), ("pneumatic.nc", volts, "twisted_string")):
+        assert cli.main([*argv, path, *cfg]) == cli.EXIT_INPUT
+        err = capsys.readouterr().err
+        assert f"{path} is of the" in err and f"config key actuator.kind is {want!r}" in err, err

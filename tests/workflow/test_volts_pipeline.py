@@ -4,7 +4,7 @@ two-pair workspaces and their figures, the paper's locomotion run, its GIF and t
 unit V in every file and curve document, and its
 datasets pass the same CF check as the pneumatic ones (tests/workflow/test_cf_compliance.py). A
 target the pipeline does not run in volts is refused before any job, naming actuator.kind.
-About 2 min on 2 shared cores: the slow tier."""
+About 2.5 min on 2 shared cores: the slow tier."""
 
 import importlib.util
 import json
