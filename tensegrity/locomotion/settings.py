@@ -105,10 +105,27 @@ class RollSettings:
             raise ValueError(
                 f"locomotion setting min_alignment must be in [-1, 1), got {np.asarray(self.min_alignment).tolist()!r}"
             )
+        if self.motors is not None and self.hold_time < self.twist_time - 1e-9:
+            raise ValueError(
+                f"locomotion setting hold_time {self.hold_time} s is shorter than the {self.twist_time:.1f} s the "
+                "motors of actuator.twisted_string take to twist their strands to the lock at no-load speed: a "
+                "roll in volts would give up before its voltage is reached; set locomotion.hold_time >= "
+                f"{self.twist_time:.1f}"
+            )
         if not whole_steps(self.interval, self.dt):
             raise ValueError(
                 f"locomotion interval {self.interval} s is not a whole number of time steps of {self.dt} s"
             )
+
+    @property
+    def twist_time(self) -> float:
+        """s the motors take to twist their strands from rest to the lock at no-load speed (the
+        longest of a batch; 11.1 s for the defaults of config/README.md); 0 for the muscles. A
+        level in volts is reached once the motor stalls against the string, after up to that long:
+        a roll in volts holds each level at least that long (hold_time)."""
+        if self.motors is None:
+            return 0.0
+        return float(np.max(np.asarray(self.motors.lock_angle) / np.asarray(self.motors.no_load_speed)))
 
     @property
     def unit(self) -> str:

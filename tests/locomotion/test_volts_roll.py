@@ -92,7 +92,7 @@ def test_zero_volts_unwinds_and_pressures_pass_as_commanded():
     assert np.array_equal(got[0], want)
 
 
-def test_a_file_of_the_other_actuator_is_refused_naming_it_and_the_key():
+def test_a_file_of_the_other_actuator_or_a_short_hold_is_refused_naming_it_and_the_key():
     volts, pneumatic = {"actuator": "twisted_string"}, {}
     actuation.require_kind(volts, "ws.nc", "twisted_string")
     actuation.require_kind(pneumatic, "ws.nc", "pneumatic")
@@ -100,6 +100,10 @@ def test_a_file_of_the_other_actuator_is_refused_naming_it_and_the_key():
         actuation.require_kind(volts, "ws.nc", "pneumatic")
     with pytest.raises(ValueError, match=r"ws\.nc is of the pneumatic actuator.*actuator\.kind is 'twisted_string'"):
         actuation.require_kind(pneumatic, "ws.nc", "twisted_string")
+    # a hold shorter than the motors take to twist to the lock at no-load speed, L0 sin(atan(pi/2)) /
+    # (r omega0) = 0.28 0.8436 / (4.5e-4 47.124) = 11.1 s: the roll would give up before its level
+    with pytest.raises(ValueError, match=r"hold_time 1.0 s is shorter than the 11.1 s .*locomotion.hold_time >= 11.1"):
+        RollSettings(motors=TwistedString())
     cfg = {"actuator": {"kind": "twisted_string"}}
     for stage in ("locomotion_runs", "state_figures", "path_figures", "animation"):
         assert actuator_error(cfg, stage) is None, stage
@@ -142,7 +146,7 @@ def test_plan_refuses_a_workspace_of_the_other_actuator_naming_the_file_and_the_
         datasets.write(
             actuation.relabel(ds, kind), f"{kind}.nc", {}, "workspace", stage="map", allow_nan=WORKSPACE_ALLOW_NAN
         )
-    volts = ["--set", "actuator.kind=twisted_string"]
+    volts = ["--set", "actuator.kind=twisted_string", "--set", "locomotion.hold_time=20"]
     argv = ["plan", "--direction", "0", "--two-pair", "none", "--workspace"]
     assert cli.main([*argv, "twisted_string.nc", *volts]) == 0
     out = capsys.readouterr().out
