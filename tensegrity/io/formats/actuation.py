@@ -111,7 +111,7 @@ def require_pneumatic(obj: xr.Dataset | Mapping, source: str, what: str) -> None
     if kind != PNEUMATIC:
         raise ValueError(
             f"{source} is of the {kind} actuator (its levels are in {units(kind)}: attribute {ATTR}), but "
-            f"{what} works with the pneumatic muscle's pressures only (locomotion in volts is not built yet)"
+            f"{what} works with the pneumatic muscle's pressures only"
         )
 
 
