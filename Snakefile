@@ -57,9 +57,9 @@ rule all:
         rules.render_all.input,
         rules.two_pair_all.input if PNEUMATIC else [f for f in rules.two_pair_all.input if "validation" not in f],
         # the pneumatic muscle's stages only (with twisted_string, common.smk's cfg refuses them)
-        rules.page.output if PNEUMATIC else [],
+        rules.page.output,  # in volts too (issue 31)
         rules.validate.output if PNEUMATIC else [],
-        rules.locomotion_all.input if PNEUMATIC else [],
+        rules.locomotion_all.input,  # in volts too (issue 31)
         rules.gravity_all.input if PNEUMATIC else [],
     default_target: True
 

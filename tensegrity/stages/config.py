@@ -189,13 +189,15 @@ STAGES: dict[str, Stage] = {
 
 
 # the stages that run with the twisted-string actuator (issue 31; docs/design.md §10): the workspace
-# pipeline in volts, and the paper's experiment (which runs the prototype whatever actuator.kind).
-# The others (gravity, locomotion, validation, studies, ...) refuse it by name.
+# pipeline in volts, the paper's experiment (which runs the prototype whatever actuator.kind) and
+# the locomotion runs in volts (design.md §6). The others (gravity, validation, studies, ...)
+# refuse it by name.
 VOLTS = frozenset(
     (
         *("sweep", "nominal", "workspace", "curves", "curves_json", "two_pair", "two_pair_map"),
         *("two_pair_surfaces", "robot_figures", "cog_cloud", "workspace_figure", "two_pair_figure"),
         *("validate_prototype", "prototype_figure"),
+        *("locomotion_runs", "state_figures", "path_figures", "animation", "page"),  # rolls in volts
     )
 )
 
@@ -217,7 +219,7 @@ def actuator_error(cfg: Mapping, stage: str) -> str | None:
     return (
         f"config key actuator.kind: {kind!r} runs the workspace pipeline in volts (sweeps, nominal, "
         f"curves, workspaces, their figures), but {what} runs "
-        "the pneumatic muscle only (the gravity-aware workspace, locomotion, validation and studies in "
+        "the pneumatic muscle only (the gravity-aware workspace, validation and studies in "
         "volts are not built yet); use actuator.kind: pneumatic for it"
     )
 
