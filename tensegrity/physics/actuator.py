@@ -123,6 +123,8 @@ P_MIN = 0.05
 def motor_rows(*first: ArrayLike) -> np.ndarray:
     """The constants (len(MOTOR_ROWS), ...) from the first eleven of MOTOR_ROWS, in its order
     (arrays broadcast), followed by those derived from them."""
+    if len(first) != _ML0SQ:
+        raise ValueError(f"motor_rows takes the first {_ML0SQ} constants of MOTOR_ROWS, got {len(first)}")
     v = [np.asarray(x, dtype=float) for x in first]
     L0, r, LR = v[_ML0], v[_MRS], v[_MLR]
     v += [L0 * L0, r * r, np.square(P_MIN * L0), L0 - LR]

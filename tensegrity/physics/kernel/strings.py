@@ -38,7 +38,7 @@ def string(dx, dy, dz, dux, duy, duz, TH, OM, VO, M, j, l):
     relative to node 1 du (m/s), whose motor is TH[j, l], OM[j, l] at the volts VO[j, l] with the
     constants M[:, l]; and its force (N) on node 1. Then steps the motor (T4)-(T5) under it.
     Two square roots (the cable's length, the strands' span p) and one division for both
-    reciprocals: the divider is the stage's bottleneck."""
+    reciprocals: the divider bounds this stage with its arithmetic (docs/benchmarks.md)."""
     ln = math.sqrt(dx * dx + dy * dy + dz * dz)
     theta, omega = TH[j, l], OM[j, l]
     t, p = twist(theta, M, l)
