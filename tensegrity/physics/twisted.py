@@ -110,7 +110,7 @@ class TwistedString:
         gain = self.gear_efficiency * self.gear_ratio * self.emf_constant / self.resistance
         damp = gain * self.gear_ratio * self.emf_constant + self.viscous_friction
         rest = np.asarray(params.strut_length, float) * math.sqrt(6) / 4 - np.asarray(self.pretension) / self.stiffness
-        vals = (
+        return actuator.motor_rows(
             self.stiffness,
             rest,
             self.damping,
@@ -123,7 +123,6 @@ class TwistedString:
             dt / self.inertia,
             dt,
         )
-        return np.stack(np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in vals)))
 
     def pack(self, params: Params, batch: int, dt: float) -> np.ndarray:
         """(B, len(MOTOR_ROWS)) float64, C-ordered: `rows` per robot."""
