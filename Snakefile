@@ -56,10 +56,9 @@ rule all:
         "results/workspace.nc",
         rules.render_all.input,
         rules.two_pair_all.input,
-        # the pneumatic muscle's stages only (with twisted_string, common.smk's cfg refuses them)
-        rules.page.output if PNEUMATIC else [],
+        rules.page.output,
         rules.validate.output,
-        rules.locomotion_all.input if PNEUMATIC else [],
+        rules.locomotion_all.input,
         rules.gravity_all.input,
     default_target: True
 

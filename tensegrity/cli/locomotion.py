@@ -29,14 +29,15 @@ def _locomotion_setup(args: argparse.Namespace):
     from ..io import datasets, formats, settings
     from ..locomotion.settings import RollSettings
     from ..physics.topology import face_number
+    from ..stages.config import actuator_kind
 
     cfg = cli_args.stage_cfg(args, "locomotion_runs")
     face = None if args.face is None else face_number(args.face)  # bad input first, before any file is read
     two_pair = _two_pair_file(args)
     ws = formats.read_workspace(args.workspace, two_pair)  # a missing or corrupted file first
     for path in (args.workspace, two_pair):
-        if path and Path(path).is_file():  # a workspace in volts (issue 31) is not planned with yet
-            formats.actuation.require_pneumatic(datasets.read_attrs(path), path, f"tensegrity {args.command}")
+        if path and Path(path).is_file():  # levels in the configured actuator's unit (issue 31)
+            formats.actuation.require_kind(datasets.read_attrs(path), path, actuator_kind(cfg))
     print(
         f"workspace {args.workspace}; two pairs: "
         + (
@@ -55,7 +56,8 @@ def _locomotion_setup(args: argparse.Namespace):
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
-    """Choose the pair(s) and pressure that roll the robot toward a target, from the workspace."""
+    """Choose the pair(s) and pressure that roll the robot toward a target, from the workspace
+    (in volts: motor voltages, V, with actuator.kind twisted_string)."""
     from ..locomotion.control import settle
     from ..locomotion.plan import plan
     from ..physics import contact as ct
@@ -67,14 +69,17 @@ def cmd_plan(args: argparse.Namespace) -> int:
     nodes = d.nodes(state.x, state.q, params.strut_length)[0]
     here = ct.face_from_gaps(ct.clearance(nodes, terrain, float(params.strut_radius)), s.contact_tolerance)
     target = {"goal": args.goal} if args.goal is not None else {"direction": args.direction}
-    print(plan(ws, here, nodes, terrain=terrain, combine=s.combine, min_alignment=s.min_alignment, **target))
+    print(
+        plan(ws, here, nodes, terrain=terrain, combine=s.combine, min_alignment=s.min_alignment, unit=s.unit, **target)
+    )
     return 0
 
 
 def cmd_roll(args: argparse.Namespace) -> int:
     """Roll the robot toward a goal in the dynamic simulator, from a start pose that stands
     (`locomotion.start.choose`; a given pose that does not stand: exit 3, naming one that does);
-    exit 1 if it did not arrive."""
+    exit 1 if it did not arrive. With actuator.kind twisted_string the prototype's motors, in
+    volts (a workspace in volts; the run file's voltage_cmd)."""
     from ..io import datasets
     from ..io.formats.run import RUN_ALLOW_NAN, run_dataset
     from ..locomotion.outcome import describe
@@ -89,10 +94,10 @@ def cmd_roll(args: argparse.Namespace) -> int:
         run = roll_to(
             ws, args.goal, params, terrain, face=start.face, settings=s, yaw_deg=start.yaw_deg, progress=bar.update
         )
-    print(describe(run, "roll"))
+    print(describe(run, "roll", s.unit))
     if args.out:
         datasets.write(
-            run_dataset(run, terrain, s.rolling(params), "roll"),
+            run_dataset(run, terrain, s.rolling(params), "roll", s.unit),
             args.out,
             provenance(cfg, args.workspace),
             f"Rolling locomotion run: {run.outcome}",

@@ -12,20 +12,23 @@ import numpy as np
 
 def cmd_query(args: argparse.Namespace) -> int:
     """Nominal CoG and margin for a face, pair and pressure from the fitted curves (at 0 MPa: the
-    unactuated robot); the curves and the workspace must come from one run."""
-    from ..io import formats
+    unactuated robot); the curves and the workspace must come from one run. Files in volts (the
+    twisted-string actuator) take and print the level in V (JSON key pressure_v)."""
+    from ..io import datasets, formats
     from ..io.provenance import check_together
     from ..workspace import query
 
     curves = formats.read_curves(args.curves)
-    formats.actuation.require_pneumatic(curves, args.curves, "tensegrity query")
     workspace = formats.read_workspace(args.workspace)
+    kind = formats.actuation.kind_of(curves)  # the unit is the files' (MPa, or V: issue 31)
+    formats.actuation.require_kind(datasets.read_attrs(args.workspace), args.workspace, kind)
     check_together({args.curves: curves.get("config"), args.workspace: formats.config_of(args.workspace)})
+    unit = formats.actuation.units(kind)
     ans = query.query(curves, workspace, args.face, args.pair, args.pressure, wsname=args.workspace)
     out = {
         "face": ans.face,
         "pair": ans.pair,
-        "pressure_mpa": ans.pressure,
+        f"pressure_{unit.lower()}": ans.pressure,
         "cog_m": ans.cog.round(7).tolist(),
         "margin_m": round(ans.margin, 7),
         "stands": ans.margin > 0,
@@ -37,7 +40,7 @@ def cmd_query(args: argparse.Namespace) -> int:
         print(json.dumps(out))
     else:
         print(
-            f"face {ans.face} ({ans.contact}), pair #{ans.pair} at {ans.pressure} MPa: "
+            f"face {ans.face} ({ans.contact}), pair #{ans.pair} at {ans.pressure} {unit}: "
             f"CoG {np.round(ans.cog * 1000, 2).tolist()} mm (support frame), margin "
             f"{ans.margin * 1000:.2f} mm -> {'stands' if ans.margin > 0 else 'rolls'}"
         )

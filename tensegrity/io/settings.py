@@ -1,7 +1,8 @@
 """Typed settings from the resolved configuration, built once at the seam (`stages`, `cli`):
 `build(SweepSetup, cfg)` and so on for every settings class of the domain. `KEYS` maps each
 class's fields to their configuration keys; it is the one table of that mapping, and
-tests/io/test_settings.py holds every class's defaults to the schema's through it.
+tests/io/test_settings.py holds every class's defaults to the schema's through it. The one field
+that is not a key, `RollSettings.motors`, comes from the `actuator` section (`motors`).
 
 `cfg` is a resolved configuration, or the keys of it a stage reads (`stages.config.stage_config`):
 a field whose key is missing is a KeyError naming the key, never a silent default.
@@ -44,7 +45,7 @@ KEYS: dict[type, dict[str, str]] = {
         dt="sim.dt",
         **{k: f"locomotion.{k}" for k in ("ramp_rate", "interval", "lift_tolerance", "hold_time", "strut_damping")},
     ),
-    RollSettings: _section("locomotion", RollSettings, dt="sim.dt"),
+    RollSettings: {k: v for k, v in _section("locomotion", RollSettings, dt="sim.dt").items() if k != "motors"},
     Scenarios: _section("locomotion", Scenarios),
     CheckSettings: _section("validate", CheckSettings),
     ActuationSettings: _section("locomotion", ActuationSettings),
@@ -68,6 +69,8 @@ def build(cls: type[T], cfg: Mapping) -> T:
     for name, key in KEYS[cls].items():
         v = value(cfg, key)
         kw[name] = tuple(v) if isinstance(v, list) else v
+    if cls is RollSettings and "actuator" in cfg:  # the rolls drive the configured actuator
+        kw["motors"] = motors(cfg)
     return cls(**kw)
 
 

@@ -6,7 +6,9 @@ support node lifts, releases it once the unactuated robot would fall over the pi
 generators: they yield the pair pressures (12,) MPa for the next check interval and receive an
 observation of the robot after it; `yield from` composes them, and their return value is their
 result; `lockstep.lockstep` drives any number of them as one simulated batch. Each robot's
-samples are recorded (`lockstep.Record`).
+samples are recorded (`lockstep.Record`). With `RollSettings.motors` (the prototype's twisted
+strings) the same law drives the motor voltages: every pressure below is then a voltage, and
+MPa reads V (docs/design.md §6, "Locomotion in volts").
 """
 
 from __future__ import annotations
@@ -20,10 +22,10 @@ from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import topology as topo
 from ..physics.params import Params
-from ..physics.schedule import MAX_PRESSURE, check_pressures, hold_step
+from ..physics.schedule import check_pressures, hold_step
 from ..physics.terrain import Terrain
 from .brake import Brake
-from .lockstep import Controller, Obs, Record, lockstep
+from .lockstep import UNWIND_TOLERANCE, Controller, Obs, Record, lockstep
 from .settings import RollSettings
 
 __all__ = ["RollResult", "action_weights", "roll", "roll_controller", "settle", "settle_controller"]
@@ -82,10 +84,20 @@ def _slew(target: np.ndarray, last: np.ndarray, s: RollSettings) -> np.ndarray:
     return np.clip(target, last - step, last + step)
 
 
+def rested(s: RollSettings, obs: Obs, levels: np.ndarray) -> bool:
+    """Whether every pair commanded 0 (`levels` (12,)) is at rest: always for the muscles; for
+    the twisted strings, its strands unwound to within UNWIND_TOLERANCE (`lockstep.applied`)."""
+    if s.motors is None or obs.state is None or obs.state.motor_angle is None:
+        return True
+    twist = obs.state.motor_angle[0, topo.PAIR_CABLES].mean(axis=1)
+    return bool(np.all(np.abs(twist[levels == 0]) <= UNWIND_TOLERANCE))
+
+
 def settle_controller(s: RollSettings, obs: Obs, brake: Brake | None = None) -> Controller:
     """Zero pressure (or the `brake` of the face it rests on, changing at most at brake_rate from
-    the pressures applied before, `obs.pressure`) until settled (see RollSettings). Returns
-    (face or None, last observation)."""
+    the pressures applied before, `obs.pressure`) until settled (see RollSettings; with the
+    twisted strings also their pairs at 0 V unwound, `rested`). Returns (face or None, last
+    observation)."""
     calm, waited = 0, 0.0
     pres = obs.pressure
     while waited < s.settle_time - 1e-9:
@@ -96,7 +108,7 @@ def settle_controller(s: RollSettings, obs: Obs, brake: Brake | None = None) -> 
             pres = np.zeros(topo.N_PAIRS)
         obs = yield pres
         waited += s.interval
-        calm = calm + 1 if (obs.face is not None and obs.speed < s.settle_speed) else 0
+        calm = calm + 1 if (obs.face is not None and obs.speed < s.settle_speed and rested(s, obs, pres)) else 0
         if calm >= _CALM:
             break
     return obs.face, obs
@@ -113,7 +125,7 @@ def roll_controller(
     weights: np.ndarray | None = None,
 ) -> Controller:
     """See `roll`; `pairs` or `weights` (12,) give the action (`action_weights`: the pair
-    pressures are min(level w, MAX_PRESSURE) as the level ramps to max_pressure MPa).
+    pressures are min(level w, `RollSettings.max_level`) as the level ramps to max_pressure MPa).
     With a `brake` (`brake.Brake`), the braking pressures of the start face stay on while the
     pressure rises (fading out over hold_time once it is at the top without a roll;
     given the `expect`ed rolling pressure, MPa, the plan's, as the pressure rises to it: kept
@@ -159,7 +171,7 @@ def roll_controller(
             pres = brake.for_face(landed, obs.nodes) if rolling else held  # or back on its own
         if brake:  # braking pressures change at most at brake_rate
             pres = _slew(pres, last, s)
-        pres[idx] = np.maximum(pres[idx], np.minimum(level * w, MAX_PRESSURE))
+        pres[idx] = np.maximum(pres[idx], np.minimum(level * w, s.max_level))
         last = pres
         peak = max(peak, level)
         obs = yield pres
@@ -255,8 +267,8 @@ def roll(
     the robot does not rest on a face."""
     s = settings or RollSettings()
     pairs, _ = action_weights(pairs, weights)
-    if not (np.isfinite(max_pressure) and 0 < max_pressure <= MAX_PRESSURE):
-        raise ValueError(f"max_pressure {np.asarray(max_pressure).tolist()!r} MPa must be in (0, {MAX_PRESSURE}]")
+    if not (np.isfinite(max_pressure) and 0 < max_pressure <= s.max_level):
+        raise ValueError(f"max_pressure {np.asarray(max_pressure).tolist()!r} {s.unit} must be in (0, {s.max_level}]")
     if state.batch != 1:
         raise ValueError(f"roll drives one robot; the state holds {state.batch}")
     (res, _), st, rec = lockstep(

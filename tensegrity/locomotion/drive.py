@@ -96,6 +96,7 @@ def drive(
                 avoid=visited[:-1],
                 combine=s.combine,
                 min_alignment=s.min_alignment,
+                unit=s.unit,
                 **target,
             )
             tries: list[RollResult] = []
@@ -172,7 +173,9 @@ def drive(
                 outcome = "stuck"
                 message = (
                     f"no candidate rolled the robot off face {topo.face_label(face)}: tried "
-                    + ", ".join(f"{'+'.join(f'#{q}' for q in r.pairs)} up to {r.peak_pressure:.2f} MPa" for r in tries)
+                    + ", ".join(
+                        f"{'+'.join(f'#{q}' for q in r.pairs)} up to {r.peak_pressure:.2f} {s.unit}" for r in tries
+                    )
                     + ("" if pl.predicted else "; the workspace predicted no roll here (e.g. a slope too steep for it)")
                     + (
                         f"; none of the {len(simulated)} candidate rolls simulated here rolls it without a tumble, "

@@ -1,11 +1,12 @@
 """Closed-loop simulation of a batch of robots, one controller each (docs/design.md §6).
 
 `lockstep` advances every robot of a `State` by one check interval at a time with the pressures
-its controller asked for, observes them all (`observe`: one terrain query for the batch), and
-sends each controller its `Obs`. Controllers are generators (see `control`): they yield the pair
-pressures (12,) MPa for the next interval and receive the observation after it; their return
-value is their result. A robot that finishes leaves the batch; the others go on. Samples of every
-robot are kept in a `Record`.
+its controller asked for (with `RollSettings.motors`, motor voltages: `applied`), observes them
+all (`observe`: one terrain query for the batch), and sends each controller its `Obs`.
+Controllers are generators (see `control`): they yield the pair pressures (12,) MPa for the next
+interval and receive the observation after it; their return value is their result. A robot that
+finishes leaves the batch; the others go on. Samples of every robot are kept in a `Record` (the
+levels applied).
 """
 
 from __future__ import annotations
@@ -20,7 +21,6 @@ from ..physics import contact as ct
 from ..physics import dynamics as d
 from ..physics import topology as topo
 from ..physics.params import Params
-from ..physics.schedule import Schedule
 from ..physics.terrain import Terrain
 from .settings import RollSettings
 
@@ -92,6 +92,28 @@ def observe(
     return out
 
 
+# The strands' rest (docs/design.md §6, "Locomotion in volts"): 0 V leaves them twisted (the gear
+# friction holds them), so a pair commanded 0 V is driven back to zero twist.
+UNWIND_GAIN = 2.0  # V/rad: the twist closes at about 9/s (a motor turns G/D = 4.4 rad/s per V,
+# design.md §10), slower than the motor's own 16/s (J/D = 62 ms) and the 50/s of the checks
+UNWIND_TOLERANCE = 1.0  # rad: the twist left, a contraction (theta r)^2 / 2 L0 < 1e-6 m; the 2 V
+# that drives it is above the 1.3 V (TC/G) under which the motor does not move
+
+
+def applied(s: RollSettings, levels: np.ndarray, state: d.State) -> np.ndarray:
+    """The levels (B, 12) the actuators get for the commanded `levels` of the robots of `state`:
+    the pressures as commanded (MPa); with `s.motors`, the voltages (V) as commanded, but a pair
+    commanded 0 V whose strands are twisted by more than UNWIND_TOLERANCE (the mean of its two
+    motors) is driven back, -UNWIND_GAIN theta V, at most the rated voltage: a muscle at 0 MPa
+    returns to its rest length, a twisted string at 0 V would not."""
+    if s.motors is None or state.motor_angle is None:
+        return levels
+    twist = state.motor_angle[:, topo.PAIR_CABLES].mean(axis=2)  # (B, 12) rad
+    rated = float(np.min(s.motors.rated_voltage))
+    back = -np.clip(UNWIND_GAIN * twist, -rated, rated)
+    return np.where((levels == 0) & (np.abs(twist) > UNWIND_TOLERANCE), back, levels)
+
+
 class _threads:
     """Run the compiled kernel on one thread for a batch of one robot: it gains nothing from
     more, and on a busy machine the hand-off costs more than a check interval's 200 steps."""
@@ -147,16 +169,15 @@ def lockstep(
     with _threads(len(live)):
         while live:
             failed = {}
+            cmd = applied(s, pres[live], batch)  # what the actuators get (the pressures as asked)
             try:
-                batch, _ = d.simulate(params, batch, Schedule.constant(pres[live], s.interval), terrain, s.dt, every)
+                batch, _ = d.simulate(params, batch, s.schedule(cmd), terrain, s.dt, every, s.motors)
             except d.SimulationError:  # find the robot(s) that failed and advance the rest
                 parts = []
                 for i, b in enumerate(live):
                     try:
                         parts.append(
-                            d.simulate(
-                                params, batch.take([i]), Schedule.constant(pres[b], s.interval), terrain, s.dt, every
-                            )[0]
+                            d.simulate(params, batch.take([i]), s.schedule(cmd[i]), terrain, s.dt, every, s.motors)[0]
                         )
                     except d.SimulationError as e:
                         failed[b] = e
@@ -171,7 +192,7 @@ def lockstep(
                     if b in failed:
                         gens[b].throw(failed[b])
                         raise RuntimeError("a controller ignored a SimulationError")
-                    for lst, v in zip(recs[b], (ob[i].t, ob[i].nodes, pres[b].copy(), ob[i].face or 0)):
+                    for lst, v in zip(recs[b], (ob[i].t, ob[i].nodes, cmd[i].copy(), ob[i].face or 0)):
                         lst.append(v)
                     last[b] = ob[i]
                     pres[b] = gens[b].send(ob[i])

@@ -91,8 +91,9 @@ class Run:
         return [st.face for st in self.steps[:1]] + [st.face_after for st in self.steps if st.rolled]
 
 
-def describe(run: Run, name: str = "") -> str:
-    """A few lines a person can read: the outcome and every step."""
+def describe(run: Run, name: str = "", unit: str = "MPa") -> str:
+    """A few lines a person can read: the outcome and every step, levels in `unit` (MPa, or V
+    for the twisted strings: `RollSettings.unit`)."""
     lines = [
         f"run {name}: {run.outcome} ({run.message}); {run.rolls} rolls, "
         f"{run.travelled:.2f} m from the start"
@@ -103,8 +104,8 @@ def describe(run: Run, name: str = "") -> str:
         lines.append(
             f"  step {k}: {topo.face_label(st.face)} -> "
             f"{topo.face_label(st.face_after) if st.face_after else 'no face'}: planned "
-            f"{st.plan.pairs} at {st.plan.pressure:.2f} MPa over {st.plan.edge}; rolled by "
-            f"{r.pairs} at {r.tip_pressure:.2f} MPa (peak {r.peak_pressure:.2f}), "
+            f"{st.plan.pairs} at {st.plan.pressure:.2f} {unit} over {st.plan.edge}; rolled by "
+            f"{r.pairs} at {r.tip_pressure:.2f} {unit} (peak {r.peak_pressure:.2f}), "
             f"{len(st.attempts)} attempt(s)"
         )
     return "\n".join(lines)

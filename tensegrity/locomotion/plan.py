@@ -146,6 +146,7 @@ def plan(
     avoid: Iterable[Face] = (),
     combine: bool = True,
     min_alignment: float = 0.0,
+    unit: str = "MPa",
 ) -> Plan:
     """Choose the actuation that rolls the robot standing on `face` (1..20 or three node
     numbers) with node positions `nodes` (12, 3) m toward a target `direction` (world vector)
@@ -158,7 +159,8 @@ def plan(
     a circle. Two-pair combinations are added when no single pair is predicted to roll onto a
     face not avoided over an edge with alignment > min_alignment (e.g. uphill on a slope); if
     `combine` is False they never are. Candidates not predicted to roll follow, closest to
-    rolling first. `terrain`, if given, is checked to be under every node."""
+    rolling first. `terrain`, if given, is checked to be under every node. `unit`: the
+    workspace's level in the reasons, MPa or V (a workspace in volts, `RollSettings.unit`)."""
     f = topo.face_number(face)
     p = ct.check_nodes(nodes)
     if terrain is not None:
@@ -185,6 +187,8 @@ def plan(
     best = cands[0]
     here = ct.judge(p, f)
     reasons = _reasons(workspace, f, here.margin, u, combined, best, cands[1:], avoid)
+    if unit != "MPa":
+        reasons = [r.replace(" MPa", f" {unit}") for r in reasons]
     return Plan(
         f,
         best.pairs,

@@ -11,7 +11,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..physics.params import Params
-from ..physics.schedule import whole_steps
+from ..physics.schedule import MAX_PRESSURE, Schedule, whole_steps
+from ..physics.twisted import MAX_VOLTAGE, TwistedString, Voltages
 
 __all__ = ["RollSettings"]
 
@@ -26,7 +27,12 @@ class RollSettings:
     contact_tolerance m; combine; min_alignment; max_attempts; max_rolls; arrive_tolerance m;
     brake; brake_margin m; brake_rate MPa/s; brake_release_time s;
     escape_attempts; lookahead; optimised_actions; strut_damping 1/s; dt s (the simulator's
-    time step, config sim.dt).
+    time step, config sim.dt); motors: the twisted-string actuators the rolls drive (config
+    actuator.twisted_string under actuator.kind twisted_string; None: the pneumatic muscles).
+
+    The level is the actuator's (`unit`): pressure in MPa for the muscles, motor voltage in V
+    for the twisted strings; ramp_rate and brake_rate are then in V/s (one law, docs/design.md
+    §6, "Locomotion in volts").
 
     A roll (see `control.roll`) ramps the pressure at ramp_rate; a support node lifted by more
     than lift_tolerance holds it (at most hold_time s, then the ramp goes on; where the brake
@@ -73,11 +79,14 @@ class RollSettings:
     optimised_actions: bool = False
     strut_damping: float = 1.0
     dt: float = 1e-4
+    motors: TwistedString | None = None
 
     def __post_init__(self):
+        if not (self.motors is None or isinstance(self.motors, TwistedString)):
+            raise ValueError(f"locomotion motors must be a TwistedString or None, got {type(self.motors).__name__}")
         for f in fields(self):
             v = getattr(self, f.name)
-            if f.name in _FLAGS:
+            if f.name in _FLAGS or f.name == "motors":
                 continue
             if f.name == "strut_damping":
                 if isinstance(v, bool) or not (np.isfinite(v) and v >= 0):
@@ -96,10 +105,42 @@ class RollSettings:
             raise ValueError(
                 f"locomotion setting min_alignment must be in [-1, 1), got {np.asarray(self.min_alignment).tolist()!r}"
             )
+        if self.motors is not None and self.hold_time < self.twist_time - 1e-9:
+            raise ValueError(
+                f"locomotion setting hold_time {self.hold_time} s is shorter than the {self.twist_time:.1f} s the "
+                "motors of actuator.twisted_string take to twist their strands to the lock at no-load speed: a "
+                "roll in volts would give up before its voltage is reached; set locomotion.hold_time >= "
+                f"{self.twist_time:.1f}"
+            )
         if not whole_steps(self.interval, self.dt):
             raise ValueError(
                 f"locomotion interval {self.interval} s is not a whole number of time steps of {self.dt} s"
             )
+
+    @property
+    def twist_time(self) -> float:
+        """s the motors take to twist their strands from rest to the lock at no-load speed (the
+        longest of a batch; 11.1 s for the defaults of config/README.md); 0 for the muscles. A
+        level in volts is reached once the motor stalls against the string, after up to that long:
+        a roll in volts holds each level at least that long (hold_time)."""
+        if self.motors is None:
+            return 0.0
+        return float(np.max(np.asarray(self.motors.lock_angle) / np.asarray(self.motors.no_load_speed)))
+
+    @property
+    def unit(self) -> str:
+        """The unit of the rolls' level: MPa (pneumatic) or V (twisted strings)."""
+        return "MPa" if self.motors is None else "V"
+
+    @property
+    def max_level(self) -> float:
+        """The highest level a roll may command: MAX_PRESSURE MPa or MAX_VOLTAGE V."""
+        return MAX_PRESSURE if self.motors is None else MAX_VOLTAGE
+
+    def schedule(self, levels: np.ndarray) -> Schedule:
+        """The pair levels (B, 12) held one check interval, as the simulator takes them: pressures
+        (MPa) or, with motors, voltages (V, `twisted.Voltages`)."""
+        return (Schedule if self.motors is None else Voltages).constant(levels, self.interval)
 
     def rolling(self, params: Params) -> Params:
         """`params` as every rolling simulation runs them: struts damped by strut_damping 1/s."""

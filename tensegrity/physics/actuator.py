@@ -107,30 +107,53 @@ def spring(K: ArrayLike, L: ArrayLike, Lmin: ArrayLike, act: ArrayLike) -> tuple
 # (`TwistedString.pack`, rows of the kernel's motor constants M): K N/m, rest length at theta = 0
 # LR m, damping B N s/m, L0 m, r m, torque per volt G = eta N kt / R (N m/V), electrical and
 # viscous damping D = eta N^2 kt ke / R + b (N m s/rad), Coulomb friction TC N m, 1/omega_eps
-# s/rad, dt/J 1/(kg m^2 s) (J = N^2 J_rotor, output side), the time step dt s.
-MOTOR_ROWS = ("K", "LR", "B", "L0", "RS", "GAIN", "DAMP", "TC", "IWE", "DT_J", "DT")
-_MK, _MLR, _MB, _ML0, _MRS, _MGAIN, _MDAMP, _MTC, _MIWE, _MDTJ, _MDT = range(len(MOTOR_ROWS))
+# s/rad, dt/J 1/(kg m^2 s) (J = N^2 J_rotor, output side), the time step dt s; then, derived
+# from these so that the kernel's step need not (`motor_rows`): L0^2 m^2, r^2 m^2, the guard
+# (P_MIN L0)^2 m^2 and L0 - LR m. A step of the kernel's (`kernel/strings.py`): t, p =
+# `twist`, h = `ratio`, f = `string_tension`, tau = `motor_torque`, then `motor_step`.
+MOTOR_ROWS = ("K", "LR", "B", "L0", "RS", "GAIN", "DAMP", "TC", "IWE", "DT_J", "DT", "L0SQ", "RSQ", "PSQ_MIN", "L0_LR")
+(_MK, _MLR, _MB, _ML0, _MRS, _MGAIN, _MDAMP, _MTC, _MIWE, _MDTJ, _MDT, _ML0SQ, _MRSQ, _MPSQ, _ML0LR) = range(
+    len(MOTOR_ROWS)
+)
 # The strands stay apart from each other while p > P_MIN L0; below, the model is off (Palli et
 # al. 2013 eq. 10: two strands lock at tan(alpha) = pi/2, p = 0.54 L0). The guard only keeps a
 # run finite; `TwistedString` reports a twist past the lock.
 P_MIN = 0.05
 
 
-def twist(theta: float, L0: float, r: float) -> tuple[float, float]:
-    """(T1)-(T2): contraction c = L0 - p (m) of two strands of length L0 m and radius r m twisted
-    by theta rad, p = sqrt(L0^2 - (theta r)^2), and the transmission ratio h = dc/dtheta =
-    theta r^2 / p (m/rad), so that the motor feels tau = f h (virtual work)."""
-    s = theta * r
-    p = math.sqrt(max(L0 * L0 - s * s, (P_MIN * L0) ** 2))
-    return L0 - p, s * r / p
+def motor_rows(*first: ArrayLike) -> np.ndarray:
+    """The constants (len(MOTOR_ROWS), ...) from the first eleven of MOTOR_ROWS, in its order
+    (arrays broadcast), followed by those derived from them."""
+    if len(first) != _ML0SQ:
+        raise ValueError(f"motor_rows takes the first {_ML0SQ} constants of MOTOR_ROWS, got {len(first)}")
+    v = [np.asarray(x, dtype=float) for x in first]
+    L0, r, LR = v[_ML0], v[_MRS], v[_MLR]
+    v += [L0 * L0, r * r, np.square(P_MIN * L0), L0 - LR]
+    return np.stack(np.broadcast_arrays(*v))
 
 
-def string_tension(ln: float, ldot: float, c: float, h: float, omega: float, M: np.ndarray, l: int) -> float:
+def twist(theta: float, M: np.ndarray, l: int) -> tuple[float, float]:
+    """(T1): of the two strands twisted by theta rad (constants M[:, l], MOTOR_ROWS), t = theta
+    r^2 m^2/rad (for `ratio`) and their span p = sqrt(L0^2 - (theta r)^2) = sqrt(L0^2 - theta t)
+    m, at least P_MIN L0; their contraction is c = L0 - p. NaN passes."""
+    t = theta * M[_MRSQ, l]
+    q = M[_ML0SQ, l] - theta * t
+    return t, math.sqrt(M[_MPSQ, l] if q < M[_MPSQ, l] else q)
+
+
+def ratio(t: float, ip: float) -> float:
+    """(T2): the transmission ratio h = dc/dtheta = theta r^2 / p (m/rad) from t = theta r^2
+    m^2/rad and ip = 1 / p 1/m (`twist`; the caller's reciprocal, which may share a division),
+    so that the motor feels tau = f h (virtual work)."""
+    return t * ip
+
+
+def string_tension(ln: float, ldot: float, p: float, h: float, omega: float, M: np.ndarray, l: int) -> float:
     """(T3): tension (N) of a twisted-string cable of length ln m and rate ldot m/s whose strands
-    are contracted by c m at the ratio h m/rad (`twist`), motor speed omega rad/s, constants
-    M[:, l] (MOTOR_ROWS): the spring and fibre in series stretch by ln - LR + c,
+    span p m at the ratio h m/rad (`twist`, `ratio`), motor speed omega rad/s, constants M[:, l]
+    (MOTOR_ROWS): the spring and fibre in series stretch by ln - LR + c = ln - p + (L0 - LR),
     f = max(0, K stretch + B d(stretch)/dt), d(stretch)/dt = ldot + h omega."""
-    f = M[_MK, l] * (ln - M[_MLR, l] + c) + M[_MB, l] * (ldot + h * omega)
+    f = M[_MK, l] * (ln - p + M[_ML0LR, l]) + M[_MB, l] * (ldot + h * omega)
     return 0.0 if f <= 0.0 else f
 
 
@@ -154,15 +177,17 @@ def motor_step(
 
 
 def twists(theta: ArrayLike, L0: ArrayLike, r: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """The NumPy twin of `twist`: contraction c (...) m and ratio h (...) m/rad, broadcast."""
+    """The NumPy twin of `twist` and `ratio`, from their closed forms (T1)-(T2): contraction c
+    (...) m and ratio h (...) m/rad, broadcast."""
     s = np.asarray(theta, dtype=float) * r
     p = np.sqrt(np.maximum(np.square(L0) - s * s, np.square(P_MIN * np.asarray(L0))))
     return L0 - p, s * r / p
 
 
 def string_tensions(ln: ArrayLike, ldot: ArrayLike, theta: ArrayLike, omega: ArrayLike, rows: ArrayLike) -> np.ndarray:
-    """The NumPy twin of `string_tension` at the motor angle theta rad (its c, h by `twists`),
-    with the constants rows (len(MOTOR_ROWS), ...), broadcast."""
+    """The NumPy twin of `string_tension` at the motor angle theta rad (its c, h by `twists`; the
+    stretch ln - LR + c as (T3) writes it), with the constants rows (len(MOTOR_ROWS), ...),
+    broadcast."""
     K, LR, B, L0, r = np.asarray(rows, dtype=float)[:5]
     c, h = twists(theta, L0, r)
     f = K * (np.asarray(ln) - LR + c) + B * (np.asarray(ldot) + h * np.asarray(omega))

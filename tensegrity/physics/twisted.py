@@ -110,7 +110,7 @@ class TwistedString:
         gain = self.gear_efficiency * self.gear_ratio * self.emf_constant / self.resistance
         damp = gain * self.gear_ratio * self.emf_constant + self.viscous_friction
         rest = np.asarray(params.strut_length, float) * math.sqrt(6) / 4 - np.asarray(self.pretension) / self.stiffness
-        vals = (
+        return actuator.motor_rows(
             self.stiffness,
             rest,
             self.damping,
@@ -123,7 +123,6 @@ class TwistedString:
             dt / self.inertia,
             dt,
         )
-        return np.stack(np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in vals)))
 
     def pack(self, params: Params, batch: int, dt: float) -> np.ndarray:
         """(B, len(MOTOR_ROWS)) float64, C-ordered: `rows` per robot."""
@@ -132,10 +131,15 @@ class TwistedString:
             raise ValueError(f"actuator parameter arrays have length {r.shape[1]}, but the batch has {batch} robots")
         return np.ascontiguousarray(np.broadcast_to(r.reshape(len(actuator.MOTOR_ROWS), -1).T, (batch, r.shape[0])))
 
+    @property
+    def lock_angle(self) -> float | np.ndarray:
+        """The twist rad at which the strands lock: theta r = L0 sin(atan(LOCK_SLOPE)) (T1)."""
+        L0, r = np.asarray(self.string_length, float), np.asarray(self.string_radius, float)
+        return L0 * math.sin(math.atan(LOCK_SLOPE)) / r
+
     def locked(self, theta: np.ndarray) -> np.ndarray:
         """True where the twist theta rad is past the strands' lock (the model no longer holds)."""
-        L0, r = np.asarray(self.string_length, float), np.asarray(self.string_radius, float)
-        limit = L0 * math.sin(math.atan(LOCK_SLOPE)) / r
+        limit = np.asarray(self.lock_angle)
         return np.abs(theta) > (limit[..., None] if limit.ndim else limit)
 
     @classmethod

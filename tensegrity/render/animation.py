@@ -83,6 +83,7 @@ def animate(
     fps: int = 10,
     speed: float = 8.0,
     size: tuple[int, int] = (640, 480),
+    unit: str = "MPa",
 ) -> dict:
     """An animation (GIF) of a run: the robot rolling over its terrain toward the goal, the
     CoG track so far, and in each frame's title `label`, the time and the pressures applied.
@@ -91,7 +92,8 @@ def animate(
     colours) instead of being quantized on its own, and the GIF is written to a temporary file
     in the same folder and renamed, so a run killed midway leaves no file at `path`.
 
-    nodes: (T, 12, 3) world, m; time: (T,) s, increasing; pressure: (T, 12) MPa per pair;
+    nodes: (T, 12, 3) world, m; time: (T,) s, increasing; pressure: (T, 12) MPa per pair (V
+    with unit "V": the twisted strings' motor voltages);
     goal: (3,) world, m (None or NaN: none); label: e.g. "run 'paper'"; fps: frames per
     second; speed: playback speed relative to simulated time; size: (width, height) px.
     A legend in a strip under the scene names the track, the goal and the robot's colours.
@@ -147,7 +149,7 @@ def animate(
     head = f"{label}  " if label else ""
     titles = []
     for i in frames:
-        act = ", ".join(f"#{k + 1} {pres[i, k]:.1f} MPa" for k in np.flatnonzero(pres[i] > 0)) or "released"
+        act = ", ".join(f"#{k + 1} {pres[i, k]:.1f} {unit}" for k in np.flatnonzero(pres[i] > 0)) or "released"
         titles.append(f"{head}t = {t[i]:5.1f} s ({speed:g}x)  {act}")
     title = _title(pl, max(titles, key=len), size[0])
     legend_box = _legend(pl, size)

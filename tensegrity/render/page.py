@@ -47,7 +47,8 @@ class Workspace:
     robot, `support` (3, 3) its support triangle (corners in the order of topology.FACES);
     per pair number: `clouds` (n, 3) CoG samples, `curves` (k, 3) the fitted curve from the
     unactuated CoG, `nominal` (m, 3) nominal CoGs, `tips` (3,) the curve at the tipping pressure,
-    where the CoG projection leaves the deformed triangle (pairs that tip only)."""
+    where the CoG projection leaves the deformed triangle (pairs that tip only); `unit` of the
+    levels, MPa or V (the twisted strings)."""
 
     contact: str
     face: int
@@ -57,6 +58,7 @@ class Workspace:
     curves: dict[int, np.ndarray] = field(default_factory=dict)
     nominal: dict[int, np.ndarray] = field(default_factory=dict)
     tips: dict[int, np.ndarray] = field(default_factory=dict)
+    unit: str = "MPa"
 
 
 @dataclass(frozen=True)
@@ -88,9 +90,9 @@ def thin(points: np.ndarray, n: int = CLOUD_POINTS, tol: float = CLOUD_TOLERANCE
 def _workspace_traces(ws: Workspace) -> list:
     kw = dict(scene="scene", legend="legend")
     f = topo.FACES[ws.face - 1]
-    out = tr.robot(ws.nodes * MM, name="robot (0 MPa)", **kw)
+    out = tr.robot(ws.nodes * MM, name=f"robot (0 {ws.unit})", **kw)
     out += tr.triangle(ws.support * MM, name="support triangle", colour=SUPPORT, labels=f + 1, **kw)
-    out += tr.marker(ws.nodes.mean(axis=0) * MM, name="CoG (0 MPa)", colour="black", size=5, **kw)
+    out += tr.marker(ws.nodes.mean(axis=0) * MM, name=f"CoG (0 {ws.unit})", colour="black", size=5, **kw)
     for p in sorted(ws.curves):
         cloud = thin(ws.clouds.get(p, np.empty((0, 3))))
         out += tr.pair(p, cloud * MM, ws.curves[p] * MM, ws.nominal.get(p, np.empty((0, 3))) * MM, **kw)

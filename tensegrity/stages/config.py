@@ -190,14 +190,16 @@ STAGES: dict[str, Stage] = {
 
 # the stages that run with the twisted-string actuator (issue 31; docs/design.md §10): the workspace
 # pipeline in volts, the gravity-aware workspace and slope limit, the validation (each check in
-# volts or not evaluated, saying why), and the paper's experiment (which runs the prototype
-# whatever actuator.kind). The others (locomotion, studies, ...) refuse it by name.
+# volts or not evaluated, saying why), the paper's experiment (which runs the prototype whatever
+# actuator.kind) and the locomotion runs in volts (design.md §6). The others (studies, ...) refuse
+# it by name.
 VOLTS = frozenset(
     (
         *("sweep", "nominal", "workspace", "curves", "curves_json", "two_pair", "two_pair_map"),
         *("two_pair_surfaces", "robot_figures", "cog_cloud", "workspace_figure", "two_pair_figure"),
         *("gravity", "slope_limit", "gravity_figure", "validate", "validate_two_pair", "validate_gravity"),
         *("validate_prototype", "prototype_figure"),
+        *("locomotion_runs", "state_figures", "path_figures", "animation", "page"),  # rolls in volts
     )
 )
 
@@ -218,9 +220,9 @@ def actuator_error(cfg: Mapping, stage: str) -> str | None:
     what = f"stage {stage}" + (f" (rule {rule})" if rule else "") if stage in STAGES else stage
     return (
         f"config key actuator.kind: {kind!r} runs the workspace pipeline in volts (sweeps, nominal, "
-        f"curves, workspaces, gravity and slope limit, validation, their figures), but {what} runs "
-        "the pneumatic muscle only (locomotion and studies in volts are not built yet); use "
-        "actuator.kind: pneumatic for it"
+        f"curves, workspaces, gravity and slope limit, validation, locomotion, their figures), but {what} "
+        "runs the pneumatic muscle only (studies in volts are not built yet); use actuator.kind: "
+        "pneumatic for it"
     )
 
 

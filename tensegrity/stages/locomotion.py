@@ -34,6 +34,11 @@ def locomotion_runs(
 
     if len(names) != len(out_paths):
         raise ValueError(f"{len(names)} runs {list(names)} but {len(out_paths)} output paths")
+    from .config import actuator_kind
+
+    for path in (workspace_path, two_pair_path):  # levels in the configured actuator's unit
+        if path is not None:
+            formats.actuation.require_kind(datasets.read_attrs(path), os.fspath(path), actuator_kind(cfg))
     ws = formats.read_workspace(workspace_path, two_pair_path)
     scen = settings.build(Scenarios, cfg)
     setups = [demos.demo_setup(name, scen) for name in names]  # an unknown name: before any run
@@ -45,10 +50,10 @@ def locomotion_runs(
             run = runs.roll_over(ws, setup["edges"], params, setup["terrain"], settings=s)
         else:
             run = runs.roll_to(ws, setup["goal"], params, setup["terrain"], settings=s)
-        print(outcome.describe(run, name), flush=True)
+        print(outcome.describe(run, name, s.unit), flush=True)
         out.append(
             datasets.write(
-                run_formats.run_dataset(run, setup["terrain"], s.rolling(params), name),
+                run_formats.run_dataset(run, setup["terrain"], s.rolling(params), name, s.unit),
                 out_path,
                 prov,
                 f"Rolling locomotion run '{name}': {run.outcome}",
@@ -102,6 +107,7 @@ def state_figures(
     pair = int(ds["step_pair"].values[0, 0])
     tip = float(ds["tip_pressure"].values[0])
     edge = [topo.edge_nodes(face, j) for j in range(3)].index(tuple(ds["edge"].values[0]))
+    levels, unit = run_formats.commands(ds)
     k, p = run_formats.run_sample(ds, terrain, 1, "stable")
     out = [
         state_figures_.fig_state(
@@ -109,7 +115,7 @@ def state_figures(
             terrain,
             face,
             fig8,
-            f"Fig. 8  Stable: #{pair} at {ds['pressure'].values[k].max():.1f} MPa, the CoG "
+            f"Fig. 8  Stable: #{pair} at {levels[k].max():.1f} {unit}, the CoG "
             f"projection stays inside {topo.face_label(face)}",
             arrow=ct.edge_outward(p[topo.FACES[face - 1]])[edge],
         )
@@ -117,14 +123,14 @@ def state_figures(
     try:
         k, p = run_formats.run_sample(ds, terrain, 1, "rolling")
         title9 = (
-            f"Fig. 9  Rolling: #{pair} tipped the robot at {tip:.2f} MPa; the CoG "
+            f"Fig. 9  Rolling: #{pair} tipped the robot at {tip:.2f} {unit}; the CoG "
             f"projection has left {topo.face_label(face)}"
         )
     except ValueError:  # e.g. grounded sweeps: the planned pressure did not tip the robot
         k = int(np.clip(np.searchsorted(ds["time"].values, ds["t_end"].values[0]), 0, ds.sizes["time"] - 1))
         p = ds["nodes"].values[k]
         title9 = (
-            f"Fig. 9  Not rolling: #{pair} at up to {float(ds['peak_pressure'].values[0]):.2f} MPa "
+            f"Fig. 9  Not rolling: #{pair} at up to {float(ds['peak_pressure'].values[0]):.2f} {unit} "
             f"did not tip the robot off {topo.face_label(face)} (run '{ds.attrs.get('run', '')}': "
             f"{ds.attrs.get('outcome', '')})"
         )
@@ -159,14 +165,16 @@ def animation(cfg: dict, run_path: str | os.PathLike, gif: str | os.PathLike) ->
 
     loc = cfg["locomotion"]
     ds = datasets.read(run_path)
+    levels, unit = run_formats.commands(ds)
     return animate(
         ds["nodes"].values,
         ds["time"].values,
-        ds["pressure"].values,
+        levels,
         run_formats.terrain_from_dataset(ds),
         gif,
         goal=ds["goal"].values,
         label=f"run '{ds.attrs.get('run', '')}'",
         fps=int(loc["animation_fps"]),
         speed=float(loc["animation_speed"]),
+        unit=unit,
     )

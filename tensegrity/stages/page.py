@@ -9,6 +9,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..io import datasets
+from ..io.formats import actuation
 from ..io.formats import run as run_formats
 from ..physics import frames
 from ..physics import topology as topo
@@ -55,7 +56,8 @@ def _workspace(contact: str, nm, cv, sweeps: list, points: int):
         level = sw["level"].values
         clouds[pair] = sw["cog"].values[(level >= 0) & (level < len(nominal[pair]))]
     tips = {p: t for p, t in tips.items() if t is not None}
-    return Workspace(contact, face, nodes, rest_support, clouds, lines, nominal, tips)
+    unit = actuation.units(actuation.kind_of(nm))
+    return Workspace(contact, face, nodes, rest_support, clouds, lines, nominal, tips, unit)
 
 
 def _run(path: str | os.PathLike):

@@ -29,18 +29,6 @@ from ..validation.nominals import common_levels
 from ..workspace.sweep import SweepSetup
 from ..workspace.two_pair import TwoPairSetup
 from . import provenance
-from .config import actuator_error
-
-# check 6 with the twisted-string actuator while the demonstration runs are not made in volts
-NO_RUNS_IN_VOLTS = (
-    "the demonstration runs are not made with the twisted-string actuator (stage locomotion_runs refuses "
-    "actuator.kind: twisted_string)"
-)
-# check G.1 with the twisted-string actuator while the controller's rolls are not in volts
-NO_ROLLS_IN_VOLTS = (
-    "the controller's grounded rolls (locomotion.control.roll) are not made with the "
-    "twisted-string actuator (stage locomotion_runs refuses actuator.kind: twisted_string)"
-)
 
 
 def _kind(cfg: dict):
@@ -124,7 +112,6 @@ def validate(
         on_result=lambda r: _log(r, kind),
         runs=run_formats.read_run_summaries(run_paths),
         motors=motors,
-        no_runs="" if motors is None or actuator_error(cfg, "locomotion_runs") is None else NO_RUNS_IN_VOLTS,
     )
     if prototype_path:
         from ..io.formats.prototype import read_prototype
@@ -234,24 +221,19 @@ def validate_gravity(
     """Stage `validate_gravity`: checks G.1-G.3 (`validation.gravity`) of the gravity-aware
     workspace on gravity.validate_slopes, within gravity.tip_tolerance; writes
     results/validation/gravity.nc, .md and .html. With the twisted-string actuator (the file in
-    volts) G.2 and G.3 are measured in volts, and G.1 where the controller rolls in volts (the
-    stage locomotion_runs runs with the actuator), else not evaluated, saying why."""
+    volts) G.1 rolls the controller in volts (`RollSettings.motors`), G.2 and G.3 compare in volts."""
     from ..validation import gravity as vg
 
-    motors, kind = _kind(cfg)
-    no_rolls = motors is not None and actuator_error(cfg, "locomotion_runs") is not None
+    _, kind = _kind(cfg)
     g, s = cfg["gravity"], settings.build(RollSettings, cfg)
     sweeps = gf.read_gravity(gravity_path)
-    slopes = [] if no_rolls else g["validate_slopes"]
-    rc = vg.check_rolls(settings.params(cfg), sweeps, slopes, s, float(g["max_pressure"]))
+    rc = vg.check_rolls(settings.params(cfg), sweeps, g["validate_slopes"], s, float(g["max_pressure"]))
     flat = {
         contact: vg.flat_comparison(sweeps[contact], free, CheckSettings.grounded_tolerance)
         for contact, free in read_nominals(nominal_paths).items()
         if contact in sweeps
     }
     rows, status = vg.verdicts(rc, flat, float(g["tip_tolerance"]))
-    if no_rolls:
-        rows[0] = dataclasses.replace(rows[0], measured=NO_ROLLS_IN_VOLTS)
     rows = _worded(kind, rows)
     for r in rows:
         print(f"  {r.id} {r.status}: {r.measured}", flush=True)
@@ -259,11 +241,8 @@ def validate_gravity(
         f"Ramps at {s.ramp_rate:g} MPa/s in steps of {s.interval:g} s after {float(g['settle']):g} s at rest; "
         f"grounded rolls with the controller's settings (config locomotion) up to {float(g['max_pressure']):g} MPa."
     )
-    ds = actuation.relabel_texts(gvf.gravity_validation_dataset(rc, flat, status), kind)
-    if no_rolls:
-        ds.attrs["not_evaluated_G1"] = NO_ROLLS_IN_VOLTS
     path = datasets.write(
-        ds,
+        actuation.relabel_texts(gvf.gravity_validation_dataset(rc, flat, status), kind),
         nc_path,
         provenance(cfg, gravity_path),
         vg.TITLE,

@@ -236,13 +236,12 @@ def run_checks(
     on_result: Callable[[Result], None] | None = None,
     runs: Mapping[str, demo_runs.RunSummary] | None = None,
     motors: TwistedString | None = None,
-    no_runs: str = "",
 ) -> list[Result]:
     """Every check, in order 1-7, with `params`, the pipeline's sweep `setup` (its nominal average
     after `discard` s) and `settings` (default `CheckSettings()`) on the nominal CoG of the contact
     cases (contact -> `Nominal`, results/nominal/{contact}.nc), the workspace (results/workspace.nc)
     and the demonstration runs (name -> `runs.RunSummary` of results/locomotion/{run}.nc; None or
-    empty: check 6 is not evaluated; `no_runs`, if given, says why). With `motors` (the
+    empty: check 6 is not evaluated). With `motors` (the
     twisted-string actuator, `twisted.TwistedString`; the nominal files in volts) checks 3-5 and 7
     are evaluated in volts; 1 (the paper's pressures) and 2 (the statics of the muscles) are not
     evaluated, each with its reason (`IN_VOLTS`).
@@ -260,9 +259,6 @@ def run_checks(
     if motors is not None:
         check1 = lambda: common.NotEvaluated.of("paper", ("1.1", "1.2", "1.3", "1.4", "1.5"), common.IN_VOLTS["paper"])
         check2 = lambda: common.NotEvaluated.of("statics", ("2",), common.IN_VOLTS["statics"])
-    check6 = lambda: demo_runs.check_runs(runs or {})
-    if not runs and no_runs:
-        check6 = lambda: common.NotEvaluated.of("runs", ("6",), no_runs)
     todo = [
         ("paper", "1", check1),
         ("statics", "2", check2),
@@ -275,7 +271,7 @@ def run_checks(
             ),
         ),
         ("timestep", "5", lambda: check_timestep(params, nominals, setup, discard, s.timestep_tolerance, motors)),
-        ("runs", "6", check6),
+        ("runs", "6", lambda: demo_runs.check_runs(runs or {})),
         ("averaging", "7", lambda: averaging.check_averaging(nominals, s.averaging_tolerance)),
     ]
     out = []

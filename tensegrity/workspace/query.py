@@ -46,7 +46,9 @@ def curve_cog(curves: dict, face: int | Sequence[int], pair: int, pressure: floa
         raise ValueError(f"pair #{pair} on face {face} maps to canonical pair #{src}, which was not swept")
     lo, hi = per_axis["x"]["pmin"], per_axis["x"]["pmax"]
     if not (np.isfinite(pressure) and lo <= pressure <= hi):
-        raise ValueError(f"pressure {pressure} MPa is outside the fitted range {lo}..{hi} MPa")
+        unit = curves.get("units", {}).get("pressure", "MPa")  # V: a document in volts (issue 31)
+        what = "pressure" if unit == "MPa" else "motor voltage"
+        raise ValueError(f"{what} {pressure} {unit} is outside the fitted range {lo}..{hi} {unit}")
     cog = np.array([float(fit.evaluate(per_axis[a], pressure)) for a in AXES]) * diag
     return cog, kind, src
 

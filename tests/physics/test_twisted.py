@@ -21,6 +21,13 @@ from tensegrity.physics.twisted import TwistedString, Voltages
 ROW = {name: k for k, name in enumerate(actuator.MOTOR_ROWS)}
 
 
+def scalar_twist(theta, rows, l):
+    """(T1)-(T2) by the scalar law the kernel compiles (`actuator.twist`, `ratio`): the span p m,
+    the contraction c = L0 - p m and the ratio h m/rad at theta rad, constants rows[:, l]."""
+    t, p = actuator.twist(theta, rows, l)
+    return p, rows[ROW["L0"], l] - p, actuator.ratio(t, 1.0 / p)
+
+
 def test_twist_matches_closed_forms():
     """(T1)-(T2): c = L0 - sqrt(L0^2 - (theta r)^2) from the helix (Palli et al. 2013 eq. 12);
     h = dc/dtheta, checked by a central difference: the ratio is what virtual work (f dc =
@@ -32,12 +39,14 @@ def test_twist_matches_closed_forms():
     step = 1e-4
     dc = (actuator.twists(theta + step, L0, r)[0] - actuator.twists(theta - step, L0, r)[0]) / (2 * step)
     np.testing.assert_allclose(h, dc, rtol=1e-6, atol=1e-12)
-    # the scalar law (compiled into the kernel) and its NumPy twin agree
+    # the scalar law (compiled into the kernel, from its packed constants) and its NumPy twin
+    # agree to round-off: the scalar law shares one product theta r^2 between p and h
+    rows = TwistedString(string_length=L0, string_radius=r).rows(Params(), 1e-4)[:, None]
     for t in theta[::7]:
-        np.testing.assert_allclose(actuator.twist(t, L0, r), actuator.twists(t, L0, r), rtol=1e-15)
+        np.testing.assert_allclose(scalar_twist(t, rows, 0)[1:], actuator.twists(t, L0, r), rtol=1e-15, atol=1e-17)
     # small twist: c ~ (theta r)^2 / (2 L0), zero ratio at zero twist (no back-drive at rest)
-    assert actuator.twist(0.0, L0, r) == (0.0, 0.0)
-    np.testing.assert_allclose(actuator.twist(1.0, L0, r)[0], r**2 / (2 * L0), rtol=1e-6)
+    assert scalar_twist(0.0, rows, 0)[1:] == (0.0, 0.0)
+    np.testing.assert_allclose(scalar_twist(1.0, rows, 0)[1], r**2 / (2 * L0), rtol=1e-6)
 
 
 def test_stall_torque_and_no_load_speed_from_the_datasheet():
@@ -90,8 +99,8 @@ def _closed_run(m: TwistedString, volts: float, seconds: float, dt: float = 1e-4
     E = dict(electric=0.0, resistive=0.0, gear=0.0, friction=0.0, damping=0.0)
     stretch0 = ln - LR
     for _ in range(int(round(seconds / dt))):
-        c, h = actuator.twist(theta, rows[ROW["L0"], 0], rows[ROW["RS"], 0])
-        f = actuator.string_tension(ln, 0.0, c, h, omega, rows, 0)
+        p, c, h = scalar_twist(theta, rows, 0)
+        f = actuator.string_tension(ln, 0.0, p, h, omega, rows, 0)
         assert f > 0.0  # taut throughout: the spring's energy is (1/2) K stretch^2
         tau = actuator.motor_torque(volts, omega, rows, 0)
         i = (volts - ke * N * omega) / R
@@ -101,7 +110,7 @@ def _closed_run(m: TwistedString, volts: float, seconds: float, dt: float = 1e-4
         E["friction"] += (tau - eta * N * ke * i) * -omega * dt  # Coulomb + viscous
         E["damping"] += B * (h * omega) ** 2 * dt
         theta, omega = actuator.motor_step(theta, omega, tau, f, h, rows, 0)
-    c = actuator.twist(theta, rows[ROW["L0"], 0], rows[ROW["RS"], 0])[0]
+    c = scalar_twist(theta, rows, 0)[1]
     E["spring"] = 0.5 * K * ((stretch0 + c) ** 2 - stretch0**2)
     E["kinetic"] = 0.5 * m.inertia * omega**2
     return E
@@ -144,8 +153,8 @@ def test_kernel_step_matches_the_scalar_law():
     for b in range(3):
         for j in range(24):
             th, om = state.motor_angle[b, j], state.motor_speed[b, j]
-            c, h = actuator.twist(th, rows[ROW["L0"], b], rows[ROW["RS"], b])
-            f = actuator.string_tension(ln[b, j], ldot[b, j], c, h, om, rows, b)
+            p, c, h = scalar_twist(th, rows, b)
+            f = actuator.string_tension(ln[b, j], ldot[b, j], p, h, om, rows, b)
             tau = actuator.motor_torque(volts[b, topo.CABLE_PAIR[j]], om, rows, b)
             expect = actuator.motor_step(th, om, tau, f, h, rows, b)
             np.testing.assert_allclose([end.motor_angle[b, j], end.motor_speed[b, j]], expect, rtol=1e-12)
@@ -154,7 +163,9 @@ def test_kernel_step_matches_the_scalar_law():
     c, h = actuator.twists(state.motor_angle, rows[ROW["L0"], :, None], rows[ROW["RS"], :, None])
     f_scalar = [
         [
-            actuator.string_tension(ln[b, j], ldot[b, j], c[b, j], h[b, j], state.motor_speed[b, j], rows, b)
+            actuator.string_tension(
+                ln[b, j], ldot[b, j], rows[ROW["L0"], b] - c[b, j], h[b, j], state.motor_speed[b, j], rows, b
+            )
             for j in range(24)
         ]
         for b in range(3)

@@ -56,3 +56,21 @@ def default_run(tmp_path_factory) -> Path:
     default = load(ROOT / "config" / "config.yaml")["params"]
     assert provenance_config(results / "workspace.nc")["params"] == default, f"{results} is not a default run"
     return results
+
+
+@pytest.fixture(scope="session")
+def study_run(tmp_path_factory) -> Path:
+    """A scratch copy of the workflow in which the tiny design study (tests/studies/tiny_study.yaml:
+    8 designs in 2 chunks) ran locally, with tests/workflow/tiny.yaml (test_study_workflow.py; the
+    SLURM test compares its own run with this one)."""
+    wd = copy_workflow(tmp_path_factory.mktemp("study"))
+    shutil.copy(ROOT / "tests" / "studies" / "tiny_study.yaml", wd / "config" / "studies" / "tiny_study.yaml")
+    r = subprocess.run(
+        SNAKEMAKE + ["--cores", "2", "--configfile", str(TINY), "--config", "study=tiny_study", "--", "study"],
+        cwd=wd,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert r.returncode == 0, (r.stdout + r.stderr)[-3000:]
+    return wd

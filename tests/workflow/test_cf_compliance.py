@@ -80,10 +80,16 @@ def netcdf_files(run: Path) -> list[Path]:
     return files
 
 
-def test_datasets_are_cf_compliant(run, tmp_path):
+@pytest.fixture(scope="module")
+def reports(run, tmp_path_factory) -> dict:
+    """{path: the checker's report} of every dataset of the tiny run (checked once, ~0.5 s each)."""
+    tmp = tmp_path_factory.mktemp("cf")
+    return {path: cf_report(path, tmp) for path in netcdf_files(run)}
+
+
+def test_datasets_are_cf_compliant(run, reports):
     scores, unexpected = {}, {}
-    for path in netcdf_files(run):
-        rep = cf_report(path, tmp_path)
+    for path, rep in reports.items():
         name = str(path.relative_to(run))
         scores[name] = f"{rep['scored_points']}/{rep['possible_points']}"
         bad = [m for m in findings(rep) if not any(k.search(m) for k in KNOWN)]
@@ -100,7 +106,6 @@ def test_datasets_are_cf_compliant(run, tmp_path):
     reason="the contract's `time` and `pressure` dimensions meet the checker's "
     "name heuristics (standard_name time / air_pressure); see the module docstring",
 )
-def test_every_dataset_scores_100_percent(run, tmp_path):
-    for path in netcdf_files(run):
-        rep = cf_report(path, tmp_path)
+def test_every_dataset_scores_100_percent(reports):
+    for path, rep in reports.items():
         assert rep["scored_points"] == rep["possible_points"], (str(path), findings(rep))

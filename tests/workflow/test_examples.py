@@ -17,6 +17,10 @@ curves (`fit` and after: curves.json and the figures of `render`), which the tin
 the grounded mode (see `_snakemake_argv`). A block whose command repeats an earlier one (config/README
 repeats README's subset, finer levels and grounded mode) is not run twice.
 README's two set-up commands are what CI itself runs, so they are not repeated.
+
+The workflow runs of the examples (each a chain of jobs that keeps about one core busy) and the
+benchmarks' tiny runs (single-threaded) are started two at a time, the first time a test asks for
+them (`pipeline_runs`, `benchmark_runs`); each test then checks its own run's outcome.
 """
 
 import os
@@ -25,6 +29,7 @@ import shlex
 import shutil
 import subprocess
 import sys
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
@@ -155,8 +160,51 @@ for _doc, _lang, _text, _line in EXAMPLES:
         _FIRST_RUN.setdefault(_run_key(_text), f"{_doc}:{_line}")
 
 
+def _runs_pipeline(text: str) -> bool:
+    """A block that runs the workflow in a scratch copy of its own (not README's set-up line)."""
+    return _run_key(text) is not None and not text.lstrip().startswith("bash workflow/setup.sh")
+
+
+def _allowed(cmd: str, out: str) -> tuple[int, ...]:
+    """Exit codes a command may end with: `roll` exits 1 when the robot did not arrive
+    (documented); the tiny workspace has only five pairs, so a goal may be out of its reach: that
+    is an outcome, not a crash."""
+    return (0, 1) if " roll " in f" {cmd} " and "Traceback" not in out else (0,)
+
+
+@pytest.fixture(scope="module")
+def pipeline_runs(tiny, tmp_path_factory) -> dict:
+    """{"doc:line": (scratch copy, [(command, exit code, output), ...])} of every block that runs
+    the workflow (the first of equal ones), two at a time, each in a fresh copy of the workflow
+    that starts from the tiny run's results (`_with_tiny_results`); a block stops at its first
+    command that fails."""
+    from conftest import copy_workflow
+
+    todo = [
+        f"{d}:{n}"
+        for d, lang, text, n in EXAMPLES
+        if lang in ("bash", "sh") and _runs_pipeline(text) and _FIRST_RUN[_run_key(text)] == f"{d}:{n}"
+    ]
+    texts = {f"{d}:{n}": text for d, _, text, n in EXAMPLES}
+
+    def run(name: str):
+        cwd = _with_tiny_results(copy_workflow(tmp_path_factory.mktemp("example")), tiny)
+        done = []
+        for cmd in _commands(texts[name]):
+            if cmd.startswith("bash workflow/setup.sh"):
+                continue  # the README's set-up commands: CI runs them (see module docstring)
+            code, out = _run_shell(cmd, cwd)
+            done.append((cmd, code, out))
+            if code not in _allowed(cmd, out):
+                break
+        return name, (cwd, done)
+
+    with ThreadPoolExecutor(2) as pool:
+        return dict(pool.map(run, todo))
+
+
 @pytest.mark.parametrize("doc, lang, text, line", EXAMPLES, ids=[f"{d}:{n}" for d, _, _, n in EXAMPLES])
-def test_example_runs(request, workflow_copy, doc, lang, text, line):
+def test_example_runs(request, doc, lang, text, line):
     if lang == "text":  # sample output, not a command
         return
     if lang == "yaml":  # a configuration fragment: it must validate
@@ -185,21 +233,15 @@ def test_example_runs(request, workflow_copy, doc, lang, text, line):
         )
         assert r.returncode == 0, f"{doc}:{line}\n{r.stderr[-3000:]}"
         return
-    key = _run_key(text)
-    if key is not None and not text.lstrip().startswith("bash workflow/setup.sh"):
-        if _FIRST_RUN[key] != f"{doc}:{line}":
-            pytest.skip(f"the same run as {_FIRST_RUN[key]}")
-        cwd = _with_tiny_results(workflow_copy, request.getfixturevalue("tiny"))
+    if _runs_pipeline(text):
+        if _FIRST_RUN[_run_key(text)] != f"{doc}:{line}":
+            pytest.skip(f"the same run as {_FIRST_RUN[_run_key(text)]}")
+        cwd, done = request.getfixturevalue("pipeline_runs")[f"{doc}:{line}"]
     else:
         cwd = request.getfixturevalue("tiny")  # the workflow copy that ran on tiny.yaml
-    for cmd in _commands(text):
-        if cmd.startswith("bash workflow/setup.sh"):
-            continue  # the README's set-up commands: CI runs them (see module docstring)
-        code, out = _run_shell(cmd, cwd)
-        # `roll` exits 1 when the robot did not arrive (documented); the tiny workspace has
-        # only five pairs, so a goal may be out of its reach: that is an outcome, not a crash
-        allowed = (0, 1) if " roll " in f" {cmd} " and "Traceback" not in out else (0,)
-        assert code in allowed, f"{doc}:{line}: {cmd}\n{out[-3000:]}"
+        done = ((cmd, *_run_shell(cmd, cwd)) for cmd in _commands(text) if not cmd.startswith("bash workflow/setup.sh"))
+    for cmd, code, out in done:
+        assert code in _allowed(cmd, out), f"{doc}:{line}: {cmd}\n{out[-3000:]}"
         if _is_run(cmd):  # a run that did not arrive is named at the end (and fails check 6)
             from tensegrity.io.formats.run import not_arrived
 
@@ -270,17 +312,28 @@ def test_every_benchmark_is_listed():
     assert sorted(p.name for p in (ROOT / "benchmarks").glob("*.py")) == sorted(BENCHMARKS)
 
 
+@pytest.fixture(scope="module")
+def benchmark_runs(tiny) -> dict:
+    """{name: finished process} of every benchmark with its tiny arguments, two at a time."""
+
+    def run(name: str):
+        args = [a.format(tiny=tiny) for a in BENCHMARKS[name]]
+        return name, subprocess.run(
+            [sys.executable, str(ROOT / "benchmarks" / name), *args],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            env=_env(),  # MuJoCo (bench_mujoco.py, bench_env.py) is a test dependency in environment.txt
+            timeout=600,
+        )
+
+    with ThreadPoolExecutor(2) as pool:
+        return dict(pool.map(run, sorted(BENCHMARKS)))
+
+
 @pytest.mark.parametrize("name", sorted(BENCHMARKS))
-def test_benchmark_runs_with_tiny_arguments(tiny, name):
-    args = [a.format(tiny=tiny) for a in BENCHMARKS[name]]
-    r = subprocess.run(
-        [sys.executable, str(ROOT / "benchmarks" / name), *args],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        env=_env(),  # MuJoCo (bench_mujoco.py, bench_env.py) is a test dependency in environment.txt
-        timeout=600,
-    )
+def test_benchmark_runs_with_tiny_arguments(benchmark_runs, name):
+    r = benchmark_runs[name]
     assert r.returncode == 0, r.stderr[-3000:]
     assert r.stdout.strip(), "a benchmark prints figures"
     if name == "bench_mujoco.py":  # the same scheme in MuJoCo: free-mode nodes agree to round-off

@@ -234,10 +234,9 @@ def _study(wd: Path, *args: str, env: dict | None = None) -> str:
     return r.stdout + r.stderr
 
 
-def test_a_design_study_runs_through_slurm_as_locally(runs, plugin_env):
-    slurm, _, local = runs
+def test_a_design_study_runs_through_slurm_as_locally(runs, plugin_env, study_run):
+    slurm, local = runs[0], study_run  # the same study run locally (conftest.py)
     log = _study(slurm, "--workflow-profile", "workflow/profiles/slurm", env=plugin_env)
-    _study(local, "--cores", "2")
     submitted = collections.Counter(rule for _, rule in SUBMIT_LINE.findall(log))
     assert submitted == {"study_chunk": 2}, log[-3000:]  # merge and analysis are local rules
     for f in STUDY_FILES:

@@ -4,7 +4,6 @@ Snakemake with `--config study=tiny_study -- study`: its files, a finished chunk
 recomputed, the same bytes on a re-run, and a bad study stopped before any job runs."""
 
 import json
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -29,17 +28,6 @@ def _snakemake(wd: Path, *args: str) -> subprocess.CompletedProcess:
         text=True,
         timeout=600,
     )
-
-
-@pytest.fixture(scope="module")
-def study_run(tmp_path_factory):
-    from conftest import copy_workflow
-
-    wd = copy_workflow(tmp_path_factory.mktemp("study"))
-    shutil.copy(STUDY, wd / "config" / "studies" / "tiny_study.yaml")
-    r = _snakemake(wd, "--config", "study=tiny_study", "--", "study")
-    assert r.returncode == 0, (r.stdout + r.stderr)[-3000:]
-    return wd
 
 
 def test_the_study_writes_its_designs_analysis_and_figures(study_run):

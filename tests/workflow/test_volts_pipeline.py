@@ -1,10 +1,10 @@
 """The workspace pipeline in volts, end to end (issue 31): Snakemake on tests/workflow/tiny_volts.yaml
 (the prototype's twisted-string actuator) makes the sweeps, nominal CoGs, curves, the 20-face,
-two-pair and gravity-aware workspaces, the slope limit, the validation and their figures, with the
-unit V in every file and curve document, and its datasets pass the same CF check as the pneumatic
-ones (tests/workflow/test_cf_compliance.py). A target the pipeline does not run in volts (a design
-study) is refused before any job, naming actuator.kind. About 3 min on 2 shared cores: the slow
-tier."""
+two-pair and gravity-aware workspaces, the slope limit, the validation, the locomotion runs, their
+figures, the GIF and the page, with the unit V in every file and curve document, and its datasets
+pass the same CF check as the pneumatic ones (tests/workflow/test_cf_compliance.py). A target the
+pipeline does not run in volts (a design study) is refused before any job, naming actuator.kind.
+About 4 min on 2 shared cores: the slow tier."""
 
 import importlib.util
 import json
@@ -35,6 +35,7 @@ def test_every_file_is_in_volts(volts_run):
     res = volts_run / "results"
     files = sorted(res.rglob("*.nc"))
     assert {p.relative_to(res).parts[0] for p in files} == {
+        "locomotion",
         "sweeps",
         "nominal",
         "curves",
@@ -121,20 +122,24 @@ def test_its_datasets_pass_the_cf_check(volts_run, tmp_path):
     assert not unexpected, json.dumps(unexpected, indent=1)
 
 
-def test_the_gravity_ramps_tip_the_robot_in_volts(volts_run):
-    """The tiny ramp (0.25 V/s to 11 V) tips the robot on both faces on flat ground, below the
-    top of the ramp: the gravity-aware workspace in volts measures tipping voltages; the slope
-    limit's simulated stand limit is no steeper than the friction angle."""
+def test_the_gravity_ramps_and_the_checks_in_volts(volts_run):
+    """The tiny ramp (locomotion.ramp_rate 1 V/s to 11 V, faster than the motors twist: design.md
+    §10) records a tipping voltage, where the robot tips, within the ramp; the slope limit's
+    simulated stand limit is no steeper than the friction angle; the demonstration runs in volts
+    are validation check 6's, and G.1 compares the controller's rolls in volts."""
     import xarray as xr
 
     res = volts_run / "results"
     with xr.open_dataset(res / "workspace_gravity.nc") as g:
-        flat = g["tip_pressure"].sel(slope=0.0).values
-        assert np.isfinite(flat).any(axis=(1, 2)).all()  # each contact case
-        assert np.nanmax(flat) <= 11.0
+        tips = g["tip_pressure"].values
+        assert np.all(tips[np.isfinite(tips)] <= 11.0) and g["stood"].values.any()
     with xr.open_dataset(res / "slope_limit.nc") as s:
         assert np.nanmax(s["simulated"].sel(kind="stand").values) <= s.attrs["friction_angle_deg"]
         assert "multi_not_computed" in s.attrs
+    with xr.open_dataset(res / "validation" / "validation.nc") as v:
+        assert "run" in v.dims  # check 6 read the runs in volts
+    with xr.open_dataset(res / "validation" / "gravity.nc") as gv:
+        assert "not_evaluated_G1" not in gv.attrs
 
 
 def test_a_target_not_built_in_volts_is_refused_before_any_job(tmp_path):
@@ -151,9 +156,10 @@ def test_a_target_not_built_in_volts_is_refused_before_any_job(tmp_path):
     assert not (wd / "results").exists()  # no job ran
 
 
-def test_the_commands_read_the_unit_and_refuse_locomotion_in_volts(volts_run, monkeypatch, capsys):
-    """`tensegrity table` labels its columns in V; `query` and `plan` (with the pneumatic default
-    configuration) refuse the files in volts, naming the file, instead of reading volts as MPa."""
+def test_the_commands_read_the_unit_and_refuse_the_other_actuator(volts_run, monkeypatch, capsys):
+    """`tensegrity table` and `query` read the unit of the files in volts; `plan` plans in volts
+    with the volts configuration, and with the pneumatic default configuration refuses the file,
+    naming it and actuator.kind, instead of reading volts as MPa."""
     from tensegrity import cli
 
     monkeypatch.chdir(volts_run)
@@ -164,7 +170,29 @@ def test_the_commands_read_the_unit_and_refuse_locomotion_in_volts(volts_run, mo
         .startswith("pair,pressure_V,cog_x_m,cog_y_m,cog_z_m,margin_m,tip_pressure_V")
     )
     capsys.readouterr()
-    for argv in (["query", "--face", "8", "--pair", "10", "--pressure", "6"], ["plan", "--direction", "75"]):
-        assert cli.main(argv) == cli.EXIT_INPUT, argv
-        err = capsys.readouterr().err
-        assert "is of the twisted_string actuator" in err and "pneumatic muscle's pressures only" in err, err
+    assert cli.main(["query", "--face", "8", "--pair", "10", "--pressure", "6", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out.strip().splitlines()[-1])["pressure_v"] == 6.0
+    assert cli.main(["plan", "--direction", "75", "--config", str(VOLTS)]) == 0
+    out = capsys.readouterr().out
+    assert " V" in out and "MPa" not in out, out
+    assert cli.main(["plan", "--direction", "75"]) == cli.EXIT_INPUT
+    err = capsys.readouterr().err
+    assert "results/workspace.nc is of the twisted_string actuator" in err and "actuator.kind is 'pneumatic'" in err
+
+
+def test_the_paper_run_rolls_in_volts(volts_run):
+    """The locomotion stage in volts: the paper run's file records the motor voltages applied
+    (`voltage_cmd`, V), its first roll is #10 from (9,10,12) onto (10,11,12) (the prototype's
+    first roll, design.md §10), and Figs. 8-10, the slope run's paths, the GIF and the page are
+    drawn."""
+    import xarray as xr
+
+    with xr.open_dataset(volts_run / "results" / "locomotion" / "paper.nc") as ds:
+        assert ds.attrs["actuator"] == "twisted_string" and "pressure" not in ds
+        assert ds["voltage_cmd"].attrs["units"] == "V" and ds["tip_pressure"].attrs["units"] == "V"
+        assert ds["faces"].values[:2].tolist() == [8, 20] and ds["step_pair"].values[0, 0] == 10
+    assert (volts_run / "results" / "figures" / "rolling_paper.gif").stat().st_size > 0
+    figures = {p.name for p in (volts_run / "results" / "figures").glob("*.png")}
+    assert {"fig8_stable.png", "fig9_rolling.png", "fig10_slope.png", "path_slope_down_top.png"} <= figures
+    page = (volts_run / "results" / "figures" / "workspace_3d.html").read_text()
+    assert "robot (0 V)" in page and "robot (0 MPa)" not in page  # the interactive page, in volts

@@ -105,7 +105,6 @@ def test_only_the_workspace_stages_run_in_volts_the_others_refuse_naming_the_key
     "argv",
     [
         ["stage", "study_merge", "out_path=never.nc"],
-        ["roll", "--goal", "2,1", "--out", "never.nc"],
         ["export", "mjcf", "--out", "never.xml"],
     ],
 )

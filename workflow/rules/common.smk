@@ -20,10 +20,6 @@ FIG6_CONTACT = "equilateral" if "equilateral" in CONTACTS else CONTACTS[0]
 NOMINAL_STATICS = config["nominal"]["method"] == "statics"
 
 
-# the actuator (issue 31): with twisted_string the workspace pipeline runs in volts and `all` is it
-PNEUMATIC = config["actuator"]["kind"] == "pneumatic"
-
-
 def cfg(stage):
     """The configuration keys `stage` reads (stages.config.stage_config). A stage that cannot run
     with the configured actuator gets a params function instead, which refuses it naming the key

@@ -7,8 +7,7 @@ rule validate:
     input:
         nominal=expand("results/nominal/{contact}.nc", contact=CONTACTS),
         workspace="results/workspace.nc",
-        # none while the runs are not made with the configured actuator: check 6 says why
-        runs=expand("results/locomotion/{run}.nc", run=LOCO_RUNS) if actuator_error(config, "locomotion_runs") is None else [],
+        runs=expand("results/locomotion/{run}.nc", run=LOCO_RUNS),
         two_pair_contacts=expand("results/two_pair/{contact}.nc", contact=CONTACTS),
         two_pair="results/workspace_two_pair.nc",
         prototype="results/validation/prototype.nc",

@@ -124,5 +124,18 @@ def require_pneumatic(obj: xr.Dataset | Mapping, source: str, what: str) -> None
     if kind != PNEUMATIC:
         raise ValueError(
             f"{source} is of the {kind} actuator (its levels are in {units(kind)}: attribute {ATTR}), but "
-            f"{what} works with the pneumatic muscle's pressures only (locomotion in volts is not built yet)"
+            f"{what} works with the pneumatic muscle's pressures only"
+        )
+
+
+def require_kind(obj: xr.Dataset | Mapping, source: str, kind: str) -> None:
+    """ValueError naming `source` (a file) and config key actuator.kind if `obj` (its dataset,
+    attributes or JSON document) is of another actuator than `kind`, the configured one: levels
+    in volts are not pressures, nor the reverse."""
+    have = kind_of(obj)
+    if have != check_kind(kind):
+        raise ValueError(
+            f"{source} is of the {have} actuator (its levels are in {units(have)}: attribute {ATTR}), but config "
+            f"key actuator.kind is {kind!r} (levels in {units(kind)}): make the file with actuator.kind: "
+            f"{kind}, or configure actuator.kind: {have}"
         )

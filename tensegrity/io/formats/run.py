@@ -18,6 +18,7 @@ from ...physics.terrain import Terrain
 from ...validation.runs import RunSummary
 from .. import datasets
 from ..datasets import strut_radius
+from . import actuation
 
 if TYPE_CHECKING:  # imported where used: importing io.run_formats loads no simulator (numba)
     from ...locomotion.outcome import Run
@@ -26,6 +27,7 @@ if TYPE_CHECKING:  # imported where used: importing io.run_formats loads no simu
 __all__ = [
     "RUN_ALLOW_NAN",
     "run_dataset",
+    "commands",
     "terrain_from_dataset",
     "run_sample",
     "run_name",
@@ -37,11 +39,13 @@ __all__ = [
 RUN_ALLOW_NAN = ("planned_pressure", "tip_pressure", "goal")  # NaN: no roll predicted / none / no goal
 
 
-def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "") -> xr.Dataset:
+def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "", unit: str = "MPa") -> xr.Dataset:
     """A run as an xarray Dataset (docs/design.md §5, results/locomotion/{run}.nc): samples
     (time), steps (step, with the chosen pair(s) and pressures), the faces visited (visit), the
     terrain and the robot's strut length and radius (of `params`), with units and long names.
-    Nothing time-dependent (no wall time) is stored.
+    Nothing time-dependent (no wall time) is stored. A run of the twisted strings (`unit` V,
+    `RollSettings.unit`) records the motor voltages applied as `voltage_cmd(time, pair)` V
+    instead of `pressure`, and says V in the step's levels (`actuation.relabel`).
     Write it with `datasets.write(..., allow_nan=RUN_ALLOW_NAN)`."""
     var = datasets.var
     rec, steps = run.record, run.steps
@@ -61,11 +65,23 @@ def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "") -> x
             ("step", "pair"), w, "1", "weights of the step's action: pair pressures level x weight (largest 1)"
         )
     edge = np.array([st.plan.edge for st in steps], np.int64).reshape(n, 2)
-    return xr.Dataset(
+    kind = {actuation.units(k): k for k in actuation.UNITS}[unit]
+    if kind == actuation.PNEUMATIC:
+        command = {"pressure": var(("time", "pair"), rec.pressure, "MPa", "pressure applied to each actuator pair")}
+    else:
+        command = {
+            "voltage_cmd": var(
+                ("time", "pair"),
+                rec.pressure,
+                "V",
+                "motor voltage applied to each actuator pair (negative: unwinding the strands)",
+            )
+        }
+    ds = xr.Dataset(
         {
             "nodes": var(("time", "node", "axis"), rec.nodes, "m", "node positions, world frame"),
             "cog": var(("time", "axis"), rec.cog, "m", "centre of gravity, world frame"),
-            "pressure": var(("time", "pair"), rec.pressure, "MPa", "pressure applied to each actuator pair"),
+            **command,
             "contact_face": var(("time",), rec.face, "1", "face resting on the terrain (0: none)"),
             "face": var(("step",), np.array([st.face for st in steps], np.int64), "1", "face the step started on"),
             "next_face": var(
@@ -160,6 +176,14 @@ def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "") -> x
             "terrain_spacing": float(terrain.spacing),
         },
     )
+    return actuation.relabel(ds, kind)
+
+
+def commands(ds: xr.Dataset) -> tuple[np.ndarray, str]:
+    """The levels (time, pair) applied in a run dataset and their unit: `pressure` MPa, or in a
+    run of the twisted strings `voltage_cmd` V."""
+    da = ds["voltage_cmd"] if "voltage_cmd" in ds else ds["pressure"]
+    return da.values, str(da.attrs.get("units", "MPa"))
 
 
 def terrain_from_dataset(ds: xr.Dataset) -> Terrain:
@@ -187,7 +211,7 @@ def run_sample(ds: xr.Dataset, terrain: Terrain, step: int, which: str) -> tuple
     try:
         k = sample(
             ds["nodes"].values,
-            ds["pressure"].values.max(axis=1),
+            commands(ds)[0].max(axis=1),
             k0,
             k1,
             int(ds["face"].values[step - 1]),

@@ -21,12 +21,12 @@ from . import stages as ks
 from .compiling import jit, stack_array
 
 NM = len(actuator.MOTOR_ROWS)
-_L0, _RS = actuator.MOTOR_ROWS.index("L0"), actuator.MOTOR_ROWS.index("RS")
 _CABLE_PAIR = np.ascontiguousarray(actuator.topo.CABLE_PAIR.astype(np.int64))
 SHAPES = ((24,), (24,), (24,), (NM,))  # TH, OM, VO, M before the lane axis
 ALONE = tuple(stack_array(*s) for s in ((1, 24), (1, 24), (1, 24), (NM, 24)))  # a lone robot's
 # The law (T1)-(T5), written once in `actuator`, compiled with the kernel's flags and inlined.
 twist = jit(**ks.INLINE)(actuator.twist)
+ratio = jit(**ks.INLINE)(actuator.ratio)
 string_tension = jit(**ks.INLINE)(actuator.string_tension)
 motor_torque = jit(**ks.INLINE)(actuator.motor_torque)
 motor_step = jit(**ks.INLINE)(actuator.motor_step)
@@ -36,15 +36,20 @@ motor_step = jit(**ks.INLINE)(actuator.motor_step)
 def string(dx, dy, dz, dux, duy, duz, TH, OM, VO, M, j, l):
     """Tension (N) (T3) of a cable from node 1 to node 2 = node 1 + d (m), node 2's velocity
     relative to node 1 du (m/s), whose motor is TH[j, l], OM[j, l] at the volts VO[j, l] with the
-    constants M[:, l]; and its force (N) on node 1. Then steps the motor (T4)-(T5) under it."""
+    constants M[:, l]; and its force (N) on node 1. Then steps the motor (T4)-(T5) under it.
+    Two square roots (the cable's length, the strands' span p) and one division for both
+    reciprocals: the divider bounds this stage with its arithmetic (docs/benchmarks.md)."""
     ln = math.sqrt(dx * dx + dy * dy + dz * dz)
-    il = 1.0 / ln
+    theta, omega = TH[j, l], OM[j, l]
+    t, p = twist(theta, M, l)
+    inv = 1.0 / (ln * p)
+    il = p * inv
     ex, ey, ez = dx * il, dy * il, dz * il
     ldot = ex * dux + ey * duy + ez * duz
-    c, h = twist(TH[j, l], M[_L0, l], M[_RS, l])
-    f = string_tension(ln, ldot, c, h, OM[j, l], M, l)
-    tau = motor_torque(VO[j, l], OM[j, l], M, l)
-    TH[j, l], OM[j, l] = motor_step(TH[j, l], OM[j, l], tau, f, h, M, l)
+    h = ratio(t, ln * inv)
+    f = string_tension(ln, ldot, p, h, omega, M, l)
+    tau = motor_torque(VO[j, l], omega, M, l)
+    TH[j, l], OM[j, l] = motor_step(theta, omega, tau, f, h, M, l)
     return f, f * ex, f * ey, f * ez
 
 
