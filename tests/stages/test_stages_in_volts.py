@@ -157,3 +157,36 @@ def test_the_new_files_pass_the_cf_check(volts, tmp_path):
     for name in NEW:
         bad = [m for m in cf.findings(cf.cf_report(tmp / name, tmp_path)) if not any(k.search(m) for k in cf.KNOWN)]
         assert not bad, (name, bad)
+
+
+@pytest.mark.slow
+def test_the_controllers_rolls_in_volts_tip_where_the_gravity_ramp_does(volts, tmp_path):
+    """Check G.1 in volts: #10 on (9,10,12) and #11 on (10,11,12), flat ground, ramped at 0.2 V/s
+    to 12 V, tip the robot in the gravity-aware workspace; the controller's grounded rolls in
+    volts (`locomotion.control.roll` with the motors) cross the same edge within 0.2 V
+    (gravity.tip_tolerance). Measured: 10.65 and 7.88 V, 0.00 V apart. About 14 s: the slow tier."""
+    _, _, f = volts
+    cfg = config.load(
+        overrides={
+            "actuator": {"kind": "twisted_string"},
+            "gravity": {
+                "pairs": [10, 11],
+                "slopes": [0],
+                "headings": [0],
+                "max_pressure": 12.0,
+                "grid_step": 0.5,
+                "validate_slopes": [0],
+                "tip_tolerance": 0.2,
+            },
+            "locomotion": {"ramp_rate": 0.2, "hold_time": 20.0, "settle_time": 15.0},
+        }
+    )
+    g = gravity_stage.gravity(stage_config(cfg, "gravity"), tmp_path / "workspace_gravity.nc")
+    validate_stage.validate_gravity(
+        stage_config(cfg, "validate_gravity"), g, f["nominal"], tmp_path / "gravity.nc", tmp_path / "gravity.md"
+    )
+    ds = datasets.read(tmp_path / "gravity.nc")
+    assert dict(zip(ds["check"].values, ds["status"].values))["G.1"] == PASS
+    assert ds["pair"].values.tolist() == [10, 11] and np.all(ds["difference"].values <= 0.2)
+    assert np.all((ds["workspace_tip_pressure"].values > 6.0) & (ds["workspace_tip_pressure"].values < 12.0))
+    assert ds["workspace_tip_pressure"].attrs["units"] == "V"
