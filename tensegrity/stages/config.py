@@ -189,13 +189,14 @@ STAGES: dict[str, Stage] = {
 
 
 # the stages that run with the twisted-string actuator (issue 31; docs/design.md §10): the workspace
-# pipeline in volts, and the paper's experiment (which runs the prototype whatever actuator.kind).
+# pipeline in volts, the paper's experiment (which runs the prototype whatever actuator.kind), and
+# `tensegrity simulate` and `calibrate` (a run in volts: voltage_cmd).
 # The others (gravity, locomotion, validation, studies, ...) refuse it by name.
 VOLTS = frozenset(
     (
         *("sweep", "nominal", "workspace", "curves", "curves_json", "two_pair", "two_pair_map"),
         *("two_pair_surfaces", "robot_figures", "cog_cloud", "workspace_figure", "two_pair_figure"),
-        *("validate_prototype", "prototype_figure"),
+        *("validate_prototype", "prototype_figure", "simulate", "calibrate"),
     )
 )
 
