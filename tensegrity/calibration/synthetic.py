@@ -36,7 +36,12 @@ def excitation(duration: float, hold: float = 0.5, pairs: ArrayLike = (1, 5, 10)
 
 
 def twisting(
-    duration: float, up: float = 3.0, pairs: ArrayLike = (1, 5, 10), level: float = 24.0, rest: float = 0.2, hold: float = 0.1
+    duration: float,
+    up: float = 3.0,
+    pairs: ArrayLike = (1, 5, 10),
+    level: float = 24.0,
+    rest: float = 0.2,
+    hold: float = 0.1,
 ) -> np.ndarray:
     """Voltage steps (K, 12) V for the twisted strings, one per `hold` s over `duration` s: at rest
     for `rest` s, then `pairs` at +level for `up` s, at -level for `up` s, and again. A string
