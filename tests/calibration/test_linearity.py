@@ -1,4 +1,4 @@
-"""The check that a linearised interval holds (`calibration.fit.linear`, docs/design.md §9): on a
+"""The check that a linearised interval holds (`calibration.linearity.linear`, docs/design.md §9): on a
 model linear in its unknowns the cost at an interval's ends rises by exactly q^2 s^2 and every
 interval is kept; on one whose unknown enters cubically near zero, weakly seen under the noise,
 it does not, and that unknown is named and left without an interval."""
@@ -8,7 +8,7 @@ from types import SimpleNamespace
 import numpy as np
 from scipy.optimize import least_squares
 
-from tensegrity.calibration.fit import linear
+from tensegrity.calibration.linearity import linear
 from tensegrity.calibration.uncertainty import uncertainty
 
 NAMES = ("a", "b")
