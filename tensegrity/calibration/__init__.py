@@ -6,6 +6,7 @@ initial      the initial state (rigid fit of the strut ends) and the measurement
 model        the batched residual of simulated against measured node positions
 fit          least squares, the batched Jacobian, the prediction check (`calibrate`)
 uncertainty  standard errors, intervals, correlations, the combinations not determined
+linearity    whether each interval holds: the cost at its ends against the linear prediction
 """
 
 from .fit import Calibration, calibrate

@@ -19,6 +19,8 @@ they cost most of the time (8 s benchmark: estimates within 0.003 standard error
 fitted to a relative cost decrease of 1e-12). Without noise the step is as large as the
 residual it explains (the ratio ~ sqrt(N)), so the fit runs to the tolerances as before.
 
+Whether the intervals hold: `linearity` (the cost at each interval's ends).
+
 Forward differences of step STEP in the scaled unknowns (a relative step of 1e-6 for a parameter,
 1e-8 m or rad for the initial state) are good to about 1e-5 of a column (truncation ~ STEP
 against round-off ~ 1e-16 / STEP); the optimum does not depend on them, the intervals to that
@@ -38,6 +40,7 @@ from ..physics.dynamics import SimulationError
 from ..physics.params import Params
 from ..physics.twisted import TwistedString
 from . import model as mdl
+from .linearity import linear
 from .measurement import Measurement
 from .uncertainty import Uncertainty, structural, uncertainty
 
@@ -237,6 +240,7 @@ def calibrate(
     r = (simulated - measured)[prob.mask]
     theta = prob.values(x)[:n]
     unc = uncertainty(J / prob.units, r, n, theta, prob.fit, structural(prob.constants, theta))
+    unc = linear(prob, x, J, r, unc, *_bounds(prob))
     prediction = _predict(prob, x, **fitted) if fitted else {}
     return Calibration(
         prob.fit,

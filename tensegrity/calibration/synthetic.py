@@ -15,7 +15,7 @@ from ..physics.terrain import Terrain
 from ..physics.twisted import TwistedString, Voltages
 from .measurement import Measurement
 
-__all__ = ["excitation", "measure"]
+__all__ = ["excitation", "twisting", "measure"]
 
 
 def excitation(duration: float, hold: float = 0.5, pairs: ArrayLike = (1, 5, 10), level: float = 2.0) -> np.ndarray:
@@ -32,6 +32,29 @@ def excitation(duration: float, hold: float = 0.5, pairs: ArrayLike = (1, 5, 10)
         elif phase == 2:
             out[k, pairs[j] - 1] = 0.5 * level
             out[k, pairs[(j + 1) % len(pairs)] - 1] = level
+    return out
+
+
+def twisting(
+    duration: float,
+    up: float = 3.0,
+    pairs: ArrayLike = (1, 5, 10),
+    level: float = 24.0,
+    rest: float = 0.2,
+    hold: float = 0.1,
+) -> np.ndarray:
+    """Voltage steps (K, 12) V for the twisted strings, one per `hold` s over `duration` s: at rest
+    for `rest` s, then `pairs` at +level for `up` s, at -level for `up` s, and again. A string
+    contracts as the square of its twist (c ~ (theta r)^2 / 2 L0), which takes seconds to build
+    (24 V: 3 s to ~27 mm of node motion; 0.2 s steps move the nodes by under 1 mm), and the
+    reversal untwists it through zero to the other side."""
+    pairs = np.array([topo.check_pair(p) for p in np.atleast_1d(pairs)]) - 1
+    K = max(1, int(round(duration / hold)))
+    out = np.zeros((K, topo.N_PAIRS))
+    t = np.arange(K) * hold - rest  # the start of each step after the rest
+    on = t >= -1e-9
+    sign = np.where((np.floor(t / up + 1e-9).astype(int) % 2) == 0, 1.0, -1.0)
+    out[np.ix_(on, pairs)] = level * sign[on, None]
     return out
 
 

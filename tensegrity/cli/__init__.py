@@ -34,16 +34,25 @@ START = "9,10,12"  # the paper's start face (paper.START_FACE), as the command l
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
-    """One actuation on one robot -> a netCDF with the CoG, nodes and pressures."""
-    from ..io import datasets
+    """One actuation on one robot -> a netCDF with the CoG, nodes and pressures (with
+    actuator.kind twisted_string: --voltage, and the voltages, voltage_cmd in V)."""
+    from ..io import datasets, settings
     from ..stages.simulate import simulate
 
+    cfg = cli_args.stage_cfg(args, "simulate")
+    volts = "actuator" in cfg and settings.motors(cfg) is not None
+    if volts != (args.voltage is not None):
+        raise ValueError(
+            "--voltage drives the twisted strings: set actuator.kind: twisted_string"
+            if args.voltage is not None
+            else "--pressure drives the pneumatic muscles, but actuator.kind is twisted_string: give --voltage V"
+        )
     with progress.bar(args.duration, "simulate") as bar:
         path = simulate(
-            cli_args.stage_cfg(args, "simulate"),
+            cfg,
             args.face,
             args.pair,
-            args.pressure,
+            args.voltage if volts else args.pressure,
             args.duration,
             args.out,
             ramp=args.ramp,
@@ -128,7 +137,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--face", type=cli_args.face, default=cli_args.face(START), help=face_help)
     p.add_argument("--pair", type=int, nargs="+", required=True, help="actuator pair(s) 1..12")
-    p.add_argument("--pressure", type=float, required=True, help="pressure, MPa")
+    level = p.add_mutually_exclusive_group(required=True)
+    level.add_argument("--pressure", type=float, help="pressure, MPa")
+    level.add_argument("--voltage", type=float, help="motor voltage, V (actuator.kind: twisted_string)")
     p.add_argument(
         "--duration", type=cli_args.positive("--duration"), default=2.0, help="simulated time, s (default 2)"
     )

@@ -191,14 +191,14 @@ STAGES: dict[str, Stage] = {
 # the stages that run with the twisted-string actuator (issue 31; docs/design.md §10): the workspace
 # pipeline in volts, the gravity-aware workspace and slope limit, the validation (each check in
 # volts or not evaluated, saying why), the paper's experiment (which runs the prototype whatever
-# actuator.kind) and the locomotion runs in volts (design.md §6). The others (studies, ...) refuse
-# it by name.
+# actuator.kind), the locomotion runs in volts (design.md §6), and `tensegrity simulate` and
+# `calibrate` (a run in volts: voltage_cmd). The others (studies, ...) refuse it by name.
 VOLTS = frozenset(
     (
         *("sweep", "nominal", "workspace", "curves", "curves_json", "two_pair", "two_pair_map"),
         *("two_pair_surfaces", "robot_figures", "cog_cloud", "workspace_figure", "two_pair_figure"),
         *("gravity", "slope_limit", "gravity_figure", "validate", "validate_two_pair", "validate_gravity"),
-        *("validate_prototype", "prototype_figure"),
+        *("validate_prototype", "prototype_figure", "simulate", "calibrate"),
         *("locomotion_runs", "state_figures", "path_figures", "animation", "page"),  # rolls in volts
     )
 )

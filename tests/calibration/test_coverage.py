@@ -1,5 +1,6 @@
 """The heavier checks of calibration (issue 32), marked slow: the grounded mode in a turned and
-shifted measurement frame, and the coverage of the 95 % intervals under 0.5 mm of noise."""
+shifted measurement frame, and the coverage of the 95 % intervals under 0.5 mm of noise (runs in
+pressures and in volts)."""
 
 import numpy as np
 import pytest
@@ -7,6 +8,7 @@ import pytest
 from tensegrity.calibration import calibrate
 from tensegrity.calibration import synthetic as syn
 from tensegrity.physics import frames
+from tensegrity.physics.twisted import TwistedString
 
 
 def _grounded(truth, hold, start):
@@ -49,3 +51,27 @@ def test_noisy_intervals_cover_the_truth(truth, start, four, hold):
         assert abs(c.unc.s - 5e-4) < 0.05 * 5e-4  # the residual recovers the noise
     rate = np.mean(inside)
     assert 0.85 <= rate <= 1.0, np.mean(inside, axis=0)
+
+
+@pytest.mark.slow  # ~11 min of CPU: 20 fits of 6.2 s in volts (18-56 s each), the initial state fitted
+def test_noisy_runs_in_volts_give_intervals_that_hold_or_none(truth):
+    """Runs in volts (the twisted strings twisted up and back for 3 s each, `synthetic.twisting`),
+    0.5 mm of noise, 20 seeds drawn at random: the spring stiffness, pretension and stall torque
+    fitted from 10-17 % off (the damping, which the slow twisting hardly sees, configured 15 %
+    off). An interval is given only where the cost along it is the linear prediction (`linearity.linear`);
+    the true value lies inside 85-100 % of the intervals given, and the rest are named."""
+    key, strings = "actuator.twisted_string.", TwistedString()
+    fit = ("spring_stiffness", "pretension", "stall_torque")
+    start = strings.replace(spring_stiffness=1100.0, pretension=17.0, stall_torque=0.0833, damping=2.3)
+    true = np.array([getattr(strings, k) for k in fit])
+    inside, given = [], []
+    for seed in np.random.default_rng(32).integers(1000, 10**6, 20):
+        m = syn.measure(truth, syn.twisting(6.2), 0.1, "free", motors=strings, noise=5e-4, seed=int(seed))
+        c = calibrate(m, truth, tuple(key + k for k in fit), "free", 1e-4, check=0.0, motors=start)
+        given.append(np.isfinite(c.unc.se))
+        inside.append((c.unc.lower <= true) & (true <= c.unc.upper))
+        named = {u.split(" ")[0] for u in c.unc.undetermined}
+        assert named == {key + k for k, g in zip(fit, given[-1], strict=True) if not g}, c.unc.undetermined
+    given, inside = np.array(given), np.array(inside)
+    assert given.sum() >= 20, given.mean(axis=0)  # the check does not simply drop every interval
+    assert 0.85 <= inside.sum() / given.sum() <= 1.0, (inside.sum(axis=0), given.sum(axis=0))

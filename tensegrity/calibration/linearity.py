@@ -1,0 +1,110 @@
+"""Whether a calibration's linearised intervals hold (docs/design.md §9).
+
+The linearised interval of a parameter (`uncertainty`) assumes the model linear over it.
+Along the direction in which the covariance moves every unknown with that parameter's +- q
+standard errors (q = t_0.975), the cost should rise by q^2 s^2; the fit
+evaluates it at both ends (one batched simulation, 2 robots per parameter), and a parameter whose
+rise is off by more than a factor LINEAR (1.25) at either end gets no interval and is named as too
+weakly determined by the measurement. A rise 1/1.25 of the prediction puts the likelihood
+interval's end sqrt(1.25) = 1.12 times further out, so an interval that passes covers at least
+~92 % instead of 95 % (2 Phi(1.96 / 1.12) - 1); a rise faster than predicted says the model curves
+over the interval (the valley of the cost may bend away from the line). 1.5 (~89 %) let a
+stiffness 10 standard errors off through at rises 1.09 and 1.45 (run in volts, seed 161082 of
+the coverage test). Measured (0.5 mm of noise): the free mode with the muscles, 0.98-1.02 (two
+seeds); runs in volts twisted up and back for 3 s each (`synthetic.twisting`, 20 seeds), the
+strings' stiffness and pretension 0.88-4.1, their stall torque 0.92-1.09; with the damping
+fitted too (three seeds) 0.9-24 (the slow twisting sees the damping
+to 30-200 % of its value). The rise is not a profile (the other unknowns are moved along the
+line, not refitted): a valley that curves away from that line passes it (docs/design.md §9).
+Below a residual of FLOOR m (a noise-free check) the intervals are round-off wide and the check
+is not made.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+from scipy import stats
+
+from ..physics.dynamics import SimulationError
+from . import model as mdl
+from .uncertainty import Uncertainty
+
+__all__ = ["LINEAR", "FLOOR", "rises", "linear"]
+
+LINEAR = 1.25  # an interval holds if the cost at its ends rises by q^2 s^2 within this factor
+FLOOR = 1e-8  # m: a residual standard deviation below this is a noise-free fit (no check)
+
+
+def rises(
+    prob: mdl.Problem,
+    x: np.ndarray,
+    J: np.ndarray,
+    r: np.ndarray,
+    unc: Uncertainty,
+    lo: np.ndarray | float = -np.inf,
+    hi: np.ndarray | float = np.inf,
+) -> np.ndarray:
+    """The rise of the cost (n, 2) at x +- q se_j along parameter j's covariance direction (every
+    unknown with it; J (N, p) in scaled unknowns at the optimum x, r (N,) m its residuals), in
+    units of the linear prediction q^2 s^2; NaN for a parameter without an interval, inf for an
+    end outside the bounds lo, hi (scaled) or whose simulation fails."""
+    n = prob.n_params
+    out = np.full((n, 2), np.nan)
+    keep = np.flatnonzero(np.isfinite(unc.se))
+    if not keep.size:
+        return out
+    cols = np.concatenate([keep, np.arange(n, len(x))])
+    C = np.linalg.pinv(J[:, cols].T @ J[:, cols], hermitian=True)
+    q = float(stats.t.ppf(0.975, unc.dof))
+    V = np.zeros((keep.size, len(x)))
+    V[:, cols] = q * unc.s * (C[:, : keep.size] / np.sqrt(np.diag(C)[: keep.size])).T
+    X = np.concatenate([x + V, x - V])  # (2k, p): every + end, then every - end
+    rise = np.full(len(X), np.inf)
+    rows = np.flatnonzero(np.all((X >= lo) & (X <= hi), axis=1))
+    if rows.size:
+        try:
+            R = prob.residuals(X[rows])
+        except (SimulationError, ValueError):  # one robot at a time: find the one that fails
+            R = np.array([_or_nan(prob, X[i]) for i in rows])
+        rise[rows] = (np.sum(R**2, axis=1) - r @ r) / (q * unc.s) ** 2
+    out[keep] = np.nan_to_num(rise.reshape(2, keep.size).T, nan=np.inf)
+    return out
+
+
+def linear(
+    prob: mdl.Problem,
+    x: np.ndarray,
+    J: np.ndarray,
+    r: np.ndarray,
+    unc: Uncertainty,
+    lo: np.ndarray | float = -np.inf,
+    hi: np.ndarray | float = np.inf,
+) -> Uncertainty:
+    """`unc` with the parameters whose interval does not hold (module docstring, LINEAR: their
+    `rises` off the prediction by more than that factor at either end) left without one and
+    named. Not made below a residual of FLOOR m."""
+    if not np.isfinite(unc.se).any() or unc.s < FLOOR:
+        return unc
+    rise = rises(prob, x, J, r, unc, lo, hi)
+    lost = np.flatnonzero(np.isfinite(unc.se) & ~np.all((rise >= 1 / LINEAR) & (rise <= LINEAR), axis=1))
+    if not lost.size:
+        return unc
+    se, lower, upper, corr = unc.se.copy(), unc.lower.copy(), unc.upper.copy(), unc.corr.copy()
+    se[lost] = lower[lost] = upper[lost] = np.nan
+    corr[lost, :] = corr[:, lost] = np.nan
+    said = tuple(
+        f"{prob.fit[j]} (too weakly determined for a linearised interval: the cost at its ends rises "
+        f"{a:.3g} and {b:.3g} times the linear prediction)"
+        for j, (a, b) in zip(lost, rise[lost], strict=True)
+    )
+    return replace(unc, se=se, lower=lower, upper=upper, corr=corr, undetermined=unc.undetermined + said)
+
+
+def _or_nan(prob: mdl.Problem, x: np.ndarray) -> np.ndarray:
+    """The residuals of one vector x, or NaN (its cost then fails the check) if it fails."""
+    try:
+        return prob.residuals(x[None])[0]
+    except (SimulationError, ValueError):
+        return np.full(int(prob.mask.sum()), np.nan)
