@@ -15,6 +15,13 @@ LEVELS = [0.8, 1.6, 2.4, 3.2, 4.0, 4.8]
 
 
 @pytest.fixture(scope="session")
+def levels() -> list[float]:
+    """The swept pressures of `ws`, MPa (a fixture: `from conftest import` names whichever
+    conftest.py was imported first)."""
+    return LEVELS
+
+
+@pytest.fixture(scope="session")
 def ws():
     free = Params(gravity=0.0)
     canon = {}

@@ -4,7 +4,6 @@ two-pair data here too (`statics.equilibrium` with two pairs set), on (9,10,12) 
 
 import numpy as np
 import pytest
-from conftest import LEVELS
 
 from tensegrity import locomotion as lo
 from tensegrity.locomotion.brake import Brake, escape, hold
@@ -40,8 +39,8 @@ def two_pair(levels):
 
 
 @pytest.fixture(scope="module")
-def measured():
-    return two_pair(LEVELS)
+def measured(levels):
+    return two_pair(levels)
 
 
 def standing(face, terrain=None, yaw=0.0):
@@ -49,12 +48,12 @@ def standing(face, terrain=None, yaw=0.0):
     return d.nodes(s.x, s.q, 0.5)[0]
 
 
-def test_measured_two_pair_curves_replace_superposition(ws, measured):
+def test_measured_two_pair_curves_replace_superposition(ws, measured, levels):
     """The lookup returns the static solve's two-pair CoG and triangle (not the sum of the
     single-pair shifts, which is 13 to 42 mm off at 4.8 MPa), whichever order the pairs come in,
     and predict's margins on flat ground are the static solve's margins."""
     both = ws.with_two_pair(*measured)
-    k = np.arange(len(LEVELS))
+    k = np.arange(len(levels))
     for c, combo in enumerate(COMBOS):
         cog, sup = both.curve(EQUI, [combo, combo[::-1]])
         assert np.allclose(cog[:, 1:], measured[2][EQUI - 1, c, k, k], atol=1e-12)
@@ -157,12 +156,12 @@ def test_escape_orders_actions_that_roll_first(ws):
     assert rolls[0] and sorted(rolls, reverse=True) == rolls  # predicted rolls come first
 
 
-def test_escape_from_a_stuck_face(ws):
+def test_escape_from_a_stuck_face(ws, levels):
     """With the workspace swept only to 1.6 MPa no single pair rolls the robot off (9,10,12)
     ("stuck", see test_stuck_when_the_workspace_cannot_roll_the_robot); tried in the world (lookahead
     0), the escape tries two
     pairs together as well and rolls it off."""
-    low = lo.Workspace.from_arrays(LEVELS[:2], ws.cog[:, :, :2], ws.support[:, :, :2])
+    low = lo.Workspace.from_arrays(levels[:2], ws.cog[:, :, :2], ws.support[:, :, :2])
     stuck = lo.roll_to(
         low,
         (2.0, 0.0),

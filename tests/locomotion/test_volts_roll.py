@@ -107,7 +107,7 @@ def test_a_file_of_the_other_actuator_or_a_short_hold_is_refused_naming_it_and_t
     cfg = {"actuator": {"kind": "twisted_string"}}
     for stage in ("locomotion_runs", "state_figures", "path_figures", "animation"):
         assert actuator_error(cfg, stage) is None, stage
-    assert "stage validate" in actuator_error(cfg, "validate")  # still the muscles' only
+    assert "stage study_chunk" in actuator_error(cfg, "study_chunk")  # studies: still the muscles' only
 
 
 # sha256 of the content of the tiny pneumatic run below, made with the code before locomotion in
