@@ -24,6 +24,7 @@ import copy
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 
 from ..physics import dynamics as d
@@ -138,7 +139,9 @@ def foresee(
     """The rolls (one RollResult per candidate of `todo`) the robot observed in `obs` (with its
     `state`) would make, each with the run's settings `s`, a copy of `brake` if braked, and the
     planned pressure `expect[pairs]` MPa (NaN if absent or weighted), simulated together from
-    the same state.
+    the same state, on one numba thread: each kernel call advances a batch by one check
+    interval only, and a second OpenMP thread spins between calls, which costs 2.4 times the CPU
+    of one thread (156 candidates on a 20 deg slope, docs/planner_evaluation.md).
     Raises SimulationError if a simulation blows up."""
     if obs.state is None:
         raise ValueError("the observation carries no state to simulate from")
@@ -154,7 +157,12 @@ def foresee(
         ctl = roll_controller(params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True)
         return _until_slid(ctl, ob, pairs, w)
 
-    return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)  # see the docstring
+    try:
+        return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
+    finally:
+        numba.set_num_threads(threads)
 
 
 def _until_slid(gen, obs: Obs, pairs: tuple[int, ...], w: np.ndarray | None):
