@@ -54,6 +54,7 @@ __all__ = [
     "moved",
     "rolls_to_goal",
     "stride",
+    "verdicts",
     "weights_of",
 ]
 
@@ -226,6 +227,16 @@ def rolls_to_goal(point: np.ndarray, goal: np.ndarray, terrain: Terrain, travel:
     c = np.asarray(point, float)
     below = max(0.0, float(goal[2] - terrain.height(c[0], c[1])))
     return float(np.linalg.norm(c[:2] - np.asarray(goal[:2], float))) / travel + below / lift
+
+
+def verdicts(simulated: Sequence[RollResult], memory: Memory) -> str:
+    """How the rolls `simulated` fail, in words: how many tumble or slide (not `lands`), do not
+    roll, return to a state in `memory`, or land without progress."""
+    tumble = sum(not lands(r) for r in simulated)
+    stay = sum(lands(r) and not r.rolled for r in simulated)
+    back = sum(lands(r) and r.rolled and memory.seen(r.face_after, r.cog_after) for r in simulated)
+    rest = len(simulated) - tumble - stay - back
+    return f"{tumble} tumble or slide, {stay} do not roll, {back} return, {rest} land elsewhere"
 
 
 @dataclass

@@ -134,6 +134,7 @@ def test_choose_widens_the_horizon_only_while_nothing_is_acceptable(ws, monkeypa
     cost = lambda r: lookahead.rolls_to_goal(r.cog_after, goal, Terrain.flat(), 0.2, 0.01)  # noqa: E731
     chosen, simulated = lookahead.choose(DAMPED, Terrain.flat(), s, obs, todo, 4.8, None, {}, cost, mem)
     assert [len(b) for b in batches] == [1, 1, 2, 3] and len(simulated) == 7
+    assert lookahead.verdicts(simulated, mem) == "2 tumble or slide, 1 do not roll, 1 return, 3 land elsewhere"
     assert chosen == [((6,), True), ((5,), True)]
     # one acceptable roll in the first batch: nothing more simulated
     batches.clear()
