@@ -123,6 +123,7 @@ def roll_controller(
     brake: Brake | None = None,
     expect: float = float("nan"),
     weights: np.ndarray | None = None,
+    foresee: bool = False,
 ) -> Controller:
     """See `roll`; `pairs` or `weights` (12,) give the action (`action_weights`: the pair
     pressures are min(level w, `RollSettings.max_level`) as the level ramps to max_pressure MPa).
@@ -131,7 +132,10 @@ def roll_controller(
     given the `expect`ed rolling pressure, MPa, the plan's, as the pressure rises to it: kept
     on, the brake fights the roll, which then tips late and fast or not at all); once the
     robot tips over, those of the face it rolls onto (`Brake.landing`). Where the brake does
-    not act on the start face (`Brake.active`), the roll is the unbraked one. Returns
+    not act on the start face (`Brake.active`), the roll is the unbraked one. With `foresee`
+    (a roll simulated ahead, `lookahead.foresee`), an unbraked roll ends as soon as the ramp
+    gives up with every support node down: not rolled, on its face (the release and settling
+    that follow do not move it; braked, the brake coming back on can still roll it). Returns
     (RollResult, last observation)."""
     if obs.face is None:
         raise ct.ContactError("a roll must start from a robot resting on a face")
@@ -215,6 +219,9 @@ def roll_controller(
             phase, t_phase = "release", 0.0
         elif obs.t - t0 > max_pressure / s.ramp_rate + 10 * s.hold_time:
             phase, t_phase = "release", 0.0  # a safety net: no attempt runs on forever
+        if foresee and brake is None and phase == "release" and not rolling and not lifted.any():
+            cog = obs.nodes.mean(axis=0)
+            return RollResult(pairs, False, face0, face0, np.nan, peak, t0, obs.t, cog0, cog, weights=weights), obs
     after, obs = yield from settle_controller(s, obs, brake)
     rolled = after is not None and after != face0
     return RollResult(

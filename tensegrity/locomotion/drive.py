@@ -163,7 +163,8 @@ def drive(
                     (
                         f"every one of the {len(simulated)} candidate rolls simulated on face "
                         f"{topo.face_label(face)} tumbles the robot, slides it more than "
-                        f"{lookahead.SLIDE} m, does not roll it, or returns it to where it was"
+                        f"{lookahead.SLIDE} m, does not roll it, or returns it to where it was "
+                        f"({lookahead.verdicts(simulated, memory)})"
                     ),
                 )
                 break
@@ -179,7 +180,7 @@ def drive(
                     + ("" if pl.predicted else "; the workspace predicted no roll here (e.g. a slope too steep for it)")
                     + (
                         f"; none of the {len(simulated)} candidate rolls simulated here rolls it without a tumble, "
-                        f"a slide over {lookahead.SLIDE} m or a return"
+                        f"a slide over {lookahead.SLIDE} m or a return ({lookahead.verdicts(simulated, memory)})"
                         if simulated
                         else ""
                     )

@@ -11,8 +11,11 @@ in one batch, so each result is the roll the run would make. `choose` keeps a ro
 another face (`lands`: on a face, its CoG moved at most SLIDE m, else a tumble) at a state the run
 has not been at (`Memory`), and ranks those by `rolls_to_goal`, the rolls still needed by the
 robot's own stride and lift (`stride`). The horizon grows by cost alone: the workspace's best
-candidate first, then `lookahead` candidates, then all of them, then the lazy generators' (`LAZY`:
-computed only when the horizon reaches them), only while none is acceptable.
+candidate first, then 2, 4, ... up to `lookahead` candidates, then all of them, then the lazy
+generators' (`LAZY`: computed only when the horizon reaches them), only while none is acceptable.
+A candidate's simulation ends as soon as its outcome is decided: its CoG more than SLIDE m away
+(a tumble or slide), or its unbraked ramp given up on its face (`control.roll_controller`'s
+`foresee`).
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ import copy
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 
 from ..physics import dynamics as d
@@ -50,6 +54,7 @@ __all__ = [
     "moved",
     "rolls_to_goal",
     "stride",
+    "verdicts",
     "weights_of",
 ]
 
@@ -135,7 +140,9 @@ def foresee(
     """The rolls (one RollResult per candidate of `todo`) the robot observed in `obs` (with its
     `state`) would make, each with the run's settings `s`, a copy of `brake` if braked, and the
     planned pressure `expect[pairs]` MPa (NaN if absent or weighted), simulated together from
-    the same state.
+    the same state, on one numba thread: each kernel call advances a batch by one check
+    interval only, and a second OpenMP thread spins between calls, which costs 2.4 times the CPU
+    of one thread (156 candidates on a 20 deg slope, docs/planner_evaluation.md).
     Raises SimulationError if a simulation blows up."""
     if obs.state is None:
         raise ValueError("the observation carries no state to simulate from")
@@ -148,9 +155,34 @@ def foresee(
         pairs, braked, w = todo[b][0], todo[b][1], weights_of(todo[b])
         brk = copy.deepcopy(brake) if braked else None
         planned = expect.get(pairs, float("nan")) if w is None else float("nan")
-        return roll_controller(params, s, ob, pairs, max_pressure, brk, planned, weights=w)
+        ctl = roll_controller(params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True)
+        return _until_slid(ctl, ob, pairs, w)
 
-    return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)  # see the docstring
+    try:
+        return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
+    finally:
+        numba.set_num_threads(threads)
+
+
+def _until_slid(gen, obs: Obs, pairs: tuple[int, ...], w: np.ndarray | None):
+    """The roll controller `gen` of the robot `obs`, ended as soon as its CoG is more than SLIDE
+    m (horizontally) from where it started: a tumble or a slide, whatever follows (the RollResult
+    then ends on no face, not rolled)."""
+    cog0 = obs.nodes.mean(axis=0)
+    pres = next(gen)
+    while True:
+        ob = yield pres
+        cog = ob.nodes.mean(axis=0)
+        if np.hypot(*(cog - cog0)[:2]) > SLIDE:
+            gen.close()
+            res = RollResult(pairs, False, obs.face, None, np.nan, np.nan, obs.t, ob.t, cog0, cog, weights=w)
+            return res, ob
+        try:
+            pres = gen.send(ob)
+        except StopIteration as stop:
+            return stop.value
 
 
 def moved(r: RollResult) -> float:
@@ -197,6 +229,16 @@ def rolls_to_goal(point: np.ndarray, goal: np.ndarray, terrain: Terrain, travel:
     return float(np.linalg.norm(c[:2] - np.asarray(goal[:2], float))) / travel + below / lift
 
 
+def verdicts(simulated: Sequence[RollResult], memory: Memory) -> str:
+    """How the rolls `simulated` fail, in words: how many tumble or slide (not `lands`), do not
+    roll, return to a state in `memory`, or land without progress."""
+    tumble = sum(not lands(r) for r in simulated)
+    stay = sum(lands(r) and not r.rolled for r in simulated)
+    back = sum(lands(r) and r.rolled and memory.seen(r.face_after, r.cog_after) for r in simulated)
+    rest = len(simulated) - tumble - stay - back
+    return f"{tumble} tumble or slide, {stay} do not roll, {back} return, {rest} land elsewhere"
+
+
 @dataclass
 class Memory:
     """The states a run has been at: (1-based face, CoG (2,) m horizontal). A roll may not
@@ -229,7 +271,7 @@ def choose(
     more: Callable[[], Sequence[Act]] | None = None,
 ) -> tuple[list[Act], tuple[RollResult, ...]]:
     """A run's step: simulate the candidates `todo` in order in batches of growing horizon (the
-    first; then up to s.lookahead; then all; then `more()`'s, called only then), stopping at
+    first; then 2, 4, ... up to s.lookahead; then all; then `more()`'s, called only then), stopping at
     the first batch after which one is acceptable: it rolls onto another face, `lands` (no
     tumble, no slide), at a state not in `memory`, and makes progress (`cost` below `now`, the
     cost of staying). Return the
@@ -239,7 +281,7 @@ def choose(
     todo = list(todo)
     simulated: list[RollResult] = []
     fine: list[int] = []
-    for k in (1, s.lookahead, len(todo), None):
+    for k in [*_doubling(s.lookahead), len(todo), None]:
         if k is None:  # the lazy actions: only now computed
             if more is None:
                 break
@@ -255,6 +297,15 @@ def choose(
             break
     fine.sort(key=lambda i: (round(cost(simulated[i]), 9), i))
     return [todo[i] for i in fine[: s.max_attempts]], tuple(simulated)
+
+
+def _doubling(n: int) -> list[int]:
+    """The horizons up to `n`: 1, 2, 4, ... doubling, then n (each batch as large as all before
+    it: at most twice the candidates the first acceptable one needs are simulated)."""
+    out = [1]
+    while out[-1] * 2 < n:
+        out.append(out[-1] * 2)
+    return out + [n]
 
 
 def over_edge(face: int, edge: tuple[int, int]) -> Callable[[RollResult], float]:

@@ -46,7 +46,7 @@ class RollSettings:
     a roll as its pressure nears the plan's; a roll is braked only where the unbraked robot is
     predicted not to stand (`brake.Brake.active`), and then its pressure falls over
     brake_release_time instead of release_time. Before each roll, on every ground, a run
-    simulates candidate rolls from the robot's state, the first, then up to lookahead, then all
+    simulates candidate rolls from the robot's state, the first, then 2, 4, ... up to lookahead, then all
     while none is acceptable, and makes the max_attempts best (`lookahead.choose`). With
     optimised_actions, the optimised actions of any set of pairs (`actuation.candidates`)
     come last, computed only when the horizon reaches them. With lookahead 0 the plan's

@@ -4,13 +4,15 @@ brake, so the executed roll equals its prediction to round-off); what is chosen 
 roll (on a new face, no tumble, no slide, no return) needing the fewest rolls to the goal; the
 horizon widens only while nothing is acceptable."""
 
+import copy
+
 import numpy as np
 import pytest
 
 from tensegrity import locomotion as lo
 from tensegrity.locomotion import lookahead
 from tensegrity.locomotion.brake import Brake
-from tensegrity.locomotion.control import RollResult
+from tensegrity.locomotion.control import RollResult, settle_controller
 from tensegrity.locomotion.lockstep import Obs
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import topology as topo
@@ -100,7 +102,7 @@ def test_rolls_to_goal_counts_height_lost_by_the_lift():
 
 
 def test_choose_widens_the_horizon_only_while_nothing_is_acceptable(ws, monkeypatch):
-    """The first candidate alone, then up to `lookahead`, then all: a tumble (no face), a slide
+    """The first candidate alone, then 2, 4, ... up to `lookahead`, then all: a tumble (no face), a slide
     (CoG moved > SLIDE m), a roll that does not roll and a return to a state in memory are never
     chosen, and the horizon widens while none makes progress (costs less than staying); the rest
     come least cost first."""
@@ -126,12 +128,13 @@ def test_choose_widens_the_horizon_only_while_nothing_is_acceptable(ws, monkeypa
     mem = lookahead.Memory(0.05)
     mem.add(6, np.array([0.0, -0.21]))
     todo = [((q,), True) for q in range(1, 8)]
-    s = lo.RollSettings(lookahead=3, max_attempts=2)
+    s = lo.RollSettings(lookahead=4, max_attempts=2)
     goal = np.array([0.0, -2.0, 0.0])
     obs = Obs(0.0, np.zeros((12, 3)), np.zeros(12), EQUI, 0.0)
     cost = lambda r: lookahead.rolls_to_goal(r.cog_after, goal, Terrain.flat(), 0.2, 0.01)  # noqa: E731
     chosen, simulated = lookahead.choose(DAMPED, Terrain.flat(), s, obs, todo, 4.8, None, {}, cost, mem)
-    assert [len(b) for b in batches] == [1, 2, 4] and len(simulated) == 7
+    assert [len(b) for b in batches] == [1, 1, 2, 3] and len(simulated) == 7
+    assert lookahead.verdicts(simulated, mem) == "2 tumble or slide, 1 do not roll, 1 return, 3 land elsewhere"
     assert chosen == [((6,), True), ((5,), True)]
     # one acceptable roll in the first batch: nothing more simulated
     batches.clear()
@@ -140,7 +143,7 @@ def test_choose_widens_the_horizon_only_while_nothing_is_acceptable(ws, monkeypa
     # the same, but staying costs 9 rolls: (5,) (9.25) makes no progress, (6,) (8.75) does
     batches.clear()
     chosen, simulated = lookahead.choose(DAMPED, Terrain.flat(), s, obs, todo[4:], 4.8, None, {}, cost, mem, 9.0)
-    assert [len(b) for b in batches] == [1, 2] and chosen == [((6,), True), ((5,), True)]
+    assert [len(b) for b in batches] == [1, 1] and chosen == [((6,), True), ((5,), True)]
     with pytest.raises(ValueError, match="no state"):
         monkeypatch.undo()
         lookahead.foresee(DAMPED, Terrain.flat(), s, obs, [((1,), False)], 4.8, None, {})
@@ -166,3 +169,44 @@ def test_candidates_come_from_every_generator_once(ws):
         assert lookahead.acts(ws, EQUI, nodes, pl, target, None)[-1] == ((1, 2, 3), False)
     finally:
         lookahead.GENERATORS.remove(extra)
+
+
+@pytest.mark.slow  # ~20 s: 23 rolls on a slope simulated twice
+def test_a_roll_foreseen_ends_once_decided_with_the_outcome_of_the_whole_roll(ws):
+    """On a 20 deg slope, candidates simulated ahead stop as soon as their outcome is decided (the
+    ramp gave up on the face, or the CoG went more than SLIDE m away); each is judged as the
+    whole roll (`roll_controller` to the end) is: acceptable or not, on the same face; those that
+    roll and land are the whole roll to the last bit; and the cut ones end sooner."""
+    from tensegrity.locomotion.control import roll_controller
+    from tensegrity.locomotion.lockstep import lockstep
+
+    s = lo.RollSettings()
+    slope = Terrain.slope(20.0)
+    brk = Brake(ws, s.brake_margin)
+    st = d.stand_on(DAMPED, EQUI, slope)
+
+    def ctl(b, obs):
+        _, obs = yield from settle_controller(s, obs, copy.deepcopy(brk))
+        return obs
+
+    ((obs, _, _),) = lockstep(DAMPED, slope, st, ctl, s)
+    pl = lo.plan(ws, obs.face, obs.nodes, goal=np.array([0.0, 2.0]))
+    todo = lookahead.acts(ws, obs.face, obs.nodes, pl, dict(goal=np.array([0.0, 2.0])), brk)[::7]
+    cut = lookahead.foresee(DAMPED, slope, s, obs, todo, ws.max_pressure, brk, {})
+
+    def whole(b, ob):
+        ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy())
+        return roll_controller(DAMPED, s, ob, todo[b][0], ws.max_pressure, copy.deepcopy(brk) if todo[b][1] else None)
+
+    full = [r for (r, _), _, _ in lockstep(DAMPED, slope, d.State.concat([obs.state] * len(todo)), whole, s)]
+    kinds = set()
+    for c, f in zip(cut, full):
+        ok = f.rolled and lookahead.lands(f)
+        assert (c.rolled and lookahead.lands(c)) == ok
+        if ok:
+            assert c.face_after == f.face_after and np.array_equal(c.cog_after, f.cog_after)
+        else:
+            assert c.t_end <= f.t_end
+            kinds.add("slid" if c.face_after is None else "stayed")
+            assert c.face_after in (None, f.face_after)
+    assert kinds == {"slid", "stayed"}  # both cuts were exercised
