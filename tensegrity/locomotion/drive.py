@@ -21,7 +21,7 @@ from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace
-from . import lookahead
+from . import lookahead, progress
 from .brake import Brake, escape
 from .control import RollResult, roll_controller, settle_controller
 from .lockstep import Controller, Obs
@@ -71,7 +71,7 @@ def drive(
             if k == s.max_rolls:
                 break
             target = dict(goal=goal) if direction is None else dict(direction=direction)
-            travel, lift = lookahead.stride(obs.nodes, face)
+            travel, lift = progress.stride(obs.nodes, face)
             memory = memory or lookahead.Memory(travel / 2)
             memory.add(face, obs.nodes.mean(axis=0))
             if edges is not None:
@@ -83,8 +83,8 @@ def drive(
                 target = dict(direction=ct.edge_outward(obs.nodes[topo.FACES[face - 1]])[corners.index(e)])
                 cost, now = lookahead.over_edge(face, e), 1.0
             elif direction is None:
-                cost = lambda r, t=travel, h=lift: lookahead.rolls_to_goal(r.cog_after, goal, terrain, t, h)  # noqa: E731
-                now = lookahead.rolls_to_goal(obs.nodes.mean(axis=0), goal, terrain, travel, lift)
+                cost = lambda r, t=travel, h=lift: progress.rolls_to_goal(r.cog_after, goal, terrain, t, h)  # noqa: E731
+                now = progress.rolls_to_goal(obs.nodes.mean(axis=0), goal, terrain, travel, lift)
             else:
                 cost, now = lookahead.along(target["direction"], travel), 0.0
             visited = (visited + [face])[-_TABU - 1 :]

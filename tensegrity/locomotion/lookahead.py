@@ -9,8 +9,8 @@ the unbraked robot is predicted not to stand) and, where that brake acts, also w
 `foresee` simulates candidates from the robot's current state with the run's own controller, all
 in one batch, so each result is the roll the run would make. `choose` keeps a roll that lands on
 another face (`lands`: on a face, its CoG moved at most SLIDE m, else a tumble) at a state the run
-has not been at (`Memory`), and ranks those by `rolls_to_goal`, the rolls still needed by the
-robot's own stride and lift (`stride`). The horizon grows by cost alone: the workspace's best
+has not been at (`Memory`), and ranks those by `progress.rolls_to_goal`, the rolls still needed by
+the robot's own stride and lift (`progress.stride`). The horizon grows by cost alone: the workspace's best
 candidate first, then 2, 4, ... up to `lookahead` candidates, then all of them, then the lazy
 generators' (`LAZY`: computed only when the horizon reaches them), only while none is acceptable.
 A candidate's simulation ends as soon as its outcome is decided: its CoG more than SLIDE m away
@@ -52,8 +52,6 @@ __all__ = [
     "foresee",
     "lands",
     "moved",
-    "rolls_to_goal",
-    "stride",
     "verdicts",
     "weights_of",
 ]
@@ -194,39 +192,6 @@ def lands(r: RollResult, slide: float = SLIDE) -> bool:
     """The roll `r` ends on a face, its CoG moved at most `slide` m horizontally (`moved`; more
     is a slide, which counts as a tumble)."""
     return r.face_after is not None and moved(r) <= slide
-
-
-def stride(nodes: np.ndarray, face: int) -> tuple[float, float]:
-    """(travel m, lift m) of one roll of the robot `nodes` (12, 3) on 1-based `face`, means over
-    the face's three edges: the CoG's travel 2 r and its rise sqrt(h^2 + r^2) - h as it tips onto
-    the edge, r the distance from the CoG's foot on the face plane to the edge, h its height above
-    that plane. A rigid roll onto a congruent face; the robot's faces differ (two types), so a
-    single roll's travel differs from this by up to ~30 %, its lift by up to ~50 %."""
-    p = np.asarray(nodes, float)
-    tri = p[topo.FACES[face - 1]]
-    c = p.mean(axis=0)
-    n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
-    n /= np.linalg.norm(n)
-    h = abs(float((c - tri[0]) @ n))
-    foot = c - ((c - tri[0]) @ n) * n
-    r = np.empty(3)
-    for k in range(3):
-        a, b = tri[k], tri[(k + 1) % 3]
-        e = (b - a) / np.linalg.norm(b - a)
-        v = foot - a
-        r[k] = np.linalg.norm(v - (v @ e) * e)
-    return float(np.mean(2 * r)), float(np.mean(np.hypot(h, r) - h))
-
-
-def rolls_to_goal(point: np.ndarray, goal: np.ndarray, terrain: Terrain, travel: float, lift: float) -> float:
-    """Rolls still needed from the CoG `point` (3,) m to `goal` (3,) m (on the ground): the
-    horizontal distance over the travel of one roll, plus the height the ground under the CoG
-    lies below the goal's over the lift of one roll (each roll can raise the robot by at most
-    about its lift against gravity: height lost on an incline costs the rolls that regain it).
-    An estimate for ranking, not a count: rolls zig-zag, and on a slope not every roll climbs."""
-    c = np.asarray(point, float)
-    below = max(0.0, float(goal[2] - terrain.height(c[0], c[1])))
-    return float(np.linalg.norm(c[:2] - np.asarray(goal[:2], float))) / travel + below / lift
 
 
 def verdicts(simulated: Sequence[RollResult], memory: Memory) -> str:

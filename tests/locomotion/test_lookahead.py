@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from tensegrity import locomotion as lo
-from tensegrity.locomotion import lookahead
+from tensegrity.locomotion import lookahead, progress
 from tensegrity.locomotion.brake import Brake
 from tensegrity.locomotion.control import RollResult, settle_controller
 from tensegrity.locomotion.lockstep import Obs
@@ -35,8 +35,8 @@ def test_the_roll_made_is_the_least_cost_roll_foreseen(ws):
     done = step.attempts[0]
     ok = [r for r in step.simulated if r.rolled and lookahead.lands(r)]
     assert ok
-    travel, lift = lookahead.stride(_settled(ws, slope), EQUI)
-    best = min(ok, key=lambda r: lookahead.rolls_to_goal(r.cog_after, run.goal, slope, travel, lift))
+    travel, lift = progress.stride(_settled(ws, slope), EQUI)
+    best = min(ok, key=lambda r: progress.rolls_to_goal(r.cog_after, run.goal, slope, travel, lift))
     assert done.pairs == best.pairs and done.face_after == best.face_after
     assert np.allclose(done.cog_after, best.cog_after, rtol=0, atol=1e-12)
     assert (done.t_start, done.t_end, done.peak_pressure) == (best.t_start, best.t_end, best.peak_pressure)
@@ -67,7 +67,7 @@ def test_on_flat_ground_the_same_method_with_the_shortest_horizon(ws):
     run = lo.roll_to(ws, (2.0, 0.0), DAMPED, settings=s)
     assert run.rolls == 4
     assert all(len(st.simulated) == 1 for st in run.steps)
-    travel, _ = lookahead.stride(d.nodes(*_stand(EQUI), DAMPED.strut_length)[0], EQUI)
+    travel, _ = progress.stride(d.nodes(*_stand(EQUI), DAMPED.strut_length)[0], EQUI)
     moves = [lookahead.moved(st.used) for st in run.steps]
     assert np.mean(moves) == pytest.approx(travel, rel=0.3)
     brk = Brake(ws, s.brake_margin)
@@ -93,11 +93,11 @@ def test_rolls_to_goal_counts_height_lost_by_the_lift():
     slope = Terrain.slope(20.0)
     goal = np.array([0.0, -2.0, 0.0])
     t = np.tan(np.radians(20.0))
-    level = lookahead.rolls_to_goal(np.array([0.0, -1.0, 0.0]), goal, slope, 0.2, 0.01)
+    level = progress.rolls_to_goal(np.array([0.0, -1.0, 0.0]), goal, slope, 0.2, 0.01)
     assert level == pytest.approx(5.0)
-    lower = lookahead.rolls_to_goal(np.array([-0.1, -1.0, 0.0]), goal, slope, 0.2, 0.01)
+    lower = progress.rolls_to_goal(np.array([-0.1, -1.0, 0.0]), goal, slope, 0.2, 0.01)
     assert lower == pytest.approx(np.hypot(0.1, 1.0) / 0.2 + 0.1 * t / 0.01)
-    higher = lookahead.rolls_to_goal(np.array([0.1, -1.0, 0.0]), goal, slope, 0.2, 0.01)
+    higher = progress.rolls_to_goal(np.array([0.1, -1.0, 0.0]), goal, slope, 0.2, 0.01)
     assert higher == pytest.approx(np.hypot(0.1, 1.0) / 0.2)
 
 
@@ -131,7 +131,7 @@ def test_choose_widens_the_horizon_only_while_nothing_is_acceptable(ws, monkeypa
     s = lo.RollSettings(lookahead=4, max_attempts=2)
     goal = np.array([0.0, -2.0, 0.0])
     obs = Obs(0.0, np.zeros((12, 3)), np.zeros(12), EQUI, 0.0)
-    cost = lambda r: lookahead.rolls_to_goal(r.cog_after, goal, Terrain.flat(), 0.2, 0.01)  # noqa: E731
+    cost = lambda r: progress.rolls_to_goal(r.cog_after, goal, Terrain.flat(), 0.2, 0.01)  # noqa: E731
     chosen, simulated = lookahead.choose(DAMPED, Terrain.flat(), s, obs, todo, 4.8, None, {}, cost, mem)
     assert [len(b) for b in batches] == [1, 1, 2, 3] and len(simulated) == 7
     assert lookahead.verdicts(simulated, mem) == "2 tumble or slide, 1 do not roll, 1 return, 3 land elsewhere"

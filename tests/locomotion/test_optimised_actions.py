@@ -8,7 +8,7 @@ import pytest
 
 from tensegrity import locomotion as lo
 from tensegrity.io.formats.run import run_dataset
-from tensegrity.locomotion import lookahead
+from tensegrity.locomotion import lookahead, progress
 from tensegrity.locomotion.control import RollResult
 from tensegrity.locomotion.lockstep import Obs
 from tensegrity.physics import topology as topo
@@ -41,7 +41,7 @@ def test_optimised_actions_enter_only_when_nothing_earlier_is_acceptable(monkeyp
         return [((1, 2), False, w)]
 
     goal = np.array([2.0, 0.0, 0.0])
-    cost = lambda r: lookahead.rolls_to_goal(r.cog_after, goal, Terrain.flat(), 0.2, 0.01)  # noqa: E731
+    cost = lambda r: progress.rolls_to_goal(r.cog_after, goal, Terrain.flat(), 0.2, 0.01)  # noqa: E731
     now = cost(_res((), 1, (0, 0, 0)))
     s = lo.RollSettings(lookahead=1, max_attempts=1)
     obs = Obs(0.0, np.zeros((12, 3)), np.zeros(12), EQUI, 0.0)
