@@ -4,22 +4,10 @@ configuration, shared by the smoke test and the documentation examples."""
 import os
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
-
-ROOT = Path(__file__).resolve().parents[2]
-TINY = ROOT / "tests" / "workflow" / "tiny.yaml"
-SNAKEMAKE = [sys.executable, "-m", "snakemake"]
-
-
-def copy_workflow(tmp: Path) -> Path:
-    """`Snakefile`, `workflow/` and `config/` copied into `tmp` (a run never touches the checkout)."""
-    shutil.copy(ROOT / "Snakefile", tmp)
-    shutil.copytree(ROOT / "workflow", tmp / "workflow")
-    shutil.copytree(ROOT / "config", tmp / "config")
-    return tmp
+from workflow_copy import ROOT, SNAKEMAKE, TINY, copy_workflow
 
 
 @pytest.fixture(scope="session")

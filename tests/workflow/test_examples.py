@@ -178,7 +178,7 @@ def pipeline_runs(tiny, tmp_path_factory) -> dict:
     the workflow (the first of equal ones), two at a time, each in a fresh copy of the workflow
     that starts from the tiny run's results (`_with_tiny_results`); a block stops at its first
     command that fails."""
-    from conftest import copy_workflow
+    from workflow_copy import copy_workflow
 
     todo = [
         f"{d}:{n}"

@@ -78,7 +78,7 @@ def test_the_study_target_needs_a_study_name(study_run):
 
 def test_a_bad_study_stops_before_any_job_naming_every_bad_key(tmp_path):
     import yaml
-    from conftest import copy_workflow
+    from workflow_copy import copy_workflow
 
     wd = copy_workflow(tmp_path)
     st = yaml.safe_load(STUDY.read_text())

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import SNAKEMAKE, copy_workflow
+from workflow_copy import SNAKEMAKE, copy_workflow
 
 pytestmark = [pytest.mark.slow, pytest.mark.workflow]
 
