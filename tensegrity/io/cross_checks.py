@@ -15,6 +15,7 @@ from ..physics.params import Params, rest_length
 from ..physics.schedule import MAX_PRESSURE, whole_steps
 from ..physics.twisted import MAX_VOLTAGE
 from . import job_costs
+from .formats import actuation
 
 # the keys each job's cost grows with, the first named when several would lower it as much
 JOBS = {
@@ -110,7 +111,7 @@ def semantic_errors(cfg: dict, defaults: Mapping | None = None) -> list[str]:
 
 def _unit(cfg: Mapping) -> str:
     """The unit of the actuation levels: MPa, or V with actuator.kind twisted_string."""
-    return "V" if cfg.get("actuator", {}).get("kind", "pneumatic") == "twisted_string" else "MPa"
+    return actuation.units(cfg.get("actuator", {}).get("kind", actuation.PNEUMATIC))
 
 
 def level_errors(cfg: Mapping, section: str) -> list[str]:
