@@ -1,0 +1,120 @@
+"""CPU seconds of `lookahead.foresee` over every candidate of a planner's step (issue 30's
+planning cost). Prints figures and a digest of the results; asserts nothing.
+
+From a few fixed states (the robot settled, braked, on (9,10,12) at yaw 0; goal 2 m up +y):
+slope 20 and 24 deg, and random terrain of height std 0.07 m (seed 7). Every candidate the step
+offers (`lookahead.acts`: 156 on the slopes, 78 on the terrain) is simulated in one `foresee`
+call, as `lookahead.choose` does once its horizon reaches all of them. Per state: candidates,
+process CPU s (all threads) of each repeat, and a digest (sha256 of every RollResult's fields):
+the same digest means the same rolls, bit for bit. Run it against another tree with
+`PYTHONPATH=<tree>` to compare before and after on one machine.
+
+Usage: python benchmarks/bench_foresee.py [--workspace results/workspace.nc] [--repeat 2]
+       [--grounds slope20 slope24 terrain0.07] [--profile]
+Without the workspace file, one is computed first with the default configuration (~30 s).
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import copy
+import hashlib
+import pstats
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from tensegrity import locomotion as lo
+from tensegrity.io import config
+from tensegrity.io import settings as io_settings
+from tensegrity.locomotion import lookahead
+from tensegrity.locomotion.brake import Brake
+from tensegrity.locomotion.control import settle_controller
+from tensegrity.locomotion.lockstep import lockstep
+from tensegrity.locomotion.plan import plan
+from tensegrity.physics import dynamics as d
+from tensegrity.physics import topology as topo
+from tensegrity.physics.terrain import Terrain
+
+sys.path.insert(0, str(Path(__file__).parent))
+from bench_locomotion import workspace  # noqa: E402
+
+GROUNDS = {
+    "slope20": lambda: Terrain.slope(20.0),
+    "slope24": lambda: Terrain.slope(24.0),
+    "terrain0.07": lambda: Terrain.random(7, size=8.0, amplitude=0.07),
+}
+EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
+GOAL = np.array([0.0, 2.0, 0.0])
+
+
+def start(ws, params, s, terrain):
+    """The step's inputs: the settled observation, the candidates, the brake and the expected
+    pressures, as `drive.drive` makes them on its first step."""
+    brk = Brake(ws, s.brake_margin)
+
+    def ctl(b, obs):
+        _, obs = yield from settle_controller(s, obs, copy.deepcopy(brk))
+        return obs
+
+    ((obs, _, _),) = lockstep(params, terrain, d.stand_on(params, EQUI, terrain), ctl, s)
+    target = dict(goal=GOAL)
+    pl = plan(ws, obs.face, obs.nodes, combine=s.combine, min_alignment=s.min_alignment, unit=s.unit, **target)
+    world = lookahead.World(params, terrain, obs.state, ws.max_pressure, False)
+    todo = lookahead.acts(ws, obs.face, obs.nodes, pl, target, brk, world)
+    return obs, todo, brk, {c.pairs: c.pressure for c in pl.candidates}
+
+
+def digest(results) -> str:
+    """sha256 (first 12 hex digits) of every field of every RollResult."""
+    h = hashlib.sha256()
+    for r in results:
+        for v in (r.pairs, r.rolled, r.face_before, r.face_after, r.tip_pressure, r.peak_pressure, r.t_start, r.t_end):
+            h.update(repr(v).encode())
+        h.update(np.asarray(r.cog_before, float).tobytes() + np.asarray(r.cog_after, float).tobytes())
+    return h.hexdigest()[:12]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--workspace", default="results/workspace.nc")
+    ap.add_argument("--repeat", type=int, default=2)
+    ap.add_argument("--grounds", nargs="+", choices=list(GROUNDS), default=list(GROUNDS))
+    ap.add_argument("--profile", action="store_true", help="cProfile the first repeat (top 25 by own time)")
+    a = ap.parse_args()
+    cfg = config.load()
+    params = io_settings.params(cfg)
+    s = io_settings.build(lo.RollSettings, cfg)
+    ws = workspace(a.workspace, None)
+    d.warm()
+    print(f"foresee from {lo.__file__}")
+    for g in a.grounds:
+        terrain = GROUNDS[g]()
+        obs, todo, brk, expect = start(ws, params, s, terrain)
+        cpus, dig = [], None
+        for k in range(a.repeat):
+            prof = cProfile.Profile() if a.profile and k == 0 else None
+            t0 = time.process_time()
+            if prof:
+                prof.enable()
+            res = lookahead.foresee(params, terrain, s, obs, todo, ws.max_pressure, brk, expect)
+            if prof:
+                prof.disable()
+            cpus.append(time.process_time() - t0)
+            dig = digest(res) if dig is None else dig
+            if digest(res) != dig:
+                print(f"  {g}: repeat {k} differs from the first")
+            if prof:
+                pstats.Stats(prof).sort_stats("tottime").print_stats(25)
+        rolled = sum(r.rolled and lookahead.lands(r) for r in res)
+        print(
+            f"{g}: face {topo.face_label(obs.face)}, {len(todo)} candidates ({rolled} roll and land), "
+            f"CPU s {' '.join(f'{c:.2f}' for c in cpus)}, digest {dig}"
+        )
+
+
+if __name__ == "__main__":
+    main()
