@@ -1,8 +1,9 @@
 """CPU seconds of `lookahead.foresee` over every candidate of a planner's step (issue 30's
 planning cost). Prints figures and a digest of the results; asserts nothing.
 
-From a few fixed states (the robot settled, braked, on (9,10,12) at yaw 0; goal 2 m up +y):
-slope 20 and 24 deg, and random terrain of height std 0.07 m (seed 7). Every candidate the step
+From a few fixed states (the robot settled, braked, on (9,10,12) at yaw 0, on 24 deg on
+(2,4,11) at yaw 60; goal 2 m up +y): slope 20 and 24 deg, and random terrain of height std
+0.07 m (seed 7). Every candidate the step
 offers (`lookahead.acts`: 156 on the slopes, 78 on the terrain) is simulated in one `foresee`
 call, as `lookahead.choose` does once its horizon reaches all of them. Per state: candidates,
 process CPU s (all threads) of each repeat, and a digest (sha256 of every RollResult's fields):
@@ -42,16 +43,16 @@ from tensegrity.physics.terrain import Terrain
 sys.path.insert(0, str(Path(__file__).parent))
 from bench_locomotion import workspace  # noqa: E402
 
-GROUNDS = {
-    "slope20": lambda: Terrain.slope(20.0),
-    "slope24": lambda: Terrain.slope(24.0),
-    "terrain0.07": lambda: Terrain.random(7, size=8.0, amplitude=0.07),
-}
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
+GROUNDS = {  # name: (terrain, start face, yaw deg)
+    "slope20": (lambda: Terrain.slope(20.0), EQUI, 0.0),
+    "slope24": (lambda: Terrain.slope(24.0), 4, 60.0),  # (2,4,11): `start.choose`'s; (9,10,12) tumbles
+    "terrain0.07": (lambda: Terrain.random(7, size=8.0, amplitude=0.07), EQUI, 0.0),
+}
 GOAL = np.array([0.0, 2.0, 0.0])
 
 
-def start(ws, params, s, terrain):
+def start(ws, params, s, terrain, face, yaw):
     """The step's inputs: the settled observation, the candidates, the brake and the expected
     pressures, as `drive.drive` makes them on its first step."""
     brk = Brake(ws, s.brake_margin)
@@ -60,7 +61,7 @@ def start(ws, params, s, terrain):
         _, obs = yield from settle_controller(s, obs, copy.deepcopy(brk))
         return obs
 
-    ((obs, _, _),) = lockstep(params, terrain, d.stand_on(params, EQUI, terrain), ctl, s)
+    ((obs, _, _),) = lockstep(params, terrain, d.stand_on(params, face, terrain, yaw_deg=yaw), ctl, s)
     target = dict(goal=GOAL)
     pl = plan(ws, obs.face, obs.nodes, combine=s.combine, min_alignment=s.min_alignment, unit=s.unit, **target)
     world = lookahead.World(params, terrain, obs.state, ws.max_pressure, False)
@@ -83,7 +84,7 @@ def main() -> None:
     ap.add_argument("--workspace", default="results/workspace.nc")
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--grounds", nargs="+", choices=list(GROUNDS), default=list(GROUNDS))
-    ap.add_argument("--profile", action="store_true", help="cProfile the first repeat (top 25 by own time)")
+    ap.add_argument("--profile", choices=["tottime", "cumtime"], help="cProfile the first repeat: the top 30 by that")
     a = ap.parse_args()
     cfg = config.load()
     params = io_settings.params(cfg)
@@ -92,8 +93,9 @@ def main() -> None:
     d.warm()
     print(f"foresee from {lo.__file__}")
     for g in a.grounds:
-        terrain = GROUNDS[g]()
-        obs, todo, brk, expect = start(ws, params, s, terrain)
+        make, face, yaw = GROUNDS[g]
+        terrain = make()
+        obs, todo, brk, expect = start(ws, params, s, terrain, face, yaw)
         cpus, dig = [], None
         for k in range(a.repeat):
             prof = cProfile.Profile() if a.profile and k == 0 else None
@@ -108,7 +110,7 @@ def main() -> None:
             if digest(res) != dig:
                 print(f"  {g}: repeat {k} differs from the first")
             if prof:
-                pstats.Stats(prof).sort_stats("tottime").print_stats(25)
+                pstats.Stats(prof).sort_stats(a.profile).print_stats(30)
         rolled = sum(r.rolled and lookahead.lands(r) for r in res)
         print(
             f"{g}: face {topo.face_label(obs.face)}, {len(todo)} candidates ({rolled} roll and land), "

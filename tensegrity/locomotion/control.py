@@ -81,7 +81,7 @@ def _slew(target: np.ndarray, last: np.ndarray, s: RollSettings) -> np.ndarray:
     """Pressures (12,) MPa moved from `last` toward `target` by at most brake_rate (MPa/s) over
     one interval, up or down: a brake that comes or goes at once kicks the robot."""
     step = s.brake_rate * s.interval
-    return np.clip(target, last - step, last + step)
+    return np.minimum(np.maximum(target, last - step), last + step)  # np.clip's values, sooner
 
 
 def rested(s: RollSettings, obs: Obs, levels: np.ndarray) -> bool:
@@ -192,14 +192,18 @@ def roll_controller(
         lifted = obs.gap[support] - base > s.lift_tolerance
         # unbraked, a lift that persists after a hold ran out is not held again; braked, each
         # step is held while a node is up (slopes need it)
-        holding, t_hold, rearmed, _ = hold_step(
-            phase == "hold", t_hold, rearmed, lifted.any(), s.interval, s.hold_time, rearm=brake is not None
-        )
+        up = bool(lifted.any())
+        if phase == "hold" or up:
+            holding, t_hold, rearmed, _ = hold_step(
+                phase == "hold", t_hold, rearmed, up, s.interval, s.hold_time, rearm=brake is not None
+            )
+        else:  # hold_step's own outcome with no hold and no node up, without its array work
+            holding, rearmed = False, True
         over = False
         if lifted.sum() == 1:
             pivot = tuple(int(n) + 1 for n in support[~lifted])
             over = ct.past_edge(obs.nodes, face0, pivot, S) > s.release_margin
-        if over or (obs.face is not None and obs.face != face0 and lifted.any()):
+        if over or (obs.face is not None and obs.face != face0 and up):
             if not np.isfinite(tip):
                 tip = level
             rolling = True
@@ -219,7 +223,7 @@ def roll_controller(
             phase, t_phase = "release", 0.0
         elif obs.t - t0 > max_pressure / s.ramp_rate + 10 * s.hold_time:
             phase, t_phase = "release", 0.0  # a safety net: no attempt runs on forever
-        if foresee and brake is None and phase == "release" and not rolling and not lifted.any():
+        if foresee and brake is None and phase == "release" and not rolling and not up:
             cog = obs.nodes.mean(axis=0)
             return RollResult(pairs, False, face0, face0, np.nan, peak, t0, obs.t, cog0, cog, weights=weights), obs
     after, obs = yield from settle_controller(s, obs, brake)

@@ -57,6 +57,12 @@ class Obs:
     pressure: np.ndarray = field(default_factory=lambda: np.zeros(topo.N_PAIRS))  # (12,) MPa
     # applied over the last interval: the next controller goes on from them (brake_rate)
     state: d.State | None = field(default=None, repr=False)  # the robot's whole state (batch 1)
+    cog: np.ndarray | None = field(default=None, repr=False)  # (3,) m: the mean of the nodes (equal
+    # strut masses; None: computed here)
+
+    def __post_init__(self):
+        if self.cog is None:
+            object.__setattr__(self, "cog", self.nodes.mean(axis=0))
 
 
 def observe(
@@ -66,29 +72,25 @@ def observe(
     s: RollSettings,
     before: list[Obs] | None = None,
     pressure: np.ndarray | None = None,
+    states: bool = True,
 ) -> list[Obs]:
     """Observations of every robot of the batch (one terrain query for all of them), with the
-    pair pressures (B, 12) MPa applied over the last interval (default zero)."""
+    pair pressures (B, 12) MPa applied over the last interval (default zero); each with its
+    robot's `state` unless `states` is False."""
     P = d.nodes(state.x, state.q, params.strut_length)
     B = state.batch
     gaps = ct.clearance(P, terrain, float(params.strut_radius)) if B else np.zeros((0, 12))
-    faces = ct.resting_face(gaps, s.contact_tolerance)  # 0: on no face
+    faces = ct.resting_face(gaps, s.contact_tolerance).tolist()  # 0: on no face
+    cog = P.mean(axis=1)  # (B, 3) m, each row equal to its Obs.cog
+    pressure = np.zeros((B, topo.N_PAIRS)) if pressure is None else pressure.copy()
     out = []
     for b in range(B):
         speed = float("nan")
         if before is not None and state.t > before[b].t:
-            speed = float(np.linalg.norm(P[b].mean(axis=0) - before[b].nodes.mean(axis=0)) / (state.t - before[b].t))
-        out.append(
-            Obs(
-                state.t,
-                P[b],
-                gaps[b],
-                int(faces[b]) or None,
-                speed,
-                np.zeros(topo.N_PAIRS) if pressure is None else pressure[b].copy(),
-                state.take(slice(b, b + 1)),
-            )
-        )  # views: no state is written in place
+            speed = float(np.linalg.norm(cog[b] - before[b].cog) / (state.t - before[b].t))
+        st = state.take(slice(b, b + 1)) if states else None
+        out.append(Obs(state.t, P[b], gaps[b], faces[b] or None, speed, pressure[b], st, cog[b]))  # views:
+        # none is written in place
     return out
 
 
@@ -141,18 +143,21 @@ def lockstep(
     make: Callable[[int, Obs], Controller],
     s: RollSettings,
     progress: Callable[[float], None] | None = None,
-) -> list[tuple[Any, d.State, Record]]:
+    record: bool = True,
+) -> list[tuple[Any, d.State, Record | None]]:
     """Drive one controller per robot of `state` (B robots) through the simulator together, one
     check interval (s.interval s, time step s.dt s) at a time, the struts damped as every roll
     is (`RollSettings.rolling`); make(b, obs) returns robot b's controller. A robot whose
     simulation fails gets the SimulationError thrown into its controller; the others go on.
     progress(seconds), if given, receives the simulated time of each interval. Returns per
-    robot (result, final State, Record)."""
+    robot (result, final State, Record); without `record`, no Record (None) and no Obs.state
+    (the controllers read it only to unwind the twisted strings: kept with s.motors)."""
     state.check()
     params = s.rolling(params)
     every = int(round(s.interval / s.dt))
     B = state.batch
-    first = observe(params, terrain, state, s)
+    states = record or s.motors is not None
+    first = observe(params, terrain, state, s, states=states)
     last = list(first)
     gens = [make(b, first[b]) for b in range(B)]
     recs: list[tuple[list, list, list, list]] = [([], [], [], []) for _ in range(B)]
@@ -185,15 +190,16 @@ def lockstep(
                 batch = d.State.concat(parts, t=batch.t + s.interval)
             if progress is not None:
                 progress(s.interval)
-            ob = observe(params, terrain, batch, s, [last[b] for b in live], pres[live])
+            ob = observe(params, terrain, batch, s, [last[b] for b in live], pres[live], states)
             keep = []
             for i, b in enumerate(live):
                 try:
                     if b in failed:
                         gens[b].throw(failed[b])
                         raise RuntimeError("a controller ignored a SimulationError")
-                    for lst, v in zip(recs[b], (ob[i].t, ob[i].nodes, cmd[i].copy(), ob[i].face or 0)):
-                        lst.append(v)
+                    if record:
+                        for lst, v in zip(recs[b], (ob[i].t, ob[i].nodes, cmd[i].copy(), ob[i].face or 0)):
+                            lst.append(v)
                     last[b] = ob[i]
                     pres[b] = gens[b].send(ob[i])
                     keep.append(i)
@@ -202,6 +208,8 @@ def lockstep(
             if len(keep) < len(live):
                 live = [live[i] for i in keep]
                 batch = batch.take(keep)
+    if not record:
+        return [(out[b][0], out[b][1], None) for b in range(B)]
     result = []
     for b in range(B):
         t, nodes, p, f = recs[b]

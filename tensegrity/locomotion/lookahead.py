@@ -149,7 +149,7 @@ def foresee(
     state = d.State.concat([obs.state] * len(todo))
 
     def make(b: int, ob: Obs):
-        ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy())
+        ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy(), cog=ob.cog)
         pairs, braked, w = todo[b][0], todo[b][1], weights_of(todo[b])
         brk = copy.deepcopy(brake) if braked else None
         planned = expect.get(pairs, float("nan")) if w is None else float("nan")
@@ -159,7 +159,7 @@ def foresee(
     threads = numba.get_num_threads()
     numba.set_num_threads(1)  # see the docstring
     try:
-        return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s)]
+        return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s, record=False)]
     finally:
         numba.set_num_threads(threads)
 
@@ -168,11 +168,11 @@ def _until_slid(gen, obs: Obs, pairs: tuple[int, ...], w: np.ndarray | None):
     """The roll controller `gen` of the robot `obs`, ended as soon as its CoG is more than SLIDE
     m (horizontally) from where it started: a tumble or a slide, whatever follows (the RollResult
     then ends on no face, not rolled)."""
-    cog0 = obs.nodes.mean(axis=0)
+    cog0 = obs.cog
     pres = next(gen)
     while True:
         ob = yield pres
-        cog = ob.nodes.mean(axis=0)
+        cog = ob.cog
         if np.hypot(*(cog - cog0)[:2]) > SLIDE:
             gen.close()
             res = RollResult(pairs, False, obs.face, None, np.nan, np.nan, obs.t, ob.t, cog0, cog, weights=w)

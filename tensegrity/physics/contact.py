@@ -12,6 +12,7 @@ Edges are named by their two 1-based node numbers, smaller first, e.g. (10, 12).
 
 from __future__ import annotations
 
+import functools
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -225,23 +226,14 @@ def past_edge(nodes: ArrayLike, face: int | Sequence[int], pivot: Sequence[int],
     distance of the CoG projection to the edge (88.4 mm for an equilateral face, S = 0.5 m)."""
     p = check_nodes(nodes)
     f = topo.face_number(face)
-    ref = topo.reference_nodes(strut_length)
     a_i, b_i = (int(n) - 1 for n in pivot)
     others = [int(n) for n in topo.FACES[f - 1] if n not in (a_i, b_i)]
     if len(others) != 1:
         raise ValueError(f"edge {tuple(np.asarray(pivot).tolist())} is not an edge of face {topo.face_label(f)}")
     c_i = others[0]
-
-    def basis(P, centre):
-        e1 = P[b_i] - P[a_i]
-        e1 = e1 / np.linalg.norm(e1)
-        n = np.cross(e1, P[c_i] - P[a_i])
-        n /= np.linalg.norm(n)
-        n *= np.sign(np.dot(n, centre - P[a_i]))
-        return np.stack([e1, n, np.cross(e1, n)], axis=1)
-
-    rot = basis(p, p.mean(axis=0)) @ basis(ref, np.zeros(3)).T
-    mid, mid_ref = 0.5 * (p[a_i] + p[b_i]), 0.5 * (ref[a_i] + ref[b_i])
+    frame_ref, mid_ref = _pivot_reference(float(strut_length), a_i, b_i, c_i)
+    rot = _pivot_frame(p, p.mean(axis=0), a_i, b_i, c_i) @ frame_ref.T
+    mid = 0.5 * (p[a_i] + p[b_i])
     cog = mid - rot @ mid_ref
     e = (p[b_i] - p[a_i])[:2]
     e = e / np.linalg.norm(e)
@@ -249,6 +241,34 @@ def past_edge(nodes: ArrayLike, face: int | Sequence[int], pivot: Sequence[int],
     out = out - np.dot(out, e) * e
     out /= np.linalg.norm(out)
     return float(np.dot((cog - mid)[:2], out))
+
+
+def _pivot_frame(P: np.ndarray, centre: np.ndarray, a_i: int, b_i: int, c_i: int) -> np.ndarray:
+    """Columns: the pivot edge's direction a -> b, the face's normal (toward `centre`) and their
+    cross product, (3, 3), for nodes P (12, 3) m and 0-based nodes a, b (pivot) and c of a face."""
+    e1 = P[b_i] - P[a_i]
+    e1 = e1 / np.linalg.norm(e1)
+    n = _cross(e1, P[c_i] - P[a_i])
+    n /= np.linalg.norm(n)
+    n *= np.sign(np.dot(n, centre - P[a_i]))
+    return np.stack([e1, n, _cross(e1, n)], axis=1)
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b of two (3,) vectors: np.cross's products and differences, without its overhead."""
+    a0, a1, a2 = a.tolist()
+    b0, b1, b2 = b.tolist()
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+
+
+@functools.lru_cache(maxsize=256)
+def _pivot_reference(strut_length: float, a_i: int, b_i: int, c_i: int) -> tuple[np.ndarray, np.ndarray]:
+    """`_pivot_frame` of the symmetric shape (strut length m) and its pivot edge's midpoint (3,)
+    m: `past_edge`'s reference, the same for every call on that edge (read-only arrays)."""
+    ref = topo.reference_nodes(strut_length)
+    frame, mid = _pivot_frame(ref, np.zeros(3), a_i, b_i, c_i), 0.5 * (ref[a_i] + ref[b_i])
+    frame.flags.writeable = mid.flags.writeable = False
+    return frame, mid
 
 
 def roll_over(nodes: ArrayLike, face: int | Sequence[int], edge: Sequence[int]) -> tuple[int, np.ndarray]:
