@@ -192,7 +192,8 @@ def roll_controller(
         lifted = obs.gap[support] - base > s.lift_tolerance
         # unbraked, a lift that persists after a hold ran out is not held again; braked, each
         # step is held while a node is up (slopes need it)
-        up = bool(lifted.any())
+        n_up = sum(lifted.tolist())  # support nodes up (lists: cheaper than numpy for three)
+        up = n_up > 0
         if phase == "hold" or up:
             holding, t_hold, rearmed, _ = hold_step(
                 phase == "hold", t_hold, rearmed, up, s.interval, s.hold_time, rearm=brake is not None
@@ -200,7 +201,7 @@ def roll_controller(
         else:  # hold_step's own outcome with no hold and no node up, without its array work
             holding, rearmed = False, True
         over = False
-        if lifted.sum() == 1:
+        if n_up == 1:
             pivot = tuple(int(n) + 1 for n in support[~lifted])
             over = ct.past_edge(obs.nodes, face0, pivot, S) > s.release_margin
         if over or (obs.face is not None and obs.face != face0 and up):

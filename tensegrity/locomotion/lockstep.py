@@ -83,13 +83,16 @@ def observe(
     faces = ct.resting_face(gaps, s.contact_tolerance).tolist()  # 0: on no face
     cog = P.mean(axis=1)  # (B, 3) m, each row equal to its Obs.cog
     pressure = np.zeros((B, topo.N_PAIRS)) if pressure is None else pressure.copy()
+    speed = [float("nan")] * B  # m/s, the CoG's since `before` (np.linalg.norm's numbers: vecdot)
+    if before is not None and B:
+        t0 = np.array([o.t for o in before])
+        step = cog - np.stack([o.cog for o in before])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            speed = np.where(state.t > t0, np.sqrt(np.vecdot(step, step)) / (state.t - t0), np.nan).tolist()
     out = []
     for b in range(B):
-        speed = float("nan")
-        if before is not None and state.t > before[b].t:
-            speed = float(np.linalg.norm(cog[b] - before[b].cog) / (state.t - before[b].t))
         st = state.take(slice(b, b + 1)) if states else None
-        out.append(Obs(state.t, P[b], gaps[b], faces[b] or None, speed, pressure[b], st, cog[b]))  # views:
+        out.append(Obs(state.t, P[b], gaps[b], faces[b] or None, speed[b], pressure[b], st, cog[b]))  # views:
         # none is written in place
     return out
 

@@ -147,11 +147,17 @@ def foresee(
     if not todo:
         return []
     state = d.State.concat([obs.state] * len(todo))
+    acting: list[bool] = []  # whether the brake acts on the start face (`Brake.active`, the same for all)
 
     def make(b: int, ob: Obs):
         ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy(), cog=ob.cog)
         pairs, braked, w = todo[b][0], todo[b][1], weights_of(todo[b])
-        brk = copy.deepcopy(brake) if braked else None
+        brk = None
+        if braked and brake is not None:
+            if not acting and ob.face is not None:
+                acting.append(brake.active(ob.face, ob.nodes))
+            if acting[:1] != [False]:  # where it does not act, the roll is the unbraked one (roll_controller)
+                brk = copy.deepcopy(brake, {id(brake.workspace): brake.workspace})  # the workspace shared
         planned = expect.get(pairs, float("nan")) if w is None else float("nan")
         ctl = roll_controller(params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True)
         return _until_slid(ctl, ob, pairs, w)
@@ -173,7 +179,7 @@ def _until_slid(gen, obs: Obs, pairs: tuple[int, ...], w: np.ndarray | None):
     while True:
         ob = yield pres
         cog = ob.cog
-        if np.hypot(*(cog - cog0)[:2]) > SLIDE:
+        if np.hypot(cog[0] - cog0[0], cog[1] - cog0[1]) > SLIDE:
             gen.close()
             res = RollResult(pairs, False, obs.face, None, np.nan, np.nan, obs.t, ob.t, cog0, cog, weights=w)
             return res, ob

@@ -225,12 +225,7 @@ def past_edge(nodes: ArrayLike, face: int | Sequence[int], pivot: Sequence[int],
     on release, is left out. For the symmetric robot at rest on flat ground it is minus the
     distance of the CoG projection to the edge (88.4 mm for an equilateral face, S = 0.5 m)."""
     p = check_nodes(nodes)
-    f = topo.face_number(face)
-    a_i, b_i = (int(n) - 1 for n in pivot)
-    others = [int(n) for n in topo.FACES[f - 1] if n not in (a_i, b_i)]
-    if len(others) != 1:
-        raise ValueError(f"edge {tuple(np.asarray(pivot).tolist())} is not an edge of face {topo.face_label(f)}")
-    c_i = others[0]
+    a_i, b_i, c_i = _pivot_nodes(topo.face_number(face), tuple(int(n) for n in pivot))
     frame_ref, mid_ref = _pivot_reference(float(strut_length), a_i, b_i, c_i)
     rot = _pivot_frame(p, p.mean(axis=0), a_i, b_i, c_i) @ frame_ref.T
     mid = 0.5 * (p[a_i] + p[b_i])
@@ -259,6 +254,16 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     a0, a1, a2 = a.tolist()
     b0, b1, b2 = b.tolist()
     return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+
+
+@functools.lru_cache(maxsize=256)
+def _pivot_nodes(f: int, pivot: tuple[int, int]) -> tuple[int, int, int]:
+    """0-based nodes a, b of the edge `pivot` (1-based nodes) of face f and c, the face's third."""
+    a_i, b_i = (n - 1 for n in pivot)
+    others = [int(n) for n in topo.FACES[f - 1] if n not in (a_i, b_i)]
+    if len(others) != 1:
+        raise ValueError(f"edge {pivot} is not an edge of face {topo.face_label(f)}")
+    return a_i, b_i, others[0]
 
 
 @functools.lru_cache(maxsize=256)
