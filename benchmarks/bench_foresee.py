@@ -18,8 +18,8 @@ Without the workspace file, one is computed first with the default configuration
 from __future__ import annotations
 
 import argparse
-import cProfile
 import copy
+import cProfile
 import hashlib
 import pstats
 import sys

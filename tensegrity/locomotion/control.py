@@ -124,6 +124,7 @@ def roll_controller(
     expect: float = float("nan"),
     weights: np.ndarray | None = None,
     foresee: bool = False,
+    brake_acts: bool | None = None,
 ) -> Controller:
     """See `roll`; `pairs` or `weights` (12,) give the action (`action_weights`: the pair
     pressures are min(level w, `RollSettings.max_level`) as the level ramps to max_pressure MPa).
@@ -132,7 +133,8 @@ def roll_controller(
     given the `expect`ed rolling pressure, MPa, the plan's, as the pressure rises to it: kept
     on, the brake fights the roll, which then tips late and fast or not at all); once the
     robot tips over, those of the face it rolls onto (`Brake.landing`). Where the brake does
-    not act on the start face (`Brake.active`), the roll is the unbraked one. With `foresee`
+    not act on the start face (`Brake.active`, or `brake_acts` if the caller knows), the roll
+    is the unbraked one. With `foresee`
     (a roll simulated ahead, `lookahead.foresee`), an unbraked roll ends as soon as the ramp
     gives up with every support node down: not rolled, on its face (the release and settling
     that follow do not move it; braked, the brake coming back on can still roll it). Returns
@@ -140,8 +142,8 @@ def roll_controller(
     if obs.face is None:
         raise ct.ContactError("a roll must start from a robot resting on a face")
     face0, t0, cog0 = obs.face, obs.t, obs.nodes.mean(axis=0)
-    support = topo.FACES[face0 - 1]  # node indices of the support triangle
-    base = obs.gap[support]
+    support = topo.FACES[face0 - 1].tolist()  # node indices of the support triangle
+    base = obs.gap[support].tolist()  # m (lists: cheaper than numpy for three nodes)
     S = float(params.strut_length)
     pairs, w = action_weights(pairs, weights)
     idx = np.flatnonzero(w > 0)
@@ -149,7 +151,7 @@ def roll_controller(
     level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
     t_hold, rearmed = 0.0, True  # s in the hold (`schedule.hold_step`); a lift may start one
     landed, apex = None, -1
-    if brake is not None and not brake.active(face0, obs.nodes):
+    if brake is not None and not (brake.active(face0, obs.nodes) if brake_acts is None else brake_acts):
         brake = None  # where the brake does not act (flat or rough ground): the unbraked roll
     held = brake.for_face(face0, obs.nodes) if brake else np.zeros(topo.N_PAIRS)
     fade, rolling = 1.0, False  # share of the start face's brake still on; it is rolling over
@@ -189,10 +191,11 @@ def roll_controller(
             if level <= 0.0:
                 phase = "settle"
             continue
-        lifted = obs.gap[support] - base > s.lift_tolerance
+        gap = obs.gap.tolist()
+        lifted = [gap[n] - g0 > s.lift_tolerance for n, g0 in zip(support, base)]
         # unbraked, a lift that persists after a hold ran out is not held again; braked, each
         # step is held while a node is up (slopes need it)
-        n_up = sum(lifted.tolist())  # support nodes up (lists: cheaper than numpy for three)
+        n_up = sum(lifted)  # support nodes up
         up = n_up > 0
         if phase == "hold" or up:
             holding, t_hold, rearmed, _ = hold_step(
@@ -202,7 +205,7 @@ def roll_controller(
             holding, rearmed = False, True
         over = False
         if n_up == 1:
-            pivot = tuple(int(n) + 1 for n in support[~lifted])
+            pivot = tuple(n + 1 for n, u in zip(support, lifted) if not u)
             over = ct.past_edge(obs.nodes, face0, pivot, S) > s.release_margin
         if over or (obs.face is not None and obs.face != face0 and up):
             if not np.isfinite(tip):

@@ -159,7 +159,9 @@ def foresee(
             if acting[:1] != [False]:  # where it does not act, the roll is the unbraked one (roll_controller)
                 brk = copy.deepcopy(brake, {id(brake.workspace): brake.workspace})  # the workspace shared
         planned = expect.get(pairs, float("nan")) if w is None else float("nan")
-        ctl = roll_controller(params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True)
+        ctl = roll_controller(
+            params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True, brake_acts=(acting or [None])[0]
+        )
         return _until_slid(ctl, ob, pairs, w)
 
     threads = numba.get_num_threads()
