@@ -146,8 +146,8 @@ def roll_controller(
     base = obs.gap[support].tolist()  # m (lists: cheaper than numpy for three nodes)
     S = float(params.strut_length)
     pairs, w = action_weights(pairs, weights)
-    idx = np.flatnonzero(w > 0)
-    w = w[idx]
+    lanes = [(j, w[j]) for j in np.flatnonzero(w > 0).tolist()]  # (0-based pair, weight)
+    top = s.max_level
     level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
     t_hold, rearmed = 0.0, True  # s in the hold (`schedule.hold_step`); a lift may start one
     landed, apex = None, -1
@@ -177,7 +177,8 @@ def roll_controller(
             pres = brake.for_face(landed, obs.nodes) if rolling else held  # or back on its own
         if brake:  # braking pressures change at most at brake_rate
             pres = _slew(pres, last, s)
-        pres[idx] = np.maximum(pres[idx], np.minimum(level * w, s.max_level))
+        for j, wj in lanes:  # floats, not arrays, for the one or two pairs driven: the same numbers
+            pres[j] = max(pres[j], min(level * wj, top))
         last = pres
         peak = max(peak, level)
         obs = yield pres
