@@ -10,8 +10,14 @@ process CPU s (all threads) of each repeat, and a digest (sha256 of every RollRe
 the same digest means the same rolls, bit for bit. Run it against another tree with
 `PYTHONPATH=<tree>` to compare before and after on one machine.
 
+With `--runs GROUND ...` it runs those grounds of `bench_locomotion.py` instead (8 evaluation
+cases, `--cases`), prints bench_locomotion's report and, per ground, a digest of every run (its
+outcome, rolls and distance, and every RollResult of its steps, made and simulated) with the
+planning CPU s per roll: the same digest, the same runs, bit for bit.
+
 Usage: python benchmarks/bench_foresee.py [--workspace results/workspace.nc] [--repeat 2]
-       [--grounds slope20 slope24 terrain0.07] [--profile]
+       [--grounds slope20 slope24 terrain0.07] [--profile tottime|cumtime]
+       [--runs slope20 ... [--cases 8]]
 Without the workspace file, one is computed first with the default configuration (~30 s).
 """
 
@@ -41,7 +47,7 @@ from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_locomotion import workspace  # noqa: E402
+import bench_locomotion  # noqa: E402
 
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
 GROUNDS = {  # name: (terrain, start face, yaw deg)
@@ -69,14 +75,35 @@ def start(ws, params, s, terrain, face, yaw):
     return obs, todo, brk, {c.pairs: c.pressure for c in pl.candidates}
 
 
+def _update(h, r) -> None:
+    for v in (r.pairs, r.rolled, r.face_before, r.face_after, r.tip_pressure, r.peak_pressure, r.t_start, r.t_end):
+        h.update(repr(v).encode())
+    h.update(np.asarray(r.cog_before, float).tobytes() + np.asarray(r.cog_after, float).tobytes())
+
+
 def digest(results) -> str:
     """sha256 (first 12 hex digits) of every field of every RollResult."""
     h = hashlib.sha256()
     for r in results:
-        for v in (r.pairs, r.rolled, r.face_before, r.face_after, r.tip_pressure, r.peak_pressure, r.t_start, r.t_end):
-            h.update(repr(v).encode())
-        h.update(np.asarray(r.cog_before, float).tobytes() + np.asarray(r.cog_after, float).tobytes())
+        _update(h, r)
     return h.hexdigest()[:12]
+
+
+def runs(grounds, cases, ws, params, s) -> None:
+    """bench_locomotion's grounds (evaluation seeds): its report, then a digest of every run."""
+    a = argparse.Namespace(distance=2.0)
+    for g in grounds:
+        t0 = time.perf_counter()
+        res = bench_locomotion.run_ground(g, bench_locomotion.EVALUATION_SEEDS[:cases], a, ws, params, s, None)
+        row = bench_locomotion.report(g, res, time.perf_counter() - t0, s.arrive_tolerance)
+        h = hashlib.sha256()
+        for _, r in res:
+            h.update(repr((r.outcome, r.rolls, r.distance_to_goal)).encode())
+            for st in r.steps:
+                for x in (*st.attempts, *st.simulated):
+                    _update(h, x)
+        load = open("/proc/loadavg").read().split()[:3]
+        print(f"DIGEST {g} {h.hexdigest()[:16]} planning CPU {row['cpu']:.3f} s/roll, load average {' '.join(load)}")
 
 
 def main() -> None:
@@ -84,12 +111,16 @@ def main() -> None:
     ap.add_argument("--workspace", default="results/workspace.nc")
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--grounds", nargs="+", choices=list(GROUNDS), default=list(GROUNDS))
+    ap.add_argument("--runs", nargs="+", choices=list(bench_locomotion.GROUNDS), help="whole runs instead")
+    ap.add_argument("--cases", type=int, default=8, help="with --runs: cases per ground")
     ap.add_argument("--profile", choices=["tottime", "cumtime"], help="cProfile the first repeat: the top 30 by that")
     a = ap.parse_args()
     cfg = config.load()
     params = io_settings.params(cfg)
     s = io_settings.build(lo.RollSettings, cfg)
-    ws = workspace(a.workspace, None)
+    ws = bench_locomotion.workspace(a.workspace, None)
+    if a.runs:
+        return runs(a.runs, a.cases, ws, params, s)
     d.warm()
     print(f"foresee from {lo.__file__}")
     for g in a.grounds:
