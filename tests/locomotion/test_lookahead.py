@@ -210,3 +210,21 @@ def test_a_roll_foreseen_ends_once_decided_with_the_outcome_of_the_whole_roll(ws
             kinds.add("slid" if c.face_after is None else "stayed")
             assert c.face_after in (None, f.face_after)
     assert kinds == {"slid", "stayed"}  # both cuts were exercised
+
+
+def test_observe_gives_each_robot_its_own_cog_and_speed_to_the_last_bit():
+    """`lockstep.observe` takes the batch's CoGs and speeds at once (the planner's cost per check
+    interval); each is what the robot's own nodes give, bit for bit (a last-bit difference could
+    change a roll foreseen from what the run then makes): the mean of its nodes, and its CoG's
+    displacement over the interval (np.linalg.norm) over the interval's length."""
+    from tensegrity.locomotion.lockstep import observe
+
+    s = lo.RollSettings()
+    slope = Terrain.slope(20.0)
+    state = d.State.concat([d.stand_on(DAMPED, f, slope, yaw_deg=37.0 * f) for f in range(1, 21)])  # every face
+    before = observe(DAMPED, slope, state, s)
+    moved, _ = d.simulate(DAMPED, state, s.schedule(np.zeros((20, 12))), slope, s.dt, int(round(s.interval / s.dt)))
+    after = observe(DAMPED, slope, moved, s, before)
+    for b, a in zip(before, after):
+        assert np.array_equal(a.cog, a.nodes.mean(axis=0)) and np.array_equal(b.cog, b.nodes.mean(axis=0))
+        assert a.speed == float(np.linalg.norm(a.nodes.mean(axis=0) - b.nodes.mean(axis=0)) / (a.t - b.t)) > 0
