@@ -49,8 +49,8 @@ def calibrate(
     params = settings.params(cfg)
     dt = float(settings.value(cfg, "sim.dt"))
     m = read_measured(measured)
-    # the measurement says the actuator: a run in volts has the twisted strings (actuator.kind,
-    # which the commands keep at pneumatic, is not read)
+    # the measurement says the actuator: a run in volts has the twisted strings (actuator.kind
+    # is not read; calibrated.yaml writes the run's)
     motors = settings.twisted_strings(cfg) if m.command == "voltage" else None
     mode = mode or m.mode
     if not mode:
