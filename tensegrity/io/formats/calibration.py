@@ -110,6 +110,7 @@ def calibration_dataset(c: Calibration) -> xr.Dataset:
         attrs={
             "measured": c.problem.m.source,
             "mode": c.problem.mode,
+            "residual": c.problem.residual,
             "fitted": ", ".join(c.names),
             "unknowns": ", ".join(c.problem.names[n:]) or "none",
             "not_determined": "; ".join(c.unc.undetermined) or "none",
