@@ -29,7 +29,10 @@ MuJoCo (pip mujoco-core) is a test dependency pinned in environment.txt (MuJoCo 
 inside the package: docs/design.md §8).
 Usage: python benchmarks/bench_calibration_independent.py [--seed 32] [--seconds 4] [--noise 0.5]
        [--cases free,free-noisy,grounded,grounded-noisy] [--fit-contact] [--initial fit|data]
-       [--keep DIR] [--tiny] [--coverage N]
+       [--residual positions|shape] [--keep DIR] [--tiny] [--coverage N]
+
+--residual shape fits the grounded cases on the 24 cable lengths instead of the node positions
+(`tensegrity calibrate --residual shape`); the free cases keep the positions.
 """
 
 from __future__ import annotations
@@ -232,7 +235,8 @@ def measured_case(a: argparse.Namespace, truth: Params, name: str, folder: Path)
 
 def report(truth: Params, c, wall: float) -> None:
     """The table of one case. inside: the true value in the 95 % interval ('yes'), or not but
-    within ROUND_OFF of it ('round-off': a noise-free fit's interval is round-off wide), or 'NO'."""
+    within ROUND_OFF of it ('round-off': a noise-free fit's interval is round-off wide), 'NO', or
+    'none' (no interval given, named below)."""
     print(f"{'parameter':<18} {'true':>10} {'estimate':>11} {'rel. error':>10} {'95 % interval':>26} {'inside':>9}")
     for k, e, lo, hi in zip(c.names, c.estimate, c.unc.lower, c.unc.upper, strict=True):
         if k in OURS_ONLY:  # no true value: MuJoCo's contact has no such constant
@@ -241,6 +245,7 @@ def report(truth: Params, c, wall: float) -> None:
         tv = float(getattr(truth, k))
         tol = ROUND_OFF * abs(tv)
         inside = "yes" if lo <= tv <= hi else "round-off" if lo - tol <= tv <= hi + tol else "NO"
+        inside = "none" if np.isnan(lo) else inside
         print(f"{k:<18} {tv:>10.5g} {e:>11.6g} {e / tv - 1:>10.2e} {f'[{lo:.6g}, {hi:.6g}]':>26} {inside:>9}")
     line = f"residual RMS {c.rms_mm:.3g} mm"
     if c.prediction:
@@ -250,6 +255,9 @@ def report(truth: Params, c, wall: float) -> None:
             f"predicted the rest (RMS {p['rms_predict_mm']:.3g} mm)"
         )
     print(f"{line}; {wall:.0f} s wall, {c.nfev} evaluations")
+    if c.prediction:
+        errs = [f"{k} {e / float(getattr(truth, k)) - 1:+.2e}" for k, e in zip(c.names, c.prediction["estimate"], strict=True) if k not in OURS_ONLY]
+        print(f"fitted up to {c.prediction['fit_until']:.2f} s only, relative errors: {', '.join(errs)}")
     if c.unc.undetermined:
         print(f"not determined: {'; '.join(c.unc.undetermined)}")
 
@@ -312,6 +320,7 @@ def main() -> None:
     ap.add_argument("--cases", default=",".join(CASES), help=f"comma-separated, of {', '.join(CASES)}")
     ap.add_argument("--fit-contact", action="store_true", help=f"grounded: fit {', '.join(CONTACT)} too")
     ap.add_argument("--initial", choices=["fit", "data"], default="fit", help="initial state fitted or from the data")
+    ap.add_argument("--residual", choices=["positions", "shape"], default="positions", help="grounded cases' residual")
     ap.add_argument("--coverage", type=int, default=0, help="then the coverage over this many robots (free, noisy)")
     ap.add_argument("--keep", type=Path, help="folder to keep the measured CSV files in")
     ap.add_argument(
@@ -355,9 +364,11 @@ def main() -> None:
             print(
                 f"\n{name}: {m.t.size} samples ({m.t[-1]:.2f} s) of {Path(m.source).name}, noise "
                 f"{a.noise if CASES[name][1] else 0:g} mm, fitting {', '.join(fit)}"
+                + (f" to the {a.residual}" if mode == "grounded" else "")
             )
             t0 = time.perf_counter()
-            c = calibrate(m, begin, fit, mode, DT, a.initial == "fit", check=check)
+            residual = a.residual if mode == "grounded" else "positions"
+            c = calibrate(m, begin, fit, mode, DT, a.initial == "fit", check=check, residual=residual)
             report(truth, c, time.perf_counter() - t0)
             if mode == "grounded":
                 sim, rms = true_model(m, truth, mode)
