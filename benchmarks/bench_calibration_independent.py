@@ -256,7 +256,8 @@ def report(truth: Params, c, wall: float) -> None:
         )
     print(f"{line}; {wall:.0f} s wall, {c.nfev} evaluations")
     if c.prediction:
-        errs = [f"{k} {e / float(getattr(truth, k)) - 1:+.2e}" for k, e in zip(c.names, c.prediction["estimate"], strict=True) if k not in OURS_ONLY]
+        pairs = zip(c.names, c.prediction["estimate"], strict=True)
+        errs = [f"{k} {e / float(getattr(truth, k)) - 1:+.2e}" for k, e in pairs if k not in OURS_ONLY]
         print(f"fitted up to {c.prediction['fit_until']:.2f} s only, relative errors: {', '.join(errs)}")
     if c.unc.undetermined:
         print(f"not determined: {'; '.join(c.unc.undetermined)}")

@@ -62,8 +62,9 @@ STOP = 0.05  # or when the Gauss-Newton step is below this many standard errors 
 class Calibration:
     """The result. names, start, estimate (n,) parameters in their units, with `unc`; x the
     optimum of every unknown (scaled), `problem` the problem; simulated and measured (T, 12, 3)
-    m world nodes; rms_mm the RMS of the residual fitted (`model.RESIDUALS`); prediction: fit_until s (the fit's last sample),
-    rms_fit_mm and rms_predict_mm of the check (NaN if not made) and its estimates (n,);
+    m world nodes; rms_mm the RMS of the residual fitted (`model.RESIDUALS`); prediction:
+    fit_until s (the fit's last sample), rms_fit_mm and rms_predict_mm of the check (NaN if not
+    made) and its estimates (n,);
     nfev, njev, message of the optimiser; base the Params it started from."""
 
     names: tuple[str, ...]
@@ -229,7 +230,8 @@ def calibrate(
     kc = max(3, int(round(T * (1 - check)))) if check > 0 else T  # the prediction check's samples
     fitted = {}  # the check's stage: its optimum and problem
     for k in sorted(set(horizons(T, onset)) | {kc}):  # the first part, twice as long, ..., all of it
-        part = prob if k == T else mdl.problem(m.head(k), params, prob.fit, mode, dt, fit_initial, fit_frame, motors, residual)
+        args = (prob.fit, mode, dt, fit_initial, fit_frame, motors, residual)
+        part = prob if k == T else mdl.problem(m.head(k), params, *args)
         ftol = FTOL if k in (kc, T) else FTOL_STAGE
         try:
             x, J, res = solve(part, x, ftol=ftol)

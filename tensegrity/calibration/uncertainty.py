@@ -34,7 +34,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import linalg, stats
 
-__all__ = ["IDENTIFIABLE", "STRUCTURAL", "Uncertainty", "uncertainty", "describe", "structural", "basis", "normal_inverse"]
+__all__ = ["IDENTIFIABLE", "STRUCTURAL", "Uncertainty", "uncertainty", "describe", "structural"]
+__all__ += ["basis", "normal_inverse"]
 
 IDENTIFIABLE = 1e-4  # smallest singular value ratio of a direction the data determine
 STRUCTURAL = 1e-6  # smallest singular value ratio of a direction the simulator's constants see
