@@ -28,11 +28,13 @@ on our own trajectories: 85-100 %).
 MuJoCo (pip mujoco-core) is a test dependency pinned in environment.txt (MuJoCo never runs
 inside the package: docs/design.md §8).
 Usage: python benchmarks/bench_calibration_independent.py [--seed 32] [--seconds 4] [--noise 0.5]
-       [--cases free,free-noisy,grounded,grounded-noisy] [--fit-contact] [--initial fit|data]
+       [--cases free,free-noisy,grounded,grounded-noisy] [--fit-contact] [--fit-friction] [--initial fit|data]
        [--residual positions|shape] [--keep DIR] [--tiny] [--coverage N]
 
 --residual shape fits the grounded cases on the 24 cable lengths instead of the node positions
-(`tensegrity calibrate --residual shape`); the free cases keep the positions.
+(`tensegrity calibrate --residual shape`); the free cases keep the positions. --fit-friction fits
+our friction's stick spring and damper ((C3)-(C4)) with the four: MuJoCo's friction is a soft
+constraint, more like a damper than a spring (docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -68,7 +70,9 @@ DT = 1e-4  # s, both simulators
 RATE = 100.0  # Hz, the measurement
 FOUR = ("cable_stiffness", "cable_pretension", "cable_damping", "muscle_gain")
 CONTACT = ("friction", "ground_stiffness", "ground_damping")  # fitted too, grounded, with --fit-contact
-OURS_ONLY = ("ground_stiffness", "ground_damping")  # (C2)'s constants: MuJoCo's contact is solref/solimp
+STICK = ("friction_stiffness", "friction_damping")  # fitted too, grounded, with --fit-friction
+# (C2)-(C4)'s constants: MuJoCo's contact is solref/solimp, no true value
+OURS_ONLY = ("ground_stiffness", "ground_damping", *STICK)
 SETTLE = 1.0  # s: the grounded robot settles on MuJoCo's contact before the recording starts
 ROLL_PAIR = 10  # pushes the robot over edge 10-12 of (9,10,12) (paper III.A)
 ROUND_OFF = 1e-9  # relative: a noise-free fit's interval is round-off wide (~1e-13); the truth within this
@@ -320,6 +324,7 @@ def main() -> None:
     ap.add_argument("--noise", type=float, default=0.5, help="Gaussian noise on every coordinate, mm")
     ap.add_argument("--cases", default=",".join(CASES), help=f"comma-separated, of {', '.join(CASES)}")
     ap.add_argument("--fit-contact", action="store_true", help=f"grounded: fit {', '.join(CONTACT)} too")
+    ap.add_argument("--fit-friction", action="store_true", help=f"grounded: fit {', '.join(STICK)} too")
     ap.add_argument("--initial", choices=["fit", "data"], default="fit", help="initial state fitted or from the data")
     ap.add_argument("--residual", choices=["positions", "shape"], default="positions", help="grounded cases' residual")
     ap.add_argument("--coverage", type=int, default=0, help="then the coverage over this many robots (free, noisy)")
@@ -358,6 +363,7 @@ def main() -> None:
             m, world, ramp = measured_case(a, truth, name, folder)
             mode = CASES[name][0]
             fit = FOUR + (CONTACT if a.fit_contact and mode == "grounded" else ())
+            fit += STICK if a.fit_friction and mode == "grounded" else ()
             begin = start
             if a.tiny and mode == "grounded":  # a smoke run of the grounded path, cheaply: one parameter off
                 fit, begin = fit[:1], truth.replace(cable_stiffness=start.cable_stiffness)
