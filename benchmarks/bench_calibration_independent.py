@@ -267,12 +267,15 @@ def report(truth: Params, c, wall: float) -> None:
         print(f"not determined: {'; '.join(c.unc.undetermined)}")
 
 
-def true_model(m: Measurement, truth: Params, mode: str) -> tuple[np.ndarray, float]:
+def true_model(m: Measurement, truth: Params, mode: str) -> tuple[np.ndarray, float, float]:
     """Our model with the true values, the initial state and frame from the data (no fit): its
-    nodes (T, 12, 3) m (world) and RMS (mm) from the measured ones: the model mismatch."""
+    nodes (T, 12, 3) m (world) and the RMS (mm) of its node coordinates and of its cable lengths
+    from the measured ones: the model mismatch."""
     prob = mdl.problem(m, truth, FOUR[:1], mode, DT, False, False)
     sim = prob.simulate(prob.x0[None])[0]
-    return sim, float(np.sqrt(np.nanmean((sim - prob.measured(prob.x0)) ** 2)) * 1e3)
+    shape = mdl.lengths(sim) - mdl.lengths(m.nodes)
+    rms = [float(np.sqrt(np.nanmean(e**2)) * 1e3) for e in (sim - prob.measured(prob.x0), shape)]
+    return sim, *rms
 
 
 def roll_table(truth: Params, world: np.ndarray, c, ramp: int, true_nodes: np.ndarray) -> None:
@@ -378,8 +381,11 @@ def main() -> None:
             c = calibrate(m, begin, fit, mode, DT, a.initial == "fit", check=check, residual=residual)
             report(truth, c, time.perf_counter() - t0)
             if mode == "grounded":
-                sim, rms = true_model(m, truth, mode)
-                print(f"our model with the true values (initial state and frame from the data): RMS {rms:.3g} mm")
+                sim, rms, rms_shape = true_model(m, truth, mode)
+                print(
+                    f"our model with the true values (initial state and frame from the data): RMS {rms:.3g} mm, "
+                    f"of the cable lengths {rms_shape:.3g} mm"
+                )
                 if ramp:
                     roll_table(truth, world, c, ramp, sim)
         if a.coverage > 0:
