@@ -4,7 +4,7 @@ consecutive samples are uncorrelated if it does.
 The intervals (`uncertainty`) assume a right model and independent noise. A model that is wrong
 (another contact law than the measured robot's, say) leaves a residual that is smooth in time,
 and its estimates are off by a bias the intervals know nothing of: against MuJoCo's grounded
-runs the four cable parameters came out 4-47 % off with intervals 0.002-7 % wide (docs/
+runs the four cable parameters came out 27-47 % off with intervals 0.002-7 % wide (docs/
 benchmarks.md). A sandwich estimator with the residuals' autocorrelation (Newey-West, Bartlett
 lags of 10 samples to a third of the run) widened them only 2-6 times, the bias still 4.6-4200
 standard errors (tuning seeds 0 and 3, residual 'shape'): such a bias is no noise, and no
