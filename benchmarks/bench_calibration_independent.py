@@ -28,8 +28,13 @@ on our own trajectories: 85-100 %).
 MuJoCo (pip mujoco-core) is a test dependency pinned in environment.txt (MuJoCo never runs
 inside the package: docs/design.md §8).
 Usage: python benchmarks/bench_calibration_independent.py [--seed 32] [--seconds 4] [--noise 0.5]
-       [--cases free,free-noisy,grounded,grounded-noisy] [--fit-contact] [--initial fit|data]
-       [--keep DIR] [--tiny] [--coverage N]
+       [--cases free,free-noisy,grounded,grounded-noisy] [--fit-contact] [--fit-friction] [--initial fit|data]
+       [--residual positions|shape] [--keep DIR] [--tiny] [--coverage N]
+
+--residual shape fits the grounded cases on the 24 cable lengths instead of the node positions
+(`tensegrity calibrate --residual shape`); the free cases keep the positions. --fit-friction fits
+our friction's stick spring and damper ((C3)-(C4)) with the four: MuJoCo's friction is a soft
+constraint, more like a damper than a spring (docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -65,7 +70,9 @@ DT = 1e-4  # s, both simulators
 RATE = 100.0  # Hz, the measurement
 FOUR = ("cable_stiffness", "cable_pretension", "cable_damping", "muscle_gain")
 CONTACT = ("friction", "ground_stiffness", "ground_damping")  # fitted too, grounded, with --fit-contact
-OURS_ONLY = ("ground_stiffness", "ground_damping")  # (C2)'s constants: MuJoCo's contact is solref/solimp
+STICK = ("friction_stiffness", "friction_damping")  # fitted too, grounded, with --fit-friction
+# (C2)-(C4)'s constants: MuJoCo's contact is solref/solimp, no true value
+OURS_ONLY = ("ground_stiffness", "ground_damping", *STICK)
 SETTLE = 1.0  # s: the grounded robot settles on MuJoCo's contact before the recording starts
 ROLL_PAIR = 10  # pushes the robot over edge 10-12 of (9,10,12) (paper III.A)
 ROUND_OFF = 1e-9  # relative: a noise-free fit's interval is round-off wide (~1e-13); the truth within this
@@ -232,7 +239,8 @@ def measured_case(a: argparse.Namespace, truth: Params, name: str, folder: Path)
 
 def report(truth: Params, c, wall: float) -> None:
     """The table of one case. inside: the true value in the 95 % interval ('yes'), or not but
-    within ROUND_OFF of it ('round-off': a noise-free fit's interval is round-off wide), or 'NO'."""
+    within ROUND_OFF of it ('round-off': a noise-free fit's interval is round-off wide), 'NO', or
+    'none' (no interval given, named below)."""
     print(f"{'parameter':<18} {'true':>10} {'estimate':>11} {'rel. error':>10} {'95 % interval':>26} {'inside':>9}")
     for k, e, lo, hi in zip(c.names, c.estimate, c.unc.lower, c.unc.upper, strict=True):
         if k in OURS_ONLY:  # no true value: MuJoCo's contact has no such constant
@@ -241,6 +249,7 @@ def report(truth: Params, c, wall: float) -> None:
         tv = float(getattr(truth, k))
         tol = ROUND_OFF * abs(tv)
         inside = "yes" if lo <= tv <= hi else "round-off" if lo - tol <= tv <= hi + tol else "NO"
+        inside = "none" if np.isnan(lo) else inside
         print(f"{k:<18} {tv:>10.5g} {e:>11.6g} {e / tv - 1:>10.2e} {f'[{lo:.6g}, {hi:.6g}]':>26} {inside:>9}")
     line = f"residual RMS {c.rms_mm:.3g} mm"
     if c.prediction:
@@ -250,16 +259,23 @@ def report(truth: Params, c, wall: float) -> None:
             f"predicted the rest (RMS {p['rms_predict_mm']:.3g} mm)"
         )
     print(f"{line}; {wall:.0f} s wall, {c.nfev} evaluations")
+    if c.prediction:
+        pairs = zip(c.names, c.prediction["estimate"], strict=True)
+        errs = [f"{k} {e / float(getattr(truth, k)) - 1:+.2e}" for k, e in pairs if k not in OURS_ONLY]
+        print(f"fitted up to {c.prediction['fit_until']:.2f} s only, relative errors: {', '.join(errs)}")
     if c.unc.undetermined:
         print(f"not determined: {'; '.join(c.unc.undetermined)}")
 
 
-def true_model(m: Measurement, truth: Params, mode: str) -> tuple[np.ndarray, float]:
+def true_model(m: Measurement, truth: Params, mode: str) -> tuple[np.ndarray, float, float]:
     """Our model with the true values, the initial state and frame from the data (no fit): its
-    nodes (T, 12, 3) m (world) and RMS (mm) from the measured ones: the model mismatch."""
+    nodes (T, 12, 3) m (world) and the RMS (mm) of its node coordinates and of its cable lengths
+    from the measured ones: the model mismatch."""
     prob = mdl.problem(m, truth, FOUR[:1], mode, DT, False, False)
     sim = prob.simulate(prob.x0[None])[0]
-    return sim, float(np.sqrt(np.nanmean((sim - prob.measured(prob.x0)) ** 2)) * 1e3)
+    shape = mdl.lengths(sim) - mdl.lengths(m.nodes)
+    rms = [float(np.sqrt(np.nanmean(e**2)) * 1e3) for e in (sim - prob.measured(prob.x0), shape)]
+    return sim, *rms
 
 
 def roll_table(truth: Params, world: np.ndarray, c, ramp: int, true_nodes: np.ndarray) -> None:
@@ -311,7 +327,9 @@ def main() -> None:
     ap.add_argument("--noise", type=float, default=0.5, help="Gaussian noise on every coordinate, mm")
     ap.add_argument("--cases", default=",".join(CASES), help=f"comma-separated, of {', '.join(CASES)}")
     ap.add_argument("--fit-contact", action="store_true", help=f"grounded: fit {', '.join(CONTACT)} too")
+    ap.add_argument("--fit-friction", action="store_true", help=f"grounded: fit {', '.join(STICK)} too")
     ap.add_argument("--initial", choices=["fit", "data"], default="fit", help="initial state fitted or from the data")
+    ap.add_argument("--residual", choices=["positions", "shape"], default="positions", help="grounded cases' residual")
     ap.add_argument("--coverage", type=int, default=0, help="then the coverage over this many robots (free, noisy)")
     ap.add_argument("--keep", type=Path, help="folder to keep the measured CSV files in")
     ap.add_argument(
@@ -348,6 +366,7 @@ def main() -> None:
             m, world, ramp = measured_case(a, truth, name, folder)
             mode = CASES[name][0]
             fit = FOUR + (CONTACT if a.fit_contact and mode == "grounded" else ())
+            fit += STICK if a.fit_friction and mode == "grounded" else ()
             begin = start
             if a.tiny and mode == "grounded":  # a smoke run of the grounded path, cheaply: one parameter off
                 fit, begin = fit[:1], truth.replace(cable_stiffness=start.cable_stiffness)
@@ -355,13 +374,18 @@ def main() -> None:
             print(
                 f"\n{name}: {m.t.size} samples ({m.t[-1]:.2f} s) of {Path(m.source).name}, noise "
                 f"{a.noise if CASES[name][1] else 0:g} mm, fitting {', '.join(fit)}"
+                + (f" to the {a.residual}" if mode == "grounded" else "")
             )
             t0 = time.perf_counter()
-            c = calibrate(m, begin, fit, mode, DT, a.initial == "fit", check=check)
+            residual = a.residual if mode == "grounded" else "positions"
+            c = calibrate(m, begin, fit, mode, DT, a.initial == "fit", check=check, residual=residual)
             report(truth, c, time.perf_counter() - t0)
             if mode == "grounded":
-                sim, rms = true_model(m, truth, mode)
-                print(f"our model with the true values (initial state and frame from the data): RMS {rms:.3g} mm")
+                sim, rms, rms_shape = true_model(m, truth, mode)
+                print(
+                    f"our model with the true values (initial state and frame from the data): RMS {rms:.3g} mm, "
+                    f"of the cable lengths {rms_shape:.3g} mm"
+                )
                 if ramp:
                     roll_table(truth, world, c, ramp, sim)
         if a.coverage > 0:

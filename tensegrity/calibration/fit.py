@@ -19,7 +19,8 @@ they cost most of the time (8 s benchmark: estimates within 0.003 standard error
 fitted to a relative cost decrease of 1e-12). Without noise the step is as large as the
 residual it explains (the ratio ~ sqrt(N)), so the fit runs to the tolerances as before.
 
-Whether the intervals hold: `linearity` (the cost at each interval's ends).
+Whether the intervals hold: `misfit` (a model that does not fit the run), `linearity` (the cost
+at each interval's ends).
 
 Forward differences of step STEP in the scaled unknowns (a relative step of 1e-6 for a parameter,
 1e-8 m or rad for the initial state) are good to about 1e-5 of a column (truncation ~ STEP
@@ -42,7 +43,8 @@ from ..physics.twisted import TwistedString
 from . import model as mdl
 from .linearity import linear
 from .measurement import Measurement
-from .uncertainty import Uncertainty, structural, uncertainty
+from .misfit import misfit
+from .uncertainty import Uncertainty, normal_inverse, structural, uncertainty
 
 __all__ = ["Calibration", "calibrate", "solve", "STEP", "PARAM_RANGE"]
 
@@ -60,8 +62,9 @@ STOP = 0.05  # or when the Gauss-Newton step is below this many standard errors 
 class Calibration:
     """The result. names, start, estimate (n,) parameters in their units, with `unc`; x the
     optimum of every unknown (scaled), `problem` the problem; simulated and measured (T, 12, 3)
-    m world nodes; rms_mm the residual RMS; prediction: fit_until s (the fit's last sample),
-    rms_fit_mm and rms_predict_mm of the check (NaN if not made) and its estimates (n,);
+    m world nodes; rms_mm the RMS of the residual fitted (`model.RESIDUALS`); prediction:
+    fit_until s (the fit's last sample), rms_fit_mm and rms_predict_mm of the check (NaN if not
+    made) and its estimates (n,);
     nfev, njev, message of the optimiser; base the Params it started from."""
 
     names: tuple[str, ...]
@@ -109,7 +112,7 @@ class _Residuals:
             self.nsim += 1
             r = self.prob.residuals(x[None])[0]
         except (SimulationError, ValueError):
-            r = np.full(int(self.prob.mask.sum()), FAILED)
+            r = np.full(int(self.prob.valid.sum()), FAILED)
         self.last = (x.copy(), r)
         return r
 
@@ -135,7 +138,7 @@ class _Residuals:
         if self.last[0] is None or not np.array_equal(self.last[0], x):
             return
         N, p = self.J.shape
-        Hi = np.linalg.pinv(self.J.T @ self.J, hermitian=True)
+        Hi = normal_inverse(self.J)
         se = np.sqrt(np.maximum(np.diag(Hi), 0.0) * float(r @ r) / max(N - p, 1))
         if np.all(np.abs(Hi @ (self.J.T @ r)) <= STOP * se):
             raise StopIteration
@@ -211,22 +214,24 @@ def calibrate(
     fit_frame: bool = True,
     check: float = 0.25,
     motors: TwistedString | None = None,
+    residual: str = "positions",
 ) -> Calibration:
     """Fit the Params fields `fit` (start: `params`; a run in volts: also the twisted strings'
     keys `model.ACTUATOR_FITTABLE`, start: `motors`) to measurement m in `mode`, simulating with
     time step dt s (`model.problem`), and check the fit on the first 1 - check of the samples
     (one of the growing horizon's stages, fitted to the end: it never sees the rest) by
-    predicting the rest (check 0: no check)."""
+    predicting the rest (check 0: no check); `residual` the kind (`model.RESIDUALS`)."""
     if not 0 <= check < 1:
         raise ValueError(f"check: the fraction of samples predicted must be in [0, 1), got {check!r}")
-    prob = mdl.problem(m, params, tuple(fit), mode, dt, fit_initial, fit_frame, motors)
+    prob = mdl.problem(m, params, tuple(fit), mode, dt, fit_initial, fit_frame, motors, residual)
     x, nfev, njev, T = None, 0, 0, m.t.size
     changed = np.flatnonzero(np.any(m.pressure[2:] != m.pressure[1], axis=1))
     onset = int(changed[0]) + 2 if changed.size else 0
     kc = max(3, int(round(T * (1 - check)))) if check > 0 else T  # the prediction check's samples
     fitted = {}  # the check's stage: its optimum and problem
     for k in sorted(set(horizons(T, onset)) | {kc}):  # the first part, twice as long, ..., all of it
-        part = prob if k == T else mdl.problem(m.head(k), params, prob.fit, mode, dt, fit_initial, fit_frame, motors)
+        args = (prob.fit, mode, dt, fit_initial, fit_frame, motors, residual)
+        part = prob if k == T else mdl.problem(m.head(k), params, *args)
         ftol = FTOL if k in (kc, T) else FTOL_STAGE
         try:
             x, J, res = solve(part, x, ftol=ftol)
@@ -237,9 +242,10 @@ def calibrate(
             fitted = {"x_part": x, "problem": part}
     n = prob.n_params
     simulated, measured = prob.simulate(x[None])[0], prob.measured(x)
-    r = (simulated - measured)[prob.mask]
-    theta = prob.values(x)[:n]
+    R = prob.per_sample(simulated[None], x)[0]
+    r, theta = R[prob.valid], prob.values(x)[:n]
     unc = uncertainty(J / prob.units, r, n, theta, prob.fit, structural(prob.constants, theta))
+    unc = misfit(R, unc, prob.fit)
     unc = linear(prob, x, J, r, unc, *_bounds(prob))
     prediction = _predict(prob, x, **fitted) if fitted else {}
     return Calibration(
@@ -266,8 +272,7 @@ def _predict(prob: mdl.Problem, x: np.ndarray, *, x_part: np.ndarray, problem: m
     predicted rest."""
     m, k, xp, part = prob.m, problem.m.t.size, x_part, problem
     sim = prob.simulate(xp[None])[0]
-    err = sim - prob.measured(xp)  # in the check's own frame
-    sq = np.where(prob.mask, err, np.nan) ** 2
+    sq = prob.per_sample(sim[None], xp)[0] ** 2  # in the check's own frame (NaN: not measured)
     (Rc, oc), (R, o) = prob.frame(xp), prob.frame(x)
     rms = [float(np.sqrt(np.nanmean(sq[a:b])) * 1e3) for a, b in ((0, k), (k, m.t.size))]
     return {

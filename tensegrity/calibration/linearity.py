@@ -29,7 +29,7 @@ from scipy import stats
 
 from ..physics.dynamics import SimulationError
 from . import model as mdl
-from .uncertainty import Uncertainty
+from .uncertainty import Uncertainty, normal_inverse
 
 __all__ = ["LINEAR", "FLOOR", "rises", "linear"]
 
@@ -56,7 +56,7 @@ def rises(
     if not keep.size:
         return out
     cols = np.concatenate([keep, np.arange(n, len(x))])
-    C = np.linalg.pinv(J[:, cols].T @ J[:, cols], hermitian=True)
+    C = normal_inverse(J[:, cols])
     q = float(stats.t.ppf(0.975, unc.dof))
     V = np.zeros((keep.size, len(x)))
     V[:, cols] = q * unc.s * (C[:, : keep.size] / np.sqrt(np.diag(C)[: keep.size])).T
@@ -107,4 +107,4 @@ def _or_nan(prob: mdl.Problem, x: np.ndarray) -> np.ndarray:
     try:
         return prob.residuals(x[None])[0]
     except (SimulationError, ValueError):
-        return np.full(int(prob.mask.sum()), np.nan)
+        return np.full(int(prob.valid.sum()), np.nan)

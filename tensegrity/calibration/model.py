@@ -4,9 +4,13 @@ vectors at once as one batched simulation (one robot per vector).
 
 The unknowns, in order: the named `Params` fields (scaled by their starting values: 1 is the
 start), the initial state (`initial.INITIAL_NAMES`, if fitted) and the frame's tilt and height
-(`initial.FRAME_NAMES`, grounded mode, if fitted). The residual is simulated minus measured node
-coordinate (m, world frame) of every sample and every node that was measured (a node with a NaN
-coordinate left out of that sample); sample 0 is the initial state's own nodes.
+(`initial.FRAME_NAMES`, grounded mode, if fitted). The residual (`RESIDUALS`) is, per sample
+(sample 0 the initial state's own nodes), simulated minus measured: 'positions', every measured
+node's coordinates (m, world frame; a node with a NaN coordinate left out of that sample);
+'shape', the 24 cable lengths (m; with the struts rigid they fix the structure's shape up to a
+rigid motion; a cable with an end not measured left out). The shape does not see where the robot
+is or how it is turned, which the ground contact decides: a contact law not ours (MuJoCo's) moves
+the whole robot tens of mm away from ours but its shape ~1 mm (docs/benchmarks.md).
 
 A run driven in volts (`Measurement.command` 'voltage') is replayed with the twisted strings
 (`twisted.TwistedString`, docs/design.md §10), whose fields are fitted by their configuration
@@ -23,6 +27,7 @@ import numpy as np
 
 from ..physics import actuator
 from ..physics import dynamics as d
+from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.schedule import Schedule, whole_steps
 from ..physics.terrain import Terrain
@@ -30,9 +35,10 @@ from ..physics.twisted import TwistedString
 from . import initial
 from .measurement import Grid, Measurement, grid, schedule
 
-__all__ = ["Problem", "problem", "FITTABLE", "ACTUATOR", "ACTUATOR_FITTABLE", "UNIT"]
+__all__ = ["Problem", "problem", "FITTABLE", "ACTUATOR", "ACTUATOR_FITTABLE", "UNIT", "RESIDUALS", "lengths"]
 
 MODES = ("free", "grounded")
+RESIDUALS = ("positions", "shape")
 # Params fields a calibration may fit, and those that do nothing in the free mode (no ground)
 FITTABLE = tuple(f.name for f in fields(Params) if f.name not in ("cable_rest_length", "max_speed"))
 _GROUND_ONLY = ("gravity", "ground_stiffness", "ground_damping", "friction", "friction_stiffness", "friction_damping")
@@ -54,7 +60,8 @@ class Problem:
     parameters `params` (gravity 0 in the free mode); the unknowns `names` with scaled units
     `units` (value = x * unit) and start x0; the first-guess frame (R, o) and the robot's first
     centroid `centre` (m, world); `mask` (T, 12, 3): which coordinates were measured; `motors`
-    the twisted strings a run in volts is replayed with (None: the pneumatic muscles)."""
+    the twisted strings a run in volts is replayed with (None: the pneumatic muscles);
+    `residual` its kind (`RESIDUALS`), `valid` (T, M) which of a sample's M entries are measured."""
 
     m: Measurement
     g: Grid
@@ -73,6 +80,8 @@ class Problem:
     centre: np.ndarray
     mask: np.ndarray
     motors: TwistedString | None = None
+    residual: str = "positions"
+    valid: np.ndarray | None = None
 
     @property
     def n_params(self) -> int:
@@ -155,14 +164,21 @@ class Problem:
         rec = tr.nodes(S)[:, self.g.index[1:] - 1]
         return np.concatenate([first, rec], axis=1)
 
-    def residuals(self, X: np.ndarray) -> np.ndarray:
-        """Simulated minus measured coordinates (B, N) m, N the measured coordinates."""
+    def per_sample(self, sim: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """The residual (B, T, M) m of simulated nodes sim (B, T, 12, 3) of vectors X (B, p),
+        NaN where not measured (module docstring: M 36 coordinates or 24 cable lengths)."""
         X = np.atleast_2d(X)
-        sim = self.simulate(X)
-        out = np.empty((len(X), int(self.mask.sum())))
+        if self.residual == "shape":  # the measured lengths do not depend on the frame
+            return lengths(sim) - lengths(self.m.nodes)
+        out = np.empty((len(X), *self.mask.shape))
         for rows in self._frames(X):  # the measured nodes once per frame
-            out[rows] = (sim[rows] - self.measured(X[rows[0]]))[:, self.mask]
-        return out
+            out[rows] = sim[rows] - self.measured(X[rows[0]])
+        return out.reshape(len(X), len(self.mask), -1)
+
+    def residuals(self, X: np.ndarray) -> np.ndarray:
+        """Simulated minus measured (B, N) m, the N measured entries of `per_sample`."""
+        X = np.atleast_2d(X)
+        return self.per_sample(self.simulate(X), X)[:, self.valid]
 
 
 def problem(
@@ -174,14 +190,18 @@ def problem(
     fit_initial: bool = True,
     fit_frame: bool = True,
     motors: TwistedString | None = None,
+    residual: str = "positions",
 ) -> Problem:
     """The calibration problem of measurement m: fit the Params fields `fit` (start: `params`;
     with `motors`, a run in volts, also `ACTUATOR_FITTABLE` keys, start: `motors`) in `mode`
     ('free': no gravity, no ground; 'grounded': flat ground at z = 0), simulating with time step
     dt s; with the initial state (`fit_initial`) and, grounded, the frame (`fit_frame`) fitted
-    too. ValueError naming a bad field, mode, actuator or time step before any simulation."""
+    too; `residual` of `RESIDUALS`. ValueError naming a bad field, mode, actuator, residual or
+    time step before any simulation."""
     if mode not in MODES:
         raise ValueError(f"mode {mode!r}: use one of {MODES}")
+    if residual not in RESIDUALS:
+        raise ValueError(f"residual {residual!r}: use one of {RESIDUALS}")
     _check_actuator(m, motors)
     if not fit:
         raise ValueError("fit: name at least one parameter")
@@ -211,6 +231,7 @@ def problem(
     # a node with a NaN coordinate is left out of its sample (the frame mixes the coordinates)
     mask = np.repeat(np.isfinite(m.nodes).all(axis=-1, keepdims=True), 3, axis=-1)
     centre = (m.nodes[0] @ R.T + o).mean(axis=0)
+    valid = np.isfinite(lengths(m.nodes)) if residual == "shape" else mask.reshape(len(mask), -1)
     return Problem(
         m,
         g,
@@ -229,7 +250,15 @@ def problem(
         centre,
         mask,
         motors,
+        residual,
+        valid,
     )
+
+
+def lengths(nodes: np.ndarray) -> np.ndarray:
+    """The cable lengths (..., 24) m of node positions (..., 12, 3) m (NaN where an end is)."""
+    a, b = topo.CABLES[:, 0], topo.CABLES[:, 1]
+    return np.linalg.norm(nodes[..., a, :] - nodes[..., b, :], axis=-1)
 
 
 def _start(name: str, params: Params, motors: TwistedString | None) -> float:

@@ -35,6 +35,7 @@ import numpy as np
 from scipy import linalg, stats
 
 __all__ = ["IDENTIFIABLE", "STRUCTURAL", "Uncertainty", "uncertainty", "describe", "structural"]
+__all__ += ["basis", "normal_inverse"]
 
 IDENTIFIABLE = 1e-4  # smallest singular value ratio of a direction the data determine
 STRUCTURAL = 1e-6  # smallest singular value ratio of a direction the simulator's constants see
@@ -57,6 +58,29 @@ class Uncertainty:
     dof: int
     undetermined: tuple[str, ...]
     singular: np.ndarray
+
+
+def _svd(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """U, sv, Vt of M (N, k) with its columns at unit length, the directions whose singular value
+    is below IDENTIFIABLE of the largest left out, and the column norms (k,)."""
+    norm = np.linalg.norm(M, axis=0)
+    norm = np.where(norm > 0, norm, 1.0)
+    U, sv, Vt = np.linalg.svd(M / norm, full_matrices=False)
+    seen = sv > IDENTIFIABLE * sv[0] if sv.size and sv[0] > 0 else np.zeros(sv.size, bool)
+    return U[:, seen], sv[seen], Vt[seen], norm
+
+
+def basis(M: np.ndarray) -> np.ndarray:
+    """An orthonormal basis (N, r) of the span of M's columns (N, k), the directions the data do
+    not see left out (`_svd`: e.g. with the residual 'shape' on flat ground, the robot's
+    horizontal position and heading, and the frame's tilt beside the struts' own)."""
+    return _svd(M)[0]
+
+
+def normal_inverse(J: np.ndarray) -> np.ndarray:
+    """The pseudo-inverse (k, k) of J^T J, J (N, k), without the directions `basis` leaves out."""
+    _, sv, Vt, norm = _svd(J)
+    return (Vt.T / sv**2 @ Vt) / np.outer(norm, norm)
 
 
 def structural(constants: Callable[[np.ndarray], np.ndarray], theta: np.ndarray) -> np.ndarray:
@@ -110,7 +134,7 @@ def uncertainty(
         raise ValueError(f"{N} measured coordinates cannot determine {p} unknowns")
     s2 = float(r @ r) / dof
     # parameters' columns with the nuisance ones projected out, in log-parameters, unit length
-    A, Q = J[:, :n] * theta, np.linalg.qr(J[:, n:])[0] if p > n else None
+    A, Q = J[:, :n] * theta, basis(J[:, n:]) if p > n else None
     if Q is not None:
         A = A - Q @ (Q.T @ A)
     # the data's own directions, within those the simulator's constants see (V1: the rest)

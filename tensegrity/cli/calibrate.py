@@ -31,6 +31,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         initial=args.initial,
         frame=args.frame,
         check=args.check,
+        residual=args.residual,
     )
     print(f"wrote {', '.join(map(str, out))}")
     if args.report:
@@ -76,6 +77,13 @@ def add_parser(sub: argparse._SubParsersAction, common: argparse.ArgumentParser)
         choices=["fit", "data"],
         default="fit",
         help="grounded: the frame's tilt and height fitted too (default) or levelled from the first sample",
+    )
+    p.add_argument(
+        "--residual",
+        choices=["positions", "shape"],
+        default="positions",
+        help="fit the node positions (default) or the shape, the 24 cable lengths: blind to where the ground "
+        "puts the robot, for a grounded run whose contact is not the model's (README)",
     )
     p.add_argument(
         "--check",

@@ -29,6 +29,7 @@ def calibrate(
     initial: str = "fit",
     frame: str = "fit",
     check: float = 0.25,
+    residual: str = "positions",
 ) -> list[Path]:
     """Stage `calibrate`: fit the `params` keys `fit` ('a,b,c' or a list; for a run driven in
     volts, replayed with the `actuator.twisted_string` section, its keys `actuator.twisted_string.<key>`)
@@ -36,28 +37,32 @@ def calibrate(
     'grounded'; default the file's attribute `mode`), the other parameters and sim.dt from `cfg`; the initial
     state fitted too (`initial` 'fit') or taken from the first samples ('data'), the grounded
     frame's tilt and height fitted ('fit') or levelled from the first sample ('data'); a prediction
-    check on the last `check` of the samples (0: none). Writes the calibrated configuration
+    check on the last `check` of the samples (0: none); `residual` 'positions' (node coordinates)
+    or 'shape' (cable lengths, blind to where the ground puts the robot). Writes the calibrated configuration
     `out_path` (YAML, a `params:` section) and, if given, the report `report_path` (netCDF) with
     its figure beside it (same name, .png). Every input is checked before the fit starts."""
     from ..calibration import calibrate as fit_model
+    from ..calibration.model import RESIDUALS
     from ..io.formats.calibration import allow_nan, calibrated_yaml, calibration_dataset
 
     names = parse_fit(fit)
     for opt, val in (("initial", initial), ("frame", frame)):
         if val not in ("fit", "data"):
             raise ValueError(f"{opt}: {val!r} is not 'fit' or 'data'")
+    if residual not in RESIDUALS:
+        raise ValueError(f"residual: {residual!r} is not one of {', '.join(RESIDUALS)}")
     params = settings.params(cfg)
     dt = float(settings.value(cfg, "sim.dt"))
     m = read_measured(measured)
-    # the measurement says the actuator: a run in volts has the twisted strings (actuator.kind,
-    # which the commands keep at pneumatic, is not read)
+    # the measurement says the actuator: a run in volts has the twisted strings (actuator.kind
+    # is not read; calibrated.yaml writes the run's)
     motors = settings.twisted_strings(cfg) if m.command == "voltage" else None
     mode = mode or m.mode
     if not mode:
         raise ValueError(f"{measured}: the file does not say its mode; give --mode free or --mode grounded")
-    c = fit_model(m, params, names, mode, dt, initial == "fit", frame == "fit", check, motors)
+    c = fit_model(m, params, names, mode, dt, initial == "fit", frame == "fit", check, motors, residual)
     header = (
-        f"calibrated by tensegrity calibrate from {measured} ({mode} mode)\n"
+        f"calibrated by tensegrity calibrate from {measured} ({mode} mode, residual {residual})\n"
         f"fitted: {', '.join(names)}; residual RMS {c.rms_mm:.3g} mm\n"
         "use: --config FILE, or snakemake --configfile FILE"
     )

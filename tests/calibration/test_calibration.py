@@ -23,6 +23,15 @@ def test_noise_free_free_mode_recovers_four_parameters_to_a_thousandth(free_run,
     assert np.all(c.unc.lower <= c.estimate) and np.all(c.estimate <= c.unc.upper)
 
 
+def test_the_shape_residual_recovers_four_parameters_to_a_thousandth(free_run, start, truth, four):
+    """The 24 cable lengths instead of the node positions (`--residual shape`): they do not see
+    the robot's rigid motion, but they do the cable law, to 0.1 % without noise."""
+    c = calibrate(free_run, start, four, "free", 1e-4, fit_initial=False, check=0.0, residual="shape")
+    err = _relative_errors(c, truth)
+    assert max(err.values()) < 1e-3, err
+    assert c.problem.valid.shape == (free_run.t.size, 24) and c.rms_mm < 1e-3
+
+
 def test_gaps_occluded_markers_and_missing_rows_are_left_out(free_run, truth):
     """A NaN coordinate (an occluded marker) and rows missing from the grid do not bias the fit:
     the noise-free answer is the same to 0.1 %."""

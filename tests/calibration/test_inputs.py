@@ -124,6 +124,7 @@ def test_calibrate_command_writes_a_configuration_every_command_accepts(tmp_path
     ds = datasets.read("rep.nc")
     assert cfg["params"]["muscle_gain"] == pytest.approx(589.0, rel=1e-3) == float(ds["muscle_gain"])
     assert cfg["params"]["cable_damping"] == pytest.approx(2.0, rel=1e-3)
+    assert cfg["actuator"]["kind"] == "pneumatic"  # the run's actuator, whatever --set said
     assert ds["correlation"].shape == (2, 2) and ds.attrs["mode"] == "free" and ds.attrs["residual_rms_mm"] < 1e-3
     assert ds["residual"].dims == ("time", "node", "axis") and ds.sizes["time"] == 30
     assert np.isfinite(ds.attrs["check_rms_predict_mm"])

@@ -9,7 +9,7 @@ import xarray as xr
 from tensegrity.calibration import calibrate
 from tensegrity.calibration import synthetic as syn
 from tensegrity.cli import main
-from tensegrity.io import config, datasets
+from tensegrity.io import config, datasets, settings
 from tensegrity.io.formats import common
 from tensegrity.io.formats.measured import VOLTAGE_CSV_COLUMNS, read_measured, write_measured_csv
 from tensegrity.physics.twisted import TwistedString
@@ -126,9 +126,10 @@ def test_calibrate_command_on_a_csv_in_volts_writes_the_actuator_section(volt_ru
     assert main([*args, *sets]) == 0
     assert main(["config", "check", "cal.yaml"]) == 0
     cfg = config.load("cal.yaml")
-    assert cfg["actuator"]["kind"] == "pneumatic"  # the commands run the muscles only (io.cross_checks)
-    assert cfg["actuator"]["twisted_string"]["spring_stiffness"] == pytest.approx(1000.0, rel=1e-3)
-    assert cfg["actuator"]["twisted_string"]["string_radius"] == TwistedString().string_radius
+    assert cfg["actuator"]["kind"] == "twisted_string"  # the run's actuator: every command drives it
+    motors = settings.motors(cfg)
+    assert motors.spring_stiffness == pytest.approx(1000.0, rel=1e-3)
+    assert motors.string_radius == TwistedString().string_radius
     ds = datasets.read("r.nc")
     assert float(ds[key]) == pytest.approx(1000.0, rel=1e-3) and ds[key].attrs["units"] == "N m-1"
     assert main(["calibrate", "run.csv", "--fit", "cable_stiffness", "--mode", "free", "--out", "x.yaml"]) == 3
@@ -151,6 +152,11 @@ def test_simulate_writes_a_run_in_volts_that_calibrate_reads_back(tmp_path, monk
     args = ["calibrate", "run.nc", "--fit", key, "--out", "cal.yaml", "--report", "r.nc", "--initial", "data"]
     assert main([*args, "--check", "0", *volts, "--set", f"{key}={1.1 * radius}"]) == 0
     assert float(datasets.read("r.nc")[key]) == pytest.approx(radius, rel=1e-3)
+    # the calibrated configuration alone drives the strings: a run in volts from it (no --set)
+    # repeats the measured one (a pneumatic actuator.kind would refuse --voltage, exit 3)
+    assert main([*run, "--out", "again.nc", "--config", "cal.yaml", "--set", "sim.record_every=100"]) == 0
+    again = datasets.read("again.nc")["nodes"].values
+    assert np.max(np.abs(again - ds["nodes"].values)) < 1e-6  # m: the radius to 0.1 %
     # the muscles' --pressure with the strings, or --voltage with the muscles: refused, exit 3
     assert main([*run[:-4], "--pressure", "1", "--out", "x.nc", *volts]) == 3
     assert main([*run, "--out", "x.nc"]) == 3 and not (tmp_path / "x.nc").exists()

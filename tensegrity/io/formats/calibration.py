@@ -13,6 +13,7 @@ from ...calibration.fit import Calibration
 from ...calibration.model import ACTUATOR
 from ...physics import topology as topo
 from .. import datasets
+from .actuation import PNEUMATIC, TWISTED
 
 __all__ = ["UNITS", "CALIBRATION_ALLOW_NAN", "calibration_dataset", "calibrated_yaml"]
 
@@ -109,6 +110,7 @@ def calibration_dataset(c: Calibration) -> xr.Dataset:
         attrs={
             "measured": c.problem.m.source,
             "mode": c.problem.mode,
+            "residual": c.problem.residual,
             "fitted": ", ".join(c.names),
             "unknowns": ", ".join(c.problem.names[n:]) or "none",
             "not_determined": "; ".join(c.unc.undetermined) or "none",
@@ -130,18 +132,19 @@ def calibrated_yaml(c: Calibration, header: str) -> str:
     """The calibrated configuration: a `params:` section (every field of the configuration's
     section, the fitted ones calibrated) after the comment lines `header`, for `--config FILE`
     and `snakemake --configfile FILE`; for a run in volts also `actuator.twisted_string` (every
-    key of the strings, the fitted ones calibrated; actuator.kind is left to the configuration,
-    which the commands keep at pneumatic). Parameters the data could not determine keep a comment."""
+    key of the strings, the fitted ones calibrated); `actuator.kind` is the run's (twisted_string
+    for a run in volts, pneumatic for one in MPa), so that the commands and the pipeline drive the
+    calibrated robot with its own actuator. Parameters the data could not determine keep a comment."""
     from ..config import validate
 
     section, params = validate({})["params"], c.params
     for k in section:
         section[k] = float(getattr(params, k))
-    out = {"params": section}
+    out = {"params": section, "actuator": {"kind": PNEUMATIC}}
     motors = c.motors
     if motors is not None:
         strings = {k: float(getattr(motors, k)) for k in validate({})["actuator"]["twisted_string"]}
-        out["actuator"] = {"twisted_string": strings}
+        out["actuator"] = {"kind": TWISTED, "twisted_string": strings}
     lines = [f"# {h}" for h in header.splitlines()]
     lines += [f"# not determined by the measurement: {u}" for u in c.unc.undetermined]
     return "\n".join(lines) + "\n" + yaml.safe_dump(out, sort_keys=False)
