@@ -224,7 +224,7 @@ def validate_gravity(
     volts) G.1 rolls the controller in volts (`RollSettings.motors`), G.2 and G.3 compare in volts."""
     from ..validation import gravity as vg
 
-    _, kind = _kind(cfg)
+    motors, kind = _kind(cfg)
     g, s = cfg["gravity"], settings.build(RollSettings, cfg)
     sweeps = gf.read_gravity(gravity_path)
     rc = vg.check_rolls(settings.params(cfg), sweeps, g["validate_slopes"], s, float(g["max_pressure"]))
@@ -233,7 +233,8 @@ def validate_gravity(
         for contact, free in read_nominals(nominal_paths).items()
         if contact in sweeps
     }
-    rows, status = vg.verdicts(rc, flat, float(g["tip_tolerance"]))
+    lag = None if motors is None else vg.MOTOR_LAG
+    rows, status = vg.verdicts(rc, flat, float(g["tip_tolerance"]), lag=lag)
     rows = _worded(kind, rows)
     for r in rows:
         print(f"  {r.id} {r.status}: {r.measured}", flush=True)

@@ -32,6 +32,12 @@ from .grounded import GroundedComparison, compare_grounded
 from .words import Table, Verdict, edge_label, label, mm
 
 TITLE = "Validation of the gravity-aware workspace"
+# G.2 in volts: the motors lag a ramp (docs/benchmarks.md, "The recommended volts run": 60.5 mm on
+# the ramp at 0.1 V/s where check 4.1, on levels held 120 s, measures at most 8.3 mm)
+MOTOR_LAG = (
+    "the motors lag the ramp (they twist for seconds): its CoG at a voltage is not the settled CoG of "
+    "the free nominal file; check 4.1 measures the shift on settled levels"
+)
 
 
 @dataclass(frozen=True)
@@ -159,8 +165,12 @@ def verdicts(
     flat: Mapping[str, GroundedComparison | None],
     tolerance: float,
     shift_tolerance: float = CheckSettings.grounded_tolerance,
+    lag: str | None = None,
 ) -> tuple[list[Verdict], dict]:
-    """The verdict rows G.1-G.3 and their statuses."""
+    """The verdict rows G.1-G.3 and their statuses. `lag`: why the actuator's level lags the ramp
+    (the twisted strings' motors twist for seconds), so that the ramp's CoG at a level is not the
+    settled one the free nominal CoG holds: G.2 is then not evaluated, with that reason (check 4.1
+    measures the shift on settled levels)."""
     ok = np.isfinite(rc.difference)
     worst = int(np.nanargmax(rc.difference)) if ok.any() else -1
     missed = int(np.sum(np.isfinite(rc.workspace_tip) != np.isfinite(rc.roll_tip)))
@@ -175,7 +185,7 @@ def verdicts(
     cmp_ = [c for c in flat.values() if c is not None]
     shifts = [c.in_plane_max for c in cmp_ if np.isfinite(c.in_plane_max)]
     # G.2, G.3 measure the paper's assumption (free mode) as check 4 does: numbers, not checks
-    g2 = INFO if shifts else SKIP
+    g2 = INFO if shifts and lag is None else SKIP
     g3 = INFO if cmp_ else SKIP
     agree = [f"{c}: {int(v.agree.sum())} of {v.agree.size} pairs" for c, v in flat.items() if v is not None]
     rows = [
@@ -189,7 +199,7 @@ def verdicts(
         Verdict(
             "G.2",
             "on flat ground, gravity and contact shift the standing robot's CoG little (check 4.1 on the ramp)",
-            f"largest {mm(max(shifts))} in the support plane" if shifts else "n/a",
+            lag if lag is not None else f"largest {mm(max(shifts))} in the support plane" if shifts else "n/a",
             f"reported (check 4.1 counts below {mm(shift_tolerance)} as negligible)",
             g2,
         ),
