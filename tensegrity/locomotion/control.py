@@ -94,18 +94,15 @@ def rested(s: RollSettings, obs: Obs, levels: np.ndarray) -> bool:
 
 
 def settle_controller(s: RollSettings, obs: Obs, brake: Brake | None = None) -> Controller:
-    """Zero pressure (or the `brake` of the face it rests on, changing at most at brake_rate from
-    the pressures applied before, `obs.pressure`) until settled (see RollSettings; with the
+    """Zero pressure (or the `brake` of the face it rests on), changing at most at brake_rate from
+    the pressures applied before, `obs.pressure`, until settled (see RollSettings; with the
     twisted strings also their pairs at 0 V unwound, `rested`). Returns (face or None, last
     observation)."""
     calm, waited = 0, 0.0
     pres = obs.pressure
     while waited < s.settle_time - 1e-9:
-        if brake:
-            calm_face = None if obs.speed >= s.settle_speed else obs.face  # never mid-tumble
-            pres = _slew(brake.for_face(calm_face, obs.nodes), pres, s)
-        else:
-            pres = np.zeros(topo.N_PAIRS)
+        calm_face = None if obs.speed >= s.settle_speed else obs.face  # never mid-tumble
+        pres = _slew(brake.for_face(calm_face, obs.nodes) if brake else np.zeros(topo.N_PAIRS), pres, s)
         obs = yield pres
         waited += s.interval
         calm = calm + 1 if (obs.face is not None and obs.speed < s.settle_speed and rested(s, obs, pres)) else 0
@@ -155,7 +152,7 @@ def roll_controller(
         brake = None  # where the brake does not act (flat or rough ground): the unbraked roll
     held = brake.for_face(face0, obs.nodes) if brake else np.zeros(topo.N_PAIRS)
     fade, rolling = 1.0, False  # share of the start face's brake still on; it is rolling over
-    last = obs.pressure  # braking pressures go on from those applied before (brake_rate)
+    last = left = obs.pressure  # braking pressures go on from those applied before (brake_rate)
     release = s.brake_release_time if brake else s.release_time
     while phase != "settle":
         if phase == "ramp":
@@ -177,6 +174,9 @@ def roll_controller(
             pres = brake.for_face(landed, obs.nodes) if rolling else held  # or back on its own
         if brake:  # braking pressures change at most at brake_rate
             pres = _slew(pres, last, s)
+        else:  # unbraked, a brake left on before comes off at brake_rate (at once, it throws)
+            left = _slew(pres, left, s)
+            pres = left.copy()
         for j, wj in lanes:  # floats, not arrays, for the one or two pairs driven: the same numbers
             pres[j] = max(pres[j], min(level * wj, top))
         last = pres

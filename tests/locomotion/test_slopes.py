@@ -122,3 +122,25 @@ def test_a_roll_planned_at_zero_pressure_lets_the_brake_go(ws):
     assert np.all(np.asarray(pres)[-1, held] == 0.0)  # let go within full / brake_rate
     assert np.asarray(pres)[-1, pair - 1] <= len(pres) * s.ramp_rate * s.interval + 1e-9
     assert np.all(np.diff(np.asarray(pres)[:, held], axis=0) >= -s.brake_rate * s.interval - 1e-9)
+
+
+def test_an_unbraked_roll_lets_a_leftover_brake_go_at_brake_rate(ws):
+    """A roll judged unbraked (brake None) or a settle without a brake, started with a brake
+    still on from before (`Obs.pressure`), brings it down at brake_rate while the driven pair
+    ramps. Once, an unbraked roll dropped 2.4-4.8 MPa to zero in one check interval: the robot
+    snapped back to its rest shape, its CoG rose 160-180 mm on terrain or it slid 0.6-1.1 m down
+    a 10 deg slope, and every candidate simulated from there failed alike
+    (docs/planner_evaluation.md)."""
+    s = lo.RollSettings()
+    (obs,) = observe(DAMPED, SLOPE, d.stand_on(DAMPED, EQUI, SLOPE), s)
+    left = np.zeros(topo.N_PAIRS)
+    left[[3, 8]] = ws.max_pressure, 2.4  # #4 and #9 (MPa), as the runs left them
+    steps = int(np.ceil(left.max() / (s.brake_rate * s.interval))) + 1
+    moving = replace(obs, speed=1.0)  # a settle that does not end before the brake is off
+    roll = roll_controller(DAMPED, s, replace(obs, pressure=left), (10,), ws.max_pressure)
+    for ctl, driven in ((roll, 9), (settle_controller(s, replace(moving, pressure=left)), None)):
+        sent = obs if driven else moving  # the robot does not move
+        pres = np.asarray([left, next(ctl)] + [ctl.send(sent) for _ in range(steps)])
+        assert np.all(np.diff(pres[:, [3, 8]], axis=0) >= -s.brake_rate * s.interval - 1e-9)
+        assert np.all(pres[-1, [3, 8]] == 0.0)  # let go within left / brake_rate
+        assert (pres[-1, 9] > 0) == (driven is not None)  # the roll ramps its pair meanwhile
