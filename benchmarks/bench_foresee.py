@@ -13,9 +13,13 @@ the same digest means the same rolls, bit for bit. Run it against another tree w
 With `--runs GROUND ...` it runs those grounds of `bench_locomotion.py` instead (8 evaluation
 cases, `--cases`), prints bench_locomotion's report and, per ground, a digest of every run (its
 outcome, rolls and distance, and every RollResult of its steps, made and simulated) with the
-planning CPU s per roll: the same digest, the same runs, bit for bit.
+planning CPU s per roll: the same digest, the same runs, bit for bit. Both modes read the
+two-pair workspace as bench_locomotion does (`--two-pair`, default results/workspace_two_pair.nc;
+`none` or a missing file: superposed combinations); the runs before 2026-12-06 passed none, which is
+why their `--runs` arrivals (5/8 on 20 deg, 3/8 on 24) differed from bench_locomotion's (7/8, 2/8).
 
 Usage: python benchmarks/bench_foresee.py [--workspace results/workspace.nc] [--repeat 2]
+       [--two-pair results/workspace_two_pair.nc | none]
        [--grounds slope20 slope24 terrain0.07] [--profile tottime|cumtime]
        [--runs slope20 ... [--cases 8]]
 Without the workspace file, one is computed first with the default configuration (~30 s).
@@ -109,6 +113,7 @@ def runs(grounds, cases, ws, params, s) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--workspace", default="results/workspace.nc")
+    ap.add_argument("--two-pair", default="results/workspace_two_pair.nc", help="'none': superposed combinations")
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--grounds", nargs="+", choices=list(GROUNDS), default=list(GROUNDS))
     ap.add_argument("--runs", nargs="+", choices=list(bench_locomotion.GROUNDS), help="whole runs instead")
@@ -118,7 +123,8 @@ def main() -> None:
     cfg = config.load()
     params = io_settings.params(cfg)
     s = io_settings.build(lo.RollSettings, cfg)
-    ws = bench_locomotion.workspace(a.workspace, None)
+    two = None if a.two_pair.lower() == "none" or not Path(a.two_pair).is_file() else a.two_pair
+    ws = bench_locomotion.workspace(a.workspace, two)
     if a.runs:
         return runs(a.runs, a.cases, ws, params, s)
     d.warm()

@@ -275,7 +275,16 @@ BENCHMARKS = {
         "--tiny",
         "--steps",
     ],
-    "bench_foresee.py": ["--workspace", "{tiny}/results/workspace.nc", "--grounds", "terrain0.07", "--repeat", "1"],
+    "bench_foresee.py": [
+        "--workspace",
+        "{tiny}/results/workspace.nc",
+        "--two-pair",
+        "{tiny}/results/workspace_two_pair.nc",
+        "--grounds",
+        "terrain0.07",
+        "--repeat",
+        "1",
+    ],
     "bench_actuation.py": ["--slopes", "0", "--headings", "0", "--max-pressure", "3"],
     "bench_slope_multi.py": [
         "--gravity",
