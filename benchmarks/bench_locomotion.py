@@ -33,6 +33,7 @@ markdown table closes the output.
 Usage: python benchmarks/bench_locomotion.py [--workspace results/workspace.nc]
        [--two-pair results/workspace_two_pair.nc | none] [--cases 8] [--seeds evaluation|tuning]
        [--grounds flat slope15 ...] [--distance 2.0] [--face 9,10,12] [--set key=value ...]
+       [--configfile volts.yaml]
        [--steps] [--tiny]
 `--tiny` (the test suite's): one case on flat and on slope15, 0.6 m away.
 Without the workspace file, one is computed first with the default configuration (~30 s).
@@ -236,13 +237,17 @@ def main() -> None:
     ap.add_argument("--grounds", nargs="+", choices=list(GROUNDS), default=list(GROUNDS))
     ap.add_argument("--distance", type=float, default=2.0, help="goal distance, m")
     ap.add_argument("--face", default="auto", help="start face a,b,c at the drawn yaw; 'auto' (default): as roll")
+    ap.add_argument("--configfile", help="a YAML file merged over config/config.yaml (e.g. the volts table)")
     ap.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override RollSettings")
     ap.add_argument("--steps", action="store_true", help="print every step of every run")
     ap.add_argument("--tiny", action="store_true", help="one case on flat and slope15, 0.6 m away")
     a = ap.parse_args()
     if a.tiny:
         a.cases, a.grounds, a.distance = 1, ["flat", "slope15"], 0.6
-    cfg = config.load()
+    try:
+        cfg = config.load(a.configfile)
+    except (OSError, config.ConfigError) as e:
+        ap.error(f"--configfile {a.configfile}: {e}")
     params = io_settings.params(cfg)
     if a.distance < float(params.strut_length):
         ap.error(f"--distance {a.distance} m is less than the robot's size (strut length {params.strut_length} m)")
