@@ -79,7 +79,7 @@ def interval(
     q: float,
     lo: np.ndarray | float = -np.inf,
     hi: np.ndarray | float = np.inf,
-    budget: int = BUDGET,
+    budget: int | None = None,
 ) -> tuple[tuple[float, float], tuple[bool, bool], int]:
     """The 95 % profile interval (P1) of unknown j: its lower and upper end (scaled, a bound if
     open), whether each is open, and the refits made. x (p,) the optimum (scaled), cost its
@@ -87,7 +87,8 @@ def interval(
     linearised interval's step of every unknown with x_j (`linearity.steps`: step[j] the
     linearised half-width), s the residual standard deviation (m), q the quantile, lo, hi the
     bounds (scaled); `refit(held, y0)` -> (y, J, scipy result) the least-squares optimum of the
-    other unknowns from y0 (`fit.solve`). Raises OutOfBudget past `budget` refits."""
+    other unknowns from y0 (`fit.solve`). Raises OutOfBudget past `budget` (None: BUDGET) refits."""
+    budget = BUDGET if budget is None else budget
     lo, hi = np.broadcast_to(lo, x.shape), np.broadcast_to(hi, x.shape)
     width, slope = float(step[j]), step / step[j]
     done: dict[float, tuple[float, np.ndarray]] = {0.0: (-q, x)}  # signed offset -> z, refitted x
