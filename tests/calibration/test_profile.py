@@ -5,16 +5,18 @@ on a model linear in b^3 it is the cube root of the linearised interval of c = b
 linearised interval of b fails `linearity`'s check; a profile that stays below the threshold up to
 a bound gives an interval open at that bound."""
 
+from dataclasses import replace
 from functools import partial
 from types import SimpleNamespace
 
 import numpy as np
 from scipy.optimize import least_squares
 
-from tensegrity.calibration import profile
+from tensegrity.calibration import calibrate, profile
 from tensegrity.calibration.fit import solve
 from tensegrity.calibration.linearity import linear, steps
 from tensegrity.calibration.uncertainty import uncertainty
+from tensegrity.io.formats.calibration import calibrated_yaml, calibration_dataset
 
 NAMES = ("a", "b")
 t = np.linspace(0, 1, 200)
@@ -75,3 +77,20 @@ def test_a_profile_below_the_threshold_up_to_a_bound_is_open_there():
     )
     (lower, upper), shut, _ = _profile(prob, res, unc, 1, np.array([0.01, 0.01]), np.array([100.0, 100.0]))
     assert shut == (False, True) and upper == 100.0 and 0.01 < lower < 3.0
+
+
+def test_the_report_and_calibrated_yaml_say_what_gave_each_interval(free_run, truth):
+    """A fit whose intervals are linearised says so in the report and adds no comment to
+    calibrated.yaml; one with a profile interval (here put in by hand) names it in both."""
+    c = calibrate(
+        free_run.head(40), truth.replace(cable_stiffness=1100.0), ("cable_stiffness",), "free", 1e-4, False, check=0.0
+    )
+    ds = calibration_dataset(c)
+    assert c.unc.method == ("linearised",) and ds.attrs["interval_methods"] == "cable_stiffness: linearised"
+    assert "profile" not in calibrated_yaml(c, "run")
+    c = replace(
+        c, unc=replace(c.unc, lower=np.array([990.0]), upper=np.array([1.1e5]), method=("profile, open above",))
+    )
+    assert calibration_dataset(c)["cable_stiffness_upper_95"].attrs["interval_method"] == "profile, open above"
+    line = "# 95 % interval of cable_stiffness by its profile likelihood, open above: [990, 110000]"
+    assert line in calibrated_yaml(c, "run").splitlines()
