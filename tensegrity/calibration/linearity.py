@@ -6,9 +6,10 @@ standard errors (q = t_0.975), the cost should rise by q^2 s^2; the fit
 evaluates it at both ends (one batched simulation, 2 robots per parameter), and a parameter whose
 rise is off by more than a factor LINEAR (1.25) at either end gets the interval of its profile
 likelihood instead (`profile`: the other unknowns refitted; given a refit, as `fit` does), or,
-without one or if the profile fails, none, and is named as too weakly determined. A rise 1/1.25 of the prediction puts the likelihood
-interval's end sqrt(1.25) = 1.12 times further out, so an interval that passes covers at least
-~92 % instead of 95 % (2 Phi(1.96 / 1.12) - 1); a rise faster than predicted says the model curves
+without one or if the profile fails, none, and is named as too weakly determined. A rise 1/1.25
+of the prediction puts the likelihood interval's end sqrt(1.25) = 1.12 times further out, so an
+interval that passes covers at least ~92 % instead of 95 % (2 Phi(1.96 / 1.12) - 1); a rise faster
+than predicted says the model curves
 over the interval (the valley of the cost may bend away from the line). 1.5 (~89 %) let a
 stiffness 10 standard errors off through at rises 1.09 and 1.45 (run in volts, seed 161082 of
 the coverage test). Measured (0.5 mm of noise): the free mode with the muscles, 0.98-1.02 (two

@@ -102,8 +102,12 @@ def interval(
         y0 = np.clip(done[near][1] + (u - near) * slope, lo, hi)
         held = Held(prob, j, float(x[j] + u))
         try:
-            y, _, res = refit(held, np.delete(y0, j))
-            rise = float(res.fun @ res.fun) - cost
+            if x.size > 1:
+                y, _, res = refit(held, np.delete(y0, j))
+                fun = res.fun
+            else:  # nothing else to refit
+                y, fun = np.zeros(0), held.residuals(np.zeros((1, 0)))[0]
+            rise = float(fun @ fun) - cost
             done[u] = (float(np.sign(rise) * np.sqrt(abs(rise)) / s - q), np.insert(y, j, x[j] + u))
         except (SimulationError, ValueError):
             done[u] = (_FAILED, y0)

@@ -94,3 +94,15 @@ def test_the_report_and_calibrated_yaml_say_what_gave_each_interval(free_run, tr
     assert calibration_dataset(c)["cable_stiffness_upper_95"].attrs["interval_method"] == "profile, open above"
     line = "# 95 % interval of cable_stiffness by its profile likelihood, open above: [990, 110000]"
     assert line in calibrated_yaml(c, "run").splitlines()
+
+
+def test_a_single_unknown_is_profiled_without_a_refit():
+    """With nothing else to refit the profile is the cost itself: for y = b t, the linearised
+    interval (to round-off)."""
+    y = 2.0 * t + np.random.default_rng(3).normal(0.0, 0.1, t.size)
+    res = least_squares(lambda x: x[0] * t - y, np.ones(1))
+    prob = SimpleNamespace(n_params=1, names=("b",), units=np.ones(1), residuals=lambda X: X[:, :1] * t - y)
+    unc = uncertainty(res.jac, res.fun, 1, res.x, ("b",))
+    q = (unc.upper[0] - res.x[0]) / unc.se[0]
+    ends, _, n = profile.interval(prob, None, res.x, np.array([q * unc.se[0]]), 0, res.fun @ res.fun, unc.s, q)
+    assert np.allclose(ends, (unc.lower[0], unc.upper[0]), rtol=0, atol=1e-6 * unc.se[0]) and n <= 10
