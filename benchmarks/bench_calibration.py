@@ -2,7 +2,8 @@
 pretension, damping, muscle gain) from a free-mode trajectory made by our own simulator, by
 default 8 s sampled at 100 Hz with 0.5 mm of noise, the fit starting 10-20 % off, the initial
 state fitted too. Prints the wall and CPU time of the calibration (the fit and its prediction
-check) and the recovered values with their 95 % intervals; asserts nothing. Target: under 60 s
+check) and the recovered values with their 95 % intervals and what gave each (linearised or
+profile); asserts nothing. Target: under 60 s
 on 2 cores.
 
 Usage: python benchmarks/bench_calibration.py [--seconds 8] [--rate 100] [--noise 0.5] [--seed 1]
@@ -54,10 +55,11 @@ def main() -> None:
         f"calibration (fit and prediction check): {wall:.1f} s wall, {cpu:.1f} s CPU; the fit: {c.nfev} "
         f"evaluations, {c.njev} Jacobians (batches of {len(c.x)} robots)"
     )
-    print(f"{'parameter':<18} {'true':>9} {'estimate':>12} {'95 % interval':>28} {'error/se':>9}")
-    for k, e, lo, hi, se in zip(c.names, c.estimate, c.unc.lower, c.unc.upper, c.unc.se, strict=True):
+    print(f"{'parameter':<18} {'true':>9} {'estimate':>12} {'95 % interval':>28} {'error/se':>9}  interval by")
+    rows = zip(c.names, c.estimate, c.unc.lower, c.unc.upper, c.unc.se, c.unc.method, strict=True)
+    for k, e, lo, hi, se, how in rows:
         tv = getattr(truth, k)
-        print(f"{k:<18} {tv:>9.4g} {e:>12.6g} {f'[{lo:.6g}, {hi:.6g}]':>28} {(e - tv) / se:>9.2f}")
+        print(f"{k:<18} {tv:>9.4g} {e:>12.6g} {f'[{lo:.6g}, {hi:.6g}]':>28} {(e - tv) / se:>9.2f}  {how}")
     print(f"residual RMS {c.rms_mm:.3f} mm")
     if c.prediction:
         p = c.prediction

@@ -20,7 +20,7 @@ fitted to a relative cost decrease of 1e-12). Without noise the step is as large
 residual it explains (the ratio ~ sqrt(N)), so the fit runs to the tolerances as before.
 
 Whether the intervals hold: `misfit` (a model that does not fit the run), `linearity` (the cost
-at each interval's ends).
+at each interval's ends; where it fails, the interval of the profile, `profile`).
 
 Forward differences of step STEP in the scaled unknowns (a relative step of 1e-6 for a parameter,
 1e-8 m or rad for the initial state) are good to about 1e-5 of a column (truncation ~ STEP
@@ -32,6 +32,7 @@ every coordinate were FAILED m off, so the step is refused and the trust region 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -41,6 +42,7 @@ from ..physics.dynamics import SimulationError
 from ..physics.params import Params
 from ..physics.twisted import TwistedString
 from . import model as mdl
+from . import profile
 from .linearity import linear
 from .measurement import Measurement
 from .misfit import misfit
@@ -246,7 +248,8 @@ def calibrate(
     r, theta = R[prob.valid], prob.values(x)[:n]
     unc = uncertainty(J / prob.units, r, n, theta, prob.fit, structural(prob.constants, theta))
     unc = misfit(R, unc, prob.fit)
-    unc = linear(prob, x, J, r, unc, *_bounds(prob))
+    refit = partial(solve, max_nfev=profile.NFEV, ftol=profile.FTOL)
+    unc = linear(prob, x, J, r, unc, *_bounds(prob), refit=refit)
     prediction = _predict(prob, x, **fitted) if fitted else {}
     return Calibration(
         prob.fit,

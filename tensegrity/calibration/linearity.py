@@ -4,10 +4,12 @@ The linearised interval of a parameter (`uncertainty`) assumes the model linear 
 Along the direction in which the covariance moves every unknown with that parameter's +- q
 standard errors (q = t_0.975), the cost should rise by q^2 s^2; the fit
 evaluates it at both ends (one batched simulation, 2 robots per parameter), and a parameter whose
-rise is off by more than a factor LINEAR (1.25) at either end gets no interval and is named as too
-weakly determined by the measurement. A rise 1/1.25 of the prediction puts the likelihood
-interval's end sqrt(1.25) = 1.12 times further out, so an interval that passes covers at least
-~92 % instead of 95 % (2 Phi(1.96 / 1.12) - 1); a rise faster than predicted says the model curves
+rise is off by more than a factor LINEAR (1.25) at either end gets the interval of its profile
+likelihood instead (`profile`: the other unknowns refitted; given a refit, as `fit` does), or,
+without one or if the profile fails, none, and is named as too weakly determined. A rise 1/1.25
+of the prediction puts the likelihood interval's end sqrt(1.25) = 1.12 times further out, so an
+interval that passes covers at least ~92 % instead of 95 % (2 Phi(1.96 / 1.12) - 1); a rise faster
+than predicted says the model curves
 over the interval (the valley of the cost may bend away from the line). 1.5 (~89 %) let a
 stiffness 10 standard errors off through at rises 1.09 and 1.45 (run in volts, seed 161082 of
 the coverage test). Measured (0.5 mm of noise): the free mode with the muscles, 0.98-1.02 (two
@@ -22,6 +24,7 @@ is not made.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -29,12 +32,32 @@ from scipy import stats
 
 from ..physics.dynamics import SimulationError
 from . import model as mdl
+from . import profile
 from .uncertainty import Uncertainty, normal_inverse
 
 __all__ = ["LINEAR", "FLOOR", "rises", "linear"]
 
 LINEAR = 1.25  # an interval holds if the cost at its ends rises by q^2 s^2 within this factor
 FLOOR = 1e-8  # m: a residual standard deviation below this is a noise-free fit (no check)
+
+
+def steps(J: np.ndarray, unc: Uncertainty, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The parameters with a linearised interval (k,) and the step (n, p) in scaled unknowns to
+    the + end of each one's interval, every unknown moved with it along its covariance column
+    (the linearised conditional optimum; rows of the others NaN); J (N, p) scaled, at x^."""
+    keep = np.flatnonzero(np.isfinite(unc.se))
+    V = np.full((n, J.shape[1]), np.nan)
+    if keep.size:
+        cols = np.concatenate([keep, np.arange(n, J.shape[1])])
+        C = normal_inverse(J[:, cols])
+        V[keep] = 0.0
+        V[np.ix_(keep, cols)] = _q(unc) * unc.s * (C[:, : keep.size] / np.sqrt(np.diag(C)[: keep.size])).T
+    return keep, V
+
+
+def _q(unc: Uncertainty) -> float:
+    """t_{0.975, N-p}, the quantile of `uncertainty`."""
+    return float(stats.t.ppf(0.975, unc.dof))
 
 
 def rises(
@@ -52,14 +75,10 @@ def rises(
     end outside the bounds lo, hi (scaled) or whose simulation fails."""
     n = prob.n_params
     out = np.full((n, 2), np.nan)
-    keep = np.flatnonzero(np.isfinite(unc.se))
+    keep, V = steps(J, unc, n)
     if not keep.size:
         return out
-    cols = np.concatenate([keep, np.arange(n, len(x))])
-    C = normal_inverse(J[:, cols])
-    q = float(stats.t.ppf(0.975, unc.dof))
-    V = np.zeros((keep.size, len(x)))
-    V[:, cols] = q * unc.s * (C[:, : keep.size] / np.sqrt(np.diag(C)[: keep.size])).T
+    V = V[keep]
     X = np.concatenate([x + V, x - V])  # (2k, p): every + end, then every - end
     rise = np.full(len(X), np.inf)
     rows = np.flatnonzero(np.all((X >= lo) & (X <= hi), axis=1))
@@ -68,7 +87,7 @@ def rises(
             R = prob.residuals(X[rows])
         except (SimulationError, ValueError):  # one robot at a time: find the one that fails
             R = np.array([_or_nan(prob, X[i]) for i in rows])
-        rise[rows] = (np.sum(R**2, axis=1) - r @ r) / (q * unc.s) ** 2
+        rise[rows] = (np.sum(R**2, axis=1) - r @ r) / (_q(unc) * unc.s) ** 2
     out[keep] = np.nan_to_num(rise.reshape(2, keep.size).T, nan=np.inf)
     return out
 
@@ -81,10 +100,13 @@ def linear(
     unc: Uncertainty,
     lo: np.ndarray | float = -np.inf,
     hi: np.ndarray | float = np.inf,
+    refit: Callable | None = None,
 ) -> Uncertainty:
     """`unc` with the parameters whose interval does not hold (module docstring, LINEAR: their
-    `rises` off the prediction by more than that factor at either end) left without one and
-    named. Not made below a residual of FLOOR m."""
+    `rises` off the prediction by more than that factor at either end) given the profile's
+    interval instead (`profile.interval`, with `refit` the least squares of the other unknowns;
+    their se and correlations NaN), or, without `refit` or if the profile fails, none, and named.
+    Not made below a residual of FLOOR m."""
     if not np.isfinite(unc.se).any() or unc.s < FLOOR:
         return unc
     rise = rises(prob, x, J, r, unc, lo, hi)
@@ -94,12 +116,33 @@ def linear(
     se, lower, upper, corr = unc.se.copy(), unc.lower.copy(), unc.upper.copy(), unc.corr.copy()
     se[lost] = lower[lost] = upper[lost] = np.nan
     corr[lost, :] = corr[:, lost] = np.nan
-    said = tuple(
-        f"{prob.fit[j]} (too weakly determined for a linearised interval: the cost at its ends rises "
-        f"{a:.3g} and {b:.3g} times the linear prediction)"
-        for j, (a, b) in zip(lost, rise[lost], strict=True)
+    method, said, refits, V = list(unc.method), [], unc.refits, steps(J, unc, prob.n_params)[1]
+    lo, hi = np.broadcast_to(lo, x.shape), np.broadcast_to(hi, x.shape)
+    for j, (a, b) in zip(lost, rise[lost], strict=True):
+        method[j] = "none"
+        why = f"the cost at its ends rises {a:.3g} and {b:.3g} times the linear prediction"
+        if refit is not None:
+            try:
+                ends, shut, n = profile.interval(prob, refit, x, V[j], j, float(r @ r), unc.s, _q(unc), lo, hi)
+            except (profile.OutOfBudget, SimulationError, ValueError) as e:
+                why += f"; its profile failed: {e}"
+            else:
+                refits += n
+                lower[j], upper[j] = np.array(ends) * prob.units[j]
+                side = [w for w, o in zip(("below", "above"), shut, strict=True) if o]
+                method[j] = "profile" + "".join(f", open {w}" for w in side)
+                continue
+        said.append(f"{prob.fit[j]} (too weakly determined for a linearised interval: {why})")
+    return replace(
+        unc,
+        se=se,
+        lower=lower,
+        upper=upper,
+        corr=corr,
+        undetermined=unc.undetermined + tuple(said),
+        method=tuple(method),
+        refits=refits,
     )
-    return replace(unc, se=se, lower=lower, upper=upper, corr=corr, undetermined=unc.undetermined + said)
 
 
 def _or_nan(prob: mdl.Problem, x: np.ndarray) -> np.ndarray:

@@ -60,4 +60,7 @@ def misfit(R: np.ndarray, unc: Uncertainty, names: tuple[str, ...]) -> Uncertain
     )
     corr = unc.corr.copy()
     corr[lost, :] = corr[:, lost] = np.nan
-    return replace(unc, se=nan, lower=nan.copy(), upper=nan.copy(), corr=corr, undetermined=unc.undetermined + said)
+    none = ("none",) * len(names)
+    return replace(
+        unc, se=nan, lower=nan.copy(), upper=nan.copy(), corr=corr, undetermined=unc.undetermined + said, method=none
+    )

@@ -48,7 +48,9 @@ _LOG_STEP = 1e-4  # central-difference step in log-parameters (error ~ step^2)
 class Uncertainty:
     """se, lower, upper (n,) in the parameters' units (NaN: not determined); corr (n, n);
     s the residual standard deviation (m); dof N - p; undetermined: each direction the data
-    cannot see, in words; singular (n,) the singular value ratios of the parameters' columns."""
+    cannot see, in words; singular (n,) the singular value ratios of the parameters' columns;
+    method (n,) what gave each interval: 'linearised', 'profile' (`profile`: ', open below',
+    ', open above' where it reaches a bound) or 'none'; refits the profiles' refits."""
 
     se: np.ndarray
     lower: np.ndarray
@@ -58,6 +60,8 @@ class Uncertainty:
     dof: int
     undetermined: tuple[str, ...]
     singular: np.ndarray
+    method: tuple[str, ...] = ()
+    refits: int = 0
 
 
 def _svd(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -170,4 +174,5 @@ def uncertainty(
         dof,
         tuple(describe(names, v, share) for v, share in null),
         np.concatenate([ratio, np.zeros(len(fixed))]),
+        tuple("linearised" if np.isfinite(e) else "none" for e in se),
     )

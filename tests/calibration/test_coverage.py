@@ -61,25 +61,25 @@ def test_noisy_intervals_cover_the_truth(truth, start, four, hold):
     assert 0.85 <= rate <= 1.0, np.mean(inside, axis=0)
 
 
-@pytest.mark.slow  # ~11 min of CPU: 20 fits of 6.2 s in volts (18-56 s each), the initial state fitted
-def test_noisy_runs_in_volts_give_intervals_that_hold_or_none(truth):
+@pytest.mark.slow  # ~30 min of CPU: 20 fits of 6.2 s in volts (17-50 s each) and their profiles (11-34 refits)
+def test_noisy_runs_in_volts_give_intervals_that_hold(truth):
     """Runs in volts (the twisted strings twisted up and back for 3 s each, `synthetic.twisting`),
     0.5 mm of noise, 20 seeds drawn at random: the spring stiffness, pretension and stall torque
     fitted from 10-17 % off (the damping, which the slow twisting hardly sees, configured 15 %
-    off). An interval is given only where the cost along it is the linear prediction (`linearity.linear`);
-    the true value lies inside 85-100 % of the intervals given, and the rest are named."""
+    off). Where the cost along the linearised interval is not the linear prediction
+    (`linearity.linear`: the stiffness and pretension, nearly always) the interval is the profile
+    likelihood's (`profile`); every interval is given, and the true value lies inside
+    85-100 % of them (docs/benchmarks.md, "Profile-likelihood intervals")."""
     key, strings = "actuator.twisted_string.", TwistedString()
     fit = ("spring_stiffness", "pretension", "stall_torque")
     start = strings.replace(spring_stiffness=1100.0, pretension=17.0, stall_torque=0.0833, damping=2.3)
     true = np.array([getattr(strings, k) for k in fit])
-    inside, given = [], []
+    inside, methods = [], []
     for seed in np.random.default_rng(32).integers(1000, 10**6, 20):
         m = syn.measure(truth, syn.twisting(6.2), 0.1, "free", motors=strings, noise=5e-4, seed=int(seed))
         c = calibrate(m, truth, tuple(key + k for k in fit), "free", 1e-4, check=0.0, motors=start)
-        given.append(np.isfinite(c.unc.se))
+        assert not c.unc.undetermined and np.isfinite([c.unc.lower, c.unc.upper]).all(), c.unc.undetermined
         inside.append((c.unc.lower <= true) & (true <= c.unc.upper))
-        named = {u.split(" ")[0] for u in c.unc.undetermined}
-        assert named == {key + k for k, g in zip(fit, given[-1], strict=True) if not g}, c.unc.undetermined
-    given, inside = np.array(given), np.array(inside)
-    assert given.sum() >= 20, given.mean(axis=0)  # the check does not simply drop every interval
-    assert 0.85 <= inside.sum() / given.sum() <= 1.0, (inside.sum(axis=0), given.sum(axis=0))
+        methods += c.unc.method
+    assert methods.count("profile") >= 20, methods  # the profile is what gives them
+    assert 0.85 <= np.mean(inside) <= 1.0, np.sum(inside, axis=0)

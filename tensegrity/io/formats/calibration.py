@@ -72,7 +72,8 @@ def calibration_dataset(c: Calibration) -> xr.Dataset:
     95 % interval (NaN: not determined) and the prediction check's estimate, in its own units;
     their relative standard errors and correlations; measured and simulated nodes (T, 12, 3) m
     in the world frame of the fit and the residual (NaN where not measured); attributes: the
-    mode, the combinations not determined, the residual RMS, the prediction check, the frame."""
+    mode, the combinations not determined, what gave each interval (`interval_method`: linearised
+    or profile), the residual RMS, the prediction check, the frame."""
     var = datasets.var
     n = len(c.names)
     check = c.prediction.get("estimate", np.full(n, np.nan))
@@ -82,8 +83,9 @@ def calibration_dataset(c: Calibration) -> xr.Dataset:
         out[k] = var((), c.estimate[j], u, f"calibrated {k}")
         out[f"{k}_start"] = var((), c.start[j], u, f"{k} the fit started from (the configuration)")
         out[f"{k}_standard_error"] = var((), c.unc.se[j], u, f"standard error of {k} (NaN: not determined)")
-        out[f"{k}_lower_95"] = var((), c.unc.lower[j], u, f"lower end of the 95 % interval of {k}")
-        out[f"{k}_upper_95"] = var((), c.unc.upper[j], u, f"upper end of the 95 % interval of {k}")
+        how = {"interval_method": c.unc.method[j]}  # linearised, profile (open below/above), none
+        out[f"{k}_lower_95"] = var((), c.unc.lower[j], u, f"lower end of the 95 % interval of {k}", **how)
+        out[f"{k}_upper_95"] = var((), c.unc.upper[j], u, f"upper end of the 95 % interval of {k}", **how)
         out[f"{k}_check_estimate"] = var((), check[j], u, f"{k} fitted on the first part only (prediction check)")
     R, o = c.problem.frame(c.x)
     resid = c.simulated - c.measured
@@ -114,6 +116,8 @@ def calibration_dataset(c: Calibration) -> xr.Dataset:
             "fitted": ", ".join(c.names),
             "unknowns": ", ".join(c.problem.names[n:]) or "none",
             "not_determined": "; ".join(c.unc.undetermined) or "none",
+            "interval_methods": "; ".join(f"{k}: {m}" for k, m in zip(c.names, c.unc.method, strict=True)),
+            "profile_refits": c.unc.refits,
             "residual_rms_mm": c.rms_mm,
             "residual_sd_mm": c.unc.s * 1e3,
             "degrees_of_freedom": c.unc.dof,
@@ -134,7 +138,8 @@ def calibrated_yaml(c: Calibration, header: str) -> str:
     and `snakemake --configfile FILE`; for a run in volts also `actuator.twisted_string` (every
     key of the strings, the fitted ones calibrated); `actuator.kind` is the run's (twisted_string
     for a run in volts, pneumatic for one in MPa), so that the commands and the pipeline drive the
-    calibrated robot with its own actuator. Parameters the data could not determine keep a comment."""
+    calibrated robot with its own actuator. Parameters the data could not determine keep a comment,
+    and so do intervals given by the profile likelihood (the linearised ones are in the report)."""
     from ..config import validate
 
     section, params = validate({})["params"], c.params
@@ -147,4 +152,9 @@ def calibrated_yaml(c: Calibration, header: str) -> str:
         out["actuator"] = {"kind": TWISTED, "twisted_string": strings}
     lines = [f"# {h}" for h in header.splitlines()]
     lines += [f"# not determined by the measurement: {u}" for u in c.unc.undetermined]
+    lines += [
+        f"# 95 % interval of {k} by its profile likelihood{m[len('profile') :]}: [{lo:.6g}, {hi:.6g}]"
+        for k, m, lo, hi in zip(c.names, c.unc.method, c.unc.lower, c.unc.upper, strict=True)
+        if m.startswith("profile")
+    ]
     return "\n".join(lines) + "\n" + yaml.safe_dump(out, sort_keys=False)

@@ -1,0 +1,72 @@
+"""Coverage of the calibration's 95 % intervals on runs in volts (issue 32): the case of the slow
+test `test_noisy_runs_in_volts_give_intervals_that_hold_or_none` (tests/calibration/
+test_coverage.py): the twisted strings twisted up and back for 3 s each (`synthetic.twisting`,
+6.2 s at 100 Hz), 0.5 mm of noise, the seeds drawn from numpy.random.default_rng(32); the spring
+stiffness, pretension and stall torque fitted from 10-17 % off (the damping configured 15 % off),
+the initial state fitted. Per seed: each parameter's error, its interval and what gave it
+('linearised', 'profile', or none: named), whether the truth is inside, the CPU time and the
+profile's refits; then per parameter the intervals given and the truths inside. `--budget 0`
+gives no profile (the intervals that fail `linearity`'s check are dropped, as before the
+profile). Asserts nothing.
+
+Usage: python benchmarks/bench_calibration_volts.py [--seeds 20] [--budget 30]
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+
+import numpy as np
+
+from tensegrity.calibration import calibrate, profile
+from tensegrity.calibration import synthetic as syn
+from tensegrity.physics.params import Params
+from tensegrity.physics.twisted import TwistedString
+
+KEY = "actuator.twisted_string."
+FIT = ("spring_stiffness", "pretension", "stall_torque")
+
+
+def _cpu_seconds() -> float:
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--seeds", type=int, default=20, help="how many of the test's seeds (its first N)")
+    ap.add_argument("--budget", type=int, default=profile.BUDGET, help="refits per profile (0: no profile)")
+    a = ap.parse_args()
+    profile.BUDGET = a.budget
+    truth, strings = Params(), TwistedString()
+    start = strings.replace(spring_stiffness=1100.0, pretension=17.0, stall_torque=0.0833, damping=2.3)
+    true = np.array([getattr(strings, k) for k in FIT])
+    given, inside, methods = [], [], []
+    print(f"profile budget {a.budget} refits per parameter")
+    for seed in np.random.default_rng(32).integers(1000, 10**6, 20)[: a.seeds]:
+        m = syn.measure(truth, syn.twisting(6.2), 0.1, "free", motors=strings, noise=5e-4, seed=int(seed))
+        c0 = _cpu_seconds()
+        c = calibrate(m, truth, tuple(KEY + k for k in FIT), "free", 1e-4, check=0.0, motors=start)
+        cpu = _cpu_seconds() - c0
+        ok = np.isfinite(c.unc.lower) & np.isfinite(c.unc.upper)
+        hit = ok & (c.unc.lower <= true) & (true <= c.unc.upper)
+        given.append(ok)
+        inside.append(hit)
+        methods.append(c.unc.method)
+        print(f"seed {seed}: {cpu:.1f} s CPU, {c.njev} Jacobians, {c.unc.refits} profile refits")
+        for k, e, lo, hi, me, tv, h in zip(FIT, c.estimate, c.unc.lower, c.unc.upper, c.unc.method, true, hit):
+            span = f"[{lo:.6g}, {hi:.6g}]" if np.isfinite(lo) else "none"
+            print(f"  {k:<17} error {e / tv - 1:+8.2%}  {span:>26} {me:<22} {'inside' if h else ''}")
+    given, inside = np.array(given), np.array(inside)
+    print("parameter          given  inside (of given)  methods")
+    for j, k in enumerate(FIT):
+        kinds = sorted({mm[j] for mm in methods})
+        print(f"{k:<18} {given[:, j].sum():>5}  {inside[:, j].sum():>6}             {', '.join(kinds)}")
+    print(
+        f"pooled: {inside.sum()} of {given.sum()} intervals hold the truth ({inside.sum() / max(given.sum(), 1):.3f})"
+    )
+
+
+if __name__ == "__main__":
+    main()
