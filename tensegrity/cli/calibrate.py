@@ -36,11 +36,12 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     print(f"wrote {', '.join(map(str, out))}")
     if args.report:
         ds = datasets.read(args.report)
-        print(f"{'parameter':<20} {'estimate':>12} {'std. error':>11} {'95 % interval':>27}")
+        print(f"{'parameter':<20} {'estimate':>12} {'std. error':>11} {'95 % interval':>27} unit, interval from")
         for k in ds["parameter"].values:
             e, se = float(ds[k]), float(ds[f"{k}_standard_error"])
             lo, hi = float(ds[f"{k}_lower_95"]), float(ds[f"{k}_upper_95"])
-            print(f"{k:<20} {e:>12.6g} {se:>11.3g} {f'[{lo:.6g}, {hi:.6g}]':>27} {ds[k].attrs['units']}")
+            how = ds[f"{k}_lower_95"].attrs.get("interval_method", "")  # a profile has no std. error
+            print(f"{k:<20} {e:>12.6g} {se:>11.3g} {f'[{lo:.6g}, {hi:.6g}]':>27} {ds[k].attrs['units']}, {how}")
         a = ds.attrs
         print(f"residual RMS {a['residual_rms_mm']:.3g} mm", end="")
         if np.isfinite(a["check_rms_predict_mm"]):

@@ -93,9 +93,10 @@ def test_measurement_needs_matching_shapes():
         Measurement(np.arange(4.0), np.zeros((4, 12, 3)), np.zeros((4, 11)))
 
 
-def test_calibrate_command_writes_a_configuration_every_command_accepts(tmp_path, monkeypatch):
+def test_calibrate_command_writes_a_configuration_every_command_accepts(tmp_path, monkeypatch, capsys):
     """simulate -> calibrate (free mode, initial state fitted, prediction check) -> config check;
-    the report and its figure; a bad key exits 3 naming it."""
+    the report and its figure; the printout says what gave each interval; a bad key exits 3
+    naming it."""
     monkeypatch.chdir(tmp_path)
     coarse = ["--set", "sim.record_every=100"]  # samples at 100 Hz
     assert (
@@ -119,6 +120,8 @@ def test_calibrate_command_writes_a_configuration_every_command_accepts(tmp_path
     )
     args = ["calibrate", "run.nc", "--fit", "cable_damping,muscle_gain", "--out", "cal.yaml", "--report", "rep.nc"]
     assert main([*args, "--set", "params.muscle_gain=560", "--set", "params.cable_damping=2.2"]) == 0
+    rows = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith(("muscle_gain", "cable_damping"))]
+    assert len(rows) == 2 and all(ln.endswith(", linearised") for ln in rows), rows
     assert main(["config", "check", "cal.yaml"]) == 0
     cfg = config.load("cal.yaml")
     ds = datasets.read("rep.nc")
