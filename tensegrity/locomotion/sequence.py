@@ -19,6 +19,8 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from ..physics.params import Params
+from ..physics.terrain import Terrain
 from .brake import Brake
 from .control import RollResult
 from .lockstep import Obs
@@ -75,8 +77,8 @@ def _onward(params, terrain, s: RollSettings, land: list, nxt: list, max_pressur
 
 
 def two_rolls(
-    params,
-    terrain,
+    params: Params,
+    terrain: Terrain,
     s: RollSettings,
     obs: Obs,
     todo: Sequence[Act],
@@ -106,8 +108,8 @@ def two_rolls(
 
 
 def alive(
-    params,
-    terrain,
+    params: Params,
+    terrain: Terrain,
     s: RollSettings,
     obs: Obs,
     chosen: Sequence[Act],
