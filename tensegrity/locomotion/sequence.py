@@ -19,8 +19,6 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ..physics.params import Params
-from ..physics.terrain import Terrain
 from .brake import Brake
 from .control import RollResult
 from .lockstep import Obs
@@ -77,8 +75,8 @@ def _onward(params, terrain, s: RollSettings, land: list, nxt: list, max_pressur
 
 
 def two_rolls(
-    params: Params,
-    terrain: Terrain,
+    params,
+    terrain,
     s: RollSettings,
     obs: Obs,
     todo: Sequence[Act],
@@ -108,8 +106,8 @@ def two_rolls(
 
 
 def alive(
-    params: Params,
-    terrain: Terrain,
+    params,
+    terrain,
     s: RollSettings,
     obs: Obs,
     chosen: Sequence[Act],
