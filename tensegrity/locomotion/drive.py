@@ -10,9 +10,7 @@ runs it.
 
 from __future__ import annotations
 
-import functools
 import time
-from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -23,7 +21,7 @@ from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace
-from . import lookahead, progress, sequence
+from . import lookahead, progress
 from .brake import Brake, escape
 from .control import RollResult, roll_controller, settle_controller
 from .lockstep import Controller, Obs
@@ -83,12 +81,12 @@ def drive(
                     outcome, message = "stuck", (f"edge {e[0]}-{e[1]} is not an edge of face {topo.face_label(face)}")
                     break
                 target = dict(direction=ct.edge_outward(obs.nodes[topo.FACES[face - 1]])[corners.index(e)])
-                cost, now = progress.over_edge(face, e), 1.0
+                cost, now = lookahead.over_edge(face, e), 1.0
             elif direction is None:
                 cost = lambda r, t=travel, h=lift: progress.rolls_to_goal(r.cog_after, goal, terrain, t, h)  # noqa: E731
                 now = progress.rolls_to_goal(obs.nodes.mean(axis=0), goal, terrain, travel, lift)
             else:
-                cost, now = progress.along(target["direction"], travel), 0.0
+                cost, now = lookahead.along(target["direction"], travel), 0.0
             visited = (visited + [face])[-_TABU - 1 :]
             cpu = time.process_time()  # planning CPU: the plan and every roll simulated ahead
             pl = plan(
@@ -112,7 +110,7 @@ def drive(
                 todo, simulated = lookahead.choose(
                     params,
                     terrain,
-                    replace(s, max_attempts=2 * len(acts) + 99),  # every acceptable roll, best first
+                    s,
                     obs,
                     acts,
                     workspace.max_pressure,
@@ -123,15 +121,6 @@ def drive(
                     now,
                     (lambda a=args: lookahead.acts(*a, lazy=True)) if s.optimised_actions else None,
                 )
-                two = (params, terrain, s, obs)  # two rolls ahead (`sequence`), for a goal or a direction
-                nxt = functools.partial(_next, workspace, params, terrain, s, visited=visited, target=target)
-                if todo and edges is None:  # not into a dead end
-                    todo, _ = sequence.alive(*two, todo, workspace.max_pressure, brk, expect, cost, memory, nxt)
-                elif edges is None:  # none acceptable: the first roll of the best two-roll sequence
-                    todo, _ = sequence.two_rolls(
-                        *two, acts, simulated[: len(acts)], workspace.max_pressure, brk, expect, cost, memory, now, nxt
-                    )
-                todo = todo[: s.max_attempts]
                 if not todo:  # none acceptable: make the first foreseen roll that keeps the robot on its
                     # face (no tumble: the run records what it tried, and ends stuck below)
                     todo = [acts[i] for i, r in enumerate(simulated[: len(acts)]) if r.face_after == face][:1]
@@ -202,13 +191,3 @@ def drive(
         outcome = "off_terrain" if "no terrain" in str(e) else "sim_error"
         message = str(e)
     return outcome, message, steps
-
-
-def _next(workspace, params, terrain, s: RollSettings, ob: Obs, bk: Brake | None, *, visited: list[int], target: dict):
-    """The candidates (`lookahead.acts`) and planned pressures MPa of the step after a roll that
-    landed as `ob` (with its state), the run's brake there `bk`, as `drive` would plan them."""
-    how = dict(combine=s.combine, min_alignment=s.min_alignment, unit=s.unit)
-    pl = plan(workspace, ob.face, ob.nodes, avoid=visited[-_TABU:], **how, **target)
-    world = lookahead.World(params, terrain, ob.state, workspace.max_pressure, s.optimised_actions)
-    expect = {c.pairs: c.pressure for c in pl.candidates}
-    return lookahead.acts(workspace, ob.face, ob.nodes, pl, target, bk, world), expect

@@ -22,12 +22,13 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numba
 import numpy as np
 
 from ..physics import dynamics as d
+from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace
@@ -128,59 +129,47 @@ def foresee(
     params: Params,
     terrain: Terrain,
     s: RollSettings,
-    obs: Obs | Sequence[Obs],
+    obs: Obs,
     todo: Sequence[Act],
     max_pressure: float,
-    brake: Brake | None | Sequence[Brake | None],
-    expect: dict[tuple[int, ...], float] | Sequence[dict],
-    landings: bool = False,
-) -> list:
+    brake: Brake | None,
+    expect: dict[tuple[int, ...], float],
+) -> list[RollResult]:
     """The rolls (one RollResult per candidate of `todo`) the robot observed in `obs` (with its
-    `state`; or one Obs per candidate, and one `brake` and `expect` each) would make, each with the run's
-    settings `s`, a copy of `brake` if braked, and the planned pressure `expect[pairs]` MPa (NaN
-    if absent or weighted), simulated together, on one numba thread: each kernel call advances a
-    batch by one check interval only, and a second OpenMP thread spins between calls, which
-    costs 2.4 times the CPU of one thread (156 candidates on a 20 deg slope,
-    docs/planner_evaluation.md). With `landings`, (RollResult, end Obs with its state, the run's
-    brake after it) per candidate. Raises SimulationError if a simulation blows up."""
-    one = isinstance(obs, Obs)
-    starts, brakes = ([obs] * len(todo), [brake] * len(todo)) if one else (list(obs), list(brake))
-    if any(o.state is None for o in starts):
+    `state`) would make, each with the run's settings `s`, a copy of `brake` if braked, and the
+    planned pressure `expect[pairs]` MPa (NaN if absent or weighted), simulated together from
+    the same state, on one numba thread: each kernel call advances a batch by one check
+    interval only, and a second OpenMP thread spins between calls, which costs 2.4 times the CPU
+    of one thread (156 candidates on a 20 deg slope, docs/planner_evaluation.md).
+    Raises SimulationError if a simulation blows up."""
+    if obs.state is None:
         raise ValueError("the observation carries no state to simulate from")
     if not todo:
         return []
-    state = d.State.concat([o.state for o in starts])
-    acting: dict[int, bool] = {}  # per start: the brake acts on its face (`Brake.active`)
-    after: list = [None] * len(todo)  # the run's brake after each candidate
+    state = d.State.concat([obs.state] * len(todo))
+    acting: list[bool] = []  # whether the brake acts on the start face (`Brake.active`, the same for all)
 
     def make(b: int, ob: Obs):
-        o, bk, key = starts[b], brakes[b], id(starts[b])
-        ob = Obs(ob.t, ob.nodes, ob.gap, ob.face, o.speed, o.pressure.copy(), cog=ob.cog)
+        ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy(), cog=ob.cog)
         pairs, braked, w = todo[b][0], todo[b][1], weights_of(todo[b])
         brk = None
-        if bk is not None and (braked or landings):
-            brk = after[b] = copy.deepcopy(bk, {id(bk.workspace): bk.workspace})  # the workspace shared
-            if not braked:
-                after[b].forget()  # as `drive` does after an unbraked roll
-            if key not in acting and ob.face is not None:
-                acting[key] = bk.active(ob.face, ob.nodes)
-            if not braked or acting.get(key) is False:  # where it does not act: the unbraked roll
-                brk = None
-        planned = (expect if one else expect[b]).get(pairs, float("nan")) if w is None else float("nan")
+        if braked and brake is not None:
+            if not acting and ob.face is not None:
+                acting.append(brake.active(ob.face, ob.nodes))
+            if acting[:1] != [False]:  # where it does not act, the roll is the unbraked one (roll_controller)
+                brk = copy.deepcopy(brake, {id(brake.workspace): brake.workspace})  # the workspace shared
+        planned = expect.get(pairs, float("nan")) if w is None else float("nan")
         ctl = roll_controller(
-            params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True, brake_acts=acting.get(key)
+            params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True, brake_acts=(acting or [None])[0]
         )
         return _until_slid(ctl, ob, pairs, w)
 
     threads = numba.get_num_threads()
     numba.set_num_threads(1)  # see the docstring
     try:
-        out = lockstep(params, terrain, state, make, s, record=False)
+        return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s, record=False)]
     finally:
         numba.set_num_threads(threads)
-    if landings:
-        return [(res, replace(ob, state=st), after[b]) for b, ((res, ob), st, _) in enumerate(out)]
-    return [res for (res, _), _, _ in out]
 
 
 def _until_slid(gen, obs: Obs, pairs: tuple[int, ...], w: np.ndarray | None):
@@ -290,3 +279,17 @@ def _doubling(n: int) -> list[int]:
     while out[-1] * 2 < n:
         out.append(out[-1] * 2)
     return out + [n]
+
+
+def over_edge(face: int, edge: tuple[int, int]) -> Callable[[RollResult], float]:
+    """The cost of a roll toward `edge` (1-based nodes) of 1-based `face`: 0 onto the face across
+    it, else 1 (another face: the plan may choose any pair, not any edge)."""
+    to = topo.neighbour(face, edge)
+    return lambda r: 0.0 if r.face_after == to else 1.0
+
+
+def along(direction: np.ndarray, travel: float) -> Callable[[RollResult], float]:
+    """The cost of a roll toward a world `direction` (3,): minus its CoG's travel along it, in rolls."""
+    u = np.asarray(direction, float)[:2]
+    u = u / np.linalg.norm(u)
+    return lambda r: -float(np.subtract(r.cog_after, r.cog_before)[:2] @ u) / travel
