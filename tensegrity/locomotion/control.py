@@ -131,31 +131,31 @@ def roll_controller(
     on, the brake fights the roll, which then tips late and fast or not at all); once the
     robot tips over, those of the face it rolls onto (`Brake.landing`). Where the brake does
     not act on the start face (`Brake.active`, or `brake_acts` if the caller knows), the roll
-    is the unbraked one: a brake left on (`obs.pressure`) first comes off at brake_rate and
-    the robot settles (at once, it throws the robot; while it comes off, the robot relaxes and
-    may lift support nodes), then the ramp starts, lifts measured from there; if the let-go
-    alone moved the robot off its face, the roll ends there (tip and peak 0). With `foresee`
+    is the unbraked one: a brake left on (`obs.pressure`) comes off first at brake_rate and the
+    robot settles (at once, it throws the robot; while it comes off, the robot relaxes and lifts
+    support nodes), then the ramp starts on the face it rests on, lift measured from there (the
+    result's face_before, t_start, cog_before: the roll's start). With `foresee`
     (a roll simulated ahead, `lookahead.foresee`), an unbraked roll ends as soon as the ramp
     gives up with every support node down: not rolled, on its face (the release and settling
     that follow do not move it; braked, the brake coming back on can still roll it). Returns
     (RollResult, last observation)."""
     if obs.face is None:
         raise ct.ContactError("a roll must start from a robot resting on a face")
-    face0, t0, cog0 = obs.face, obs.t, obs.nodes.mean(axis=0)
+    start, t0, cog0 = obs.face, obs.t, obs.nodes.mean(axis=0)  # the result's face, time, CoG before
     pairs, w = action_weights(pairs, weights)
-    if brake is not None and not (brake.active(face0, obs.nodes) if brake_acts is None else brake_acts):
+    if brake is not None and not (brake.active(start, obs.nodes) if brake_acts is None else brake_acts):
         brake = None  # where the brake does not act (flat or rough ground): the unbraked roll
     while brake is None and obs.face is not None and obs.pressure.any():  # a brake left on
         _, obs = yield from settle_controller(s, obs)
-    if obs.face != face0:  # the let-go alone moved it (on no face: a tumble); the action is not made
-        tip, done = (0.0, True) if obs.face is not None else (np.nan, False)
-        return RollResult(pairs, done, face0, obs.face, tip, 0.0, t0, obs.t, cog0, obs.cog, weights=weights), obs
+    if obs.face is None:
+        return RollResult(pairs, False, start, None, np.nan, 0.0, t0, obs.t, cog0, obs.cog, weights=weights), obs
+    face0, t_ramp = obs.face, obs.t
     support = topo.FACES[face0 - 1].tolist()  # node indices of the support triangle
     base = obs.gap[support].tolist()  # m (lists: cheaper than numpy for three nodes)
     S = float(params.strut_length)
     lanes = [(j, w[j]) for j in np.flatnonzero(w > 0).tolist()]  # (0-based pair, weight)
     top = s.max_level
-    level, tip, peak, phase, t_phase, t_ramp = 0.0, float("nan"), 0.0, "ramp", 0.0, obs.t
+    level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
     t_hold, rearmed = 0.0, True  # s in the hold (`schedule.hold_step`); a lift may start one
     landed, apex = None, -1
     held = brake.for_face(face0, obs.nodes) if brake else np.zeros(topo.N_PAIRS)
@@ -235,13 +235,14 @@ def roll_controller(
             phase, t_phase = "release", 0.0  # a safety net: no attempt runs on forever
         if foresee and brake is None and phase == "release" and not rolling and not up:
             cog = obs.nodes.mean(axis=0)
-            return RollResult(pairs, False, face0, face0, np.nan, peak, t0, obs.t, cog0, cog, weights=weights), obs
+            res = RollResult(pairs, face0 != start, start, face0, np.nan, peak, t0, obs.t, cog0, cog, weights=weights)
+            return res, obs
     after, obs = yield from settle_controller(s, obs, brake)
-    rolled = after is not None and after != face0
+    rolled = after is not None and after != start
     return RollResult(
         pairs,
         rolled,
-        face0,
+        start,
         after,
         (tip if np.isfinite(tip) else peak) if rolled else float("nan"),
         peak,
