@@ -132,7 +132,7 @@ def roll_controller(
     robot tips over, those of the face it rolls onto (`Brake.landing`). Where the brake does
     not act on the start face (`Brake.active`, or `brake_acts` if the caller knows), the roll
     is the unbraked one: a brake left on (`obs.pressure`) comes off first at brake_rate and the
-    robot settles (at once, it throws the robot; while it comes off, the robot relaxes and lifts
+    robot settles (at once, it throws the robot; while it comes off, the robot relaxes and may lift
     support nodes), then the ramp starts on the face it rests on, lift measured from there (the
     result's face_before, t_start, cog_before: the roll's start). With `foresee`
     (a roll simulated ahead, `lookahead.foresee`), an unbraked roll ends as soon as the ramp
