@@ -131,28 +131,36 @@ def roll_controller(
     on, the brake fights the roll, which then tips late and fast or not at all); once the
     robot tips over, those of the face it rolls onto (`Brake.landing`). Where the brake does
     not act on the start face (`Brake.active`, or `brake_acts` if the caller knows), the roll
-    is the unbraked one. With `foresee`
+    is the unbraked one: a brake left on (`obs.pressure`) comes off first at brake_rate and the
+    robot settles (at once, it throws the robot; while it comes off, the robot relaxes and may lift
+    support nodes), then the ramp starts on the face it rests on, lift measured from there (the
+    result's face_before, t_start, cog_before: the roll's start). With `foresee`
     (a roll simulated ahead, `lookahead.foresee`), an unbraked roll ends as soon as the ramp
     gives up with every support node down: not rolled, on its face (the release and settling
     that follow do not move it; braked, the brake coming back on can still roll it). Returns
     (RollResult, last observation)."""
     if obs.face is None:
         raise ct.ContactError("a roll must start from a robot resting on a face")
-    face0, t0, cog0 = obs.face, obs.t, obs.nodes.mean(axis=0)
+    start, t0, cog0 = obs.face, obs.t, obs.nodes.mean(axis=0)  # the result's face, time, CoG before
+    pairs, w = action_weights(pairs, weights)
+    if brake is not None and not (brake.active(start, obs.nodes) if brake_acts is None else brake_acts):
+        brake = None  # where the brake does not act (flat or rough ground): the unbraked roll
+    while brake is None and obs.face is not None and obs.pressure.any():  # a brake left on
+        _, obs = yield from settle_controller(s, obs)
+    if obs.face is None:
+        return RollResult(pairs, False, start, None, np.nan, 0.0, t0, obs.t, cog0, obs.cog, weights=weights), obs
+    face0, t_ramp = obs.face, obs.t
     support = topo.FACES[face0 - 1].tolist()  # node indices of the support triangle
     base = obs.gap[support].tolist()  # m (lists: cheaper than numpy for three nodes)
     S = float(params.strut_length)
-    pairs, w = action_weights(pairs, weights)
     lanes = [(j, w[j]) for j in np.flatnonzero(w > 0).tolist()]  # (0-based pair, weight)
     top = s.max_level
     level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
     t_hold, rearmed = 0.0, True  # s in the hold (`schedule.hold_step`); a lift may start one
     landed, apex = None, -1
-    if brake is not None and not (brake.active(face0, obs.nodes) if brake_acts is None else brake_acts):
-        brake = None  # where the brake does not act (flat or rough ground): the unbraked roll
     held = brake.for_face(face0, obs.nodes) if brake else np.zeros(topo.N_PAIRS)
     fade, rolling = 1.0, False  # share of the start face's brake still on; it is rolling over
-    last = left = obs.pressure  # braking pressures go on from those applied before (brake_rate)
+    last = obs.pressure  # braking pressures go on from those applied before (brake_rate)
     release = s.brake_release_time if brake else s.release_time
     while phase != "settle":
         if phase == "ramp":
@@ -174,9 +182,6 @@ def roll_controller(
             pres = brake.for_face(landed, obs.nodes) if rolling else held  # or back on its own
         if brake:  # braking pressures change at most at brake_rate
             pres = _slew(pres, last, s)
-        else:  # unbraked, a brake left on before comes off at brake_rate (at once, it throws)
-            left = _slew(pres, left, s)
-            pres = left.copy()
         for j, wj in lanes:  # floats, not arrays, for the one or two pairs driven: the same numbers
             pres[j] = max(pres[j], min(level * wj, top))
         last = pres
@@ -226,17 +231,18 @@ def roll_controller(
                 phase, t_phase = "release", 0.0  # escalated to the limit: give up
         elif phase == "top" and t_phase >= s.hold_time - 1e-9 and fade <= 1e-9:
             phase, t_phase = "release", 0.0
-        elif obs.t - t0 > max_pressure / s.ramp_rate + 10 * s.hold_time:
+        elif obs.t - t_ramp > max_pressure / s.ramp_rate + 10 * s.hold_time:
             phase, t_phase = "release", 0.0  # a safety net: no attempt runs on forever
         if foresee and brake is None and phase == "release" and not rolling and not up:
             cog = obs.nodes.mean(axis=0)
-            return RollResult(pairs, False, face0, face0, np.nan, peak, t0, obs.t, cog0, cog, weights=weights), obs
+            res = RollResult(pairs, face0 != start, start, face0, np.nan, peak, t0, obs.t, cog0, cog, weights=weights)
+            return res, obs
     after, obs = yield from settle_controller(s, obs, brake)
-    rolled = after is not None and after != face0
+    rolled = after is not None and after != start
     return RollResult(
         pairs,
         rolled,
-        face0,
+        start,
         after,
         (tip if np.isfinite(tip) else peak) if rolled else float("nan"),
         peak,
