@@ -23,8 +23,9 @@ simulated): with --gravity and --workspace (results/workspace_gravity.nc, result
 the stand limit and `simulated_multi` computed as the stage slope_limit does
 (`slope_limit.limits`, `slope_multi.multi_limits`, 3 bisection steps), and the limit with the
 statics' "pairs" actions (`cable_actions.simulated`: bisection from simulated_multi to the stand
-limit's high end, 3 steps); without them, stand and simulated_multi read from --slope-limit if
-that file has them (else "-"). CPU time at the end. Prints figures; asserts nothing.
+limit's high end, or from 0 deg where simulated_multi is NaN, 4 steps); without them, stand and
+simulated_multi read from --slope-limit if that file has them (else "-"). CPU time at the end.
+Prints figures; asserts nothing.
 
 Usage: .venv/bin/python benchmarks/bench_cable_actions.py [--contacts equilateral isosceles]
        [--headings 0 45 ...] [--step 1] [--iterations 4] [--max-pressure 5]
@@ -91,7 +92,7 @@ def _simulate(a, params, setup, contacts: list[str], headings: list[float], marg
     for c, contact in enumerate(lim.contacts):
         face = sweeps[contact].face
         lo, hi = ca.simulated(
-            look, params, face, lim.headings, m.simulated[1, c], lim.simulated_high[0, c], setup, margin, 3
+            look, params, face, lim.headings, m.simulated[1, c], lim.simulated_high[0, c], setup, margin, 4
         )
         for j, h in enumerate(headings):
             out[contact, h] = {

@@ -235,20 +235,29 @@ def simulated(
     edge_action's: bisection from lo (deg, (H,), a slope known to roll, e.g. simulated_multi)
     to hi (H,) (the stand limit's high end), each mid slope simulated with the action the
     statics find for the pose there (`slope_limit._sim_ok`, the ramp of `setup`, a
-    `gravity.GravitySetup`). Returns the bracket (lo, hi); NaN lo stays NaN. Pair actions only:
-    the kernel takes one pressure per pair."""
-    lo, hi = np.array(lo, float), np.array(hi, float)
-    js = np.flatnonzero(np.isfinite(lo) & (lo < hi))
-    for _ in range(int(iterations) if js.size else 0):
-        mid = 0.5 * (lo[js] + hi[js])
+    `gravity.GravitySetup`). A NaN lo (no known roll) is tried at 0 deg first, and stays NaN if
+    that fails. Returns the bracket (lo, hi). Pair actions only: the kernel takes one pressure
+    per pair."""
+    lo, hi, headings = np.array(lo, float), np.array(hi, float), np.asarray(headings, float)
+
+    def rolls(slopes: np.ndarray, js: np.ndarray) -> np.ndarray:
         acts = [
             verdict(params, face, m, headings[j], setup.max_pressure, margin, CRITERIA[:2]).actions.get("pairs")
-            for m, j in zip(mid, js)
+            for m, j in zip(slopes, js)
         ]
         good = np.zeros(js.size, bool)
         run = [i for i, a in enumerate(acts) if a is not None]
         if run:
             w = np.stack([acts[i].weights for i in run])
-            good[run] = sl._sim_ok(look, params, 1, face, mid[run], np.asarray(headings)[js[run]], w, setup)[0]
+            good[run] = sl._sim_ok(look, params, 1, face, slopes[run], headings[js[run]], w, setup)[0]
+        return good
+
+    nan = np.flatnonzero(np.isnan(lo) & np.isfinite(hi))
+    if nan.size:
+        lo[nan] = np.where(rolls(np.zeros(nan.size), nan), 0.0, np.nan)
+    js = np.flatnonzero(np.isfinite(lo) & (lo < hi))
+    for _ in range(int(iterations) if js.size else 0):
+        mid = 0.5 * (lo[js] + hi[js])
+        good = rolls(mid, js)
         lo[js], hi[js] = np.where(good, mid, lo[js]), np.where(good, hi[js], mid)
     return lo, hi
