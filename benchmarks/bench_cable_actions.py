@@ -27,10 +27,20 @@ limit's high end, or from 0 deg where simulated_multi is NaN, 4 steps); without 
 simulated_multi read from --slope-limit if that file has them (else "-"). CPU time at the end.
 Prints figures; asserts nothing.
 
+--mujoco: where the cables' statics limit passes the pairs' by more than 1 deg, the cable action
+the statics find at slopes between the two limits (up to the simulated stand limit) is ramped in
+MuJoCo (`bridges.mjcf`: 24 actuators, one per cable; flat plane with gravity tilted by the slope,
+strut damping 0 as the export needs; the ramp of the slope limit without its holds where a node
+lifts), judged as `slope_limit._sim_ok` judges (`gravity.tip`: the first edge the projection
+crosses, uphill if its outward normal has an uphill component); as a control, the pair action of
+the pairs' limit at the same slopes, in MuJoCo and in our simulator. MuJoCo's contact is its own
+(pyramidal cones, soft constraints), not ours: where it rolls that control too, it does not tell
+cables from pairs.
+
 Usage: .venv/bin/python benchmarks/bench_cable_actions.py [--contacts equilateral isosceles]
        [--headings 0 45 ...] [--step 1] [--iterations 4] [--max-pressure 5]
        [--gravity results/workspace_gravity.nc --workspace results/workspace.nc]
-       [--slope-limit results/slope_limit.nc] [--tiny]
+       [--slope-limit results/slope_limit.nc] [--mujoco] [--tiny]
 """
 
 from __future__ import annotations
@@ -103,6 +113,74 @@ def _simulate(a, params, setup, contacts: list[str], headings: list[float], marg
     return out
 
 
+def _mujoco_tip(params, setup: GravitySetup, face: int, slope: float, heading: float, w24: np.ndarray) -> str:
+    """The ramp s w24 (cable pressures) in MuJoCo (module docstring): 'uphill 4.37 MPa (11-12)',
+    'not uphill ...', 'no tip' or 'does not stand'."""
+    import mujoco
+
+    from tensegrity.bridges.mjcf import mjcf
+    from tensegrity.physics.terrain import Terrain
+    from tensegrity.workspace import gravity as gv
+    from tensegrity.workspace import slope_limit as sl
+    from tensegrity.workspace.slopes import gravity_frame, place
+
+    p0 = params.replace(strut_damping=0.0)
+    g, th = float(p0.gravity), np.radians(slope)
+    xml = mjcf(p0, "grounded", setup.dt, place(p0, face, Terrain.flat(), (0.0, 0.0), heading))
+    old = f'gravity="0 0 {-g!r}"'
+    assert old in xml
+    model = mujoco.MjModel.from_xml_string(
+        xml.replace(old, f'gravity="{float(-g * np.sin(th))!r} 0 {float(-g * np.cos(th))!r}"')
+    )
+    data = mujoco.MjData(model)
+    sites = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, f"node{n + 1}") for n in range(topo.N_NODES)]
+    rot = np.array([[np.cos(th), 0, -np.sin(th)], [0, 1, 0], [np.sin(th), 0, np.cos(th)]])  # plane -> slope
+    level, n_settle = setup.levels()
+    shapes = {"pressure": (), "cog": (3,), "support": (3, 3), "proj": (2,), "margin": ()}
+    rec = {k: np.full((1, level.size, *v), np.nan) for k, v in shapes.items()}
+    gone = level.size
+    for t in range(level.size):
+        data.ctrl[:] = np.minimum(level[t] * w24, 10.0)
+        mujoco.mj_step(model, data, nstep=int(round(setup.interval / setup.dt)))
+        out = gravity_frame(data.site_xpos[sites] @ rot.T, face)
+        rec["pressure"][0, t] = level[t]
+        for k, v in zip(("cog", "support", "proj", "margin"), out):
+            rec[k][0, t] = v
+        if t + 1 == n_settle and out[3] <= 0:
+            return "does not stand"
+        if out[3] < -gv.FALLING:
+            gone = t + 1
+            break
+    p, k, e = gv.tip(rec, 0, face, n_settle, gone)
+    if e is None:
+        return "no tip"
+    u = np.array([np.cos(np.radians(heading)), np.sin(np.radians(heading))])
+    up = float(np.dot(sl.direction(rec["support"][0, k], face, e), u)) > 0
+    return f"{'uphill' if up else 'not uphill'} {p:.2f} MPa ({e[0]}-{e[1]})"
+
+
+def _mujoco(rows: list, params, setup: GravitySetup, margin: float) -> None:
+    """The --mujoco table (module docstring)."""
+    from tensegrity.workspace import slope_limit as sl
+
+    print("\n| contact | heading deg | slope deg | cable action, MuJoCo | pair action, ours | pair action, MuJoCo |")
+    print("|---|---|---|---|---|---|")
+    for contact, h, lim, s in rows:
+        lo, hi = lim["pairs"][0], lim["cables"][0]
+        if not (hi - lo > 1.0 and lim["pairs"][2] is not None):
+            continue
+        face = topo.face_number(topo.CONTACT_FACES[contact])
+        top = min(hi, s["stand"][0]) if "stand" in s else hi
+        pair = lim["pairs"][2].weights
+        for slope in np.round(np.linspace(lo, top, 4), 1):
+            c = ca.verdict(params, face, float(slope), h, setup.max_pressure, margin).actions.get("cables")
+            cab = _mujoco_tip(params, setup, face, float(slope), h, c.weights) if c is not None else "no action"
+            ok, tip, _ = sl._sim_ok(None, params, 1, face, np.array([slope]), np.array([h]), pair[None], setup)
+            ours = f"uphill {tip[0]:.2f} MPa" if ok[0] else "no uphill roll"
+            mj = _mujoco_tip(params, setup, face, float(slope), h, ca.lift(pair))
+            print(f"| {contact} | {h:g} | {slope:.1f} | {cab} | {ours} | {mj} |")
+
+
 def _action(a) -> str:
     if a is None:
         return "-"
@@ -121,6 +199,7 @@ def main() -> None:
     ap.add_argument("--slope-limit", default="results/slope_limit.nc", help="stand, simulated_multi from here")
     ap.add_argument("--gravity", default=None, help="results/workspace_gravity.nc: simulate (with --workspace)")
     ap.add_argument("--workspace", default=None, help="results/workspace.nc")
+    ap.add_argument("--mujoco", action="store_true", help="ramp the cable actions in MuJoCo (docstring)")
     ap.add_argument("--tiny", action="store_true", help="isosceles, heading 90, step 12 deg, 1 bisection step")
     a = ap.parse_args()
     cfg = config.load()
@@ -179,6 +258,8 @@ def main() -> None:
                     f"{contact}: statics {crit} - simulated ({key}): mean {np.nanmean(err):+.1f} deg, "
                     f"{np.nanmin(err):+.1f} to {np.nanmax(err):+.1f} deg"
                 )
+    if a.mujoco:
+        _mujoco(rows, params, setup, margin)
     print(f"\nCPU {time.process_time() - c0:.1f} s (the simulations {c1 - c0:.1f} s)")
 
 
