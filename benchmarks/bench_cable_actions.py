@@ -171,6 +171,9 @@ def _mujoco(rows: list, params, setup: GravitySetup, margin: float) -> None:
             continue
         face = topo.face_number(topo.CONTACT_FACES[contact])
         top = min(hi, s["stand"][0]) if "stand" in s else hi
+        if top - lo <= 1.0:  # the cables' gain lies above the simulated stand limit
+            print(f"| {contact} | {h:g} | {lo:.1f}-{hi:.1f} | above the simulated stand limit {top:.1f} deg | | |")
+            continue
         pair = lim["pairs"][2].weights
         for slope in np.round(np.linspace(lo, top, 4), 1):
             c = ca.verdict(params, face, float(slope), h, setup.max_pressure, margin).actions.get("cables")
