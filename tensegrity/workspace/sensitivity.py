@@ -28,6 +28,12 @@ error 0.01 MPa; on 20 deg up to 0.48 MPa early (3.18 predicted, 2.70 simulated: 
 leaves out how the weight's pull on the struts changes with p). An action that the model
 rejects may still roll the robot, and one it accepts is checked by simulation where it matters
 (the slope limit, `slope_multi`; the planner's rolls).
+
+Levers (`Model.levers`): the actuation vector p is one pressure per pair (12, the robot's
+muscles; every caller's default) or one per cable (24, topology.CABLES order: the prototype's
+24 independent actuators, issue 30), each cable then with its own muscle, eq. 1 with its own P
+(`cable_law`). With 24 levers everything above holds with 24 for 12 (`cable_actions`); a pair
+pressure P is the cable pressures P on both its cables (topology.CABLE_PAIR).
 """
 
 from __future__ import annotations
@@ -36,10 +42,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..physics import actuator, equilibrium, frames, statics
 from ..physics import contact as ct
-from ..physics import equilibrium, frames, statics
 from ..physics import topology as topo
 from ..physics.params import Params
+from ..physics.schedule import check_pressures
 
 STEP = 0.25  # MPa, forward-difference step of the sensitivity
 RAY = 8  # samples of the ray s w checked by the statics, twice (`_ray`)
@@ -63,7 +70,7 @@ class ActuationSettings:
 @dataclass(frozen=True)
 class EdgeAction:
     """An action that rolls the robot over `edge` (two 1-based nodes) of `face` onto `next_face`:
-    weights (12,) (largest 1; the roll ramps pressures s w), scale MPa: the least s at which the
+    weights (levers,) (largest 1; the roll ramps pressures s w), scale MPa: the least s at which the
     statics put the CoG projection over the edge (linearly interpolated between RAY samples),
     total MPa: sum of the pressures there; inside m: the least distance to the other two edges
     along the ray up to it."""
@@ -77,12 +84,26 @@ class EdgeAction:
     inside: float
 
 
+def cable_law(params: Params, pressure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per-cable stiffness (24,) N/m and slack length (24,) m under pair pressures (12,) MPa
+    (`statics.cable_law`) or cable pressures (24,) MPa: the same law, each cable with its own
+    pressure (the cable pressures P[CABLE_PAIR] give the pair law's arrays exactly)."""
+    p = np.asarray(pressure, float)
+    if p.shape != (topo.N_CABLES,):
+        return statics.cable_law(params, p)
+    statics.cable_law(params, np.zeros(topo.N_PAIRS))  # its checks: scalar parameters, a = 1
+    names = ("cable_stiffness", "cable_rest_length", "muscle_min_length", "muscle_gain")
+    K, L, Lmin, Kg = (float(getattr(params, n)) for n in names)
+    return actuator.spring(K, L, Lmin, Kg * check_pressures(p))
+
+
 def shapes(params: Params, pressures: np.ndarray) -> np.ndarray:
-    """Free-mode equilibria (N, 12, 3) m under pair pressures (N, 12) MPa, from the symmetric
-    reference state (`equilibrium.solve`). RuntimeError if a solve does not converge."""
+    """Free-mode equilibria (N, 12, 3) m under pair pressures (N, 12) or cable pressures (N, 24)
+    MPa (`cable_law`), from the symmetric reference state (`equilibrium.solve`). RuntimeError if
+    a solve does not converge."""
     p = np.atleast_2d(np.asarray(pressures, float))
     S = float(params.strut_length)
-    laws = [statics.cable_law(params, row) for row in p]
+    laws = [cable_law(params, row) for row in p]
     ref = topo.reference_nodes(S)
     x0, c0 = equilibrium.struts(ref)
     N = p.shape[0]
@@ -112,31 +133,37 @@ class Model:
     robot's; module docstring): the edge distances under pair pressures p are those of the free
     model plus `offset` (3,) m, the grounded robot's distances at rest minus the free model's
     (its sag under its weight and the ground's reaction, taken as not changing with p: the error
-    of the free workspace, module docstring). offset 0: the free model alone."""
+    of the free workspace, module docstring). offset 0: the free model alone. levers: 12 (p per
+    pair) or 24 (p per cable)."""
 
     params: Params
     face: int
     gravity: np.ndarray
     offset: np.ndarray | float = 0.0
+    levers: int = topo.N_PAIRS
+
+    def __post_init__(self):
+        if self.levers not in (topo.N_PAIRS, topo.N_CABLES):
+            raise ValueError(f"levers {self.levers!r}: {topo.N_PAIRS} (pairs) or {topo.N_CABLES} (cables)")
 
     def d(self, pressures: np.ndarray) -> np.ndarray:
-        """Edge distances (N, 3) m under pair pressures (N, 12) MPa."""
+        """Edge distances (N, 3) m under pressures (N, levers) MPa."""
         return distances(shapes(self.params, pressures), self.face, self.gravity) + self.offset
 
 
-def grounded(params: Params, face: int, nodes: np.ndarray) -> Model:
+def grounded(params: Params, face: int, nodes: np.ndarray, levers: int = topo.N_PAIRS) -> Model:
     """The `Model` of a robot at rest with nodes (12, 3) m (world) on `face`: gravity and the
-    offset from those nodes."""
+    offset from those nodes; `levers` 12 (pairs) or 24 (cables)."""
     nodes = ct.check_nodes(nodes)
     origin, rot = frames.face_frame(nodes, face)
     g = rot @ ct.GRAVITY_DIR
-    free = Model(params, face, g)
+    free = Model(params, face, g, levers=levers)
     here = distances(nodes, face, g)
-    return Model(params, face, g, here - free.d(np.zeros((1, topo.N_PAIRS)))[0])
+    return Model(params, face, g, here - free.d(np.zeros((1, levers)))[0], levers)
 
 
 def sensitivity(m: Model, base: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Edge distances d (3,) m at pair pressures `base` (12,) MPa and their Jacobian D (3, 12)
+    """Edge distances d (3,) m at pressures `base` (levers,) MPa and their Jacobian D (3, levers)
     m/MPa (forward differences of STEP MPa; backward where base + STEP passes 10 MPa)."""
     base = np.asarray(base, float)
     h = np.where(base + STEP <= 10.0, STEP, -STEP)
@@ -149,7 +176,7 @@ def _ray(m: Model, k: int, w: np.ndarray, top: float) -> tuple[float, float]:
     NaN: none), from RAY samples and RAY more between the two around the crossing (linear
     interpolation between those: error below a tenth of top / RAY^2 on these concave paths), and
     the least distance to the other edges up to it (m)."""
-    s, d = np.zeros(1), m.d(np.zeros((1, topo.N_PAIRS)))
+    s, d = np.zeros(1), m.d(np.zeros((1, m.levers)))
     for _ in range(2):
         n = int(np.argmax(d[:, k] < 0)) if np.any(d[:, k] < 0) else s.size
         lo = s[n - 1] if n < s.size else s[-1]
@@ -173,7 +200,7 @@ def edge_action(m: Model, k: int, max_pressure: float, margin: float) -> EdgeAct
     where the best ray so far crossed (before one has: where the first ray crossed, or its
     end), within a box trust region of half-width TRUST max_pressure MPa, halved after each
     programme that finds nothing better."""
-    p_lin, best, r = np.zeros(topo.N_PAIRS), None, max_pressure
+    p_lin, best, r = np.zeros(m.levers), None, max_pressure
     others = [j for j in range(3) if j != k]
     from scipy.optimize import linprog  # import cost only where an action is optimised
 
@@ -184,7 +211,7 @@ def edge_action(m: Model, k: int, max_pressure: float, margin: float) -> EdgeAct
         rows = np.vstack([D[k], -D[others]])
         rhs = np.concatenate([[-d0[k]], d0[others] - margin]) + rows @ p_lin
         box = np.stack([np.maximum(0.0, p_lin - r), np.minimum(max_pressure, p_lin + r)], axis=1)
-        res = linprog(np.ones(topo.N_PAIRS), A_ub=rows, b_ub=rhs, bounds=box, method="highs")
+        res = linprog(np.ones(m.levers), A_ub=rows, b_ub=rhs, bounds=box, method="highs")
         p = np.where(res.x > 1e-6 * max_pressure, res.x, 0.0) if res.status == 0 else np.zeros(1)
         r = min(r, TRUST * max_pressure)
         if p.max() <= 0:
