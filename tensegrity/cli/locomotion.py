@@ -88,7 +88,7 @@ def cmd_roll(args: argparse.Namespace) -> int:
     from ..stages import provenance
 
     cfg, face, terrain, params, s, ws = _locomotion_setup(args)
-    start = choose(ws, params, terrain, s, face, args.yaw)  # a pose that cannot stand: ValueError
+    start = choose(ws, params, terrain, s, face, args.yaw, goal=args.goal)  # a pose that cannot stand: ValueError
     print(start.message, flush=True)
     with progress.bar(None, "roll") as bar:
         run = roll_to(
