@@ -5,9 +5,11 @@ Every case of a ground draws, from its seed, a goal direction, the slope's uphil
 robot's start yaw (about the terrain normal), uniform in [0, 360) deg, and for random terrain the
 terrain's own seed; the goal is `--distance` m (default 2 m) from the start. The start pose is
 chosen as `tensegrity roll` chooses it when no face is given (`--face auto`, default;
-`locomotion.start.choose` at the drawn yaw: the paper's (9,10,12) if it stands there, else a face
-that does; where none does, a pose at another yaw; where no pose stands at all, (9,10,12) at yaw
-0, from which the robot settles first), or
+`locomotion.start.choose` at the drawn yaw, given the goal: the paper's (9,10,12) if it stands
+there and a first roll from it toward the goal lands and gains, else the first standing face
+that has such a roll (else a detour, else one that stands); where none stands, a pose at another
+yaw; where no pose stands at all, (9,10,12) at yaw 0, from which the robot settles first; the
+CPU of the choice is printed per case, apart from the planning CPU), or
 is `--face` at the drawn yaw whether it stands or not (e.g. `--face 9,10,12`, the runs before
 issue 30). Seeds come from one of two
 disjoint, named sets: TUNING_SEEDS, the only ones any constant of the planner may be tuned on, and

@@ -1,17 +1,23 @@
-"""Start poses that stand (issue 30 item 3; docs/design.md §6).
+"""Start poses that stand and can roll (issue 30 item 3; docs/design.md §6).
 
 A run placed on a face its CoG cannot stay on tumbles before its first roll (a 24 deg slope from
 the paper's start face). `stands` asks the simulator: every candidate pose (face, yaw) is set
 down on the terrain (`dynamics.stand_on`) and left for STAND_TIME s at rest, held by the run's
 own brake (`brake.Brake`, as `drive` holds it), all in one batch; a pose stands if the robot then
 rests on a face and its CoG has moved less than STAND_MOVE m (a robot that stands only sags, by
-millimetres; on uneven ground it may settle onto a neighbouring triple of nodes). `choose` keeps
-the pose a user gave if it stands (else ValueError naming one that does) and otherwise picks one:
-the face given (else the paper's start face) at the yaw given (else 0) if it stands, else the
-standing candidate whose CoG projection along gravity lies deepest inside its support triangle
-(rigid robot, `contact.judge`), the candidates tried in that order, the first alone, then BATCH
-at a time. Where nothing was given and no pose stands (ground rougher than the robot: on 0.07 m
-terrain some places), the paper's start face at yaw 0, saying so: the robot settles first.
+millimetres; on uneven ground it may settle onto a neighbouring triple of nodes). A pose may
+stand where every roll from it tumbles or slides (24 deg: a dead end before the first roll);
+`first_roll` simulates the run's first step from it (settled as `drive` settles it, the
+candidates simulated by `lookahead.choose`, acceptance and cost as the run's). `choose` keeps
+the pose a user gave if it stands (else ValueError naming one that does) and otherwise picks one
+among the candidates: the face given (else the paper's start face) at the yaw given (else 0),
+then the others, the CoG projection along gravity deepest inside the support triangle first
+(rigid robot, `contact.judge`), those that stand found in that order (the first alone, then
+BATCH at a time). Given a goal, it takes the first standing candidate whose first roll is
+acceptable and gains toward the goal, else the first with an acceptable roll (a detour), else
+the first that stands; without a goal, the first that stands. Where nothing was given and no
+pose stands (ground rougher than the robot: on 0.07 m terrain some places), the paper's start
+face at yaw 0, saying so: the robot settles first. `Start.message` says which and why.
 """
 
 from __future__ import annotations
