@@ -5,9 +5,11 @@ Every case of a ground draws, from its seed, a goal direction, the slope's uphil
 robot's start yaw (about the terrain normal), uniform in [0, 360) deg, and for random terrain the
 terrain's own seed; the goal is `--distance` m (default 2 m) from the start. The start pose is
 chosen as `tensegrity roll` chooses it when no face is given (`--face auto`, default;
-`locomotion.start.choose` at the drawn yaw: the paper's (9,10,12) if it stands there, else a face
-that does; where none does, a pose at another yaw; where no pose stands at all, (9,10,12) at yaw
-0, from which the robot settles first), or
+`locomotion.start.choose` at the drawn yaw, given the goal: the paper's (9,10,12) if it stands
+there and a first roll from it toward the goal lands and gains, else the first standing face
+that has such a roll (else a detour, else one that stands); where none stands, a pose at another
+yaw; where no pose stands at all, (9,10,12) at yaw 0, from which the robot settles first; the
+CPU of the choice is printed per case, apart from the planning CPU), or
 is `--face` at the drawn yaw whether it stands or not (e.g. `--face 9,10,12`, the runs before
 issue 30). Seeds come from one of two
 disjoint, named sets: TUNING_SEEDS, the only ones any constant of the planner may be tuned on, and
@@ -134,13 +136,16 @@ def run_ground(ground, seeds, a, ws, params, settings, face) -> list[tuple[dict,
         terrain = members[0][1]
         poses = []
         for i, _, turn in members:
+            head = np.radians(cases[i]["goal"] + turn)
+            goal = a.distance * np.array([np.cos(head), np.sin(head)])
             try:
                 st = None
                 if face is None:  # the drawn yaw if a face stands there, else any yaw
                     try:
-                        st = start.choose(ws, params, terrain, settings, None, cases[i]["yaw"] + turn)
+                        st = start.choose(ws, params, terrain, settings, None, cases[i]["yaw"] + turn, goal=goal)
                     except ValueError:  # any yaw; if none stands, it settles from (9,10,12) first
-                        st = start.choose(ws, params, terrain, settings)
+                        st = start.choose(ws, params, terrain, settings, goal=goal)
+                    cases[i]["start_cpu"], cases[i]["start"] = st.cpu, st.message
                 poses.append((face, cases[i]["yaw"] + turn) if st is None else (st.face, st.yaw_deg))
             except ValueError as e:
                 out[i] = (cases[i], NoStart(str(e)))
@@ -169,11 +174,13 @@ def report(ground: str, res: list[tuple[dict, lo.Run]], wall: float, tol: float)
     cpu = sum(st.plan_cpu for r in runs for st in r.steps) / max(rolls, 1)
     outcomes = ", ".join(f"{o} {v}" for o, v in collections.Counter(r.outcome for r in runs).most_common())
     tum = sum(tumbled(r) for r in runs)
+    start_cpu = [c.get("start_cpu", 0.0) for c, _ in res]
     print(f"\n== {ground}: {n} cases")
     print(f"arrived within {tol} m: {k}/{n} = {100 * k / n:.0f} % (95 % Wilson {100 * lo_:.0f}-{100 * hi:.0f} %)")
     print(f"outcomes: {outcomes}; runs with a tumble: {tum}")
     print("start faces: " + ", ".join(f"{f} {v}" for f, v in starts.most_common()))
     print(f"rolls {rolls}; rolls per metre of the arrived runs {rpm:.2f}; planning CPU {cpu:.2f} s per roll")
+    print(f"start choice CPU {np.mean(start_cpu):.2f} s per case (max {max(start_cpu):.2f} s)")
     print(f"wall {wall:.1f} s")
     for c, r in res:
         if r.outcome != "arrived":
@@ -189,6 +196,7 @@ def report(ground: str, res: list[tuple[dict, lo.Run]], wall: float, tol: float)
         tumbles=tum,
         rpm=rpm,
         cpu=cpu,
+        start_cpu=float(np.mean(start_cpu)),
     )
 
 
@@ -196,6 +204,8 @@ def steps(res: list[tuple[dict, lo.Run]]) -> None:
     """Every step of every run: faces, action, tip pressure, CoG change, planning CPU."""
     for c, r in res:
         print(f"  goal at {c['goal']:.0f} deg: {r.outcome}, faces {r.faces}")
+        if "start" in c:
+            print(f"    {c['start']}")
         for st in r.steps:
             u = st.used
             dz = 1e3 * (u.cog_after[2] - u.cog_before[2])
@@ -280,13 +290,13 @@ def main() -> None:
         if a.steps:
             steps(res)
     print(
-        "\n| ground | arrived | 95 % Wilson | outcomes | runs with a tumble | rolls/m | planning CPU s/roll |"
-        "\n|---|---|---|---|---|---|---|"
+        "\n| ground | arrived | 95 % Wilson | outcomes | runs with a tumble | rolls/m | planning CPU s/roll "
+        "| start CPU s/case |\n|---|---|---|---|---|---|---|---|"
     )
     for r in rows:
         print(
             f"| {r['ground']} | {r['arrived']} | {r['ci']} | {r['outcomes']} | {r['tumbles']} | "
-            f"{r['rpm']:.2f} | {r['cpu']:.2f} |"
+            f"{r['rpm']:.2f} | {r['cpu']:.2f} | {r['start_cpu']:.2f} |"
         )
 
 

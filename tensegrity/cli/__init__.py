@@ -246,8 +246,9 @@ def build_parser() -> argparse.ArgumentParser:
             p.add_argument(
                 "--face",
                 type=cli_args.face,
-                help=f"start face: 1..20 or 'a,b,c' (default: {START} if it stands at the yaw, else a face "
-                "that does; a face that cannot stand stops the run, naming one that can)",
+                help=f"start face: 1..20 or 'a,b,c' (default: {START} if it stands at the yaw and a first roll "
+                "from it toward the goal is acceptable, else a standing face from which one is; a face that "
+                "cannot stand stops the run, naming one that can)",
             )
         p.add_argument(
             "--terrain",

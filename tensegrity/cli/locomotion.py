@@ -76,7 +76,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
 
 
 def cmd_roll(args: argparse.Namespace) -> int:
-    """Roll the robot toward a goal in the dynamic simulator, from a start pose that stands
+    """Roll the robot toward a goal in the dynamic simulator, from a start pose that stands and,
+    where the face or yaw is not given, from which a first roll toward the goal is acceptable
     (`locomotion.start.choose`; a given pose that does not stand: exit 3, naming one that does);
     exit 1 if it did not arrive. With actuator.kind twisted_string the prototype's motors, in
     volts (a workspace in volts; the run file's voltage_cmd)."""
@@ -88,7 +89,7 @@ def cmd_roll(args: argparse.Namespace) -> int:
     from ..stages import provenance
 
     cfg, face, terrain, params, s, ws = _locomotion_setup(args)
-    start = choose(ws, params, terrain, s, face, args.yaw)  # a pose that cannot stand: ValueError
+    start = choose(ws, params, terrain, s, face, args.yaw, goal=args.goal)  # a pose that cannot stand: ValueError
     print(start.message, flush=True)
     with progress.bar(None, "roll") as bar:
         run = roll_to(

@@ -1,21 +1,28 @@
-"""Start poses that stand (issue 30 item 3; docs/design.md §6).
+"""Start poses that stand and can roll (issue 30 item 3; docs/design.md §6).
 
 A run placed on a face its CoG cannot stay on tumbles before its first roll (a 24 deg slope from
 the paper's start face). `stands` asks the simulator: every candidate pose (face, yaw) is set
 down on the terrain (`dynamics.stand_on`) and left for STAND_TIME s at rest, held by the run's
 own brake (`brake.Brake`, as `drive` holds it), all in one batch; a pose stands if the robot then
 rests on a face and its CoG has moved less than STAND_MOVE m (a robot that stands only sags, by
-millimetres; on uneven ground it may settle onto a neighbouring triple of nodes). `choose` keeps
-the pose a user gave if it stands (else ValueError naming one that does) and otherwise picks one:
-the face given (else the paper's start face) at the yaw given (else 0) if it stands, else the
-standing candidate whose CoG projection along gravity lies deepest inside its support triangle
-(rigid robot, `contact.judge`), the candidates tried in that order, the first alone, then BATCH
-at a time. Where nothing was given and no pose stands (ground rougher than the robot: on 0.07 m
-terrain some places), the paper's start face at yaw 0, saying so: the robot settles first.
+millimetres; on uneven ground it may settle onto a neighbouring triple of nodes). A pose may
+stand where every roll from it tumbles or slides (24 deg: a dead end before the first roll);
+`first_roll` simulates the run's first step from it (settled as `drive` settles it, the
+candidates simulated by `lookahead.choose`, acceptance and cost as the run's). `choose` keeps
+the pose a user gave if it stands (else ValueError naming one that does) and otherwise picks one
+among the candidates: the face given (else the paper's start face) at the yaw given (else 0),
+then the others, the CoG projection along gravity deepest inside the support triangle first
+(rigid robot, `contact.judge`), those that stand found in that order (the first alone, then
+BATCH at a time). Given a goal, it takes the first standing candidate whose first roll is
+acceptable and gains toward the goal, else the first with an acceptable roll (a detour), else
+the first that stands; without a goal, the first that stands. Where nothing was given and no
+pose stands (ground rougher than the robot: on 0.07 m terrain some places), the paper's start
+face at yaw 0, saying so: the robot settles first. `Start.message` says which and why.
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -28,12 +35,14 @@ from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace
+from . import lookahead, progress
 from .brake import Brake
 from .control import settle_controller
 from .lockstep import Obs, lockstep
+from .plan import plan
 from .settings import RollSettings
 
-__all__ = ["Start", "stands", "choose", "STAND_TIME", "STAND_MOVE", "YAW_STEP"]
+__all__ = ["Start", "stands", "first_roll", "choose", "STAND_TIME", "STAND_MOVE", "YAW_STEP"]
 
 STAND_TIME = 2.0  # s at rest: a robot that cannot stand has tipped over an edge by then
 STAND_MOVE = 0.05  # m of CoG travel (horizontal) that is no longer standing: a tip or a slide
@@ -44,11 +53,13 @@ BATCH = 8  # candidate poses simulated together
 @dataclass(frozen=True)
 class Start:
     """The start pose of a run: `face` (1-based) and `yaw_deg` (about the terrain normal, deg);
-    `message`: which pose, and why, in words."""
+    `message`: which pose, and why, in words; `cpu`: the process time (s, all threads) the
+    choice took."""
 
     face: int
     yaw_deg: float
     message: str
+    cpu: float = 0.0  # s: process time spent choosing (the poses and rolls simulated)
 
 
 def _brake(workspace: Workspace, terrain: Terrain, s: RollSettings) -> Brake | None:
@@ -86,21 +97,112 @@ def stands(
     return np.array(ok, bool)
 
 
+def first_roll(
+    workspace: Workspace,
+    params: Params,
+    terrain: Terrain,
+    s: RollSettings,
+    pose: tuple[int, float],
+    goal: Sequence[float],
+    position: Sequence[float] = (0.0, 0.0),
+) -> tuple[float | None, str]:
+    """The first step of a run toward `goal` (x, y) m from `pose` (1-based face, yaw deg) at
+    `position` (m), as `drive` makes it: the robot set down and settled with the run's brake,
+    its candidate rolls simulated from that state (`lookahead.choose`: the same candidates,
+    horizons, acceptance and cost, `progress.rolls_to_goal`). Returns the progress (rolls: the
+    cost of staying minus that of its best acceptable roll; <= 0 a detour) or None if no
+    candidate is acceptable (a dead end), and the verdicts in words."""
+    state = d.stand_on(params, pose[0], terrain, position=position, yaw_deg=pose[1])
+
+    def settle(b: int, obs: Obs):
+        brk = _brake(workspace, terrain, s)
+        face, obs = yield from settle_controller(s, obs, brk)
+        return face, obs, brk
+
+    (((face, obs, brk), _, _),) = lockstep(params, terrain, state, settle, s)
+    if face is None:
+        return None, "it comes to rest on no face"
+    gl = np.array([goal[0], goal[1], float(terrain.height(goal[0], goal[1]))])
+    travel, lift = progress.stride(obs.nodes, face)
+    memory = lookahead.Memory(travel / 2)
+    memory.add(face, obs.cog)
+    target = dict(goal=gl)
+    pl = plan(workspace, face, obs.nodes, combine=s.combine, min_alignment=s.min_alignment, unit=s.unit, **target)
+    world = lookahead.World(params, terrain, obs.state, workspace.max_pressure, s.optimised_actions)
+    args = (workspace, face, obs.nodes, pl, target, brk, world)
+
+    def cost(r):
+        return progress.rolls_to_goal(r.cog_after, gl, terrain, travel, lift)
+
+    _, simulated = lookahead.choose(
+        params,
+        terrain,
+        s,
+        obs,
+        lookahead.acts(*args),
+        workspace.max_pressure,
+        brk,
+        {c.pairs: c.pressure for c in pl.candidates},
+        cost,
+        memory,
+        now := progress.rolls_to_goal(obs.cog, gl, terrain, travel, lift),
+        (lambda: lookahead.acts(*args, lazy=True)) if s.optimised_actions else None,
+    )
+    ok = [r for r in simulated if r.rolled and lookahead.lands(r) and not memory.seen(r.face_after, r.cog_after)]
+    fine = [now - cost(r) for r in ok]  # the acceptable rolls, as `lookahead.choose` accepts them
+    words = f"{len(simulated)} rolls simulated: {lookahead.verdicts(simulated, memory)}"
+    return (max(fine) if fine else None), words
+
+
 def _margin(params: Params, terrain: Terrain, face: int, yaw: float, position: Sequence[float]) -> float:
     """Margin (m) of the rigid robot's CoG projection along gravity in `face`'s triangle."""
     st = d.stand_on(params, face, terrain, position=position, yaw_deg=yaw)
     return float(ct.judge(d.nodes(st.x, st.q, params.strut_length)[0], face).margin)
 
 
-def _search(workspace, params, terrain, s, poses, position) -> tuple[int, float] | None:
-    """The first pose of `poses` that stands, the first alone (the preferred pose, which
-    mostly stands), then `BATCH` at a time; None if none does."""
+def _standing(workspace, params, terrain, s, poses, position):
+    """The poses of `poses` that stand, in order: the first alone (the preferred pose, which
+    mostly stands), then `BATCH` at a time, simulated only as far as they are asked for."""
     for k0, k1 in [(0, 1)] + [(k, k + BATCH) for k in range(1, len(poses), BATCH)]:
         part = poses[k0:k1]
-        ok = stands(workspace, params, terrain, s, part, position)
-        if ok.any():
-            return part[int(np.argmax(ok))]
-    return None
+        yield from (p for p, ok in zip(part, stands(workspace, params, terrain, s, part, position)) if ok)
+
+
+def _search(workspace, params, terrain, s, poses, position) -> tuple[int, float] | None:
+    """The first pose of `poses` that stands; None if none does."""
+    return next(_standing(workspace, params, terrain, s, poses, position), None)
+
+
+def _rolling(workspace, params, terrain, s, poses, position, goal) -> tuple[tuple[int, float], str] | None:
+    """The first standing pose of `poses` with an acceptable first roll toward `goal` that makes
+    progress, else the first with one (a detour), else the first that stands, and why in words;
+    None if none stands."""
+    ground = terrain.describe()
+    found: list[tuple[tuple[int, float], float | None, str]] = []  # (pose, progress, verdicts)
+    for pose in _standing(workspace, params, terrain, s, poses, position):
+        try:
+            gain, words = first_roll(workspace, params, terrain, s, pose, goal, position)
+        except d.SimulationError as e:
+            gain, words = None, f"the simulation failed ({e})"
+        found.append((pose, gain, words))
+        if gain is not None and gain > 0:
+            break
+    if not found:
+        return None
+    pick = max(found, key=lambda f: (f[1] is not None and f[1] > 0, f[1] is not None))  # the first of the best kind
+    pose, gain, words = pick
+    if gain is not None and gain > 0:
+        why = f"it stands on {ground} and its best first roll gains {gain:.2f} rolls toward the goal ({words})"
+    elif gain is not None:
+        why = f"it stands on {ground}; no first roll from it gains toward the goal, a detour does ({words})"
+    else:
+        why = f"it stands on {ground}, but no first roll from any standing pose is acceptable ({words})"
+    for p, g, w in found:
+        if p != pose:
+            why += f"; {_label(p)} stands, but " + (
+                f"no first roll from it is acceptable ({w})" if g is None else f"none from it gains ({w})"
+            )
+    return pose, why
 
 
 def _ranked(params, terrain, faces, yaws, position, first=None) -> list[tuple[int, float]]:
@@ -124,11 +226,14 @@ def choose(
     face: int | Sequence[int] | None = None,
     yaw_deg: float | None = None,
     position: Sequence[float] = (0.0, 0.0),
+    goal: Sequence[float] | None = None,
 ) -> Start:
-    """The start pose of a run at `position` (m): the one given (face 1..20 or three nodes, yaw
-    deg) if it stands, else ValueError naming one that does; where the face or the yaw is not
-    given, a standing one (module docstring). ValueError if a face or yaw is given and no pose
-    with it stands there."""
+    """The start pose of a run at `position` (m) toward `goal` (x, y) m: the one given (face
+    1..20 or three nodes, yaw deg) if it stands, else ValueError naming one that does; where the
+    face or the yaw is not given, a standing one, with a first roll toward `goal` if one has
+    (module docstring; without a goal, the first that stands). ValueError if a face or yaw is
+    given and no pose with it stands there."""
+    cpu = time.process_time()
     params = s.rolling(params)
     yaws = np.arange(0.0, 360.0, YAW_STEP) if yaw_deg is None else [float(yaw_deg)]
     faces = range(1, topo.N_FACES + 1) if face is None else [topo.face_number(face)]
@@ -137,7 +242,8 @@ def choose(
     if face is not None and yaw_deg is not None:
         pose = (faces[0], float(yaw_deg))
         if stands(workspace, params, terrain, s, [pose], position)[0]:
-            return Start(*pose, f"start on {_label(pose)}, as given: it stands on {terrain.describe()}")
+            why = f"start on {_label(pose)}, as given: it stands on {terrain.describe()}"
+            return Start(*pose, why, time.process_time() - cpu)
         what = (
             f"the start pose {_label(pose)} does not stand on {terrain.describe()}: the robot tips or slides "
             f"more than {STAND_MOVE} m within {STAND_TIME} s, before any roll"
@@ -145,9 +251,14 @@ def choose(
         other = _search(workspace, params, terrain, s, _ranked(params, terrain, faces, every, position), position)
     else:
         first = (faces[0] if face is not None else topo.face_number(paper.START_FACE), float(yaws[0]))
-        pose = _search(workspace, params, terrain, s, _ranked(params, terrain, faces, yaws, position, first), position)
-        if pose is not None:
-            return Start(*pose, f"start on {_label(pose)}, chosen: it stands on {terrain.describe()}")
+        ranked = _ranked(params, terrain, faces, yaws, position, first)
+        if goal is None:
+            pose = _search(workspace, params, terrain, s, ranked, position)
+            pick = None if pose is None else (pose, f"it stands on {terrain.describe()}")
+        else:
+            pick = _rolling(workspace, params, terrain, s, ranked, position, goal)
+        if pick is not None:
+            return Start(*pick[0], f"start on {_label(pick[0])}, chosen: {pick[1]}", time.process_time() - cpu)
         what = (
             "no start pose"
             + (f" on face {topo.face_label(faces[0])}" if face is not None else "")
@@ -159,6 +270,7 @@ def choose(
         return Start(
             *first,
             f"start on {_label(first)}: {what} (the robot settles where it comes to rest before the first roll)",
+            time.process_time() - cpu,
         )
     if other is None:
         other = _search(
