@@ -7,15 +7,17 @@ component: `sensitivity.edge_action` (the least total pressure) and
 crossings the other misses, e.g. from the equilateral face at heading 270).
 
 The bracket starts at the single-pair limit (`slope_limit.limits`, `simulated`: a single pair
-is an action of a set of pairs, and works there) and ends at the stand limit's high end (no
-roll starts from a pose that does not stand). Each bisection step simulates the robot posed on
-the mid slope (`slope_limit.pose`, the rigid robot), ramping the pressures s w of the action
-the statics optimised for that pose, judged as the single-pair rolls are (`slope_limit._sim_ok`,
-the ramp of the gravity-aware workspace, the landing check for downhill). One method, decided by
-the simulation: the least-total action is simulated first; where it fails (or the statics find
-none), the deepest-crossing action (if it differs) is; the slope works if either rolls the robot.
-So at each pose the bracket with both searches is never below the one with `edge_action` alone
-(the first mid where they part is one where edge_action's failed and the other's worked).
+is an action of a set of pairs, and works there; where no single pair rolls the robot that way
+even on flat ground (NaN), at 0 deg if an optimised action does there, else it stays NaN) and
+ends at the stand limit's high end (no roll starts from a pose that does not stand). Each
+bisection step simulates the robot posed on the mid slope (`slope_limit.pose`, the rigid
+robot), ramping the pressures s w of the action the statics optimised for that pose, judged as
+the single-pair rolls are (`slope_limit._sim_ok`, the ramp of the gravity-aware workspace, the
+landing check for downhill). One method, decided by the simulation (`rolls`): the least-total
+action is simulated first; where it fails (or the statics find none), the deepest-crossing
+action (if it differs) is; the slope works if either rolls the robot. So at each pose the
+bracket with both searches is never below the one with `edge_action` alone (the first slope
+where they part is one where edge_action's failed and the other's worked).
 """
 
 from __future__ import annotations
@@ -146,7 +148,15 @@ def multi_limits(
     for c, contact in enumerate(lim.contacts):
         face = sweeps[contact].face
         for kind in (1, 2):
-            lo0, stand_lo = lim.simulated[kind, c], lim.simulated[0, c]
+            lo0, stand_lo = lim.simulated[kind, c].copy(), lim.simulated[0, c]
+            # no single pair rolls the robot that way even on flat ground: an action at 0 deg may
+            nan = np.flatnonzero(np.isnan(lo0) & (stand_lo > 0))
+            if nan.size:
+                zero = np.zeros(nan.size)
+                good, tip, w, used = rolls(look, params, kind, face, zero, lim.headings[nan], setup, settings, searches)
+                for i, j in enumerate(nan[good]):
+                    lo0[j] = 0.0
+                    weights[kind, c, j], pres[kind, c, j], found[kind, c, j] = w[good][i], tip[good][i], used[good][i]
             js = np.array([j for j in range(lim.headings.size) if np.isfinite(lo0[j]) and lo0[j] < stand_lo[j]], int)
             if not js.size:
                 continue

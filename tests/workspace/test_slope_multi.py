@@ -68,11 +68,11 @@ def test_both_searches_never_below_the_least_total_alone():
         ("equilateral",),
         np.array([270.0]),
         *(np.full(shape, np.nan) for _ in range(2)),
-        np.array([35.0, 10.0, np.nan]).reshape(shape),  # stand, uphill (single pair), downhill
+        np.array([35.0, 10.0, 35.0]).reshape(shape),  # stand, uphill (single pair), downhill (none to do)
         np.zeros(shape, int),
         np.full(shape, np.nan),
         np.full(shape, "", dtype=object),
-        np.array([35.5, 10.5, np.nan]).reshape(shape),
+        np.array([35.5, 10.5, 35.5]).reshape(shape),
     )
     sweeps = {"equilateral": SimpleNamespace(face=face)}
     alone, both = (
