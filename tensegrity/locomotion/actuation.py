@@ -1,7 +1,10 @@
 """Optimised actions of any set of pairs for the planner (issue 30, item 1): from the robot's
 current state on its face, one weight vector per edge it can be rolled over
 (`workspace.sensitivity`: the statics' sensitivity of the CoG projection to each pair and a
-linear programme for the least total pressure), to roll with `control.roll(..., weights=w)`.
+linear programme for the least total pressure), and a second per edge where it differs, the
+deepest crossing (`workspace.cable_actions.reach_action`, which drives many pairs at once and
+finds crossings the first misses; `workspace.slope_multi` judges both the same way), to roll
+with `control.roll(..., weights=w)`.
 
 Per-cable actions (the prototype's 24 actuators) are not offered: the simulator's kernel takes
 one pressure per pair (`physics.kernel`, the cables of a pair share `CABLE_PAIR`'s pressure).
@@ -19,6 +22,7 @@ from ..physics import dynamics as d
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
+from ..workspace.cable_actions import reach_action
 from ..workspace.lookup import Workspace
 from ..workspace.sensitivity import ActuationSettings, EdgeAction, edge_actions, grounded
 from .plan import Plan
@@ -57,12 +61,14 @@ def candidates(
     direction: ArrayLike | None,
     settings: ActuationSettings,
     max_pressure: float,
+    deepest: bool = True,
 ) -> list[Candidate]:
     """Optimised actions for one robot `state` (batch 1) resting on `face` (1..20) of `terrain`:
-    one per edge that some pressures up to max_pressure MPa roll it over by the model
-    (`sensitivity.grounded`: the free statics about the robot's own pose and gravity), ordered by
-    `along` the world direction `direction` (2,) (x, y) first (None: by scale). ContactError if
-    the robot does not rest on `face`."""
+    per edge that some pressures up to max_pressure MPa roll it over by the model
+    (`sensitivity.grounded`: the free statics about the robot's own pose and gravity), the
+    least-total action and (`deepest`) the deepest-crossing one where it differs (module
+    docstring), by `along` the world direction `direction` (2,) (x, y) first (None: by scale).
+    ContactError if the robot does not rest on `face`."""
     if state.batch != 1:
         raise ValueError(f"candidates are for one robot; the state holds {state.batch}")
     nodes = d.nodes(state.x, state.q, params.strut_length)[0]
@@ -73,6 +79,10 @@ def candidates(
         raise ct.ContactError(f"the robot rests on face {topo.face_label(on)}, not {topo.face_label(f)}")
     model = grounded(params, f, nodes)
     acts: list[EdgeAction] = edge_actions(model, max_pressure, settings)
+    for k in range(3 if deepest else 0):
+        a = reach_action(model, k, max_pressure, settings.actuation_margin)
+        if a is not None and not any(b.edge == a.edge and np.allclose(b.weights, a.weights) for b in acts):
+            acts.append(a)
     u = None if direction is None else np.asarray(direction, float)[:2]
     if u is not None and not (np.all(np.isfinite(u)) and np.linalg.norm(u) > 0):
         raise ValueError(f"direction {u.tolist()} must be a finite non-zero (x, y) vector")
@@ -101,8 +111,8 @@ class World:
 def optimised(
     workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict, world: World | None = None
 ) -> list[np.ndarray]:
-    """With world.optimised: one weight vector (12,) per edge the statics can roll the robot over
-    (`candidates` from world.state), toward the target first: a generator of
+    """With world.optimised: one or two weight vectors (12,) per edge the statics can roll the
+    robot over (`candidates` from world.state), toward the target first: a generator of
     `lookahead.GENERATORS` (its arguments). ~0.1 s CPU per pose."""
     if world is None or not world.optimised or world.state is None:
         return []

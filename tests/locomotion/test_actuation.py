@@ -43,7 +43,7 @@ def test_optimised_action_rolls_over_its_edge_at_the_predicted_pressure():
     ground is the free workspace's, ~0.1 MPa)."""
     flat = Terrain.flat()
     st = _settled(flat)
-    cands = actuation.candidates(PARAMS, flat, st, FACE, (1.0, 0.0), actuation.ActuationSettings(), 3.0)
+    cands = actuation.candidates(PARAMS, flat, st, FACE, (1.0, 0.0), actuation.ActuationSettings(), 3.0, deepest=False)
     assert len(cands) == 3  # by symmetry, every edge of the equilateral face
     c = cands[0]
     assert c.along == max(x.along for x in cands) and len(np.flatnonzero(c.weights)) >= 2
@@ -61,7 +61,7 @@ def test_on_a_slope_the_optimised_action_lands_where_it_was_aimed():
     alone (the edge's best single pair) throws the robot on to another face."""
     slope = Terrain.slope(20.0)
     st = _settled(slope)
-    cands = actuation.candidates(PARAMS, slope, st, FACE, None, actuation.ActuationSettings(), 5.0)
+    cands = actuation.candidates(PARAMS, slope, st, FACE, None, actuation.ActuationSettings(), 5.0, deepest=False)
     c = next(x for x in cands if x.edge == (10, 12))
     assert set(np.flatnonzero(c.weights) + 1) == {6, 10}
     r = control.roll(PARAMS, st, slope, None, 5.0, S, weights=c.weights)

@@ -45,3 +45,40 @@ def test_optimised_action_rolls_uphill_where_no_single_pair_does():
     alone, multi = (gv.tip(rec, b, FACE, n_settle, gone[b]) for b in range(2))
     assert alone[2] != (9, 10) and multi[2] == (9, 10), (alone, multi)
     assert multi[0] < 4.2  # MPa: pair 9 alone on flat ground (control.roll: 4.1-4.2)
+
+
+def test_both_searches_never_below_the_least_total_alone():
+    """The uphill limit from the equilateral face at heading 270 (its one uphill edge (10, 12)),
+    2 bisection steps from 10 deg (about the single-pair limit) up to 35 deg (about the stand
+    limit's high end): with edge_action's actions alone none rolls the robot (the statics find
+    none over (10, 12) from 16 deg on); with the deepest-crossing action tried where it fails,
+    the bracket is never lower (`slope_multi` docstring) and here higher, and the file says
+    which search found the action."""
+    from types import SimpleNamespace
+
+    from tensegrity.workspace.sensitivity import ActuationSettings
+    from tensegrity.workspace.slope_multi import SEARCHES, multi_limits
+
+    setup = gv.GravitySetup()
+    params = setup.rolling(Params())
+    face = topo.face_number(topo.CONTACT_FACES["equilateral"])
+    shape = (3, 1, 1)
+    lim = sl.SlopeLimits(
+        sl.KINDS,
+        ("equilateral",),
+        np.array([270.0]),
+        *(np.full(shape, np.nan) for _ in range(2)),
+        np.array([35.0, 10.0, 35.0]).reshape(shape),  # stand, uphill (single pair), downhill (none to do)
+        np.zeros(shape, int),
+        np.full(shape, np.nan),
+        np.full(shape, "", dtype=object),
+        np.array([35.5, 10.5, 35.5]).reshape(shape),
+    )
+    sweeps = {"equilateral": SimpleNamespace(face=face)}
+    alone, both = (
+        multi_limits(None, params, sweeps, lim, setup, ActuationSettings(), 2, s) for s in (SEARCHES[:1], SEARCHES)
+    )
+    assert both.simulated[1, 0, 0] >= alone.simulated[1, 0, 0], (both.simulated, alone.simulated)
+    assert alone.simulated[1, 0, 0] == 10.0 and alone.search[1, 0, 0] == 0
+    assert both.simulated[1, 0, 0] > 20.0 and both.search[1, 0, 0] == 2
+    assert np.count_nonzero(both.weights[1, 0, 0]) > 2

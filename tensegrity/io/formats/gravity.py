@@ -198,6 +198,14 @@ def slope_limit_dataset(lim: SlopeLimits, multi: MultiLimits, attrs: dict) -> xr
             "weights w of the optimised action at simulated_multi, pressures s w (all 0: the single pair's limit)",
         ),
         "multi_pressure": var(dims, multi.pressure, "MPa", "its tipping scale s at simulated_multi (NaN: none)"),
+        "multi_search": var(
+            dims,
+            multi.search,
+            "1",
+            "search on the statics that found that action: 1 least total pressure (sensitivity.edge_action), "
+            "2 deepest crossing (cable_actions.reach_action), tried where the first did not roll the robot "
+            "(0: the single pair's limit stands)",
+        ),
     }
     return xr.Dataset(
         {
