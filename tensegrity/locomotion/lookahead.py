@@ -9,7 +9,7 @@ the unbraked robot is predicted not to stand) and, where that brake acts, also w
 `foresee` simulates candidates from the robot's current state with the run's own controller, all
 in one batch, so each result is the roll the run would make. `choose` keeps a roll that lands on
 another face (`lands`: on a face, its CoG moved at most SLIDE m, else a tumble) at a state the run
-has not been at since its cost last fell (`memory.Memory`), and ranks those by
+has not been at since its CoG last came closer to the goal (`memory.Memory`), and ranks those by
 `progress.rolls_to_goal`, the rolls still needed by the robot's own stride and lift
 (`progress.stride`). The horizon grows by cost alone: the workspace's best
 candidate first, then 2, 4, ... up to `lookahead` candidates, then all of them, then the lazy
