@@ -72,8 +72,8 @@ def drive(
                 break
             target = dict(goal=goal) if direction is None else dict(direction=direction)
             travel, lift = progress.stride(obs.nodes, face)
-            memory = memory or lookahead.Memory(travel / 2)
-            memory.add(face, obs.nodes.mean(axis=0))
+            # the memory forgets when the CoG comes closer to the goal than ever (not along a direction or over edges)
+            memory = memory or lookahead.Memory(travel / 2, goal if edges is None and direction is None else None)
             if edges is not None:
                 e = tuple(sorted(int(n) for n in edges[k]))
                 corners = [topo.edge_nodes(face, j) for j in range(3)]
@@ -87,6 +87,7 @@ def drive(
                 now = progress.rolls_to_goal(obs.nodes.mean(axis=0), goal, terrain, travel, lift)
             else:
                 cost, now = lookahead.along(target["direction"], travel), 0.0
+            memory.add(face, obs.nodes.mean(axis=0))
             visited = (visited + [face])[-_TABU - 1 :]
             cpu = time.process_time()  # planning CPU: the plan and every roll simulated ahead
             pl = plan(

@@ -9,8 +9,9 @@ the unbraked robot is predicted not to stand) and, where that brake acts, also w
 `foresee` simulates candidates from the robot's current state with the run's own controller, all
 in one batch, so each result is the roll the run would make. `choose` keeps a roll that lands on
 another face (`lands`: on a face, its CoG moved at most SLIDE m, else a tumble) at a state the run
-has not been at (`Memory`), and ranks those by `progress.rolls_to_goal`, the rolls still needed by
-the robot's own stride and lift (`progress.stride`). The horizon grows by cost alone: the workspace's best
+has not been at since its CoG last came closer to the goal (`memory.Memory`), and ranks those by
+`progress.rolls_to_goal`, the rolls still needed by the robot's own stride and lift
+(`progress.stride`). The horizon grows by cost alone: the workspace's best
 candidate first, then 2, 4, ... up to `lookahead` candidates, then all of them, then the lazy
 generators' (`LAZY`: computed only when the horizon reaches them), only while none is acceptable.
 A candidate's simulation ends as soon as its outcome is decided: its CoG more than SLIDE m away
@@ -22,7 +23,6 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 
 import numba
 import numpy as np
@@ -37,6 +37,7 @@ from .actuation import optimised as _optimised
 from .brake import Brake, escape
 from .control import RollResult, roll_controller
 from .lockstep import Obs, lockstep
+from .memory import Memory
 from .plan import Candidate, Plan
 from .settings import RollSettings
 
@@ -210,23 +211,6 @@ def verdicts(simulated: Sequence[RollResult], memory: Memory) -> str:
     back = sum(lands(r) and r.rolled and memory.seen(r.face_after, r.cog_after) for r in simulated)
     rest = len(simulated) - tumble - stay - back
     return f"{tumble} tumble or slide, {stay} do not roll, {back} return, {rest} land elsewhere"
-
-
-@dataclass
-class Memory:
-    """The states a run has been at: (1-based face, CoG (2,) m horizontal). A roll may not
-    return to a face at a place within `radius` m of where the robot stood on it before (half a
-    roll's travel): a route then cannot cycle; it ends stuck or at the step limit instead."""
-
-    radius: float
-    states: list[tuple[int, np.ndarray]] = field(default_factory=list)
-
-    def add(self, face: int, cog: np.ndarray) -> None:
-        self.states.append((int(face), np.asarray(cog, float)[:2].copy()))
-
-    def seen(self, face: int | None, cog: np.ndarray) -> bool:
-        c = np.asarray(cog, float)[:2]
-        return any(f == face and np.linalg.norm(c - p) < self.radius for f, p in self.states)
 
 
 def choose(
