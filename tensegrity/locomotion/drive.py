@@ -11,6 +11,7 @@ runs it.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -26,10 +27,38 @@ from .brake import Brake, escape
 from .control import RollResult, roll_controller, settle_controller
 from .lockstep import Controller, Obs
 from .outcome import Step
-from .plan import plan
+from .plan import Plan, plan
 from .settings import RollSettings
 
 _TABU = 4  # the plan ranks rolls back onto the faces of the last four steps after the others
+
+
+def step_ahead(
+    workspace: Workspace,
+    params: Params,
+    terrain: Terrain,
+    s: RollSettings,
+    obs: Obs,
+    face: int,
+    pl: Plan,
+    target: dict,
+    brk: Brake | None,
+    cost: Callable[[RollResult], float],
+    memory: lookahead.Memory,
+    now: float,
+) -> tuple[list, list, tuple[RollResult, ...]]:
+    """A run's step simulated ahead from `obs` on `face` (`lookahead.choose`): the plan `pl`'s
+    actions toward `target`, then the optimised ones if s.optimised_actions. Returns the actions,
+    the acceptable ones best first and every roll simulated (`drive` and `start.first_roll`)."""
+    world = lookahead.World(params, terrain, obs.state, workspace.max_pressure, s.optimised_actions)
+    args = (workspace, face, obs.nodes, pl, target, brk, world)
+    acts = lookahead.acts(*args)
+    expect = {c.pairs: c.pressure for c in pl.candidates}
+    more = (lambda: lookahead.acts(*args, lazy=True)) if s.optimised_actions else None
+    todo, simulated = lookahead.choose(
+        params, terrain, s, obs, acts, workspace.max_pressure, brk, expect, cost, memory, now, more
+    )
+    return acts, todo, simulated
 
 
 def drive(
@@ -105,22 +134,8 @@ def drive(
             simulated: tuple[RollResult, ...] = ()
             braked = brk is not None
             if s.lookahead:
-                world = lookahead.World(params, terrain, obs.state, workspace.max_pressure, s.optimised_actions)
-                args = (workspace, face, obs.nodes, pl, target, brk, world)
-                acts = lookahead.acts(*args)
-                todo, simulated = lookahead.choose(
-                    params,
-                    terrain,
-                    s,
-                    obs,
-                    acts,
-                    workspace.max_pressure,
-                    brk,
-                    expect,
-                    cost,
-                    memory,
-                    now,
-                    (lambda a=args: lookahead.acts(*a, lazy=True)) if s.optimised_actions else None,
+                acts, todo, simulated = step_ahead(
+                    workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now
                 )
                 if not todo:  # none acceptable: make the first foreseen roll that keeps the robot on its
                     # face (no tumble: the run records what it tried, and ends stuck below)

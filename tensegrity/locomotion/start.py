@@ -38,6 +38,7 @@ from ..workspace.lookup import Workspace
 from . import lookahead, progress
 from .brake import Brake
 from .control import settle_controller
+from .drive import step_ahead
 from .lockstep import Obs, lockstep
 from .plan import plan
 from .settings import RollSettings
@@ -128,26 +129,12 @@ def first_roll(
     memory.add(face, obs.cog)
     target = dict(goal=gl)
     pl = plan(workspace, face, obs.nodes, combine=s.combine, min_alignment=s.min_alignment, unit=s.unit, **target)
-    world = lookahead.World(params, terrain, obs.state, workspace.max_pressure, s.optimised_actions)
-    args = (workspace, face, obs.nodes, pl, target, brk, world)
 
     def cost(r):
         return progress.rolls_to_goal(r.cog_after, gl, terrain, travel, lift)
 
-    _, simulated = lookahead.choose(
-        params,
-        terrain,
-        s,
-        obs,
-        lookahead.acts(*args),
-        workspace.max_pressure,
-        brk,
-        {c.pairs: c.pressure for c in pl.candidates},
-        cost,
-        memory,
-        now := progress.rolls_to_goal(obs.cog, gl, terrain, travel, lift),
-        (lambda: lookahead.acts(*args, lazy=True)) if s.optimised_actions else None,
-    )
+    now = progress.rolls_to_goal(obs.cog, gl, terrain, travel, lift)
+    _, _, simulated = step_ahead(workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now)
     ok = [r for r in simulated if r.rolled and lookahead.lands(r) and not memory.seen(r.face_after, r.cog_after)]
     fine = [now - cost(r) for r in ok]  # the acceptable rolls, as `lookahead.choose` accepts them
     words = f"{len(simulated)} rolls simulated: {lookahead.verdicts(simulated, memory)}"
