@@ -14,9 +14,10 @@ has not been at since its CoG last came closer to the goal (`memory.Memory`), an
 (`progress.stride`). The horizon grows by cost alone: the workspace's best
 candidate first, then 2, 4, ... up to `lookahead` candidates, then all of them, then the lazy
 generators' (`LAZY`: computed only when the horizon reaches them), only while none is acceptable.
-A candidate's simulation ends as soon as its outcome is decided: its CoG more than SLIDE m away
-(a tumble or slide), or its unbraked ramp given up on its face (`control.roll_controller`'s
-`foresee`).
+A candidate's simulation ends as soon as its outcome is decided (`decided.until_decided`): its CoG
+more than SLIDE m away (a tumble or slide); unbraked, at rest at the top of its ramp without
+rolling, or its ramp given up on its face (`control.roll_controller`'s `foresee`); landed on
+another face and at rest there (with the twisted strings, before their strands unwind).
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ from .actuation import World
 from .actuation import optimised as _optimised
 from .brake import Brake, escape
 from .control import RollResult, roll_controller
+from .decided import SLIDE, until_decided
 from .lockstep import Obs, lockstep
 from .memory import Memory
 from .plan import Candidate, Plan
@@ -57,7 +59,6 @@ __all__ = [
     "weights_of",
 ]
 
-SLIDE = 0.5  # m: a roll that moves the CoG further (horizontally) slid: a tumble (issue 30's definition)
 # One candidate roll: (1-based pairs, braked), or (pairs, braked, weights) with a weight vector (12,)
 # as a tuple (largest 1; pairs: its nonzero entries; `control.action_weights`).
 Act = tuple
@@ -163,7 +164,7 @@ def foresee(
         ctl = roll_controller(
             params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True, brake_acts=(acting or [None])[0]
         )
-        return _until_slid(ctl, ob, pairs, w)
+        return until_decided(ctl, ob, pairs, w, s, max_pressure, brk is not None)
 
     threads = numba.get_num_threads()
     numba.set_num_threads(1)  # see the docstring
@@ -171,25 +172,6 @@ def foresee(
         return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s, record=False)]
     finally:
         numba.set_num_threads(threads)
-
-
-def _until_slid(gen, obs: Obs, pairs: tuple[int, ...], w: np.ndarray | None):
-    """The roll controller `gen` of the robot `obs`, ended as soon as its CoG is more than SLIDE
-    m (horizontally) from where it started: a tumble or a slide, whatever follows (the RollResult
-    then ends on no face, not rolled)."""
-    cog0 = obs.cog
-    pres = next(gen)
-    while True:
-        ob = yield pres
-        cog = ob.cog
-        if np.hypot(cog[0] - cog0[0], cog[1] - cog0[1]) > SLIDE:
-            gen.close()
-            res = RollResult(pairs, False, obs.face, None, np.nan, np.nan, obs.t, ob.t, cog0, cog, weights=w)
-            return res, ob
-        try:
-            pres = gen.send(ob)
-        except StopIteration as stop:
-            return stop.value
 
 
 def moved(r: RollResult) -> float:
