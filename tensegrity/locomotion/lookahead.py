@@ -35,10 +35,11 @@ from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace
 from .actuation import World
 from .actuation import optimised as _optimised
+from .ahead import Ramp, lockstep_ahead
 from .brake import Brake, escape
-from .control import RollResult, roll_controller
+from .control import RollResult, action_weights, roll_controller
 from .decided import SLIDE, until_decided
-from .lockstep import Obs, lockstep
+from .lockstep import Obs
 from .memory import Memory
 from .plan import Candidate, Plan
 from .settings import RollSettings
@@ -142,7 +143,8 @@ def foresee(
     planned pressure `expect[pairs]` MPa (NaN if absent or weighted), simulated together from
     the same state, on one numba thread: each kernel call advances a batch by one check
     interval only, and a second OpenMP thread spins between calls, which costs 2.4 times the CPU
-    of one thread (156 candidates on a 20 deg slope, docs/planner_evaluation.md).
+    of one thread (156 candidates on a 20 deg slope, docs/planner_evaluation.md). The unbraked
+    ramps are simulated several intervals per call (`ahead.lockstep_ahead`), to the same bits.
     Raises SimulationError if a simulation blows up."""
     if obs.state is None:
         raise ValueError("the observation carries no state to simulate from")
@@ -150,6 +152,7 @@ def foresee(
         return []
     state = d.State.concat([obs.state] * len(todo))
     acting: list[bool] = []  # whether the brake acts on the start face (`Brake.active`, the same for all)
+    ramps: list[Ramp | None] = [None] * len(todo)  # the unbraked ones' ramps (`ahead.lockstep_ahead`)
 
     def make(b: int, ob: Obs):
         ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy(), cog=ob.cog)
@@ -164,12 +167,13 @@ def foresee(
         ctl = roll_controller(
             params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True, brake_acts=(acting or [None])[0]
         )
+        ramps[b] = None if brk is not None else Ramp(action_weights(pairs, w)[1], s, max_pressure)
         return until_decided(ctl, ob, pairs, w, s, max_pressure, brk is not None)
 
     threads = numba.get_num_threads()
     numba.set_num_threads(1)  # see the docstring
     try:
-        return [res for (res, _), _, _ in lockstep(params, terrain, state, make, s, record=False)]
+        return [res for (res, _), _ in lockstep_ahead(params, terrain, state, make, s, ramps)]
     finally:
         numba.set_num_threads(threads)
 

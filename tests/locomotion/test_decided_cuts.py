@@ -1,7 +1,8 @@
 """Candidates simulated ahead end once their outcome is decided (`locomotion.decided`, issue 30's
 planning cost): each is judged as the whole roll (`roll_controller` to its end) is, and those that
 stay on their face, unbraked, end at rest at the top of their ramp, before the hold runs out;
-for the muscles and the twisted strings."""
+for the muscles and the twisted strings. Their ramps simulated in chunks of check intervals
+(`locomotion.ahead`) are the rolls simulated one interval at a time, to the last bit."""
 
 import copy
 from dataclasses import replace
@@ -10,7 +11,7 @@ import numpy as np
 import pytest
 
 from tensegrity import locomotion as lo
-from tensegrity.locomotion import lookahead
+from tensegrity.locomotion import ahead, lookahead
 from tensegrity.locomotion.brake import Brake
 from tensegrity.locomotion.control import roll_controller, settle_controller
 from tensegrity.locomotion.lockstep import Obs, lockstep
@@ -45,6 +46,33 @@ def _whole(s, terrain, obs, todo, top, brk):
     return [r for (r, _), _, _ in lockstep(DAMPED, terrain, state, make, s, record=False)]
 
 
+def _fields(r):
+    return (r.pairs, r.rolled, r.face_before, r.face_after, r.tip_pressure, r.peak_pressure, r.t_start, r.t_end)
+
+
+def _one_at_a_time(monkeypatch, chunked, *args):
+    """`lookahead.foresee(*args)` one check interval at a time (ahead.CHUNK 1) gives the results
+    `chunked` to the last bit; and chunks were made (ahead._simulate called with several)."""
+    with monkeypatch.context() as m:
+        m.setattr(ahead, "CHUNK", 1)
+        one = lookahead.foresee(*args)
+    for a, b in zip(one, chunked):
+        assert all(x == y or (x != x and y != y) for x, y in zip(_fields(a), _fields(b)))  # NaN: NaN
+        assert np.array_equal(a.cog_after, b.cog_after)
+
+
+def _count_chunks(monkeypatch) -> list[int]:
+    sizes: list[int] = []
+    sim = ahead._simulate
+
+    def counted(params, terrain, s, batch, cmds, every):
+        sizes.append(cmds.shape[1])
+        return sim(params, terrain, s, batch, cmds, every)
+
+    monkeypatch.setattr(ahead, "_simulate", counted)
+    return sizes
+
+
 def _compare(cut, full, s, top, start):
     """Same verdict as the whole roll; landing rolls the whole roll to the last bit; the rest
     no later. Returns how many ended at rest at the top (before the hold ran out)."""
@@ -62,8 +90,9 @@ def _compare(cut, full, s, top, start):
 
 
 @pytest.mark.parametrize("slope", [0.0, 20.0])
-def test_the_muscles_candidates_end_once_decided_with_the_whole_rolls_verdict(ws, slope):
-    """On flat ground and a 20 deg slope, the candidates of the first step (every fifth one)."""
+def test_the_muscles_candidates_end_once_decided_with_the_whole_rolls_verdict(ws, slope, monkeypatch):
+    """On flat ground and a 20 deg slope, the candidates of the first step (every fifth one; on
+    flat ground the first eight, simulated in chunks, are also checked one interval at a time)."""
     s = lo.RollSettings()
     terrain = Terrain.slope(slope) if slope else Terrain.flat()
     brk = Brake(ws, s.brake_margin)
@@ -79,9 +108,14 @@ def test_the_muscles_candidates_end_once_decided_with_the_whole_rolls_verdict(ws
     assert early >= 1 if slope == 0 else early == 0
     assert any(r.rolled and lookahead.lands(r) for r in cut)
     assert any(r.face_after is None for r in cut) == (slope > 0)
+    if slope == 0:
+        sizes = _count_chunks(monkeypatch)
+        first = lookahead.foresee(DAMPED, terrain, s, obs, todo[:8], ws.max_pressure, brk, {})
+        assert max(sizes) == ahead.CHUNK
+        _one_at_a_time(monkeypatch, first, DAMPED, terrain, s, obs, todo[:8], ws.max_pressure, brk, {})
 
 
-def test_the_twisted_strings_candidates_end_at_rest_at_their_voltage():
+def test_the_twisted_strings_candidates_end_at_rest_at_their_voltage(monkeypatch):
     """The prototype's motors ramped at 0.1 V/s (config/README.md's volts table): #10 and #6 at up
     to 9 V do not roll the robot off (9,10,12) (the roll needs about 10.1 V): the candidates end
     once the robot is at rest and the motors have twisted their strands, seconds before the hold
@@ -90,7 +124,10 @@ def test_the_twisted_strings_candidates_end_at_rest_at_their_voltage():
     s, flat = replace(VOLTS, ramp_rate=0.1), Terrain.flat()
     obs = _settled(s, flat, None)
     todo = [((10,), False), ((6,), False)]
+    sizes = _count_chunks(monkeypatch)
     cut = lookahead.foresee(DAMPED, flat, s, obs, todo, 9.0, None, {})
+    assert max(sizes) == ahead.CHUNK and sum(sizes) > 3000  # most of the 90 s ramp
+    _one_at_a_time(monkeypatch, cut, DAMPED, flat, s, obs, todo, 9.0, None, {})
     full = _whole(s, flat, obs, todo, 9.0, None)
     assert _compare(cut, full, s, 9.0, obs.face) == 2
     assert all(f.t_end - c.t_end > 10.0 and not c.rolled for c, f in zip(cut, full))
