@@ -13,7 +13,11 @@ observations one interval at a time; at the first command that differs from the 
 up to that interval. Each controller thus sees the observations, and each robot the commands, of
 the one-interval-at-a-time simulation: the same rolls to the last bit (tests/locomotion/
 test_decided_cuts.py), at a fraction of the calls. The observations of a chunk carry no robot
-state (Obs.state None): the roll controller reads none in its ramp.
+state (Obs.state None): the roll controller reads none in its ramp or a hold; with the twisted
+strings no chunk holds the top (`decided` reads the motors there) or zero (`control.rested`), and
+the pairs commanded 0 V are unwound (within `lockstep.UNWIND_TOLERANCE`, their voltage then the
+command: `lockstep.applied`) at a chunk's start and end: a motor at 0 V is held by its gear
+friction, so they stay so in between.
 """
 
 from __future__ import annotations
