@@ -17,6 +17,10 @@ refit (`fit.solve` with x_j held, to a relative cost decrease FTOL: ~2e-4 s^2 fo
 q^2 s^2 = 3.84 s^2) starts from the nearest point refitted so far, moved along the linearised
 conditional optimum (the covariance's column of j). At most BUDGET refits per parameter (both
 ends); past it, or if a refit fails near the optimum, the parameter gets no interval (named).
+
+A refit that ends below the fit's cost by more than `tol` (S_j(v) < S(x^) - tol: the fit was not
+the minimum) stops the profile with `Lower`, the point it found; the fit restarts from there
+(`minima.settle`).
 """
 
 from __future__ import annotations
@@ -29,7 +33,7 @@ from scipy.optimize import brentq
 
 from ..physics.dynamics import SimulationError
 
-__all__ = ["BUDGET", "GROW", "XTOL", "FTOL", "NFEV", "Held", "OutOfBudget", "interval"]
+__all__ = ["BUDGET", "GROW", "XTOL", "FTOL", "NFEV", "Held", "OutOfBudget", "Lower", "interval"]
 
 BUDGET = 30  # refits per parameter, both ends
 GROW = 2.0  # the bracket's growth per step, in units of its last width
@@ -41,6 +45,16 @@ _FAILED = 1e6  # z of a held value whose refit fails: outside the interval
 
 class OutOfBudget(RuntimeError):
     """The profile took more than BUDGET refits."""
+
+
+class Lower(Exception):
+    """A point x (p,) scaled whose cost |r|^2 (m^2) is below the fit's by more than the
+    tolerance: the fit stopped short of the minimum (found by a refit of the profile or by the
+    linearity check)."""
+
+    def __init__(self, x: np.ndarray, cost: float, where: str):
+        super().__init__(f"{where}: a cost {cost:.6g} m^2 below the fit's")
+        self.x, self.cost, self.where = np.asarray(x, float), float(cost), where
 
 
 @dataclass(frozen=True)
@@ -80,6 +94,7 @@ def interval(
     lo: np.ndarray | float = -np.inf,
     hi: np.ndarray | float = np.inf,
     budget: int | None = None,
+    tol: float = np.inf,
 ) -> tuple[tuple[float, float], tuple[bool, bool], int]:
     """The 95 % profile interval (P1) of unknown j: its lower and upper end (scaled, a bound if
     open), whether each is open, and the refits made. x (p,) the optimum (scaled), cost its
@@ -87,7 +102,8 @@ def interval(
     linearised interval's step of every unknown with x_j (`linearity.steps`: step[j] the
     linearised half-width), s the residual standard deviation (m), q the quantile, lo, hi the
     bounds (scaled); `refit(held, y0)` -> (y, J, scipy result) the least-squares optimum of the
-    other unknowns from y0 (`fit.solve`). Raises OutOfBudget past `budget` (None: BUDGET) refits."""
+    other unknowns from y0 (`fit.solve`). Raises OutOfBudget past `budget` (None: BUDGET) refits,
+    and Lower at a refit whose cost is below `cost` by more than `tol` (m^2)."""
     budget = BUDGET if budget is None else budget
     lo, hi = np.broadcast_to(lo, x.shape), np.broadcast_to(hi, x.shape)
     width, slope = float(step[j]), step / step[j]
@@ -108,6 +124,8 @@ def interval(
             else:  # nothing else to refit
                 y, fun = np.zeros(0), held.residuals(np.zeros((1, 0)))[0]
             rise = float(fun @ fun) - cost
+            if rise < -tol:
+                raise Lower(np.insert(y, j, x[j] + u), cost + rise, f"the profile of {prob.names[j]}")
             done[u] = (float(np.sign(rise) * np.sqrt(abs(rise)) / s - q), np.insert(y, j, x[j] + u))
         except (SimulationError, ValueError):
             done[u] = (_FAILED, y0)
