@@ -134,7 +134,8 @@ def linear(
     if drop.min() < -tol:
         j, end = np.unravel_index(np.argmin(drop), drop.shape)
         point = x + (1 - 2 * end) * steps(J, unc, prob.n_params)[1][j]
-        raise profile.Lower(point, float(r @ r + drop.min()), f"the linearity check of {prob.fit[j]}")
+        below = -float(drop.min()) / unc.s**2
+        raise profile.Lower(point, float(r @ r + drop.min()), below, f"the linearity check of {prob.fit[j]}")
     lost = np.flatnonzero(np.isfinite(unc.se) & ~np.all((rise >= 1 / LINEAR) & (rise <= LINEAR), axis=1))
     if not lost.size:
         return unc

@@ -49,7 +49,8 @@ SPREAD = 2.0  # extra starts within this factor of the configured start, each wa
 class Settled:
     """The fit's optimum x (p,) scaled, its Jacobian J (N, p) and scipy result `res`; what it
     knows `unc`; its simulated nodes (T, 12, 3) m and residuals r (N,) m; `restarts` what found
-    each lower point the fit restarted from; nfev, njev of the restarts' fits."""
+    each lower point the fit restarted from and how far below the fit's cost it was (in the fit's
+    s^2); nfev, njev of the restarts' fits."""
 
     x: np.ndarray
     J: np.ndarray
@@ -117,7 +118,7 @@ def settle(
             tol = None if len(said) < RESTARTS else np.inf  # past RESTARTS: no more restarts
             unc = linear(prob, x, J, r, unc, lo, hi, refit=refit, tol=tol)
         except profile.Lower as low:
-            said.append(low.where)
+            said.append(f"{low.where} ({low.below:.3g} s^2 below)")
             x, J, res = solve(prob, low.x)
             nfev, njev = nfev + res.nfev, njev + res.njev
             continue

@@ -49,12 +49,12 @@ class OutOfBudget(RuntimeError):
 
 class Lower(Exception):
     """A point x (p,) scaled whose cost |r|^2 (m^2) is below the fit's by more than the
-    tolerance: the fit stopped short of the minimum (found by a refit of the profile or by the
-    linearity check)."""
+    tolerance, by `below` times the fit's s^2: the fit stopped short of the minimum (found by a
+    refit of the profile or by the linearity check, `where`)."""
 
-    def __init__(self, x: np.ndarray, cost: float, where: str):
-        super().__init__(f"{where}: a cost {cost:.6g} m^2 below the fit's")
-        self.x, self.cost, self.where = np.asarray(x, float), float(cost), where
+    def __init__(self, x: np.ndarray, cost: float, below: float, where: str):
+        super().__init__(f"{where} found a point {below:.3g} s^2 below the fit's cost")
+        self.x, self.cost, self.below, self.where = np.asarray(x, float), float(cost), float(below), where
 
 
 @dataclass(frozen=True)
@@ -125,7 +125,7 @@ def interval(
                 y, fun = np.zeros(0), held.residuals(np.zeros((1, 0)))[0]
             rise = float(fun @ fun) - cost
             if rise < -tol:
-                raise Lower(np.insert(y, j, x[j] + u), cost + rise, f"the profile of {prob.names[j]}")
+                raise Lower(np.insert(y, j, x[j] + u), cost + rise, -rise / s**2, f"the profile of {prob.names[j]}")
             done[u] = (float(np.sign(rise) * np.sqrt(abs(rise)) / s - q), np.insert(y, j, x[j] + u))
         except (SimulationError, ValueError):
             done[u] = (_FAILED, y0)
