@@ -20,7 +20,10 @@ ends); past it, or if a refit fails near the optimum, the parameter gets no inte
 
 A refit that ends below the fit's cost by more than `tol` (S_j(v) < S(x^) - tol: the fit was not
 the minimum) stops the profile with `Lower`, the point it found; the fit restarts from there
-(`minima.settle`).
+(`minima.settle`). Past an end, a profile that falls again (the bracket's far end below a refit
+between it and the end: a barrier, another valley beyond) is followed outward by GROW while it
+falls (`_beyond`): into a point below the fit's cost (Lower), or below the threshold (a second
+stretch of (P1): the interval's end is then that stretch's far end), or until it rises again.
 """
 
 from __future__ import annotations
@@ -135,13 +138,39 @@ def interval(
     for side in (-1.0, 1.0):
         limit = float(hi[j] - x[j] if side > 0 else x[j] - lo[j])
         a, b = 0.0, min(width, limit)
-        while z(side * b) < 0 and b < limit:
-            a, b = b, min(GROW * b, limit)
-        if z(side * b) < 0:  # still below the threshold at the bound
-            ends.append(x[j] + side * limit)
-            open_.append(True)
-            continue
-        t = brentq(lambda t, side=side: z(side * t), a, b, xtol=XTOL * width)
-        ends.append(x[j] + side * t)
-        open_.append(False)
+        while True:
+            while z(side * b) < 0 and b < limit:
+                a, b = b, min(GROW * b, limit)
+            if z(side * b) < 0:  # still below the threshold at the bound
+                end, shut = limit, True
+                break
+            end, shut = brentq(lambda t, side=side: z(side * t), a, b, xtol=XTOL * width), False
+            c = _beyond(z, done, side, end, b, limit)
+            if c is None:
+                break
+            a, b = c, min(GROW * c, limit)  # a second stretch below the threshold: its far end
+        ends.append(x[j] + side * end)
+        open_.append(shut)
     return (float(ends[0]), float(ends[1])), (open_[0], open_[1]), len(done) - 1
+
+
+def _beyond(z: Callable[[float], float], done: dict, side: float, end: float, b: float, limit: float) -> float | None:
+    """Past an end found at `end` (bracket's far end b): if the profile falls again towards b
+    (z(b) below a refit between end and b), follow it outward by GROW while it falls: the
+    offset (> 0) of a point below the threshold (a second stretch of (P1), whose far end is then
+    the interval's), else None (it rises again, the bound, or the budget; a point below the
+    fit's cost raises Lower on the way)."""
+    seen = [v[0] for u, v in done.items() if end < side * u <= b]
+    c, zc = b, z(side * b)
+    if not seen or zc >= max(seen):
+        return None
+    try:
+        while zc >= 0 and c < limit:
+            c2 = min(GROW * c, limit)
+            z2 = z(side * c2)
+            if z2 >= zc:
+                return None
+            c, zc = c2, z2
+    except OutOfBudget:
+        return None
+    return c if zc < 0 else None
