@@ -9,7 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from tensegrity.calibration import calibrate, minima
+from tensegrity.calibration import calibrate, minima, profile
 from tensegrity.calibration.fit import _bounds, solve
 from tensegrity.calibration.linearity import margin
 from tensegrity.io.formats.calibration import calibration_dataset
@@ -109,3 +109,28 @@ def test_calibrate_with_an_extra_start_reports_its_costs(free_run, truth):
     ds = calibration_dataset(c)
     assert ds.attrs["restarts"] == 0 and ds.attrs["restarted_by"] == "none"
     assert np.array_equal(ds.attrs["start_costs_m2"], c.costs)
+
+
+def _bumped(tol):
+    """profile.interval of one unknown (no refit) whose cost above the fit's is g(u) s^2 (s = 1)
+    at u = x - 1: below the threshold q^2 = 3.84 to u = 1.04, a barrier up to 6 at 1.3, down to
+    4.5 at 2 (the bracket's far end) and -6 at 4, up again to 20 at 8; on the other side 30.72 |u|."""
+    knots = ([-8, 0, 1, 1.1, 1.3, 2, 4, 8], [3.84 * 64, 0, 3.38, 4.5, 6, 4.5, -6, 20])
+    prob = SimpleNamespace(n_params=1, names=("b",), units=np.ones(1))
+    prob.residuals = lambda X: np.sqrt(np.interp(np.atleast_2d(X)[:, :1] - 1.0, *knots) + 10.0)
+    return profile.interval(prob, None, np.ones(1), np.ones(1), 0, 10.0, 1.0, 1.96, tol=tol)
+
+
+def test_a_profile_that_falls_again_past_its_end_is_followed_into_the_lower_valley():
+    """The profile's end (u ~ 1.04) is before a barrier; the bracket's far end (u = 2) is below a
+    point brentq refitted between them, so the profile is followed outward (u = 4): a point 6 s^2
+    below the fit's cost, Lower; without restarts (tol inf) the stretch below the threshold
+    beyond the barrier is part of the interval, its far end where g crosses 3.84 between u = 4 and 8."""
+    with pytest.raises(profile.Lower) as low:
+        _bumped(0.08)
+    assert low.value.x[0] == pytest.approx(5.0) and low.value.below == pytest.approx(6.0)
+    (lower, upper), shut, _ = _bumped(np.inf)
+    assert lower == pytest.approx(1 - 3.84 / 30.72, abs=0.02) and upper == pytest.approx(
+        1 + 4 + 4 * 9.84 / 26, abs=0.02
+    )
+    assert shut == (False, False)
