@@ -64,17 +64,19 @@ def _q(unc: Uncertainty) -> float:
     return float(stats.t.ppf(0.975, unc.dof))
 
 
-def margin(J: np.ndarray, r: np.ndarray, unc: Uncertainty) -> float:
+def margin(J: np.ndarray, r: np.ndarray) -> float:
     """How far (m^2) below the fit's cost |r|^2 a point must be to say the fit was not the
     minimum: the larger of what the fit's own linear model says is still to gain at its optimum,
     |J (J^T J)^-1 J^T r|^2 (a fit stopped by `fit.STOP` or a tolerance: a point that far below is
     the same minimum, polished), and the least change of the minimum that moves an interval's end
     by more than its tolerance: the threshold q^2 s^2 moved by d, z = sqrt(.) - q by d / (2 q s^2),
     an end by `profile.XTOL` of a half-width for d = 2 q^2 XTOL s^2 (~0.08 s^2). J (N, p) at the
-    optimum, r (N,) its residuals (m)."""
+    optimum, r (N,) its residuals (m); s^2 = |r|^2 / (N - p) and q = t_{0.975, N-p} as in
+    `uncertainty`."""
+    dof = max(J.shape[0] - J.shape[1], 1)
     g = J.T @ r
     left = float(g @ normal_inverse(J) @ g) if np.all(np.isfinite(J)) else 0.0
-    return max(left, 2 * _q(unc) ** 2 * profile.XTOL * unc.s**2)
+    return max(left, 2 * float(stats.t.ppf(0.975, dof)) ** 2 * profile.XTOL * float(r @ r) / dof)
 
 
 def rises(
@@ -129,7 +131,7 @@ def linear(
     never)."""
     if not np.isfinite(unc.se).any() or unc.s < FLOOR:
         return unc
-    rise, tol = rises(prob, x, J, r, unc, lo, hi), margin(J, r, unc) if tol is None else tol
+    rise, tol = rises(prob, x, J, r, unc, lo, hi), margin(J, r) if tol is None else tol
     drop = np.where(np.isnan(rise), np.inf, rise) * (_q(unc) * unc.s) ** 2  # m^2 above |r|^2
     if drop.min() < -tol:
         j, end = np.unravel_index(np.argmin(drop), drop.shape)

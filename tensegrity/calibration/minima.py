@@ -20,7 +20,8 @@ valley, its profile interval 1.3 % wide, 9.8 % off). Two remedies:
   (scipy.stats.qmc, seed SEED: the same starts every run) log-uniformly within a factor `spread`
   (default SPREAD) of the configured start on each side, inside the fit's bounds (1/100 to 100
   times the start); the initial state and frame start from the data, as the first fit. The fit
-  of lowest cost is kept (ties: the first, the configured start), with its prediction check.
+  of lowest cost is kept, with its prediction check; a start replaces the one kept so far only if
+  lower by more than that one's margin (the same minimum reached twice: the first is kept).
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ from scipy.stats import qmc
 
 from ..physics.dynamics import SimulationError
 from . import profile
-from .linearity import linear
+from .linearity import linear, margin
 from .misfit import misfit
 from .uncertainty import Uncertainty, structural, uncertainty
 
@@ -80,7 +81,9 @@ def lowest(staged: Callable[[np.ndarray | None], tuple], X0: np.ndarray) -> tupl
     """The fit of lowest cost among staged(None) (the configured start; its errors raised) and
     staged(x0) for each extra start x0 in X0 (k, p) (one the simulator cannot run left out): its
     (x, J, res, nfev, njev, ...) with nfev, njev summed over every start, and the costs |r|^2
-    (m^2) of the fits made, the configured start's first (of equal costs the first is kept)."""
+    (m^2) of the fits made, the configured start's first. A start replaces the one kept so far
+    only if its cost is lower by more than that one's `linearity.margin` (the same minimum
+    reached twice differs in round-off and the fit's stopping rule: the first is kept)."""
     fits = [staged(None)]
     for x0 in X0:
         try:
@@ -88,7 +91,11 @@ def lowest(staged: Callable[[np.ndarray | None], tuple], X0: np.ndarray) -> tupl
         except (SimulationError, ValueError):
             continue
     costs = np.array([float(f[2].fun @ f[2].fun) for f in fits])
-    best = list(fits[int(np.argmin(costs))])
+    k = 0  # a later start replaces the kept one only below it by more than its margin
+    for i in range(1, len(fits)):
+        if costs[i] < costs[k] - margin(fits[k][1], fits[k][2].fun):
+            k = i
+    best = list(fits[k])
     best[3:5] = sum(f[3] for f in fits), sum(f[4] for f in fits)
     return tuple(best), costs
 
