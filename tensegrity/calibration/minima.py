@@ -10,7 +10,8 @@ valley, its profile interval 1.3 % wide, 9.8 % off). Two remedies:
   unknown at held values of one (`linearity`, `profile`): if any of those points has a cost below
   the fit's by more than `linearity.margin` (the larger of what the fit's linear model still
   expects to gain and the least change of the minimum that moves an interval's end by its
-  tolerance), the fit was not the minimum. The full fit then restarts from that point
+  tolerance), the fit was not the minimum (a profile that falls again past its end is followed
+  outward to look for such a point: `profile._beyond`). The full fit then restarts from that point
   (`fit.solve`, to the last stage's tolerance), and the uncertainty, the check and the profiles
   are redone from the new optimum; at most RESTARTS times (each restart lowers the cost by more
   than the margin), after which a lower point no longer restarts the fit. The report counts the
@@ -22,6 +23,8 @@ valley, its profile interval 1.3 % wide, 9.8 % off). Two remedies:
   times the start); the initial state and frame start from the data, as the first fit. The fit
   of lowest cost is kept, with its prediction check; a start replaces the one kept so far only if
   lower by more than that one's margin (the same minimum reached twice: the first is kept).
+  Off by default: on the volts seeds that still missed after the restarts, two extra starts
+  reached no lower minimum, at 1.6-2.4 times the CPU (docs/benchmarks.md, "Local minima").
 """
 
 from __future__ import annotations
