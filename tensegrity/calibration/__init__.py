@@ -8,6 +8,8 @@ fit          least squares, the batched Jacobian, the prediction check (`calibra
 uncertainty  standard errors, intervals, correlations, the combinations not determined
 misfit       whether the model fits the run to its noise (else no interval holds)
 linearity    whether each interval holds: the cost at its ends against the linear prediction
+profile      the profile-likelihood interval of a parameter whose linearised one does not hold
+minima       restarts from a lower point those checks find; extra starts, the lowest cost kept
 """
 
 from .fit import Calibration, calibrate

@@ -41,12 +41,10 @@ from threadpoolctl import threadpool_limits
 from ..physics.dynamics import SimulationError
 from ..physics.params import Params
 from ..physics.twisted import TwistedString
+from . import minima
 from . import model as mdl
-from . import profile
-from .linearity import linear
 from .measurement import Measurement
-from .misfit import misfit
-from .uncertainty import Uncertainty, normal_inverse, structural, uncertainty
+from .uncertainty import Uncertainty, normal_inverse
 
 __all__ = ["Calibration", "calibrate", "solve", "STEP", "PARAM_RANGE"]
 
@@ -67,7 +65,9 @@ class Calibration:
     m world nodes; rms_mm the RMS of the residual fitted (`model.RESIDUALS`); prediction:
     fit_until s (the fit's last sample), rms_fit_mm and rms_predict_mm of the check (NaN if not
     made) and its estimates (n,);
-    nfev, njev, message of the optimiser; base the Params it started from."""
+    nfev, njev, message of the optimiser; base the Params it started from; restarts: what found
+    each lower point the fit restarted from (`minima`); costs (1 + starts,) |r|^2 m^2 of each
+    start's fit, the configured start first (the lowest kept)."""
 
     names: tuple[str, ...]
     start: np.ndarray
@@ -83,6 +83,8 @@ class Calibration:
     message: str
     base: Params
     prediction: dict = field(default_factory=dict)
+    restarts: tuple[str, ...] = ()
+    costs: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def params(self) -> Params:
@@ -217,56 +219,65 @@ def calibrate(
     check: float = 0.25,
     motors: TwistedString | None = None,
     residual: str = "positions",
+    starts: int = 0,
+    spread: float = minima.SPREAD,
 ) -> Calibration:
     """Fit the Params fields `fit` (start: `params`; a run in volts: also the twisted strings'
     keys `model.ACTUATOR_FITTABLE`, start: `motors`) to measurement m in `mode`, simulating with
     time step dt s (`model.problem`), and check the fit on the first 1 - check of the samples
     (one of the growing horizon's stages, fitted to the end: it never sees the rest) by
-    predicting the rest (check 0: no check); `residual` the kind (`model.RESIDUALS`)."""
+    predicting the rest (check 0: no check); `residual` the kind (`model.RESIDUALS`); `starts`
+    more fits from parameters within a factor `spread` of the start, the lowest cost kept, and a
+    restart from any lower point the intervals' checks find (`minima`)."""
     if not 0 <= check < 1:
         raise ValueError(f"check: the fraction of samples predicted must be in [0, 1), got {check!r}")
     prob = mdl.problem(m, params, tuple(fit), mode, dt, fit_initial, fit_frame, motors, residual)
-    x, nfev, njev, T = None, 0, 0, m.t.size
+    T, (lo, hi) = m.t.size, _bounds(prob)
     changed = np.flatnonzero(np.any(m.pressure[2:] != m.pressure[1], axis=1))
     onset = int(changed[0]) + 2 if changed.size else 0
     kc = max(3, int(round(T * (1 - check)))) if check > 0 else T  # the prediction check's samples
-    fitted = {}  # the check's stage: its optimum and problem
-    for k in sorted(set(horizons(T, onset)) | {kc}):  # the first part, twice as long, ..., all of it
-        args = (prob.fit, mode, dt, fit_initial, fit_frame, motors, residual)
-        part = prob if k == T else mdl.problem(m.head(k), params, *args)
-        ftol = FTOL if k in (kc, T) else FTOL_STAGE
-        try:
-            x, J, res = solve(part, x, ftol=ftol)
-        except (SimulationError, ValueError):  # the last stage's optimum fails on the longer part
-            x, J, res = solve(part, ftol=ftol)
-        nfev, njev = nfev + res.nfev, njev + res.njev
-        if k == kc < T:
-            fitted = {"x_part": x, "problem": part}
-    n = prob.n_params
-    simulated, measured = prob.simulate(x[None])[0], prob.measured(x)
-    R = prob.per_sample(simulated[None], x)[0]
-    r, theta = R[prob.valid], prob.values(x)[:n]
-    unc = uncertainty(J / prob.units, r, n, theta, prob.fit, structural(prob.constants, theta))
-    unc = misfit(R, unc, prob.fit)
-    refit = partial(solve, max_nfev=profile.NFEV, ftol=profile.FTOL)
-    unc = linear(prob, x, J, r, unc, *_bounds(prob), refit=refit)
-    prediction = _predict(prob, x, **fitted) if fitted else {}
+    args = (prob.fit, mode, dt, fit_initial, fit_frame, motors, residual)
+    parts = {k: prob if k == T else mdl.problem(m.head(k), params, *args) for k in set(horizons(T, onset)) | {kc}}
+    (x, J, res, nfev, njev, fitted), costs = minima.lowest(
+        partial(_staged, parts, kc), minima.draws(prob, starts, lo, hi, spread)
+    )
+    n, st = prob.n_params, minima.settle(prob, x, J, res, solve, lo, hi)
+    prediction = _predict(prob, st.x, **fitted) if fitted else {}
     return Calibration(
         prob.fit,
         prob.values(prob.x0)[:n],
-        theta,
-        unc,
-        x,
+        prob.values(st.x)[:n],
+        st.unc,
+        st.x,
         prob,
-        simulated,
-        measured,
-        float(np.sqrt(np.mean(r**2)) * 1e3),
-        int(nfev),
-        int(njev),
-        str(res.message),
+        st.simulated,
+        prob.measured(st.x),
+        float(np.sqrt(np.mean(st.r**2)) * 1e3),
+        int(nfev + st.nfev),
+        int(njev + st.njev),
+        str(st.res.message),
         params,
         prediction,
+        st.restarts,
+        costs,
     )
+
+
+def _staged(parts: dict, kc: int, x: np.ndarray | None) -> tuple:
+    """The fit on the growing horizon from x (None: the problems' x0): each stage k of `parts`
+    (its problem, the last one all samples) from the last one's optimum. (x, J, res, nfev,
+    njev, the check's stage kc: its optimum and problem, if short of the last)."""
+    nfev, njev, fitted, T, start = 0, 0, {}, max(parts), x
+    for k in sorted(parts):  # the first part, twice as long, ..., all of it
+        ftol = FTOL if k in (kc, T) else FTOL_STAGE
+        try:
+            x, J, res = solve(parts[k], x, ftol=ftol)
+        except (SimulationError, ValueError):  # the last stage's optimum fails on the longer part
+            x, J, res = solve(parts[k], start, ftol=ftol)
+        nfev, njev = nfev + res.nfev, njev + res.njev
+        if k == kc < T:
+            fitted = {"x_part": x, "problem": parts[k]}
+    return x, J, res, nfev, njev, fitted
 
 
 def _predict(prob: mdl.Problem, x: np.ndarray, *, x_part: np.ndarray, problem: mdl.Problem) -> dict:

@@ -20,6 +20,10 @@ to 30-200 % of its value). The rise is not a profile (the other unknowns are mov
 line, not refitted): a valley that curves away from that line passes it (docs/design.md §9).
 Below a residual of FLOOR m (a noise-free check) the intervals are round-off wide and the check
 is not made.
+
+An end whose cost is below the fit's by more than `margin` (the fit was not the minimum) raises
+`profile.Lower` with that point, as a refit of the profile that ends there does: the fit restarts
+from it (`minima.settle`).
 """
 
 from __future__ import annotations
@@ -35,7 +39,7 @@ from . import model as mdl
 from . import profile
 from .uncertainty import Uncertainty, normal_inverse
 
-__all__ = ["LINEAR", "FLOOR", "rises", "linear"]
+__all__ = ["LINEAR", "FLOOR", "rises", "linear", "margin"]
 
 LINEAR = 1.25  # an interval holds if the cost at its ends rises by q^2 s^2 within this factor
 FLOOR = 1e-8  # m: a residual standard deviation below this is a noise-free fit (no check)
@@ -58,6 +62,21 @@ def steps(J: np.ndarray, unc: Uncertainty, n: int) -> tuple[np.ndarray, np.ndarr
 def _q(unc: Uncertainty) -> float:
     """t_{0.975, N-p}, the quantile of `uncertainty`."""
     return float(stats.t.ppf(0.975, unc.dof))
+
+
+def margin(J: np.ndarray, r: np.ndarray) -> float:
+    """How far (m^2) below the fit's cost |r|^2 a point must be to say the fit was not the
+    minimum: the larger of what the fit's own linear model says is still to gain at its optimum,
+    |J (J^T J)^-1 J^T r|^2 (a fit stopped by `fit.STOP` or a tolerance: a point that far below is
+    the same minimum, polished), and the least change of the minimum that moves an interval's end
+    by more than its tolerance: the threshold q^2 s^2 moved by d, z = sqrt(.) - q by d / (2 q s^2),
+    an end by `profile.XTOL` of a half-width for d = 2 q^2 XTOL s^2 (~0.08 s^2). J (N, p) at the
+    optimum, r (N,) its residuals (m); s^2 = |r|^2 / (N - p) and q = t_{0.975, N-p} as in
+    `uncertainty`."""
+    dof = max(J.shape[0] - J.shape[1], 1)
+    g = J.T @ r
+    left = float(g @ normal_inverse(J) @ g) if np.all(np.isfinite(J)) else 0.0
+    return max(left, 2 * float(stats.t.ppf(0.975, dof)) ** 2 * profile.XTOL * float(r @ r) / dof)
 
 
 def rises(
@@ -101,15 +120,24 @@ def linear(
     lo: np.ndarray | float = -np.inf,
     hi: np.ndarray | float = np.inf,
     refit: Callable | None = None,
+    tol: float | None = None,
 ) -> Uncertainty:
     """`unc` with the parameters whose interval does not hold (module docstring, LINEAR: their
     `rises` off the prediction by more than that factor at either end) given the profile's
     interval instead (`profile.interval`, with `refit` the least squares of the other unknowns;
     their se and correlations NaN), or, without `refit` or if the profile fails, none, and named.
-    Not made below a residual of FLOOR m."""
+    Not made below a residual of FLOOR m. Raises `profile.Lower` at an end of an interval, or a
+    refit of a profile, whose cost is below |r|^2 by more than `tol` m^2 (None: `margin`; inf:
+    never)."""
     if not np.isfinite(unc.se).any() or unc.s < FLOOR:
         return unc
-    rise = rises(prob, x, J, r, unc, lo, hi)
+    rise, tol = rises(prob, x, J, r, unc, lo, hi), margin(J, r) if tol is None else tol
+    drop = np.where(np.isnan(rise), np.inf, rise) * (_q(unc) * unc.s) ** 2  # m^2 above |r|^2
+    if drop.min() < -tol:
+        j, end = np.unravel_index(np.argmin(drop), drop.shape)
+        point = x + (1 - 2 * end) * steps(J, unc, prob.n_params)[1][j]
+        below = -float(drop.min()) / unc.s**2
+        raise profile.Lower(point, float(r @ r + drop.min()), below, f"the linearity check of {prob.fit[j]}")
     lost = np.flatnonzero(np.isfinite(unc.se) & ~np.all((rise >= 1 / LINEAR) & (rise <= LINEAR), axis=1))
     if not lost.size:
         return unc
@@ -123,7 +151,7 @@ def linear(
         why = f"the cost at its ends rises {a:.3g} and {b:.3g} times the linear prediction"
         if refit is not None:
             try:
-                ends, shut, n = profile.interval(prob, refit, x, V[j], j, float(r @ r), unc.s, _q(unc), lo, hi)
+                ends, shut, n = profile.interval(prob, refit, x, V[j], j, float(r @ r), unc.s, _q(unc), lo, hi, tol=tol)
             except (profile.OutOfBudget, SimulationError, ValueError) as e:
                 why += f"; its profile failed: {e}"
             else:

@@ -32,6 +32,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         frame=args.frame,
         check=args.check,
         residual=args.residual,
+        starts=args.starts,
     )
     print(f"wrote {', '.join(map(str, out))}")
     if args.report:
@@ -51,6 +52,11 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
                 end="",
             )
         print()
+        if a["restarts"]:
+            print(f"restarted {a['restarts']} times from a lower point found by {a['restarted_by']}")
+        if ds.attrs["start_costs_m2"].size > 1:
+            costs = ", ".join(f"{v:.6g}" for v in ds.attrs["start_costs_m2"])
+            print(f"cost |r|^2 of each start's fit (m^2; configured start first, the lowest kept): {costs}")
         if a["not_determined"] != "none":
             print(f"not determined by this measurement: {a['not_determined']}")
     return 0
@@ -91,5 +97,12 @@ def add_parser(sub: argparse._SubParsersAction, common: argparse.ArgumentParser)
         type=float,
         default=0.25,
         help="fraction of samples predicted in the check (default 0.25; 0: none)",
+    )
+    p.add_argument(
+        "--starts",
+        type=int,
+        default=0,
+        help="extra fits from parameters drawn (seeded Latin hypercube) within a factor 2 of the configured ones; "
+        "the lowest cost is kept (default 0: the configured start only)",
     )
     p.set_defaults(func=cmd_calibrate)

@@ -30,6 +30,7 @@ def calibrate(
     frame: str = "fit",
     check: float = 0.25,
     residual: str = "positions",
+    starts: int = 0,
 ) -> list[Path]:
     """Stage `calibrate`: fit the `params` keys `fit` ('a,b,c' or a list; for a run driven in
     volts, replayed with the `actuator.twisted_string` section, its keys `actuator.twisted_string.<key>`)
@@ -38,7 +39,8 @@ def calibrate(
     state fitted too (`initial` 'fit') or taken from the first samples ('data'), the grounded
     frame's tilt and height fitted ('fit') or levelled from the first sample ('data'); a prediction
     check on the last `check` of the samples (0: none); `residual` 'positions' (node coordinates)
-    or 'shape' (cable lengths, blind to where the ground puts the robot). Writes the calibrated configuration
+    or 'shape' (cable lengths, blind to where the ground puts the robot); `starts` extra fits from
+    parameters drawn within a factor 2 of the configured ones, the lowest cost kept. Writes the calibrated configuration
     `out_path` (YAML, a `params:` section) and, if given, the report `report_path` (netCDF) with
     its figure beside it (same name, .png). Every input is checked before the fit starts."""
     from ..calibration import calibrate as fit_model
@@ -60,7 +62,9 @@ def calibrate(
     mode = mode or m.mode
     if not mode:
         raise ValueError(f"{measured}: the file does not say its mode; give --mode free or --mode grounded")
-    c = fit_model(m, params, names, mode, dt, initial == "fit", frame == "fit", check, motors, residual)
+    if starts < 0:
+        raise ValueError(f"starts: {starts!r} extra starts; give 0 or more")
+    c = fit_model(m, params, names, mode, dt, initial == "fit", frame == "fit", check, motors, residual, starts)
     header = (
         f"calibrated by tensegrity calibrate from {measured} ({mode} mode, residual {residual})\n"
         f"fitted: {', '.join(names)}; residual RMS {c.rms_mm:.3g} mm\n"
