@@ -137,8 +137,9 @@ def drive(
                 acts, todo, simulated = step_ahead(
                     workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now
                 )
-                # none acceptable: no roll is made (a roll foreseen to stay on the face is simulated only
-                # until its ramp gives up, not through the release: in the world it can tumble); stuck below
+                if not todo:  # none acceptable: make the first foreseen roll that keeps the robot on its
+                    # face (no tumble: the run records what it tried, and ends stuck below)
+                    todo = [acts[i] for i, r in enumerate(simulated[: len(acts)]) if r.face_after == face][:1]
             else:  # the workspace's order, tried in the world
                 todo = [(c.pairs, braked) for c in pl.candidates[: s.max_attempts]]
             cpu = time.process_time() - cpu
