@@ -32,7 +32,7 @@ from ..physics import dynamics as d
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
-from .lockstep import Controller, Obs, _threads, applied, observe
+from .lockstep import Controller, Obs, _threads, applied, first_commands, observe
 from .settings import RollSettings
 
 __all__ = ["CHUNK", "Ramp", "lockstep_ahead"]
@@ -184,17 +184,8 @@ def lockstep_ahead(
     first = observe(params, terrain, state, s, states=states)
     last = list(first)
     gens = [make(b, first[b]) for b in range(B)]
-    out: list = [None] * B
-    pres = np.zeros((B, topo.N_PAIRS))
+    pres, live, out, batch = first_commands(gens, state)
     prev = np.full((B, topo.N_PAIRS), np.nan)
-    live = []
-    for b in range(B):
-        try:
-            pres[b] = next(gens[b])
-            live.append(b)
-        except StopIteration as stop:
-            out[b] = (stop.value, state.take([b]))
-    batch = state.take(live)
     span = min(2, CHUNK)  # a chunk's length: doubled after each chunk handed whole, up to CHUNK; 2 after one cut
     with _threads(len(live)):
         while live:

@@ -139,6 +139,21 @@ class _threads:
         numba.set_num_threads(self.saved)
 
 
+def first_commands(gens: list, state: d.State) -> tuple[np.ndarray, list[int], list, d.State]:
+    """Each controller's first command: pres (B, 12), the robots still live, out (B,) holding
+    (result, State) of the controllers that ended at once, and the live robots' batch."""
+    pres = np.zeros((state.batch, topo.N_PAIRS))
+    out: list = [None] * state.batch
+    live = []
+    for b, gen in enumerate(gens):
+        try:
+            pres[b] = next(gen)
+            live.append(b)
+        except StopIteration as stop:
+            out[b] = (stop.value, state.take([b]))
+    return pres, live, out, state.take(live)
+
+
 def lockstep(
     params: Params,
     terrain: Terrain,
@@ -164,16 +179,7 @@ def lockstep(
     last = list(first)
     gens = [make(b, first[b]) for b in range(B)]
     recs: list[tuple[list, list, list, list]] = [([], [], [], []) for _ in range(B)]
-    out: list = [None] * B
-    pres = np.zeros((B, topo.N_PAIRS))
-    live = []
-    for b in range(B):
-        try:
-            pres[b] = next(gens[b])
-            live.append(b)
-        except StopIteration as stop:
-            out[b] = (stop.value, state.take([b]))
-    batch = state.take(live)
+    pres, live, out, batch = first_commands(gens, state)
     with _threads(len(live)):
         while live:
             failed = {}
