@@ -32,7 +32,7 @@ from ..physics import dynamics as d
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
-from .lockstep import Controller, Obs, _threads, applied, first_commands, observe
+from .lockstep import Controller, Obs, _threads, advance, applied, first_commands, observe
 from .settings import RollSettings
 
 __all__ = ["CHUNK", "Ramp", "lockstep_ahead"]
@@ -206,19 +206,7 @@ def lockstep_ahead(
 
 def _one(params, terrain, s, batch, every, live, gens, last, pres, prev, states):
     """One check interval of the batch, as `lockstep.lockstep` advances it (record=False)."""
-    failed = {}
-    cmd = applied(s, pres[live], batch)
-    try:
-        batch, _ = d.simulate(params, batch, s.schedule(cmd), terrain, s.dt, every, s.motors)
-    except d.SimulationError:  # find the robot(s) that failed and advance the rest
-        parts = []
-        for i, b in enumerate(live):
-            try:
-                parts.append(d.simulate(params, batch.take([i]), s.schedule(cmd[i]), terrain, s.dt, every, s.motors)[0])
-            except d.SimulationError as e:
-                failed[b] = e
-                parts.append(batch.take([i]))
-        batch = d.State.concat(parts, t=batch.t + s.interval)
+    batch, failed, _ = advance(params, terrain, s, batch, pres[live], live, every)
     ob = observe(params, terrain, batch, s, [last[b] for b in live], pres[live], states)
     done = {}
     for i, b in enumerate(live):

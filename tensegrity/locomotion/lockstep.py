@@ -139,6 +139,28 @@ class _threads:
         numba.set_num_threads(self.saved)
 
 
+def advance(
+    params: Params, terrain: Terrain, s: RollSettings, batch: d.State, levels: np.ndarray, live: list[int], every: int
+) -> tuple[d.State, dict, np.ndarray]:
+    """One check interval (`every` steps) of the live robots' batch under their commanded levels
+    (B, 12). A robot whose simulation fails stays where it was; returns (batch, {robot: error}, the levels
+    (B, 12) the actuators got)."""
+    failed = {}
+    cmd = applied(s, levels, batch)  # what the actuators get (the pressures as asked)
+    try:
+        batch, _ = d.simulate(params, batch, s.schedule(cmd), terrain, s.dt, every, s.motors)
+    except d.SimulationError:  # find the robot(s) that failed and advance the rest
+        parts = []
+        for i, b in enumerate(live):
+            try:
+                parts.append(d.simulate(params, batch.take([i]), s.schedule(cmd[i]), terrain, s.dt, every, s.motors)[0])
+            except d.SimulationError as e:
+                failed[b] = e
+                parts.append(batch.take([i]))
+        batch = d.State.concat(parts, t=batch.t + s.interval)
+    return batch, failed, cmd
+
+
 def first_commands(gens: list, state: d.State) -> tuple[np.ndarray, list[int], list, d.State]:
     """Each controller's first command: pres (B, 12), the robots still live, out (B,) holding
     (result, State) of the controllers that ended at once, and the live robots' batch."""
@@ -182,21 +204,7 @@ def lockstep(
     pres, live, out, batch = first_commands(gens, state)
     with _threads(len(live)):
         while live:
-            failed = {}
-            cmd = applied(s, pres[live], batch)  # what the actuators get (the pressures as asked)
-            try:
-                batch, _ = d.simulate(params, batch, s.schedule(cmd), terrain, s.dt, every, s.motors)
-            except d.SimulationError:  # find the robot(s) that failed and advance the rest
-                parts = []
-                for i, b in enumerate(live):
-                    try:
-                        parts.append(
-                            d.simulate(params, batch.take([i]), s.schedule(cmd[i]), terrain, s.dt, every, s.motors)[0]
-                        )
-                    except d.SimulationError as e:
-                        failed[b] = e
-                        parts.append(batch.take([i]))
-                batch = d.State.concat(parts, t=batch.t + s.interval)
+            batch, failed, cmd = advance(params, terrain, s, batch, pres[live], live, every)
             if progress is not None:
                 progress(s.interval)
             ob = observe(params, terrain, batch, s, [last[b] for b in live], pres[live], states)
