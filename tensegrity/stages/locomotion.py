@@ -9,6 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+import xarray as xr
 
 from ..io import datasets, formats, settings
 from ..io.formats import run as run_formats
@@ -87,6 +88,16 @@ def _path_figure(ds, out: str | os.PathLike, view: str) -> dict:
     )
 
 
+def _first_step(ds: xr.Dataset, path: str | os.PathLike, figures: str) -> None:
+    """Raise a ValueError naming the run file when its run recorded no step (the figures draw
+    its first roll)."""
+    if ds.sizes.get("step", 0) == 0:
+        raise ValueError(
+            f"{figures} draw the first roll of the run {os.fspath(path)!r}, which recorded no step "
+            f"(outcome {ds.attrs.get('outcome', '?')!r}): choose a run that rolls (locomotion.demos)"
+        )
+
+
 def state_figures(
     cfg: dict,
     paper_path: str | os.PathLike,
@@ -102,6 +113,7 @@ def state_figures(
     from ..render import locomotion as state_figures_
 
     ds = datasets.read(paper_path)
+    _first_step(ds, paper_path, "Fig. 8 and 9")
     terrain = run_formats.terrain_from_dataset(ds)
     face = int(ds["face"].values[0])
     pair = int(ds["step_pair"].values[0, 0])
@@ -136,6 +148,7 @@ def state_figures(
         )
     out.append(state_figures_.fig_state(p, terrain, face, fig9, title9))
     sl = datasets.read(slope_path)
+    _first_step(sl, slope_path, "Fig. 10")
     k0 = int(np.searchsorted(sl["time"].values, sl["t_start"].values[0]))
     out.append(
         state_figures_.fig_slope(
