@@ -200,8 +200,9 @@ def report(ground: str, res: list[tuple[dict, lo.Run]], wall: float, tol: float)
     )
 
 
-def steps(res: list[tuple[dict, lo.Run]]) -> None:
-    """Every step of every run: faces, action, tip pressure, CoG change, planning CPU."""
+def steps(res: list[tuple[dict, lo.Run]], unit: str) -> None:
+    """Every step of every run: faces, action, tip level (in `unit`: MPa or V), CoG change,
+    planning CPU."""
     for c, r in res:
         print(f"  goal at {c['goal']:.0f} deg: {r.outcome}, faces {r.faces}")
         if "start" in c:
@@ -212,7 +213,7 @@ def steps(res: list[tuple[dict, lo.Run]]) -> None:
             print(
                 f"    {topo.face_label(st.face)} -> "
                 f"{topo.face_label(st.face_after) if st.face_after else 'no face'} by "
-                f"{'+'.join(f'#{p}' for p in u.pairs)}, tip {u.tip_pressure:.2f} MPa, CoG {dz:+.0f} mm up, "
+                f"{'+'.join(f'#{p}' for p in u.pairs)}, tip {u.tip_pressure:.2f} {unit}, CoG {dz:+.0f} mm up, "
                 f"planning {st.plan_cpu:.2f} s CPU"
             )
 
@@ -288,7 +289,7 @@ def main() -> None:
         res = run_ground(g, seeds, a, ws, params, settings, face)
         rows.append(report(g, res, time.perf_counter() - t0, settings.arrive_tolerance))
         if a.steps:
-            steps(res)
+            steps(res, settings.unit)
     print(
         "\n| ground | arrived | 95 % Wilson | outcomes | runs with a tumble | rolls/m | planning CPU s/roll "
         "| start CPU s/case |\n|---|---|---|---|---|---|---|---|"
