@@ -28,8 +28,9 @@ import numpy as np
 from .linearity import FLOOR
 from .uncertainty import Uncertainty
 
-__all__ = ["MISFIT", "autocorrelation", "misfit"]
+__all__ = ["MISFIT", "REASON", "autocorrelation", "misfit"]
 
+REASON = "(no interval: the model does not reproduce the measurement to its noise"  # how misfit names one
 MISFIT = 4.0  # spreads of the lag-one autocorrelation under independent noise (3e-5 beyond by chance)
 
 
@@ -53,8 +54,8 @@ def misfit(R: np.ndarray, unc: Uncertainty, names: tuple[str, ...]) -> Uncertain
     lost = np.flatnonzero(np.isfinite(unc.se))
     nan = np.full(len(names), np.nan)
     said = tuple(
-        f"{names[j]} (no interval: the model does not reproduce the measurement to its noise; the "
-        f"residuals of consecutive samples are correlated, {rho:.3g}, {rho * np.sqrt(n):.0f} times the "
+        f"{names[j]} {REASON}; the residuals of consecutive samples are correlated, {rho:.3g}, "
+        f"{rho * np.sqrt(n):.0f} times the "
         "spread of independent noise; the estimate is the model's best, its bias unknown)"
         for j in lost
     )
