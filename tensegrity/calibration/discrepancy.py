@@ -20,9 +20,12 @@ scaling). In log-parameters (positive, fitted as multiples of their start):
 (K the windows whose fit succeeded, Student's t for s estimated from K values). The interval is
 clipped to the fit's bounds (1/100 to 100 times the start: 'windows, open below/above'). Where
 the residuals are independent the classical interval stays (the windows are not fitted), so a
-right model keeps its intervals bit for bit; the free mode never refits windows.
-K = WINDOWS was chosen on the tuning seeds 0-5 of bench_calibration_intervals.py (docs/
-benchmarks.md, "Grounded intervals with model discrepancy"); no constant of (W1) was tuned.
+right model keeps its intervals bit for bit; the free mode refits none unless asked (`count`).
+K = WINDOWS was chosen among 3, 4, 6 on the tuning seeds 0-5 of bench_calibration_intervals.py
+(docs/benchmarks.md, "Grounded intervals with model discrepancy"); no constant of (W1) was tuned.
+MuJoCo's grounded runs fitted to the shape: 24 of 24 truths inside on the tuning seeds, 20 of 20
+on five evaluation seeds (the damping's intervals reach the bounds: not determined). Assumed: the
+windows' biases spread as far as the whole run's; a bias common to every stretch can lie outside.
 Cost: the K window fits, about as much again as the fit.
 """
 

@@ -12,7 +12,8 @@ interval from one run holds it.
 So the lag-one autocorrelation of the residuals, rho = sum r_t . r_t+1 / sum |r_t|^2 over the
 consecutive samples, is compared with its spread under independent noise, 1 / sqrt(n) (n the
 products summed): above MISFIT spreads every interval is dropped and named with the reason,
-the estimates kept (the model that best reproduces the run, not the robot's true values).
+the estimates kept (the model that best reproduces the run, not the robot's true values); a
+grounded fit then gets the intervals of refits on time windows instead (`discrepancy`).
 Below a residual of `linearity.FLOOR` m (a noise-free check) it is not made. The test sees a
 misfit as large as the noise; a smaller one can still bias an estimate by several standard
 errors unseen (a line fitted to 600 points with a sine of 0.3-1 times the noise: slope 3-13
