@@ -1,26 +1,23 @@
 """Calibration from a measured trajectory (docs/design.md §9): least squares of simulated
 against measured node positions (`scipy.optimize.least_squares`, trust region reflective, with
-bounds), the Jacobian by forward differences as one batched simulation (one robot per unknown; the
-base point is the one trf has just evaluated),
-on a growing horizon (from the first change of the command, an eighth of the samples after it,
-then a quarter, a half, all: a long trajectory started 10-20 % off would match oscillations out
-of phase, a local minimum; each stage starts in the next one's basin), then what the fit knows
-(`uncertainty`) and a prediction check (fit on the first part, predict the rest from the same
-initial state). The check's part is one of the stages: the fit of the first 1 - check of the
-samples, which never sees the rest, is the check's fit too.
+bounds), the Jacobian by forward differences as one batched simulation (one robot per unknown;
+the base point the one trf has just evaluated), on a growing horizon (from the first change of
+the command, an eighth of the samples after it, then a quarter, a half, all: a long trajectory
+started 10-20 % off would match oscillations out of phase, a local minimum; each stage starts in
+the next one's basin), then what the fit knows (`uncertainty`) and a prediction check (fit on
+the first part, predict the rest from the same initial state). The check's part is one of the
+stages: the fit of the first 1 - check of the samples, which never sees the rest, is its fit.
 
 When to stop. A stage before the check's or the last one stops at a relative decrease of the cost
 of FTOL_STAGE (it only has to start the next one in its basin); in the free mode with the
 muscles (`smooth`) every stage stops as soon as the Gauss-Newton step from the accepted point
-would move no unknown by more than STOP (5 %) of its standard error (`_Residuals.stop`). With
-0.5 mm of noise that step has a floor of 1-3 % of a standard error (the finite differences'
-error), and the iterations past it change the estimates by less than 0.01 standard errors while
-they cost most of the time (8 s benchmark: estimates within 0.003 standard errors of those
-fitted to a relative cost decrease of 1e-12). Without noise the step is as large as the
-residual it explains (the ratio ~ sqrt(N)), so the fit runs to the tolerances as before.
+would move no unknown by more than STOP (5 %) of its standard error (`_Residuals.stop`; the
+iterations past it moved the estimates by < 0.01 standard errors at most of the cost; docs/
+design.md §9). Without noise the fit runs to the tolerances.
 
-Whether the intervals hold: `misfit` (a model that does not fit the run), `linearity` (the cost
-at each interval's ends; where it fails, the interval of the profile, `profile`).
+Whether the intervals hold: `misfit` (a model that does not fit the run: grounded, the intervals
+of refits on time windows, `discrepancy`), `linearity` (the cost at each interval's ends; where
+it fails, the interval of the profile, `profile`).
 
 Forward differences of step STEP in the scaled unknowns (a relative step of 1e-6 for a parameter,
 1e-8 m or rad for the initial state) are good to about 1e-5 of a column (truncation ~ STEP
@@ -41,7 +38,7 @@ from threadpoolctl import threadpool_limits
 from ..physics.dynamics import SimulationError
 from ..physics.params import Params
 from ..physics.twisted import TwistedString
-from . import minima
+from . import discrepancy, minima
 from . import model as mdl
 from .measurement import Measurement
 from .uncertainty import Uncertainty, normal_inverse
@@ -218,19 +215,22 @@ def calibrate(
     fit_frame: bool = True,
     check: float = 0.25,
     motors: TwistedString | None = None,
-    residual: str = "positions",
+    residual: str | None = None,
     starts: int = 0,
     spread: float = minima.SPREAD,
+    windows: int | None = None,
 ) -> Calibration:
     """Fit the Params fields `fit` (start: `params`; a run in volts: also the twisted strings'
     keys `model.ACTUATOR_FITTABLE`, start: `motors`) to measurement m in `mode`, simulating with
     time step dt s (`model.problem`), and check the fit on the first 1 - check of the samples
-    (one of the growing horizon's stages, fitted to the end: it never sees the rest) by
-    predicting the rest (check 0: no check); `residual` the kind (`model.RESIDUALS`); `starts`
+    (a stage of the growing horizon: it never sees the rest) by predicting the rest (check 0:
+    none); `residual` of `model.RESIDUALS` (None: the mode's, `model.DEFAULT_RESIDUAL`); `starts`
     more fits from parameters within a factor `spread` of the start, the lowest cost kept, and a
-    restart from any lower point the intervals' checks find (`minima`)."""
+    restart from any lower point the intervals' checks find (`minima`); `windows` time windows
+    refitted for the intervals of a misfit (`discrepancy.count`; None: 4 grounded, 0 free)."""
     if not 0 <= check < 1:
         raise ValueError(f"check: the fraction of samples predicted must be in [0, 1), got {check!r}")
+    residual = mdl.DEFAULT_RESIDUAL.get(mode, "positions") if residual is None else residual
     prob = mdl.problem(m, params, tuple(fit), mode, dt, fit_initial, fit_frame, motors, residual)
     T, (lo, hi) = m.t.size, _bounds(prob)
     changed = np.flatnonzero(np.any(m.pressure[2:] != m.pressure[1], axis=1))
@@ -243,7 +243,7 @@ def calibrate(
     )
     n, st = prob.n_params, minima.settle(prob, x, J, res, solve, lo, hi)
     prediction = _predict(prob, st.x, **fitted) if fitted else {}
-    return Calibration(
+    c = Calibration(
         prob.fit,
         prob.values(prob.x0)[:n],
         prob.values(st.x)[:n],
@@ -261,6 +261,8 @@ def calibrate(
         st.restarts,
         costs,
     )
+    k = discrepancy.count(windows, mode, m.t.size)
+    return discrepancy.given(c, calibrate, k, fit_initial, fit_frame, PARAM_RANGE) if k else c  # misfit only
 
 
 def _staged(parts: dict, kc: int, x: np.ndarray | None) -> tuple:

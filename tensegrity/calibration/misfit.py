@@ -12,7 +12,8 @@ interval from one run holds it.
 So the lag-one autocorrelation of the residuals, rho = sum r_t . r_t+1 / sum |r_t|^2 over the
 consecutive samples, is compared with its spread under independent noise, 1 / sqrt(n) (n the
 products summed): above MISFIT spreads every interval is dropped and named with the reason,
-the estimates kept (the model that best reproduces the run, not the robot's true values).
+the estimates kept (the model that best reproduces the run, not the robot's true values); a
+grounded fit then gets the intervals of refits on time windows instead (`discrepancy`).
 Below a residual of `linearity.FLOOR` m (a noise-free check) it is not made. The test sees a
 misfit as large as the noise; a smaller one can still bias an estimate by several standard
 errors unseen (a line fitted to 600 points with a sine of 0.3-1 times the noise: slope 3-13
@@ -28,8 +29,9 @@ import numpy as np
 from .linearity import FLOOR
 from .uncertainty import Uncertainty
 
-__all__ = ["MISFIT", "autocorrelation", "misfit"]
+__all__ = ["MISFIT", "REASON", "autocorrelation", "misfit"]
 
+REASON = "(no interval: the model does not reproduce the measurement to its noise"  # how misfit names one
 MISFIT = 4.0  # spreads of the lag-one autocorrelation under independent noise (3e-5 beyond by chance)
 
 
@@ -53,8 +55,8 @@ def misfit(R: np.ndarray, unc: Uncertainty, names: tuple[str, ...]) -> Uncertain
     lost = np.flatnonzero(np.isfinite(unc.se))
     nan = np.full(len(names), np.nan)
     said = tuple(
-        f"{names[j]} (no interval: the model does not reproduce the measurement to its noise; the "
-        f"residuals of consecutive samples are correlated, {rho:.3g}, {rho * np.sqrt(n):.0f} times the "
+        f"{names[j]} {REASON}; the residuals of consecutive samples are correlated, {rho:.3g}, "
+        f"{rho * np.sqrt(n):.0f} times the "
         "spread of independent noise; the estimate is the model's best, its bias unknown)"
         for j in lost
     )

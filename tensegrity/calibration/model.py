@@ -8,7 +8,7 @@ start), the initial state (`initial.INITIAL_NAMES`, if fitted) and the frame's t
 (sample 0 the initial state's own nodes), simulated minus measured: 'positions', every measured
 node's coordinates (m, world frame; a node with a NaN coordinate left out of that sample);
 'shape', the 24 cable lengths (m; with the struts rigid they fix the structure's shape up to a
-rigid motion; a cable with an end not measured left out). The shape does not see where the robot
+rigid motion; a cable with an end not measured left out; grounded, the default). The shape does not see where the robot
 is or how it is turned, which the ground contact decides: a contact law not ours (MuJoCo's) moves
 the whole robot tens of mm away from ours but its shape ~1 mm (docs/benchmarks.md).
 
@@ -36,9 +36,10 @@ from . import initial
 from .measurement import Grid, Measurement, grid, schedule
 
 __all__ = ["Problem", "problem", "FITTABLE", "ACTUATOR", "ACTUATOR_FITTABLE", "UNIT", "RESIDUALS", "lengths"]
-
 MODES = ("free", "grounded")
 RESIDUALS = ("positions", "shape")
+DEFAULT_RESIDUAL = {"free": "positions", "grounded": "shape"}  # per mode (docs/design.md §9)
+__all__ += ["DEFAULT_RESIDUAL"]
 # Params fields a calibration may fit, and those that do nothing in the free mode (no ground)
 FITTABLE = tuple(f.name for f in fields(Params) if f.name not in ("cable_rest_length", "max_speed"))
 _GROUND_ONLY = ("gravity", "ground_stiffness", "ground_damping", "friction", "friction_stiffness", "friction_damping")

@@ -50,7 +50,9 @@ class Uncertainty:
     s the residual standard deviation (m); dof N - p; undetermined: each direction the data
     cannot see, in words; singular (n,) the singular value ratios of the parameters' columns;
     method (n,) what gave each interval: 'linearised', 'profile' (`profile`: ', open below',
-    ', open above' where it reaches a bound) or 'none'; refits the profiles' refits."""
+    ', open above' where it reaches a bound), 'windows' (`discrepancy`) or 'none'; refits the
+    profiles' and windows' refits; windows (k, n) the estimates of the time windows refitted
+    (`discrepancy`; NaN rows: fits that failed; none refitted: (0, n))."""
 
     se: np.ndarray
     lower: np.ndarray
@@ -62,6 +64,7 @@ class Uncertainty:
     singular: np.ndarray
     method: tuple[str, ...] = ()
     refits: int = 0
+    windows: np.ndarray | None = None
 
 
 def _svd(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

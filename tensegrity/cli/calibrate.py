@@ -33,6 +33,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         check=args.check,
         residual=args.residual,
         starts=args.starts,
+        windows=args.windows,
     )
     print(f"wrote {', '.join(map(str, out))}")
     if args.report:
@@ -88,9 +89,9 @@ def add_parser(sub: argparse._SubParsersAction, common: argparse.ArgumentParser)
     p.add_argument(
         "--residual",
         choices=["positions", "shape"],
-        default="positions",
-        help="fit the node positions (default) or the shape, the 24 cable lengths: blind to where the ground "
-        "puts the robot, for a grounded run whose contact is not the model's (README)",
+        help="fit the node positions or the shape, the 24 cable lengths: blind to where the ground puts the "
+        "robot, so insensitive to a contact that is not the model's (README); default: shape for a grounded "
+        "run, positions for a free one",
     )
     p.add_argument(
         "--check",
@@ -104,5 +105,11 @@ def add_parser(sub: argparse._SubParsersAction, common: argparse.ArgumentParser)
         default=0,
         help="extra fits from parameters drawn (seeded Latin hypercube) within a factor 2 of the configured ones; "
         "the lowest cost is kept (default 0: the configured start only)",
+    )
+    p.add_argument(
+        "--windows",
+        type=int,
+        help="time windows refitted on their own when the residuals say the model misfits: the spread of their "
+        "estimates gives the intervals (default 4 grounded, 0 free; 0: no interval for a misfit)",
     )
     p.set_defaults(func=cmd_calibrate)

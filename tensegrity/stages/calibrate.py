@@ -29,8 +29,9 @@ def calibrate(
     initial: str = "fit",
     frame: str = "fit",
     check: float = 0.25,
-    residual: str = "positions",
+    residual: str | None = None,
     starts: int = 0,
+    windows: int | None = None,
 ) -> list[Path]:
     """Stage `calibrate`: fit the `params` keys `fit` ('a,b,c' or a list; for a run driven in
     volts, replayed with the `actuator.twisted_string` section, its keys `actuator.twisted_string.<key>`)
@@ -39,19 +40,23 @@ def calibrate(
     state fitted too (`initial` 'fit') or taken from the first samples ('data'), the grounded
     frame's tilt and height fitted ('fit') or levelled from the first sample ('data'); a prediction
     check on the last `check` of the samples (0: none); `residual` 'positions' (node coordinates)
-    or 'shape' (cable lengths, blind to where the ground puts the robot); `starts` extra fits from
-    parameters drawn within a factor 2 of the configured ones, the lowest cost kept. Writes the calibrated configuration
+    or 'shape' (cable lengths, blind to where the ground puts the robot; None: the mode's default,
+    shape grounded and positions free, `model.DEFAULT_RESIDUAL`); `starts` extra fits from
+    parameters drawn within a factor 2 of the configured ones, the lowest cost kept; `windows` time
+    windows refitted for the intervals of a model that misfits (None: 4 grounded, 0 free;
+    `calibration.discrepancy`). Writes the calibrated configuration
     `out_path` (YAML, a `params:` section) and, if given, the report `report_path` (netCDF) with
     its figure beside it (same name, .png). Every input is checked before the fit starts."""
     from ..calibration import calibrate as fit_model
-    from ..calibration.model import RESIDUALS
+    from ..calibration.discrepancy import split
+    from ..calibration.model import DEFAULT_RESIDUAL, RESIDUALS
     from ..io.formats.calibration import allow_nan, calibrated_yaml, calibration_dataset
 
     names = parse_fit(fit)
     for opt, val in (("initial", initial), ("frame", frame)):
         if val not in ("fit", "data"):
             raise ValueError(f"{opt}: {val!r} is not 'fit' or 'data'")
-    if residual not in RESIDUALS:
+    if residual is not None and residual not in RESIDUALS:
         raise ValueError(f"residual: {residual!r} is not one of {', '.join(RESIDUALS)}")
     params = settings.params(cfg)
     dt = float(settings.value(cfg, "sim.dt"))
@@ -62,9 +67,14 @@ def calibrate(
     mode = mode or m.mode
     if not mode:
         raise ValueError(f"{measured}: the file does not say its mode; give --mode free or --mode grounded")
+    residual = DEFAULT_RESIDUAL.get(mode, "positions") if residual is None else residual
     if starts < 0:
         raise ValueError(f"starts: {starts!r} extra starts; give 0 or more")
-    c = fit_model(m, params, names, mode, dt, initial == "fit", frame == "fit", check, motors, residual, starts)
+    if windows:  # ValueError naming windows before the fit, if too many for the samples
+        split(m, windows)
+    c = fit_model(
+        m, params, names, mode, dt, initial == "fit", frame == "fit", check, motors, residual, starts, windows=windows
+    )
     header = (
         f"calibrated by tensegrity calibrate from {measured} ({mode} mode, residual {residual})\n"
         f"fitted: {', '.join(names)}; residual RMS {c.rms_mm:.3g} mm\n"

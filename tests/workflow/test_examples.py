@@ -310,6 +310,7 @@ BENCHMARKS = {
     "bench_calibration.py": ["--seconds", "0.3", "--initial", "data", "--check", "0.3"],
     "bench_calibration_volts.py": ["--seeds", "1", "--seconds", "0.5", "--budget", "2", "--starts", "1"],
     "bench_calibration_independent.py": ["--tiny", "--coverage", "2"],
+    "bench_calibration_intervals.py": ["--tiny", "--seeds", "1", "--windows", "2"],
     "bench_study.py": ["--designs", "2", "--hold", "0.05"],
     "bench_mujoco.py": ["--seconds", "0.01", "--batch", "2", "--repeat", "1"],
     "bench_env.py": ["--sizes", "1", "2", "--steps", "2", "--mujoco-steps", "2", "--repeat", "1"],

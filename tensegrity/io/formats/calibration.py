@@ -83,7 +83,7 @@ def calibration_dataset(c: Calibration) -> xr.Dataset:
         out[k] = var((), c.estimate[j], u, f"calibrated {k}")
         out[f"{k}_start"] = var((), c.start[j], u, f"{k} the fit started from (the configuration)")
         out[f"{k}_standard_error"] = var((), c.unc.se[j], u, f"standard error of {k} (NaN: not determined)")
-        how = {"interval_method": c.unc.method[j]}  # linearised, profile (open below/above), none
+        how = {"interval_method": c.unc.method[j]}  # linearised, profile or windows (open below/above), none
         out[f"{k}_lower_95"] = var((), c.unc.lower[j], u, f"lower end of the 95 % interval of {k}", **how)
         out[f"{k}_upper_95"] = var((), c.unc.upper[j], u, f"upper end of the 95 % interval of {k}", **how)
         out[f"{k}_check_estimate"] = var((), check[j], u, f"{k} fitted on the first part only (prediction check)")
@@ -159,5 +159,11 @@ def calibrated_yaml(c: Calibration, header: str) -> str:
         f"# 95 % interval of {k} by its profile likelihood{m[len('profile') :]}: [{lo:.6g}, {hi:.6g}]"
         for k, m, lo, hi in zip(c.names, c.unc.method, c.unc.lower, c.unc.upper, strict=True)
         if m.startswith("profile")
+    ]
+    lines += [
+        f"# 95 % interval of {k} from refits on time windows (model discrepancy){m[len('windows') :]}: "
+        f"[{lo:.6g}, {hi:.6g}]"
+        for k, m, lo, hi in zip(c.names, c.unc.method, c.unc.lower, c.unc.upper, strict=True)
+        if m.startswith("windows")
     ]
     return "\n".join(lines) + "\n" + yaml.safe_dump(out, sort_keys=False)
