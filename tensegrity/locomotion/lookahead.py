@@ -35,7 +35,7 @@ from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace
 from .actuation import World
 from .actuation import optimised as _optimised
-from .ahead import Ramp, lockstep_ahead
+from .ahead import Braked, Ramp, lockstep_ahead
 from .brake import Brake, escape
 from .control import RollResult, action_weights, roll_controller
 from .decided import SLIDE, until_decided
@@ -143,8 +143,8 @@ def foresee(
     planned pressure `expect[pairs]` MPa (NaN if absent or weighted), simulated together from
     the same state, on one numba thread: each kernel call advances a batch by one check
     interval only, and a second OpenMP thread spins between calls, which costs 2.4 times the CPU
-    of one thread (156 candidates on a 20 deg slope, docs/planner_evaluation.md). The unbraked
-    ramps are simulated several intervals per call (`ahead.lockstep_ahead`), to the same bits.
+    of one thread (156 candidates on a 20 deg slope, docs/planner_evaluation.md). The ramps,
+    braked or not, are simulated several intervals per call (`ahead.lockstep_ahead`), to the same bits.
     Raises SimulationError if a simulation blows up."""
     if obs.state is None:
         raise ValueError("the observation carries no state to simulate from")
@@ -152,7 +152,7 @@ def foresee(
         return []
     state = d.State.concat([obs.state] * len(todo))
     acting: list[bool] = []  # whether the brake acts on the start face (`Brake.active`, the same for all)
-    ramps: list[Ramp | None] = [None] * len(todo)  # the unbraked ones' ramps (`ahead.lockstep_ahead`)
+    ramps: list[Ramp | None] = [None] * len(todo)  # the candidates' ramps (`ahead.lockstep_ahead`)
 
     def make(b: int, ob: Obs):
         ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy(), cog=ob.cog)
@@ -167,7 +167,12 @@ def foresee(
         ctl = roll_controller(
             params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True, brake_acts=(acting or [None])[0]
         )
-        ramps[b] = None if brk is not None else Ramp(action_weights(pairs, w)[1], s, max_pressure)
+        aw = action_weights(pairs, w)[1]
+        if brk is None:
+            ramps[b] = Ramp(aw, s, max_pressure)
+        elif ob.face is not None:  # its brake: the controller's own choice, made on a copy
+            held = copy.deepcopy(brk, {id(brake.workspace): brake.workspace}).for_face(ob.face, ob.nodes)
+            ramps[b] = Braked(aw, s, max_pressure, held, planned)
         return until_decided(ctl, ob, pairs, w, s, max_pressure, brk is not None)
 
     threads = numba.get_num_threads()
