@@ -28,12 +28,13 @@ from .control import RollResult
 from .lockstep import Controller, Obs
 from .settings import RollSettings
 
-__all__ = ["MOTOR_REST", "REST_SPEED", "SLIDE", "until_decided"]
+__all__ = ["FADED", "MOTOR_REST", "REST_SPEED", "SLIDE", "until_decided"]
 
 SLIDE = 0.5  # m: a roll that moves the CoG further (horizontally) slid: a tumble (issue 30's definition)
 REST_SPEED = 1e-3  # m/s: a CoG this slow at the top of the ramp is at rest (settle_speed is 0.03)
 MOTOR_REST = 1.5 * OMEGA_EPS  # rad/s: a motor this slow has twisted its strands to its level
 _CALM = 3  # checks in a row (control._CALM)
+FADED = 1e-6  # MPa or V: a brake faded out to this (the controller's own fade <= 1e-9 of it) is off
 
 
 def _held(pres: np.ndarray, top: np.ndarray, j: int, last: np.ndarray | None) -> bool:
@@ -66,6 +67,7 @@ def until_decided(
     base = None if support is None else obs.gap[support].copy()
     cables = topo.PAIR_CABLES[np.flatnonzero(weights > 0)].ravel()
     j = int(np.argmax(weights))  # a pair of weight 1: its command is the ramp's level
+    lanes = weights > 0
     calm, last = 0, None
     pres = next(gen)
     while True:
@@ -74,7 +76,8 @@ def until_decided(
         if np.hypot(cog[0] - cog0[0], cog[1] - cog0[1]) > SLIDE:
             gen.close()
             return RollResult(pairs, False, start, None, np.nan, np.nan, obs.t, ob.t, cog0, cog, weights=w), ob
-        if not braked and support is not None and ob.face == start and _held(pres, top, j, last):
+        at_top = np.array_equal(pres[lanes], top[lanes]) if braked else _held(pres, top, j, last)
+        if support is not None and ob.face == start and at_top:
             still = ob.speed < REST_SPEED and bool(np.all(ob.gap[support] - base <= s.lift_tolerance))
             if still and s.motors is not None:
                 st = ob.state
@@ -86,7 +89,7 @@ def until_decided(
             calm = calm + 1 if still else 0
         else:
             calm = 0
-        if calm >= _CALM:
+        if calm >= _CALM and not braked:
             gen.close()
             res = RollResult(pairs, False, start, start, np.nan, max_pressure, obs.t, ob.t, cog0, cog, weights=w)
             return res, ob
@@ -95,3 +98,7 @@ def until_decided(
             pres = gen.send(ob)
         except StopIteration as stop:
             return stop.value
+        if braked and calm >= _CALM and np.all(last[~lanes] <= FADED) and not np.array_equal(pres[lanes], top[lanes]):
+            gen.close()  # the release from the top begins, the brake faded out and the robot at rest
+            res = RollResult(pairs, False, start, start, np.nan, max_pressure, obs.t, ob.t, cog0, cog, weights=w)
+            return res, ob

@@ -35,8 +35,9 @@ from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace
 from .actuation import World
 from .actuation import optimised as _optimised
-from .ahead import Braked, Ramp, lockstep_ahead
+from .ahead import Ramp, lockstep_ahead
 from .brake import Brake, escape
+from .braked import Braked
 from .control import RollResult, action_weights, roll_controller
 from .decided import SLIDE, until_decided
 from .lockstep import Obs

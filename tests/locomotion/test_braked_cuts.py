@@ -1,6 +1,8 @@
 """Braked candidates simulated ahead (`lookahead.foresee`, issue 30/31's planning cost): their ramp,
 their top (the brake fading out) and their release from the top simulated in chunks of check
-intervals (`ahead.Braked`) are the rolls simulated one interval at a time, to the last bit."""
+intervals (`braked.Braked`) are the rolls simulated one interval at a time, to the last bit; and
+those at rest at the top with the brake faded out end as their release begins
+(`decided.until_decided`), with the verdict of the whole roll."""
 
 import copy
 
@@ -9,15 +11,17 @@ import numpy as np
 from tensegrity import locomotion as lo
 from tensegrity.locomotion import ahead, lookahead
 from tensegrity.locomotion.brake import Brake
-from tensegrity.locomotion.control import settle_controller
-from tensegrity.locomotion.lockstep import lockstep
+from tensegrity.locomotion.control import roll_controller, settle_controller
+from tensegrity.locomotion.lockstep import Obs, lockstep
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
+from tensegrity.physics.twisted import TwistedString
 
 EQUI = topo.face_number(topo.CONTACT_FACES["equilateral"])  # (9,10,12)
 DAMPED = Params(strut_damping=1.0)
+VOLTS = lo.RollSettings(motors=TwistedString(), hold_time=20.0, settle_time=15.0, ramp_rate=0.25)
 
 
 def _settled(s, terrain, brk):
@@ -36,6 +40,26 @@ def _fields(r):
 def _same(a, b):
     assert all(x == y or (x != x and y != y) for x, y in zip(_fields(a), _fields(b)))  # NaN: NaN
     assert np.array_equal(a.cog_before, b.cog_before) and np.array_equal(a.cog_after, b.cog_after)
+
+
+def _one_at_a_time(monkeypatch, chunked, args):
+    with monkeypatch.context() as m:
+        m.setattr(ahead, "CHUNK", 1)
+        one = lookahead.foresee(*args)
+    for a, b in zip(one, chunked):
+        _same(a, b)
+
+
+def _whole(s, terrain, obs, todo, top, brk, expect):
+    """Each braked candidate of `todo` rolled to its end (the run's roll), from `obs`."""
+
+    def make(b, ob):
+        ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy(), cog=ob.cog)
+        pairs = todo[b][0]
+        return roll_controller(DAMPED, s, ob, pairs, top, copy.deepcopy(brk), expect.get(pairs, np.nan))
+
+    state = d.State.concat([obs.state] * len(todo))
+    return [r for (r, _), _, _ in lockstep(DAMPED, terrain, state, make, s, record=False)]
 
 
 def _chunked(monkeypatch, args):
@@ -70,13 +94,32 @@ def test_braked_candidates_in_chunks_are_the_rolls_one_interval_at_a_time(ws, mo
     for batch in (alone, todo):
         args = (DAMPED, slope, s, obs, batch, ws.max_pressure, brk, expect)
         chunked, sizes = _chunked(monkeypatch, args)
-        with monkeypatch.context() as m:
-            m.setattr(ahead, "CHUNK", 1)
-            one = lookahead.foresee(*args)
-        for a, b in zip(one, chunked):
-            _same(a, b)
+        _one_at_a_time(monkeypatch, chunked, args)
         assert max(sizes) == ahead.CHUNK
         if batch is alone:  # not rolled: ramp (240 intervals), top (50) and release (75) in chunks
             (r,) = chunked
             assert not r.rolled and r.face_after == obs.face
             assert sum(sizes) > 300 and len(sizes) < 60
+
+
+def test_braked_twisted_strings_at_rest_at_the_top_end_with_the_whole_rolls_verdict(ws, monkeypatch):
+    """The prototype's motors ramped at 0.25 V/s (config/README.md's volts table ramps at 0.1) on a
+    15 deg slope, braked: #10 up to 9 V does not roll the robot off (9,10,12); at the top
+    the brake fades out over the 20 s hold and the robot stands at rest, the motors stalled: the
+    candidate ends as the release begins, not rolled, on its face, as the whole roll does 11 s
+    later (after the release and the strands unwinding). In chunks, as one interval at a time.
+    (Ramped at 1 V/s, the default, the motors twist through the whole hold: nothing is cut.)"""
+    s, slope = VOLTS, Terrain.slope(15.0)
+    brk = Brake(ws, s.brake_margin)
+    obs = _settled(s, slope, brk)
+    todo = [((10,), True)]
+    expect = {(10,): 9.5}  # a plan's level above the top: the brake fades as the ramp nears it
+    args = (DAMPED, slope, s, obs, todo, 9.0, brk, expect)
+    cut, sizes = _chunked(monkeypatch, args)
+    assert sum(sizes) > 1700  # most of the 36 s ramp (the top, the brake faded out early, one at a time)
+    _one_at_a_time(monkeypatch, cut, args)
+    full = _whole(s, slope, obs, todo, 9.0, brk, expect)
+    for c, f in zip(cut, full):
+        assert not c.rolled and not f.rolled and c.face_after == f.face_after == obs.face
+        assert lookahead.lands(c) and lookahead.lands(f)
+        assert f.t_end - c.t_end > 10.0 and c.t_end - c.t_start > 36.0 + 20.0
