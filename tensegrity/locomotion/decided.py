@@ -10,8 +10,14 @@ docs/design.md §6). `until_decided` wraps the roll controller of one candidate 
   of the action turning slower than MOTOR_REST (twisted to its level: what is left is the creep
   within the gear friction) for _CALM checks in a row: the hold at the top would end in giving
   up (the result: not rolled, on its face), as the roll controller's own cut when the ramp
-  gives up (`control.roll_controller`'s `foresee`). The braked rolls keep their whole hold
-  (the brake fades out over it and can still roll the robot).
+  gives up (`control.roll_controller`'s `foresee`);
+- braked, at rest at its top with the brake faded out: the same rest (start face, no lift,
+  REST_SPEED, MOTOR_REST) for the last _CALM checks of the top, the action's pairs at their top
+  level, the brake faded out (every other pair at most FADED): ended as the release begins. The
+  brake fades out over the hold at the top and can still roll the robot until then; what
+  follows, the level falling over brake_release_time, the start face's brake (`brake.hold`:
+  the CoG projection moved inside) back on at brake_rate and the settling, leads back to the
+  robot at rest braked on its face, where the roll started (not rolled, on its face).
 
 A roll that lands on another face is simulated to its end, settled as the run settles it: its
 CoG there is what the planner ranks it by (with the twisted strings the strands unwinding after
