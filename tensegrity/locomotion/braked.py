@@ -13,7 +13,6 @@ import numpy as np
 
 from .ahead import Ramp
 from .control import _slew
-from .decided import _CALM
 from .settings import RollSettings
 
 __all__ = ["Braked"]
@@ -26,10 +25,9 @@ class Braked(Ramp):
     down, moved toward at most at brake_rate from the last command (`control._slew`); the
     action's pairs at least min(L w, s.max_level). Predicted from a pair of weight 1 that the
     brake leaves at 0 (its command is the level): its ramp, its top, its release from the top;
-    else as `Ramp` where the command stays the same (a hold, the brake faded out, a settling).
-    With the twisted strings, where the controllers read the motors' state, one interval at a
-    time: the last checks of the top and any same command there (`decided`), and settling
-    (`control.rested`, that pair at 0)."""
+    else as `Ramp` where the command stays the same (a hold, the brake faded out, a settling),
+    but with the twisted strings only while that pair is driven (settling, the controller reads
+    the motors' state, `control.rested`)."""
 
     def __init__(self, w: np.ndarray, s: RollSettings, max_pressure: float, held: np.ndarray, expect: float):
         super().__init__(w, s, max_pressure)
@@ -60,8 +58,6 @@ class Braked(Ramp):
                 fade = max(0.0, fade - self.s.interval / self.s.hold_time)
                 cmd = self._step(self.max, cmd, fade)
                 cmds.append(cmd)
-            if self.volts:  # the last checks one at a time: `decided` reads the motors there
-                cmds = cmds[: max(0, len(cmds) - _CALM - 2)]
             self._tops = cmds, {c.tobytes(): k for k, c in enumerate(cmds)}
         return self._tops
 
@@ -71,7 +67,7 @@ class Braked(Ramp):
         if n < 1 or self.j < 0 or self.max > self.top:
             return None
         if np.array_equal(prev, cmd):
-            if self.volts and not 0 < cmd[self.j] < self.max:
+            if self.volts and not cmd[self.j] > 0:
                 return None
             return np.broadcast_to(cmd, (n, cmd.size))
         a, b = float(prev[self.j]), float(cmd[self.j])

@@ -10,14 +10,11 @@ docs/design.md §6). `until_decided` wraps the roll controller of one candidate 
   of the action turning slower than MOTOR_REST (twisted to its level: what is left is the creep
   within the gear friction) for _CALM checks in a row: the hold at the top would end in giving
   up (the result: not rolled, on its face), as the roll controller's own cut when the ramp
-  gives up (`control.roll_controller`'s `foresee`);
-- braked, at rest at its top with the brake faded out: the same rest (start face, no lift,
-  REST_SPEED, MOTOR_REST) for the last _CALM checks of the top, the action's pairs at their top
-  level, the brake faded out (every other pair at most FADED): ended as the release begins. The
-  brake fades out over the hold at the top and can still roll the robot until then; what
-  follows, the level falling over brake_release_time, the start face's brake (`brake.hold`:
-  the CoG projection moved inside) back on at brake_rate and the settling, leads back to the
-  robot at rest braked on its face, where the roll started (not rolled, on its face).
+  gives up (`control.roll_controller`'s `foresee`). The braked rolls keep their whole hold
+  (the brake fades out over it and can still roll the robot) and their release: one at rest at
+  its top with the brake faded out (volts, 15 deg, for _CALM checks, the motors stalled) still
+  rolled onto another face as its level fell and the brake came back on (docs/benchmarks.md,
+  "Braked candidates that stop once decided").
 
 A roll that lands on another face is simulated to its end, settled as the run settles it: its
 CoG there is what the planner ranks it by (with the twisted strings the strands unwinding after
@@ -34,13 +31,12 @@ from .control import RollResult
 from .lockstep import Controller, Obs
 from .settings import RollSettings
 
-__all__ = ["FADED", "MOTOR_REST", "REST_SPEED", "SLIDE", "until_decided"]
+__all__ = ["MOTOR_REST", "REST_SPEED", "SLIDE", "until_decided"]
 
 SLIDE = 0.5  # m: a roll that moves the CoG further (horizontally) slid: a tumble (issue 30's definition)
 REST_SPEED = 1e-3  # m/s: a CoG this slow at the top of the ramp is at rest (settle_speed is 0.03)
 MOTOR_REST = 1.5 * OMEGA_EPS  # rad/s: a motor this slow has twisted its strands to its level
 _CALM = 3  # checks in a row (control._CALM)
-FADED = 1e-6  # MPa or V: a brake faded out to this (the controller's own fade <= 1e-9 of it) is off
 
 
 def _held(pres: np.ndarray, top: np.ndarray, j: int, last: np.ndarray | None) -> bool:
@@ -73,7 +69,6 @@ def until_decided(
     base = None if support is None else obs.gap[support].copy()
     cables = topo.PAIR_CABLES[np.flatnonzero(weights > 0)].ravel()
     j = int(np.argmax(weights))  # a pair of weight 1: its command is the ramp's level
-    lanes = weights > 0
     calm, last = 0, None
     pres = next(gen)
     while True:
@@ -82,8 +77,7 @@ def until_decided(
         if np.hypot(cog[0] - cog0[0], cog[1] - cog0[1]) > SLIDE:
             gen.close()
             return RollResult(pairs, False, start, None, np.nan, np.nan, obs.t, ob.t, cog0, cog, weights=w), ob
-        at_top = np.array_equal(pres[lanes], top[lanes]) if braked else _held(pres, top, j, last)
-        if support is not None and ob.face == start and at_top:
+        if not braked and support is not None and ob.face == start and _held(pres, top, j, last):
             still = ob.speed < REST_SPEED and bool(np.all(ob.gap[support] - base <= s.lift_tolerance))
             if still and s.motors is not None:
                 st = ob.state
@@ -95,7 +89,7 @@ def until_decided(
             calm = calm + 1 if still else 0
         else:
             calm = 0
-        if calm >= _CALM and not braked:
+        if calm >= _CALM:
             gen.close()
             res = RollResult(pairs, False, start, start, np.nan, max_pressure, obs.t, ob.t, cog0, cog, weights=w)
             return res, ob
@@ -104,7 +98,3 @@ def until_decided(
             pres = gen.send(ob)
         except StopIteration as stop:
             return stop.value
-        if braked and calm >= _CALM and np.all(last[~lanes] <= FADED) and not np.array_equal(pres[lanes], top[lanes]):
-            gen.close()  # the release from the top begins, the brake faded out and the robot at rest
-            res = RollResult(pairs, False, start, start, np.nan, max_pressure, obs.t, ob.t, cog0, cog, weights=w)
-            return res, ob

@@ -16,9 +16,8 @@ candidate first, then 2, 4, ... up to `lookahead` candidates, then all of them, 
 generators' (`LAZY`: computed only when the horizon reaches them), only while none is acceptable.
 A candidate's simulation ends as soon as its outcome is decided (`decided.until_decided`): its CoG
 more than SLIDE m away (a tumble or slide); unbraked, at rest at the top of its ramp without
-rolling, or its ramp given up on its face (`control.roll_controller`'s `foresee`); braked, at
-rest at its top with the brake faded out, as its release begins. A roll that lands on another
-face runs to its settled end.
+rolling, or its ramp given up on its face (`control.roll_controller`'s `foresee`). A roll that
+lands on another face, and a braked one, runs to its settled end.
 """
 
 from __future__ import annotations
