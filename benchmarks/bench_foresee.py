@@ -13,7 +13,9 @@ the same digest means the same rolls, bit for bit. Run it against another tree w
 With `--runs GROUND ...` it runs those grounds of `bench_locomotion.py` instead (8 evaluation
 cases, `--cases`), prints bench_locomotion's report and, per ground, a digest of every run (its
 outcome, rolls and distance, and every RollResult of its steps, made and simulated) with the
-planning CPU s per roll: the same digest, the same runs, bit for bit. Both modes read the
+planning CPU s per roll: the same digest, the same runs, bit for bit; and a digest of the rolls
+made alone (each run's outcome, rolls and distance and every attempt's RollResult, not the
+candidates simulated ahead): the same rolls made, whatever the candidates' ends. Both modes read the
 two-pair workspace as bench_locomotion does (`--two-pair`, default results/workspace_two_pair.nc;
 `none` or a missing file: superposed combinations); the runs before 2026-12-06 passed none, which is
 why their `--runs` arrivals (5/8 on 20 deg, 3/8 on 24) differed from bench_locomotion's (7/8, 2/8).
@@ -21,7 +23,7 @@ why their `--runs` arrivals (5/8 on 20 deg, 3/8 on 24) differed from bench_locom
 Usage: python benchmarks/bench_foresee.py [--workspace results/workspace.nc] [--repeat 2]
        [--two-pair results/workspace_two_pair.nc | none]
        [--grounds slope20 slope24 terrain0.07] [--profile tottime|cumtime]
-       [--runs slope20 ... [--cases 8]]
+       [--runs slope20 ... [--cases 8] [--steps]] [--configfile volts.yaml]
 Without the workspace file, one is computed first with the default configuration (~30 s).
 """
 
@@ -93,21 +95,29 @@ def digest(results) -> str:
     return h.hexdigest()[:12]
 
 
-def runs(grounds, cases, ws, params, s) -> None:
+def runs(grounds, cases, ws, params, s, show_steps=False) -> None:
     """bench_locomotion's grounds (evaluation seeds): its report, then a digest of every run."""
     a = argparse.Namespace(distance=2.0)
     for g in grounds:
         t0 = time.perf_counter()
         res = bench_locomotion.run_ground(g, bench_locomotion.EVALUATION_SEEDS[:cases], a, ws, params, s, None)
         row = bench_locomotion.report(g, res, time.perf_counter() - t0, s.arrive_tolerance)
-        h = hashlib.sha256()
+        if show_steps:
+            bench_locomotion.steps(res)
+        h, m = hashlib.sha256(), hashlib.sha256()  # every roll; the rolls made alone
         for _, r in res:
-            h.update(repr((r.outcome, r.rolls, r.distance_to_goal)).encode())
+            for x in (h, m):
+                x.update(repr((r.outcome, r.rolls, r.distance_to_goal)).encode())
             for st in r.steps:
+                for x in st.attempts:
+                    _update(m, x)
                 for x in (*st.attempts, *st.simulated):
                     _update(h, x)
         load = open("/proc/loadavg").read().split()[:3]
-        print(f"DIGEST {g} {h.hexdigest()[:16]} planning CPU {row['cpu']:.3f} s/roll, load average {' '.join(load)}")
+        print(
+            f"DIGEST {g} {h.hexdigest()[:16]} rolls made {m.hexdigest()[:16]} planning CPU {row['cpu']:.3f} s/roll, "
+            f"load average {' '.join(load)}"
+        )
 
 
 def main() -> None:
@@ -118,15 +128,17 @@ def main() -> None:
     ap.add_argument("--grounds", nargs="+", choices=list(GROUNDS), default=list(GROUNDS))
     ap.add_argument("--runs", nargs="+", choices=list(bench_locomotion.GROUNDS), help="whole runs instead")
     ap.add_argument("--cases", type=int, default=8, help="with --runs: cases per ground")
+    ap.add_argument("--steps", action="store_true", help="with --runs: every step of every run (bench_locomotion's)")
+    ap.add_argument("--configfile", help="a YAML file merged over config/config.yaml (e.g. the volts table)")
     ap.add_argument("--profile", choices=["tottime", "cumtime"], help="cProfile the first repeat: the top 30 by that")
     a = ap.parse_args()
-    cfg = config.load()
+    cfg = config.load(a.configfile)
     params = io_settings.params(cfg)
     s = io_settings.build(lo.RollSettings, cfg)
     two = None if a.two_pair.lower() == "none" or not Path(a.two_pair).is_file() else a.two_pair
     ws = bench_locomotion.workspace(a.workspace, two)
     if a.runs:
-        return runs(a.runs, a.cases, ws, params, s)
+        return runs(a.runs, a.cases, ws, params, s, a.steps)
     d.warm()
     print(f"foresee from {lo.__file__}")
     for g in a.grounds:

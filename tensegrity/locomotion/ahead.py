@@ -1,9 +1,10 @@
 """The candidates of `lookahead.foresee` simulated several check intervals per call of the
 simulator while their ramps are predictable (issue 30's planning cost; docs/design.md §6).
 
-Most of a candidate's simulated time is its unbraked ramp: each check interval the roll controller
+Most of a candidate's simulated time is its ramp: each check interval the roll controller
 raises its level by ramp_rate * interval (`control.roll_controller`) and nothing else happens until
-a support node lifts. `lockstep_ahead` drives the batch as `lockstep.lockstep` does (record=False),
+a support node lifts; braked, the brake also fades at the top and comes back on as the level falls
+(`braked.Braked`). `lockstep_ahead` drives the batch as `lockstep.lockstep` does (record=False),
 but where every robot's last two commands are two steps of its ramp or the same (`Ramp.next`), it
 simulates up to CHUNK intervals at once (2, then twice as many after each chunk handed whole) with
 the commands the ramps would give (one `dynamics.simulate` call
@@ -174,8 +175,8 @@ def lockstep_ahead(
     ramps: list[Ramp | None],
 ) -> list[tuple[Any, d.State]]:
     """`lockstep.lockstep(params, terrain, state, make, s, record=False)`, with chunks where the
-    ramps are predictable: ramps[b] is robot b's unbraked ramp (None: never predicted; the list
-    may be filled by `make`). Returns per robot (result, final State)."""
+    ramps are predictable: ramps[b] is robot b's ramp, `Ramp` or `braked.Braked` (None: never predicted;
+    the list may be filled by `make`). Returns per robot (result, final State)."""
     state.check()
     params = s.rolling(params)
     every = int(round(s.interval / s.dt))

@@ -11,7 +11,10 @@ docs/design.md §6). `until_decided` wraps the roll controller of one candidate 
   within the gear friction) for _CALM checks in a row: the hold at the top would end in giving
   up (the result: not rolled, on its face), as the roll controller's own cut when the ramp
   gives up (`control.roll_controller`'s `foresee`). The braked rolls keep their whole hold
-  (the brake fades out over it and can still roll the robot).
+  (the brake fades out over it and can still roll the robot) and their release: one at rest at
+  its top with the brake faded out (volts, 15 deg, for _CALM checks, the motors stalled) still
+  rolled onto another face as its level fell and the brake came back on (docs/benchmarks.md,
+  "Braked candidates that stop once decided").
 
 A roll that lands on another face is simulated to its end, settled as the run settles it: its
 CoG there is what the planner ranks it by (with the twisted strings the strands unwinding after

@@ -16,8 +16,8 @@ candidate first, then 2, 4, ... up to `lookahead` candidates, then all of them, 
 generators' (`LAZY`: computed only when the horizon reaches them), only while none is acceptable.
 A candidate's simulation ends as soon as its outcome is decided (`decided.until_decided`): its CoG
 more than SLIDE m away (a tumble or slide); unbraked, at rest at the top of its ramp without
-rolling, or its ramp given up on its face (`control.roll_controller`'s `foresee`); landed on
-another face and at rest there (with the twisted strings, before their strands unwind).
+rolling, or its ramp given up on its face (`control.roll_controller`'s `foresee`). A roll that
+lands on another face, and a braked one, runs to its settled end.
 """
 
 from __future__ import annotations
@@ -37,6 +37,7 @@ from .actuation import World
 from .actuation import optimised as _optimised
 from .ahead import Ramp, lockstep_ahead
 from .brake import Brake, escape
+from .braked import Braked
 from .control import RollResult, action_weights, roll_controller
 from .decided import SLIDE, until_decided
 from .lockstep import Obs
@@ -143,8 +144,8 @@ def foresee(
     planned pressure `expect[pairs]` MPa (NaN if absent or weighted), simulated together from
     the same state, on one numba thread: each kernel call advances a batch by one check
     interval only, and a second OpenMP thread spins between calls, which costs 2.4 times the CPU
-    of one thread (156 candidates on a 20 deg slope, docs/planner_evaluation.md). The unbraked
-    ramps are simulated several intervals per call (`ahead.lockstep_ahead`), to the same bits.
+    of one thread (156 candidates on a 20 deg slope, docs/planner_evaluation.md). The ramps,
+    braked or not, are simulated several intervals per call (`ahead.lockstep_ahead`), to the same bits.
     Raises SimulationError if a simulation blows up."""
     if obs.state is None:
         raise ValueError("the observation carries no state to simulate from")
@@ -152,7 +153,7 @@ def foresee(
         return []
     state = d.State.concat([obs.state] * len(todo))
     acting: list[bool] = []  # whether the brake acts on the start face (`Brake.active`, the same for all)
-    ramps: list[Ramp | None] = [None] * len(todo)  # the unbraked ones' ramps (`ahead.lockstep_ahead`)
+    ramps: list[Ramp | None] = [None] * len(todo)  # the candidates' ramps (`ahead.lockstep_ahead`)
 
     def make(b: int, ob: Obs):
         ob = Obs(obs.t, ob.nodes, ob.gap, ob.face, obs.speed, obs.pressure.copy(), cog=ob.cog)
@@ -167,7 +168,12 @@ def foresee(
         ctl = roll_controller(
             params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True, brake_acts=(acting or [None])[0]
         )
-        ramps[b] = None if brk is not None else Ramp(action_weights(pairs, w)[1], s, max_pressure)
+        aw = action_weights(pairs, w)[1]
+        if brk is None:
+            ramps[b] = Ramp(aw, s, max_pressure)
+        elif ob.face is not None:  # its brake: the controller's own choice, made on a copy
+            held = copy.deepcopy(brk, {id(brake.workspace): brake.workspace}).for_face(ob.face, ob.nodes)
+            ramps[b] = Braked(aw, s, max_pressure, held, planned)
         return until_decided(ctl, ob, pairs, w, s, max_pressure, brk is not None)
 
     threads = numba.get_num_threads()
