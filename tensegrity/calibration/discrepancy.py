@@ -42,11 +42,12 @@ from .measurement import Measurement
 from .misfit import REASON
 from .uncertainty import Uncertainty
 
-__all__ = ["WINDOWS", "LEAST", "count", "split", "interval", "dropped", "widen", "given"]
+__all__ = ["WINDOWS", "LEAST", "UNBOUNDED", "count", "split", "interval", "dropped", "widen", "given"]
 
 WINDOWS = 4  # disjoint time windows refitted (tuning seeds 0-5)
 LEAST = 20  # samples a window needs at least (the growing horizon's first stage: `fit.horizons`)
 LEVEL = 0.95
+UNBOUNDED = "not determined: its windows' interval (W1) reaches the fit's bounds on both sides"
 
 
 def count(windows: int | None, mode: str, samples: int) -> int:
@@ -105,8 +106,9 @@ def widen(
     """`unc` with the intervals (W1) of the parameters `names` whose intervals `misfit` dropped
     (`dropped`; the others as they were), the window estimates (n,) `refit(window)` of each of
     the k windows of m (`split`), each interval clipped to [start / bound, start * bound] (n,);
-    standard error estimate * s; and the window estimates (k, n) (NaN rows: fits that failed; no
-    window is fitted if `misfit` dropped nothing)."""
+    standard error estimate * s (an interval open on both sides: the parameter named UNBOUNDED in
+    `undetermined`); and the window estimates (k, n) (NaN rows: fits that failed; no window is
+    fitted if `misfit` dropped nothing)."""
     n, lost = estimate.size, dropped(unc, names)
     W = np.full((k, n), np.nan)
     if not lost.any():
@@ -128,6 +130,7 @@ def widen(
         for j in range(n)
     )
     keep = [u for u in unc.undetermined if not any(u.startswith(f"{names[j]} {REASON}") for j in np.flatnonzero(give))]
+    keep += [f"{names[j]} {UNBOUNDED}" for j in np.flatnonzero(give & (lo < lo_b) & (hi > hi_b))]
     return (
         replace(
             unc,

@@ -99,6 +99,7 @@ def test_a_window_interval_beyond_the_bounds_is_open_there():
     m, unc, _, x = _run(0.1)
     out, _ = discrepancy.widen(unc, NAMES, x, x, m, 4, lambda w: x * np.array([1.0, 1e4]), 10.0)
     assert out.method[1] == "windows, open below, open above" and out.upper[1] == pytest.approx(10 * x[1])
+    assert [u for u in out.undetermined if discrepancy.UNBOUNDED in u] == [f"{NAMES[1]} {discrepancy.UNBOUNDED}"]
 
 
 def test_split_and_its_errors():
