@@ -24,13 +24,21 @@ from ..physics import topology as topo
 from ..workspace.lookup import Workspace, predict
 from .plan import candidates, direction_of
 
-__all__ = ["Brake", "hold", "escape"]
+__all__ = ["Brake", "hold", "escape", "ramp_fade"]
 
 
 def _actions(workspace: Workspace, face: int, combos: bool) -> list[tuple[int, ...]]:
     singles = [int(q) for q in workspace.pairs(face)]
     out = [(q,) for q in singles]
     return out + (list(itertools.combinations(singles, 2)) if combos else [])
+
+
+def ramp_fade(level: float, expect: float) -> float:
+    """Share of the start face's brake left at `level` (MPa or V) of a ramp whose roll is expected
+    at `expect` (NaN or negative: the brake is not handed over, 1; 0: gone at once)."""
+    if not expect >= 0:
+        return 1.0
+    return max(0.0, 1.0 - level / expect) if expect > 0 else 0.0
 
 
 def hold(workspace: Workspace, face: int, nodes: np.ndarray, margin: float) -> np.ndarray:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .ahead import Ramp
+from .brake import ramp_fade
 from .control import _slew
 from .settings import RollSettings
 
@@ -41,8 +42,7 @@ class Braked(Ramp):
         """The controller's command at `level` after the command `last` (its own numbers), the
         brake faded by `fade` (None: as the ramp fades it)."""
         if fade is None:
-            e = self.expect  # the min over a rising ramp: its latest
-            fade = (max(0.0, 1.0 - level / e) if e > 0 else 0.0) if e >= 0 else 1.0
+            fade = ramp_fade(level, self.expect)  # the min over a rising ramp: its latest
         pres = _slew(self.brake * fade, last, self.s)
         lanes = self.w > 0
         pres[lanes] = np.maximum(pres[lanes], np.minimum(level * self.w[lanes], self.top))
@@ -51,8 +51,8 @@ class Braked(Ramp):
     def _top(self) -> tuple[list, dict]:
         """The commands at the top while the brake fades out, and each one's index."""
         if self._tops is None:
-            e, cmds = self.expect, []
-            fade = (max(0.0, 1.0 - self.max / e) if e > 0 else 0.0) if e >= 0 else 1.0  # the ramp's last
+            cmds: list[np.ndarray] = []
+            fade = ramp_fade(self.max, self.expect)  # the ramp's last
             cmd = self._step(self.max, self.brake * fade, fade)  # the ramp's last command (not slewed)
             while fade > 1e-9:
                 fade = max(0.0, fade - self.s.interval / self.s.hold_time)

@@ -24,7 +24,7 @@ from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.schedule import check_pressures, hold_step
 from ..physics.terrain import Terrain
-from .brake import Brake
+from .brake import Brake, ramp_fade
 from .lockstep import UNWIND_TOLERANCE, Controller, Obs, Record, lockstep
 from .settings import RollSettings
 
@@ -175,8 +175,8 @@ def roll_controller(
                 level = max(0.0, level - peak * s.interval / (release if up.any() else s.catch_time))
         if phase == "top":
             fade = max(0.0, fade - s.interval / s.hold_time)
-        elif phase == "ramp" and expect >= 0:  # handed over to the roll as it nears its
-            fade = min(fade, max(0.0, 1.0 - level / expect) if expect > 0 else 0.0)  # pressure
+        elif phase == "ramp":  # handed over to the roll as it nears its pressure
+            fade = min(fade, ramp_fade(level, expect))
         pres = held * fade
         if brake and phase in ("release", "land"):  # braced for the face it is rolling onto,
             pres = brake.for_face(landed, obs.nodes) if rolling else held  # or back on its own
