@@ -49,7 +49,7 @@ def calibrate(
     its figure beside it (same name, .png). Every input is checked before the fit starts."""
     from ..calibration import calibrate as fit_model
     from ..calibration.discrepancy import split
-    from ..calibration.model import DEFAULT_RESIDUAL, RESIDUALS
+    from ..calibration.model import RESIDUALS
     from ..io.formats.calibration import allow_nan, calibrated_yaml, calibration_dataset
 
     names = parse_fit(fit)
@@ -67,7 +67,6 @@ def calibrate(
     mode = mode or m.mode
     if not mode:
         raise ValueError(f"{measured}: the file does not say its mode; give --mode free or --mode grounded")
-    residual = DEFAULT_RESIDUAL.get(mode, "positions") if residual is None else residual
     if starts < 0:
         raise ValueError(f"starts: {starts!r} extra starts; give 0 or more")
     if windows:  # ValueError naming windows before the fit, if too many for the samples
@@ -76,7 +75,7 @@ def calibrate(
         m, params, names, mode, dt, initial == "fit", frame == "fit", check, motors, residual, starts, windows=windows
     )
     header = (
-        f"calibrated by tensegrity calibrate from {measured} ({mode} mode, residual {residual})\n"
+        f"calibrated by tensegrity calibrate from {measured} ({mode} mode, residual {c.problem.residual})\n"
         f"fitted: {', '.join(names)}; residual RMS {c.rms_mm:.3g} mm\n"
         "use: --config FILE, or snakemake --configfile FILE"
     )
