@@ -14,7 +14,7 @@ docs/design.md §6). `until_decided` wraps the roll controller of one candidate 
   (the brake fades out over it and can still roll the robot) and their release: one at rest at
   its top with the brake faded out (volts, 15 deg, for _CALM checks, the motors stalled) still
   rolled onto another face as its level fell and the brake came back on (docs/benchmarks.md,
-  "Braked candidates that stop once decided").
+  "Braked candidates simulated in chunks").
 
 A roll that lands on another face is simulated to its end, settled as the run settles it: its
 CoG there is what the planner ranks it by (with the twisted strings the strands unwinding after
