@@ -316,6 +316,7 @@ BENCHMARKS = {
     "bench_env.py": ["--sizes", "1", "2", "--steps", "2", "--mujoco-steps", "2", "--repeat", "1"],
     "bench_pipeline.py": ["--runs", "1", "--configfile", "tests/workflow/tiny.yaml", "--until", "nominal"],
     "bench_surfaces.py": ["{tiny}/results/two_pair/isosceles.nc", "--statics", "1", "--folds", "4"],
+    "bench_creep.py": ["{tiny}/results/sweeps", "--top", "2", "--history", "1"],
     "bench_averaging.py": ["--holds", "0.4", "--steps", "4.8", "--pairs", "10", "--contacts", "isosceles"],
     "bench_two_pair_averaging.py": ["--levels", "2.4", "4.8", "--pairs", "10", "11", "--hold", "0.5", "--no-statics"],
 }
