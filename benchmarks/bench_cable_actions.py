@@ -180,7 +180,7 @@ def _mujoco(rows: list, params, setup: GravitySetup, margin: float) -> None:
             cab = _mujoco_tip(params, setup, face, float(slope), h, c.weights) if c is not None else "no action"
             ok, tip, _ = sl._sim_ok(None, params, 1, face, np.array([slope]), np.array([h]), pair[None], setup)
             ours = f"uphill {tip[0]:.2f} MPa" if ok[0] else "no uphill roll"
-            mj = _mujoco_tip(params, setup, face, float(slope), h, ca.lift(pair))
+            mj = _mujoco_tip(params, setup, face, float(slope), h, topo.cable_levels(pair))
             print(f"| {contact} | {h:g} | {slope:.1f} | {cab} | {ours} | {mj} |")
 
 
