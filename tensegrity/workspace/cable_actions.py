@@ -233,8 +233,8 @@ def simulated(
     to hi (H,) (the stand limit's high end), each mid slope simulated with the action the
     statics find for the pose there (`slope_limit._sim_ok`, the ramp of `setup`, a
     `gravity.GravitySetup`). A NaN lo (no known roll) is tried at 0 deg first, and stays NaN if
-    that fails. Returns the bracket (lo, hi). Pair actions only: the kernel takes one pressure
-    per pair."""
+    that fails. Returns the bracket (lo, hi). Pair actions; a cable action is simulated alike
+    (`gravity.ramp` takes (R, 24) weights)."""
     lo, hi, headings = np.array(lo, float), np.array(hi, float), np.asarray(headings, float)
 
     def rolls(slopes: np.ndarray, js: np.ndarray) -> np.ndarray:

@@ -7,6 +7,7 @@ cables, the cables' least-pressure programme is never above the pairs'."""
 import numpy as np
 import pytest
 
+from tensegrity.physics import dynamics as d
 from tensegrity.physics import statics
 from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
@@ -14,6 +15,7 @@ from tensegrity.workspace import cable_actions as ca
 from tensegrity.workspace import gravity as gv
 from tensegrity.workspace import sensitivity as sv
 from tensegrity.workspace import slope_limit as sl
+from tensegrity.workspace.slopes import place, slope_field
 
 SETUP = gv.GravitySetup()
 PARAMS = SETUP.rolling(Params())
@@ -84,3 +86,24 @@ def test_cables_climb_wherever_pairs_do():
     a = sv.edge_action(sv.grounded(PARAMS, FACE, NODES), k, SETUP.max_pressure, 0.005)
     assert a is not None and a.weights.shape == (topo.N_PAIRS,)
     np.testing.assert_array_equal(a.weights, v.actions["pairs_least"].weights)
+
+
+def test_cable_action_rolls_the_isosceles_face_uphill_where_its_pairs_do_not():
+    """The case the statics said 24 cables add (docs/planner_evaluation.md, "Would 24 cable
+    actuators extend the uphill limit?"): the isosceles face (10,11,12) on 23 deg with uphill at
+    heading 270, across its gap edge 11-12, above the pairs' statics limit (19.7 deg). The
+    statics' cable action drives one cable only of pairs #6 and #9; ramped in the simulator (one
+    pressure per cable) it rolls the robot uphill over 11-12, and the same pairs on both their
+    cables (each at its larger cable's weight) do not tip it."""
+    face = topo.face_number((10, 11, 12))
+    c = ca.verdict(PARAMS, face, 23.0, 270.0, SETUP.max_pressure, 0.005).actions["cables"]
+    w = c.weights[topo.PAIR_CABLES]  # (12, 2)
+    assert c.edge == (11, 12) and sorted(np.flatnonzero((w > 0).sum(1) == 1) + 1) == [6, 9]
+    W = np.stack([c.weights, topo.cable_levels(w.max(1))])
+    terrain, centres = slope_field([23.0, 23.0])
+    state = d.State.concat([place(PARAMS, face, terrain, x, 270.0) for x in centres])
+    level, n_settle = SETUP.levels()
+    rec, gone = gv.ramp(PARAMS, terrain, face, state, W, level, n_settle, SETUP)
+    cable, pairs = (gv.tip(rec, b, face, n_settle, gone[b]) for b in range(2))
+    assert cable[2] == (11, 12) and cable[0] < SETUP.max_pressure, cable
+    assert pairs[2] is None, pairs
