@@ -18,9 +18,9 @@ which nothing climbs. Each limit is a scan up from 0 deg in --step deg to the fi
 --iterations bisection steps: printed as the slope found (the bracket's high end in
 parentheses).
 
-Beside them, by direct simulation (the kernel takes pair pressures only: cable actions cannot be
-simulated): with --gravity and --workspace (results/workspace_gravity.nc, results/workspace.nc),
-the stand limit and `simulated_multi` computed as the stage slope_limit does
+Beside them, by direct simulation of pair actions: with --gravity and --workspace
+(results/workspace_gravity.nc, results/workspace.nc), the stand limit and `simulated_multi`
+computed as the stage slope_limit does
 (`slope_limit.limits`, `slope_multi.multi_limits`, 3 bisection steps), and the limit with the
 statics' "pairs" actions (`cable_actions.simulated`: bisection from simulated_multi to the stand
 limit's high end, or from 0 deg where simulated_multi is NaN, 4 steps); without them, stand and
@@ -37,10 +37,17 @@ the pairs' limit at the same slopes, in MuJoCo and in our simulator. MuJoCo's co
 (pyramidal cones, soft constraints), not ours: where it rolls that control too, it does not tell
 cables from pairs.
 
+--ours [SLOPE ...]: the same cases, in our simulator (it takes one pressure per cable): the cable
+action the statics find at each slope (default: as --mujoco's, else the slopes given, deg) and, as
+the controls, the pair action of the pairs' limit lifted to its cables (the same bits as per pair)
+and the cable action's pairs (each pair it uses on both cables, at its larger cable's pressure),
+ramped as the slope limit ramps (`gravity.ramp`, its holds where a node lifts; all in one batch),
+judged as `slope_limit._sim_ok` judges.
+
 Usage: .venv/bin/python benchmarks/bench_cable_actions.py [--contacts equilateral isosceles]
        [--headings 0 45 ...] [--step 1] [--iterations 4] [--max-pressure 5]
        [--gravity results/workspace_gravity.nc --workspace results/workspace.nc]
-       [--slope-limit results/slope_limit.nc] [--mujoco] [--tiny]
+       [--slope-limit results/slope_limit.nc] [--mujoco] [--ours [SLOPE ...]] [--tiny]
 """
 
 from __future__ import annotations
@@ -180,8 +187,60 @@ def _mujoco(rows: list, params, setup: GravitySetup, margin: float) -> None:
             cab = _mujoco_tip(params, setup, face, float(slope), h, c.weights) if c is not None else "no action"
             ok, tip, _ = sl._sim_ok(None, params, 1, face, np.array([slope]), np.array([h]), pair[None], setup)
             ours = f"uphill {tip[0]:.2f} MPa" if ok[0] else "no uphill roll"
-            mj = _mujoco_tip(params, setup, face, float(slope), h, ca.lift(pair))
+            mj = _mujoco_tip(params, setup, face, float(slope), h, topo.cable_levels(pair))
             print(f"| {contact} | {h:g} | {slope:.1f} | {cab} | {ours} | {mj} |")
+
+
+def _ours_tips(params, setup: GravitySetup, face: int, slopes, heading: float, w24: np.ndarray) -> list[str]:
+    """The ramps s w24[j] (cable pressures (J, 24)) on slopes[j] deg in our simulator, in one batch
+    (module docstring): per robot a string as `_mujoco_tip`'s."""
+    from tensegrity.physics import dynamics as d
+    from tensegrity.workspace import gravity as gv
+    from tensegrity.workspace import slope_limit as sl
+    from tensegrity.workspace.slopes import place, slope_field
+
+    terrain, centres = slope_field(slopes)
+    state = d.State.concat([place(params, face, terrain, c, heading) for c in centres])
+    level, n_settle = setup.levels()
+    rec, gone = gv.ramp(params, terrain, face, state, w24, level, n_settle, setup)
+    u = np.array([np.cos(np.radians(heading)), np.sin(np.radians(heading))])
+    out = []
+    for j in range(len(slopes)):
+        p, k, e = gv.tip(rec, j, face, n_settle, gone[j])
+        if gone[j] <= n_settle or e is None:
+            out.append("does not stand" if gone[j] <= n_settle else "no tip")
+            continue
+        up = float(np.dot(sl.direction(rec["support"][j, k], face, e), u)) > 0
+        out.append(f"{'uphill' if up else 'not uphill'} {p:.2f} MPa ({e[0]}-{e[1]})")
+    return out
+
+
+def _ours(rows, params, setup: GravitySetup, margin: float, given: list[float]) -> None:
+    """The --ours table (module docstring)."""
+    print(
+        "\n| contact | heading deg | slope deg | cable action | cable action, ours | its pairs, ours "
+        "| pair action, ours |"
+    )
+    print("|---|---|---|---|---|---|---|")
+    for contact, h, lim, s in rows:
+        lo, hi = lim["pairs"][0], lim["cables"][0]
+        if not (hi - lo > 1.0 and lim["pairs"][2] is not None):
+            continue
+        face = topo.face_number(topo.CONTACT_FACES[contact])
+        top = min(hi, s["stand"][0]) if "stand" in s else hi
+        slopes = np.array(given, float) if given else np.round(np.linspace(lo, top, 4), 1)
+        acts = [ca.verdict(params, face, float(m), h, setup.max_pressure, margin).actions.get("cables") for m in slopes]
+        have = [i for i, c in enumerate(acts) if c is not None]
+        pair = topo.cable_levels(lim["pairs"][2].weights)
+        cables = np.array([acts[i].weights for i in have]).reshape(-1, topo.N_CABLES)
+        pairs = topo.cable_levels(cables[:, topo.PAIR_CABLES].max(-1))  # both cables of each pair used
+        w = np.concatenate([cables, pairs, np.tile(pair, (slopes.size, 1))])
+        tips = _ours_tips(params, setup, face, np.concatenate([slopes[have], slopes[have], slopes]), h, w)
+        n = len(have)
+        cab, its = dict(zip(have, tips[:n])), dict(zip(have, tips[n : 2 * n]))
+        for i, m in enumerate(slopes):
+            cells = (f"{m:.1f}", _action(acts[i]), cab.get(i, "no action"), its.get(i, "-"), tips[2 * n + i])
+            print(f"| {contact} | {h:g} | {' | '.join(cells)} |")
 
 
 def _action(a) -> str:
@@ -203,6 +262,7 @@ def main() -> None:
     ap.add_argument("--gravity", default=None, help="results/workspace_gravity.nc: simulate (with --workspace)")
     ap.add_argument("--workspace", default=None, help="results/workspace.nc")
     ap.add_argument("--mujoco", action="store_true", help="ramp the cable actions in MuJoCo (docstring)")
+    ap.add_argument("--ours", nargs="*", type=float, default=None, help="ramp them in our simulator (docstring)")
     ap.add_argument("--tiny", action="store_true", help="isosceles, heading 90, step 12 deg, 1 bisection step")
     a = ap.parse_args()
     cfg = config.load()
@@ -263,6 +323,8 @@ def main() -> None:
                 )
     if a.mujoco:
         _mujoco(rows, params, setup, margin)
+    if a.ours is not None:
+        _ours(rows, params, setup, margin, a.ours)
     print(f"\nCPU {time.process_time() - c0:.1f} s (the simulations {c1 - c0:.1f} s)")
 
 

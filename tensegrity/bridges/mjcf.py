@@ -177,7 +177,8 @@ def mjcf(
 
 
 def controls(pressure: np.ndarray, order: np.ndarray | None = None) -> np.ndarray:
-    """Actuator controls (..., 24) MPa of pair pressures (..., 12) MPa: each cable its pair's, in
-    the actuator order of `mjcf` (`order`, default topology.CABLES')."""
+    """Actuator controls (..., 24) MPa of pair pressures (..., 12) MPa (each cable its pair's) or
+    of cable pressures (..., 24) (`topology.cable_levels`), in the actuator order of `mjcf`
+    (`order`, default topology.CABLES')."""
     cables = np.arange(topo.N_CABLES) if order is None else np.asarray(order)
-    return np.asarray(pressure, dtype=float)[..., topo.CABLE_PAIR[cables]]
+    return topo.cable_levels(pressure)[..., cables]

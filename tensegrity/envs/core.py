@@ -147,7 +147,7 @@ def advance(state: State, prm: np.ndarray, pressure: np.ndarray, terrain: Terrai
     kind, meta, hz = terrain.packed()
     status, fail = np.zeros(n, np.int64), np.zeros(n, np.int64)
     out_x, out_q = np.empty((n, 1, 6, 3)), np.empty((n, 1, 6, 4))
-    pres = np.ascontiguousarray(pressure, dtype=float)
+    pres = np.ascontiguousarray(topo.cable_levels(pressure))  # the kernel's: one per cable
     kernel.advance(
         state.x, state.v, state.q, state.w, state.anchor, state.stuck, prm, pres, kind, meta, hz, 1,
         task.substeps, task.dt, out_x, out_q, status, fail,

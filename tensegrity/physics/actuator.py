@@ -76,8 +76,9 @@ def constants(values: ArrayLike) -> np.ndarray:
 
 def activations(gain: ArrayLike, pressure: ArrayLike) -> np.ndarray:
     """The NumPy twin of `activation`: Kg P (..., 24) N/m per cable from the muscle gain Kg
-    N/(MPa m) (broadcast against the result) and the pair pressures (..., 12) MPa."""
-    return gain * np.asarray(pressure, dtype=float)[..., topo.CABLE_PAIR]
+    N/(MPa m) (broadcast against the result) and the pressures (..., 12) MPa per pair or
+    (..., 24) per cable (`topology.cable_levels`)."""
+    return gain * topo.cable_levels(pressure)
 
 
 def tensions(ln: ArrayLike, ldot: ArrayLike, act: ArrayLike, rows: ArrayLike) -> np.ndarray:

@@ -42,7 +42,8 @@ class SimulationError(RuntimeError):
 
 @dataclass(frozen=True)
 class Trajectory:
-    """Recorded samples: t (T,) s, x (B, T, 6, 3) m, q (B, T, 6, 4), pressure (B, T, 12) MPa."""
+    """Recorded samples: t (T,) s, x (B, T, 6, 3) m, q (B, T, 6, 4), pressure (B, T, 12) MPa
+    per pair, or (B, T, 24) per cable, as the schedule gave them (V with motors)."""
 
     t: np.ndarray
     x: np.ndarray
@@ -80,7 +81,9 @@ def simulate(
     """Advance the batch through the schedule with time step dt (s), recording every
     `record_every` steps. Returns the final state and the trajectory; the input is unchanged.
     Raises SimulationError naming the robot, the time and the quantity if a run blows up.
-    With `motors` (twisted-string actuators, docs/design.md §10) the schedule's levels are pair
+    The schedule's levels are per pair (12) or per cable (24): a pair's level is lifted to both
+    its cables here (`topology.cable_levels`), the kernel reads one per cable.
+    With `motors` (twisted-string actuators, docs/design.md §10) the schedule's levels are
     voltages in V, and the state carries the motors' angles and speeds (0 if it has none)."""
     if not (np.isfinite(dt) and 0 < dt <= 1e-3):
         raise ValueError(f"time step dt = {np.asarray(dt).tolist()!r} s must be in (0, 1e-3]")
@@ -121,8 +124,9 @@ def simulate(
                 f"segment {k} of {dur} s is not a whole number of recording intervals ({every} steps of {dt} s)"
             )
         n_rec = n // every
-        # a writeable C-ordered copy (as the state's): one compiled signature of the kernel
-        pres = np.array(np.broadcast_to(schedule.pressure[:, k], (B, topo.N_PAIRS)), dtype=float, order="C")
+        level = np.broadcast_to(schedule.pressure[:, k], (B, schedule.pressure.shape[-1]))
+        # per cable, a writeable C-ordered copy (as the state's): one compiled signature of the kernel
+        pres = np.array(topo.cable_levels(level), dtype=float, order="C")
         out_x = np.empty((B, n_rec, topo.N_STRUTS, 3))
         out_q = np.empty((B, n_rec, topo.N_STRUTS, 4))
         if motors is None:
@@ -168,30 +172,32 @@ def simulate(
         ts.append(t0 + dt * every * np.arange(1, n_rec + 1))
         xs.append(out_x)
         qs.append(out_q)
-        ps.append(np.repeat(pres[:, None], n_rec, axis=1))
+        ps.append(np.repeat(level[:, None], n_rec, axis=1))
         t0 += n * dt
     s = replace(s, t=t0)
     return s, Trajectory(np.concatenate(ts), np.concatenate(xs, 1), np.concatenate(qs, 1), np.concatenate(ps, 1))
 
 
 def step(params: Params, state: State, pressure: ArrayLike, dt: float = 1e-4, terrain: Terrain | None = None) -> State:
-    """One time step of dt (s) with pair pressures (B, 12) or (12,) MPa: the pure step function."""
-    p = check_pressures(pressure)
-    return simulate(params, state, Schedule.constant(p.reshape(-1, topo.N_PAIRS), dt), terrain, dt, 1)[0]
+    """One time step of dt (s) with pressures (B, 12) or (12,) MPa per pair, or (B, 24) or (24,)
+    per cable: the pure step function."""
+    return simulate(params, state, Schedule.constant(pressure, dt), terrain, dt, 1)[0]
 
 
 def tensions(params: Params, state: State, pressure: ArrayLike) -> np.ndarray:
-    """Cable tensions (B, 24) N (eq. 2 with eq. 1, never negative)."""
+    """Cable tensions (B, 24) N (eq. 2 with eq. 1, never negative) under pressures (B, 12) or
+    (12,) MPa per pair, or (B, 24) or (24,) per cable."""
     B = state.batch
-    p = np.ascontiguousarray(np.broadcast_to(check_pressures(pressure), (B, topo.N_PAIRS)))
+    p = _per_cable(pressure, B)
     P = nodes(state.x, state.q, params.strut_length)
     U = node_velocities(state, params.strut_length)
     return kernel.tensions(P, U, params.pack(B), p)[0]
 
 
 def energy(params: Params, state: State, pressure: ArrayLike) -> np.ndarray:
-    """Total mechanical energy (B,) J: kinetic + cable (a = 1) + gravity. Ground contact and
-    damping are not conservative and are not included."""
+    """Total mechanical energy (B,) J: kinetic + cable (a = 1) + gravity, under pressures per
+    pair or per cable (as `tensions`). Ground contact and damping are not conservative and are
+    not included."""
     if np.any(np.asarray(params.cable_exponent) != 1.0):
         raise NotImplementedError("cable energy is implemented for cable_exponent = 1 only")
     B = state.batch
@@ -217,13 +223,20 @@ def energy(params: Params, state: State, pressure: ArrayLike) -> np.ndarray:
     ).sum(-1)
     P = nodes(state.x, state.q, params.strut_length)
     ln = np.linalg.norm(P[:, topo.CABLES[:, 1]] - P[:, topo.CABLES[:, 0]], axis=-1)
-    pres = np.broadcast_to(check_pressures(pressure), (B, topo.N_PAIRS))
+    pres = _per_cable(pressure, B)
     # the law at rest (S1): a spring k whose clamped tension starts at l* (eq. 1-2); U by (S2)
     act = actuator.activations(prm["muscle_gain"], pres)
     k, lstar = actuator.spring(prm["cable_stiffness"], prm["cable_rest_length"], prm["muscle_min_length"], act)
     cable = 0.5 * (k * np.maximum(0.0, ln - lstar) ** 2).sum(-1)
     grav = (m * prm["gravity"] * state.x[..., 2]).sum(-1)
     return kin + cable + grav
+
+
+def _per_cable(pressure: ArrayLike, batch: int) -> np.ndarray:
+    """Checked pressures (batch, 24) MPa, C-ordered, of pressures per pair or per cable, (12,)
+    or (24,) for the whole batch or (batch, 12 or 24) (`topology.cable_levels`)."""
+    p = topo.cable_levels(check_pressures(pressure))
+    return np.ascontiguousarray(np.broadcast_to(p, (batch, topo.N_CABLES)))
 
 
 def warm() -> None:

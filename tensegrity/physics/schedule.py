@@ -1,5 +1,6 @@
-"""Pressure schedules: pair pressures (MPa) held over time segments, and their check (the law
-that turns a pressure into a cable force is `actuator`); the hold of a ramp (`hold_step`)."""
+"""Pressure schedules: pressures (MPa) per pair or per cable held over time segments, and their
+check (the law that turns a pressure into a cable force is `actuator`); the hold of a ramp
+(`hold_step`)."""
 
 from __future__ import annotations
 
@@ -62,9 +63,10 @@ def hold_step(
 
 @dataclass(frozen=True)
 class Schedule:
-    """Piecewise-constant pair pressures: segment k lasts durations[k] s with pressure
-    pressure[:, k, :] MPa, shape (B, K, 12) (B may be 1 for the whole batch). A subclass may
-    hold another actuation level by its own `check` (`twisted.Voltages`: volts)."""
+    """Piecewise-constant pressures: segment k lasts durations[k] s with pressure
+    pressure[:, k, :] MPa, shape (B, K, 12) per pair or (B, K, 24) per cable (the prototype's 24
+    actuators; `topology.cable_levels`), B may be 1 for the whole batch. A subclass may hold
+    another actuation level by its own `check` (`twisted.Voltages`: volts)."""
 
     durations: np.ndarray
     pressure: np.ndarray
@@ -76,12 +78,17 @@ class Schedule:
         p = self.check(self.pressure)
         if p.ndim == 2:
             p = p[None]
-        if p.ndim != 3 or p.shape[1:] != (d.size, topo.N_PAIRS):
-            raise ValueError(f"schedule pressure must have shape (B, {d.size}, 12), got {p.shape}")
+        if p.ndim != 3 or p.shape[1] != d.size or p.shape[2] not in (topo.N_PAIRS, topo.N_CABLES):
+            raise ValueError(f"schedule pressure must have shape (B, {d.size}, 12 or 24), got {p.shape}")
         if not np.all(np.isfinite(d)) or np.any(d <= 0):
             raise ValueError(f"schedule durations must be positive seconds, got {d.tolist()}")
         object.__setattr__(self, "durations", d)
         object.__setattr__(self, "pressure", p)
+
+    @property
+    def per_cable(self) -> bool:
+        """Whether the levels are one per cable (24), not one per pair (12)."""
+        return self.pressure.shape[-1] == topo.N_CABLES
 
     @property
     def duration(self) -> float:
@@ -89,9 +96,13 @@ class Schedule:
 
     @classmethod
     def constant(cls, pressure: ArrayLike, duration: float) -> Schedule:
-        """Pressures (B, 12) or (12,) MPa held for `duration` s."""
+        """Pressures (B, 12) or (12,) MPa per pair, or (B, 24) or (24,) per cable, held for
+        `duration` s."""
         p = np.asarray(pressure, dtype=float)
-        return cls(np.array([duration]), p.reshape(-1, 1, topo.N_PAIRS))
+        n = p.shape[-1] if p.ndim and p.shape[-1] in (topo.N_PAIRS, topo.N_CABLES) else topo.N_PAIRS
+        if p.size % n:
+            raise ValueError(f"pressures must be (B, 12 or 24) or (12 or 24,), got shape {p.shape}")
+        return cls(np.array([duration]), p.reshape(-1, 1, n))
 
     @classmethod
     def staircase(cls, pairs: ArrayLike, levels: ArrayLike, hold: float, settle: float = 0.0) -> Schedule:

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 N_NODES, N_STRUTS, N_CABLES, N_FACES, N_PAIRS = 12, 6, 24, 20, 12
 
@@ -131,6 +132,19 @@ def _cable_index(a: int, b: int) -> int:
 PAIR_CABLES = np.array([[_cable_index(*c) for c in pair] for pair in PAIRS])  # (12, 2)
 CABLE_PAIR = np.empty(N_CABLES, dtype=np.int64)  # pair index (0-based) of each cable
 CABLE_PAIR[PAIR_CABLES.ravel()] = np.repeat(np.arange(N_PAIRS), 2)
+
+
+def cable_levels(levels: ArrayLike) -> np.ndarray:
+    """Actuation levels per cable (..., 24) (MPa, or V for twisted strings) of pair levels
+    (..., 12), each pair's on both its cables (CABLE_PAIR: the same numbers, to the bit), or of
+    levels (..., 24) already per cable (as given). Raises ValueError for another last axis."""
+    a = np.asarray(levels, dtype=float)
+    if a.ndim and a.shape[-1] == N_PAIRS:
+        return a[..., CABLE_PAIR]
+    if a.ndim and a.shape[-1] == N_CABLES:
+        return a
+    raise ValueError(f"levels must be per pair or per cable, (..., 12 or 24), got shape {a.shape}")
+
 
 # node -> (strut, sign): node = strut centre + sign * (S/2) * axis (eq. 4), for kernel and statics
 NODE_STRUT = np.empty(N_NODES, np.int64)

@@ -165,7 +165,7 @@ def check_voltages(v: np.ndarray, name: str = "voltage") -> np.ndarray:
 
 
 class Voltages(Schedule):
-    """A `Schedule` of pair voltages (V) instead of pressures: its `pressure` array holds volts
-    (B, K, 12), for `dynamics.simulate(..., motors=...)`."""
+    """A `Schedule` of voltages (V) instead of pressures: its `pressure` array holds volts
+    (B, K, 12) per pair or (B, K, 24) per cable, for `dynamics.simulate(..., motors=...)`."""
 
     check = staticmethod(check_voltages)

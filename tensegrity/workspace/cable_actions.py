@@ -18,7 +18,7 @@ uphill edge (`uphill`):
   linearised at 0 picks the single steepest lever, which saturates (d is concave in each
   pressure) and may leave it stuck short of the edge;
 - for cables, also the pair actions lifted (a pair pressure P is P on both its cables,
-  topology.CABLE_PAIR; `sensitivity.cable_law` gives the same cable law to the bit): whatever a
+  `topology.cable_levels`; `sensitivity.cable_law` gives the same cable law to the bit): whatever a
   set of pairs does, the cables do, so the cable limit found is never below the pair limit.
 
 Both searches are local: a slope where none finds an action may still have one (the limits are
@@ -43,11 +43,6 @@ from . import slope_limit as sl
 from .lookup import Workspace
 
 CRITERIA = ("pairs_least", "pairs", "cables")  # edge_action on pairs; + reach_action; cables (+ lifts)
-
-
-def lift(weights: np.ndarray) -> np.ndarray:
-    """Cable pressures (..., 24) of pair pressures (..., 12): each pair's on both its cables."""
-    return np.asarray(weights, float)[..., topo.CABLE_PAIR]
 
 
 def uphill(params: Params, face: int, nodes: np.ndarray, heading: float) -> list[int]:
@@ -143,7 +138,9 @@ def verdict(
         acts["pairs"] = a
     if "cables" in need:
         if a is not None:
-            acts["cables"] = sv.EdgeAction(a.face, a.edge, a.next_face, lift(a.weights), a.scale, 2 * a.total, a.inside)
+            acts["cables"] = sv.EdgeAction(
+                a.face, a.edge, a.next_face, topo.cable_levels(a.weights), a.scale, 2 * a.total, a.inside
+            )
         else:
             m24 = sv.grounded(params, face, nodes, topo.N_CABLES)
             c = first(sv.edge_action, m24) or first(reach_action, m24)
@@ -236,8 +233,8 @@ def simulated(
     to hi (H,) (the stand limit's high end), each mid slope simulated with the action the
     statics find for the pose there (`slope_limit._sim_ok`, the ramp of `setup`, a
     `gravity.GravitySetup`). A NaN lo (no known roll) is tried at 0 deg first, and stays NaN if
-    that fails. Returns the bracket (lo, hi). Pair actions only: the kernel takes one pressure
-    per pair."""
+    that fails. Returns the bracket (lo, hi). Pair actions; a cable action is simulated alike
+    (`gravity.ramp` takes (R, 24) weights)."""
     lo, hi, headings = np.array(lo, float), np.array(hi, float), np.asarray(headings, float)
 
     def rolls(slopes: np.ndarray, js: np.ndarray) -> np.ndarray:

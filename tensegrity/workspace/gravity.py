@@ -158,10 +158,11 @@ def ramp(
     copies: int = 1,
     motors: TwistedString | None = None,
 ) -> tuple[dict, np.ndarray]:
-    """Drive robot b of `state` (resting on `face`) with pair pair_of[b] (or, pair_of (R, 12),
-    the pair pressures level pair_of[b], `locomotion.control.action_weights`) through the pressures
-    `level` (L,) MPa, one per setup.interval s (the first n_settle at zero), time step setup.dt
-    s, `params` as given (`GravitySetup.rolling` is the caller's). By the controller's rule
+    """Drive robot b of `state` (resting on `face`) with pair pair_of[b] (or, pair_of (R, 12) or
+    (R, 24), the pressures level pair_of[b] per pair, `locomotion.control.action_weights`, or per
+    cable, `cable_actions`) through the pressures `level` (L,) MPa, one per setup.interval s
+    (the first n_settle at zero), time step setup.dt s, `params` as given (`GravitySetup.rolling`
+    is the caller's). By the controller's rule
     (`schedule.hold_step`, as in `locomotion.control.roll`), when a support node has lifted by
     lift_tolerance m (from its clearance at the end of the settling) the pressure is held for
     hold_time s before the ramp goes on: near the tipping point the robot creeps over the edge
@@ -198,7 +199,7 @@ def ramp(
         state = state.take(active)
     for t in range(T):
         ka = k[active]
-        if pair_of.ndim == 2:  # weight vectors (R, 12), largest entry 1: pressures level w
+        if pair_of.ndim == 2:  # weight vectors (R, 12 or 24), largest entry 1: pressures level w
             pres = np.minimum(level[ka, None] * pair_of[active], MAX_PRESSURE if motors is None else MAX_VOLTAGE)
         else:
             pres = np.zeros((active.size, topo.N_PAIRS))

@@ -10,6 +10,7 @@ import pytest
 
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import kernel
+from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
 from tensegrity.physics.terrain import Terrain
 
@@ -32,7 +33,7 @@ def run(params, state, pres, terrain, n_rec, every=10, dt=1e-4):
         s.anchor,
         s.stuck,
         params.pack(B),
-        np.array(pres, float),
+        np.ascontiguousarray(topo.cable_levels(pres)),
         kind,
         meta,
         hz,

@@ -209,6 +209,7 @@ def _advance(params, m, state, volts, terrain, n_rec, dt):
     s, th, om = state.copy(), np.zeros((B, 24)), np.zeros((B, 24))
     status, fail = np.zeros(B, np.int64), np.zeros(B, np.int64)
     out_x, out_q = np.empty((B, n_rec, 6, 3)), np.empty((B, n_rec, 6, 4))
+    volts = np.ascontiguousarray(topo.cable_levels(volts))  # the kernel's: one per cable
     args = (s.x, s.v, s.q, s.w, s.anchor, s.stuck, th, om, params.pack(B), m.pack(params, B, dt), volts)
     km.advance(*args, *terrain.packed(), n_rec, 10, dt, out_x, out_q, status, fail)
     return dict(x=s.x, w=s.w, motor_angle=th, motor_speed=om, status=status, fail=fail)
@@ -258,7 +259,7 @@ def test_pneumatic_path_is_the_pneumatic_kernel():
     kind, meta, hz = Terrain.flat().packed()
     out_x, out_q = np.empty((2, 10, 6, 3)), np.empty((2, 10, 6, 4))
     status, fail = np.zeros(2, np.int64), np.zeros(2, np.int64)
-    args = (s.x, s.v, s.q, s.w, s.anchor, s.stuck, params.pack(2), p, kind, meta, hz, 10, 10, 1e-4)
+    args = (s.x, s.v, s.q, s.w, s.anchor, s.stuck, params.pack(2), topo.cable_levels(p), kind, meta, hz, 10, 10, 1e-4)
     kernel.advance(*args, out_x, out_q, status, fail)
     assert np.array_equal(end.x, s.x) and np.array_equal(end.q, s.q) and np.array_equal(tr.x, out_x)
     assert end.motor_angle is None and end.motor_speed is None

@@ -296,7 +296,7 @@ BENCHMARKS = {
         "--iterations",
         "1",
     ],
-    "bench_cable_actions.py": ["--tiny"],
+    "bench_cable_actions.py": ["--tiny", "--ours"],
     "bench_slope_reach.py": [
         "--workspace",
         "{tiny}/results/workspace.nc",

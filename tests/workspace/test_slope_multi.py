@@ -22,9 +22,12 @@ def test_unit_weights_ramp_as_the_pair():
     level, n_settle = SETUP.levels()
     a = gv.ramp(PARAMS, terrain, FACE, state, np.array([10, 12]), level, n_settle, SETUP)
     b = gv.ramp(PARAMS, terrain, FACE, state, np.eye(12)[[9, 11]], level, n_settle, SETUP)
+    c = gv.ramp(PARAMS, terrain, FACE, state, topo.cable_levels(np.eye(12)[[9, 11]]), level, n_settle, SETUP)
     for name in a[0]:
         np.testing.assert_array_equal(a[0][name], b[0][name], err_msg=name)
+        np.testing.assert_array_equal(a[0][name], c[0][name], err_msg=name)  # per cable (R, 24)
     np.testing.assert_array_equal(a[1], b[1])
+    np.testing.assert_array_equal(a[1], c[1])
 
 
 def test_optimised_action_rolls_uphill_where_no_single_pair_does():

@@ -38,6 +38,7 @@ from .driver import (
     TOO_FAST,
     WIDE_FROM,
     _1act,
+    check_levels,
     constants,
     group_one,
     group_wide,
@@ -64,10 +65,12 @@ def _advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every,
 def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt,
             out_x, out_q, status, fail_step):
     """Advance all robots in place (module docstring). State x, v (B, 6, 3) m, m/s; q (B, 6, 4);
-    w (B, 6, 3) rad/s body; anchor (B, 12, 3) m, stuck (B, 12) bool; prm (B, NP); pres (B, 12)
-    MPa; terrain kind (NO_TERRAIN, PLANE, HEIGHTFIELD), meta (7,), hz (nx, ny) m (Terrain.packed);
-    dt s; out_x (B, n_rec, 6, 3) m, out_q (B, n_rec, 6, 4); status, fail_step (B,) int64.
+    w (B, 6, 3) rad/s body; anchor (B, 12, 3) m, stuck (B, 12) bool; prm (B, NP); pres (B, 24)
+    MPa, one per cable (`topology.cable_levels` of a pair's; `check_levels`); terrain kind
+    (NO_TERRAIN, PLANE, HEIGHTFIELD), meta (7,), hz (nx, ny) m (Terrain.packed); dt s;
+    out_x (B, n_rec, 6, 3) m, out_q (B, n_rec, 6, 4); status, fail_step (B,) int64.
     The first call loads the group functions before `_advance` (`compiling.callees_first`)."""
+    check_levels(pres, x.shape[0])
     args = (x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, dt, out_x, out_q,
             status, fail_step)
     if not _advance.overloads:
@@ -78,7 +81,9 @@ def advance(x, v, q, w, anchor, stuck, prm, pres, kind, meta, hz, n_rec, every, 
 @jit(**ks.JIT)
 def tensions(P, U, prm, pres):
     """Cable tensions (B, 24) N and node forces (B, 12, 3) N from node positions P and
-    velocities U (B, 12, 3), packed parameters prm (B, NP) and pair pressures pres (B, 12) MPa."""
+    velocities U (B, 12, 3), packed parameters prm (B, NP) and cable pressures pres (B, 24) MPa."""
+    if pres.shape[1] != 24:
+        raise ValueError("pres must hold one pressure per cable, (B, 24)")
     nbat = P.shape[0]
     T, F = np.zeros((nbat, 24)), np.zeros((nbat, 12, 3))
     Pl, Ul, Tl, C, act = _1P(), _1U(), _1T(), _1C(), _1act()

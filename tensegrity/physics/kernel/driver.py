@@ -15,12 +15,10 @@ state and step count of its failure; its group stops when all of its robots have
 
 from __future__ import annotations
 
-import numpy as np
 from numba.core import types
 from numba.extending import overload
 
 from .. import actuator
-from .. import topology as topo
 from ..params import IDX
 from . import contact as kc
 from . import robot as kr
@@ -32,7 +30,6 @@ OK, NON_FINITE, TOO_FAST, OFF_TERRAIN = 0, 1, 2, 3  # status codes (values fixed
 NO_TERRAIN = kc.NO_TERRAIN
 LANES = 8  # robots per group: one AVX-512 register of float64
 WIDE_FROM = 3  # smaller batches run one robot per group (and per thread): faster for 1 or 2
-CABLE_PAIR = np.ascontiguousarray(topo.CABLE_PAIR.astype(np.int64))
 
 # Columns of the packed parameter array prm (B, NP) (params.NAMES); the actuator's from _LAW on.
 _STRUT_LENGTH, _STRUT_RADIUS, _STRUT_MASS, _LAW, _GRAVITY = (IDX[k] for k in (
@@ -61,11 +58,19 @@ _aTH, _aOM, _aVO, _aM = kst.ALONE
 WIDE_LANES, ONE_LANE = (0,) * LANES, (0,)  # lane markers (kernel.stages)
 
 
+def check_levels(levels, batch):
+    """Raises ValueError unless levels (pressures MPa or volts V) are (batch, 24), one per cable:
+    the kernel reads levels[b, j] for cable j and does not check its bounds."""
+    if levels.shape != (batch, 24):
+        raise ValueError(f"the kernel takes one level per cable, ({batch}, 24); got {levels.shape}")
+
+
 @jit(**ks.INLINE)
 def constants(prm, b, dt, C, act, pres, l):
-    """Lane l of C (NC, L) and the muscles act (24, L) N/m (eq. 1) for robot b (kernel.stages
-    names the rows; the actuator's by `actuator.pack` and `activation`). Returns True if its
-    cable law is linear (`actuator.pack`)."""
+    """Lane l of C (NC, L) and the muscles act (24, L) N/m (eq. 1) for robot b, from its
+    pressures pres[b] (24,) MPa, one per cable (`dynamics` lifts a pair's to both its cables)
+    (kernel.stages names the rows; the actuator's by `actuator.pack` and `activation`). Returns
+    True if its cable law is linear (`actuator.pack`)."""
     S, r, m = prm[b, _STRUT_LENGTH], prm[b, _STRUT_RADIUS], prm[b, _STRUT_MASS]
     It, Ia = m * (S * S / 12.0 + r * r / 4.0), m * r * r / 2.0  # thin tube inertia, kg m^2
     C[ks.HL, l] = 0.5 * S
@@ -77,7 +82,7 @@ def constants(prm, b, dt, C, act, pres, l):
     C[ks.DS, l], C[ks.GRAV, l] = prm[b, _STRUT_DAMPING], prm[b, _GRAVITY]
     C[ks.VMAX2, l] = prm[b, _MAX_SPEED] ** 2
     for j in range(24):
-        act[j, l] = ks.law_activation(prm, b, _LAW, pres[b, CABLE_PAIR[j]])
+        act[j, l] = ks.law_activation(prm, b, _LAW, pres[b, j])
     return linear
 
 

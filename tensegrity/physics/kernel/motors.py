@@ -11,7 +11,7 @@ import numba as nb
 
 from . import stages as ks
 from .compiling import callees_first, jit
-from .driver import LANES, WIDE_FROM, group_one, group_wide
+from .driver import LANES, WIDE_FROM, check_levels, group_one, group_wide
 from .strings import NM
 
 __all__ = ["NM", "advance"]
@@ -37,8 +37,9 @@ def advance(x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, met
             every, dt, out_x, out_q, status, fail_step):
     """Advance all robots and their motors in place: as `kernel.advance`, with the motor angles
     theta and speeds omega (B, 24) rad, rad/s, their constants mprm (B, NM)
-    (`TwistedString.pack`, at this dt) and the pair voltages volts (B, 12) V. A read-only mprm
+    (`TwistedString.pack`, at this dt) and the voltages volts (B, 24) V, one per cable. A read-only mprm
     (`pack` of one robot is a view) is copied: one compiled signature for every batch."""
+    check_levels(volts, x.shape[0])
     if not mprm.flags.writeable:
         mprm = mprm.copy()
     args = (x, v, q, w, anchor, stuck, theta, omega, prm, mprm, volts, kind, meta, hz, n_rec,

@@ -6,7 +6,7 @@ pneumatic kernel's own.
 
 The motors' working arrays, `Motors` = (theta, omega, mprm, volts, TH, OM, VO, M): the batch's
 angles theta and speeds omega (B, 24) rad, rad/s, constants mprm (B, NM) (`TwistedString.pack`)
-and pair volts (B, 12) V; the group's angles TH, speeds OM and volts VO (24, L), constants M (NM, L).
+and volts (B, 24) V, one per cable; the group's angles TH, speeds OM and volts VO (24, L), constants M (NM, L).
 A lone robot (`kernel.robot`) holds its cable j in lane j: TH, OM, VO (1, 24), M (NM, 24).
 """
 
@@ -14,14 +14,11 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from .. import actuator
 from . import stages as ks
 from .compiling import jit, stack_array
 
 NM = len(actuator.MOTOR_ROWS)
-_CABLE_PAIR = np.ascontiguousarray(actuator.topo.CABLE_PAIR.astype(np.int64))
 SHAPES = ((24,), (24,), (24,), (NM,))  # TH, OM, VO, M before the lane axis
 ALONE = tuple(stack_array(*s) for s in ((1, 24), (1, 24), (1, 24), (NM, 24)))  # a lone robot's
 # The law (T1)-(T5), written once in `actuator`, compiled with the kernel's flags and inlined.
@@ -69,7 +66,7 @@ def cables(P, U, T, TH, OM, VO, M, lanes):
 @jit(**ks.INLINE)
 def motors_in(g, motors, lanes):
     """Loads the motors of group g (L = len(lanes) robots) into the lanes of `motors` (module
-    docstring): volts by their cable's pair; lanes past the batch copy its last robot."""
+    docstring), each cable at its volts; lanes past the batch copy its last robot."""
     theta, omega, mprm, volts, TH, OM, VO, M = motors
     L, B = len(lanes), theta.shape[0]
     for l in range(L):
@@ -77,7 +74,7 @@ def motors_in(g, motors, lanes):
         for r in range(NM):
             M[r, l] = mprm[b, r]
         for j in range(24):
-            TH[j, l], OM[j, l], VO[j, l] = theta[b, j], omega[b, j], volts[b, _CABLE_PAIR[j]]
+            TH[j, l], OM[j, l], VO[j, l] = theta[b, j], omega[b, j], volts[b, j]
 
 
 @jit(**ks.INLINE)
