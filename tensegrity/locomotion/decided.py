@@ -7,8 +7,8 @@ docs/design.md §6). `until_decided` wraps the roll controller of one candidate 
 - at rest at its held level without rolling (unbraked rolls only): every pair of the action at
   the top of its ramp, the same command as the check before, the robot on its start face with no
   support node lifted, its CoG slower than REST_SPEED and, for the twisted strings, every motor
-  of the action turning slower than MOTOR_REST (twisted to its level: what is left is the creep
-  within the gear friction) for _CALM checks in a row: the hold at the top would end in giving
+  of the action turning slower than MOTOR_REST (twisted to its level, or held by its gears'
+  friction) for _CALM checks in a row: the hold at the top would end in giving
   up (the result: not rolled, on its face), as the roll controller's own cut when the ramp
   gives up (`control.roll_controller`'s `foresee`). The braked rolls keep their whole hold
   (the brake fades out over it and can still roll the robot) and their release: one at rest at
@@ -26,7 +26,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..physics import topology as topo
-from ..physics.twisted import OMEGA_EPS
 from .control import RollResult
 from .lockstep import Controller, Obs
 from .settings import RollSettings
@@ -35,7 +34,7 @@ __all__ = ["MOTOR_REST", "REST_SPEED", "SLIDE", "until_decided"]
 
 SLIDE = 0.5  # m: a roll that moves the CoG further (horizontally) slid: a tumble (issue 30's definition)
 REST_SPEED = 1e-3  # m/s: a CoG this slow at the top of the ramp is at rest (settle_speed is 0.03)
-MOTOR_REST = 1.5 * OMEGA_EPS  # rad/s: a motor this slow has twisted its strands to its level
+MOTOR_REST = 0.15  # rad/s (0.3 % of the no-load speed): a motor this slow has twisted its strands to its level
 _CALM = 3  # checks in a row (control._CALM)
 
 

@@ -107,13 +107,13 @@ def spring(K: ArrayLike, L: ArrayLike, Lmin: ArrayLike, act: ArrayLike) -> tuple
 # omega (rad/s); the cable's pair voltage V (V). Its constants per cable, in the order packed
 # (`TwistedString.pack`, rows of the kernel's motor constants M): K N/m, rest length at theta = 0
 # LR m, damping B N s/m, L0 m, r m, torque per volt G = eta N kt / R (N m/V), electrical and
-# viscous damping D = eta N^2 kt ke / R + b (N m s/rad), Coulomb friction TC N m, 1/omega_eps
-# s/rad, dt/J 1/(kg m^2 s) (J = N^2 J_rotor, output side), the time step dt s; then, derived
+# viscous damping D = eta N^2 kt ke / R + b (N m s/rad), Coulomb friction TC N m,
+# dt/J 1/(kg m^2 s) (J = N^2 J_rotor, output side), the time step dt s; then, derived
 # from these so that the kernel's step need not (`motor_rows`): L0^2 m^2, r^2 m^2, the guard
 # (P_MIN L0)^2 m^2 and L0 - LR m. A step of the kernel's (`kernel/strings.py`): t, p =
 # `twist`, h = `ratio`, f = `string_tension`, tau = `motor_torque`, then `motor_step`.
-MOTOR_ROWS = ("K", "LR", "B", "L0", "RS", "GAIN", "DAMP", "TC", "IWE", "DT_J", "DT", "L0SQ", "RSQ", "PSQ_MIN", "L0_LR")
-(_MK, _MLR, _MB, _ML0, _MRS, _MGAIN, _MDAMP, _MTC, _MIWE, _MDTJ, _MDT, _ML0SQ, _MRSQ, _MPSQ, _ML0LR) = range(
+MOTOR_ROWS = ("K", "LR", "B", "L0", "RS", "GAIN", "DAMP", "TC", "DT_J", "DT", "L0SQ", "RSQ", "PSQ_MIN", "L0_LR")
+(_MK, _MLR, _MB, _ML0, _MRS, _MGAIN, _MDAMP, _MTC, _MDTJ, _MDT, _ML0SQ, _MRSQ, _MPSQ, _ML0LR) = range(
     len(MOTOR_ROWS)
 )
 # The strands stay apart from each other while p > P_MIN L0; below, the model is off (Palli et
@@ -123,7 +123,7 @@ P_MIN = 0.05
 
 
 def motor_rows(*first: ArrayLike) -> np.ndarray:
-    """The constants (len(MOTOR_ROWS), ...) from the first eleven of MOTOR_ROWS, in its order
+    """The constants (len(MOTOR_ROWS), ...) from the first ten of MOTOR_ROWS, in its order
     (arrays broadcast), followed by those derived from them."""
     if len(first) != _ML0SQ:
         raise ValueError(f"motor_rows takes the first {_ML0SQ} constants of MOTOR_ROWS, got {len(first)}")
@@ -159,21 +159,22 @@ def string_tension(ln: float, ldot: float, p: float, h: float, omega: float, M: 
 
 
 def motor_torque(volt: float, omega: float, M: np.ndarray, l: int) -> float:
-    """(T4): the motor's net torque (N m, output side) at `volt` V and speed omega rad/s, before
-    the string's load f h: G V - D omega - TC sat(omega / omega_eps) (Coulomb friction made
-    linear below omega_eps; a load under TC then creeps at omega_eps load / TC at most)."""
-    s = omega * M[_MIWE, l]
-    s = -1.0 if s < -1.0 else (1.0 if s > 1.0 else s)
-    return M[_MGAIN, l] * volt - M[_MDAMP, l] * omega - M[_MTC, l] * s
+    """(T4): the motor's torque (N m, output side) at `volt` V and speed omega rad/s, before the
+    string's load f h and the gears' Coulomb friction TC (`motor_step`): G V - D omega."""
+    return M[_MGAIN, l] * volt - M[_MDAMP, l] * omega
 
 
 def motor_step(
     theta: float, omega: float, tau: float, f: float, h: float, M: np.ndarray, l: int
 ) -> tuple[float, float]:
     """(T5): one semi-implicit Euler step of the motor with the torque tau N m (`motor_torque`)
-    under the string's tension f N at the ratio h m/rad: omega += dt/J (tau - f h), then
-    theta += dt omega. Returns the new theta rad, omega rad/s."""
+    under the string's tension f N at the ratio h m/rad and the Coulomb friction TC, applied at
+    the velocity level: w = omega + dt/J (tau - f h); the motor sticks (w = 0) where the friction
+    can stop it within the step, |w| <= dt TC / J, else w -= sign(w) dt TC / J; then
+    theta += dt w. Returns the new theta rad, omega rad/s."""
     w = omega + M[_MDTJ, l] * (tau - f * h)
+    c = M[_MDTJ, l] * M[_MTC, l]
+    w = 0.0 if abs(w) <= c else (w - c if w > 0.0 else w + c)
     return theta + M[_MDT, l] * w, w
 
 
@@ -193,10 +194,3 @@ def string_tensions(ln: ArrayLike, ldot: ArrayLike, theta: ArrayLike, omega: Arr
     c, h = twists(theta, L0, r)
     f = K * (np.asarray(ln) - LR + c) + B * (np.asarray(ldot) + h * np.asarray(omega))
     return np.where(f <= 0.0, 0.0, f)
-
-
-def motor_torques(volt: ArrayLike, omega: ArrayLike, rows: ArrayLike) -> np.ndarray:
-    """The NumPy twin of `motor_torque` (N m), with the constants rows (len(MOTOR_ROWS), ...)."""
-    rows = np.asarray(rows, dtype=float)
-    s = np.clip(np.asarray(omega) * rows[_MIWE], -1.0, 1.0)
-    return rows[_MGAIN] * np.asarray(volt) - rows[_MDAMP] * np.asarray(omega) - rows[_MTC] * s

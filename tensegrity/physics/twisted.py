@@ -14,9 +14,6 @@ from . import actuator
 from .params import Params
 from .schedule import Schedule
 
-# The Coulomb friction is linear below this speed (rad/s, output side; `actuator.motor_torque`):
-# 0.2 % of the no-load speed. Error: a static load under the friction creeps at most this fast.
-OMEGA_EPS = 0.1
 # The strands lock at tan(alpha) = theta r / p = pi / 2 (two strands, Palli et al. 2013 eq. 10).
 LOCK_SLOPE = math.pi / 2
 
@@ -119,7 +116,6 @@ class TwistedString:
             gain,
             damp,
             self.friction_torque,
-            1.0 / OMEGA_EPS,
             dt / self.inertia,
             dt,
         )

@@ -51,17 +51,20 @@ def test_twist_matches_closed_forms():
 
 def test_stall_torque_and_no_load_speed_from_the_datasheet():
     """(T4) with the constants derived from the datasheet gives back its stall torque at zero
-    speed and its no-load speed where the torque vanishes, at the rated voltage and at others
-    (a DC motor: stall torque and no-load speed both nearly proportional to the voltage)."""
+    speed and its no-load speed where the torque vanishes against the gears' Coulomb friction TC,
+    at the rated voltage and at others (a DC motor: stall torque and no-load speed both nearly
+    proportional to the voltage)."""
     m = TwistedString()
     rows = m.rows(Params(), 1e-4)
     V = m.rated_voltage
     np.testing.assert_allclose(actuator.motor_torque(V, 0.0, rows[:, None], 0), m.stall_torque, rtol=1e-12)
-    w0 = brentq(lambda w: actuator.motor_torque(V, w, rows[:, None], 0), 1.0, 1e3, xtol=1e-12)
+    w0 = brentq(lambda w: actuator.motor_torque(V, w, rows[:, None], 0) - m.friction_torque, 1.0, 1e3, xtol=1e-12)
     np.testing.assert_allclose(w0, m.no_load_speed, rtol=1e-9)
     # at half the voltage: half the stall torque; no-load speed (V/2 - R I0) / (N ke)
     np.testing.assert_allclose(actuator.motor_torque(V / 2, 0.0, rows[:, None], 0), m.stall_torque / 2, rtol=1e-12)
-    w_half = brentq(lambda w: actuator.motor_torque(V / 2, w, rows[:, None], 0), 1.0, 1e3, xtol=1e-12)
+    w_half = brentq(
+        lambda w: actuator.motor_torque(V / 2, w, rows[:, None], 0) - m.friction_torque, 1.0, 1e3, xtol=1e-12
+    )
     np.testing.assert_allclose(w_half, (V / 2 - m.resistance * m.no_load_current) / (m.gear_ratio * m.emf_constant))
     assert 0.3 < m.gear_efficiency < 1.0  # a spur gearbox of 76:1
 
@@ -107,9 +110,13 @@ def _closed_run(m: TwistedString, volts: float, seconds: float, dt: float = 1e-4
         E["electric"] += volts * i * dt
         E["resistive"] += R * i * i * dt
         E["gear"] += (1 - eta) * N * ke * i * omega * dt
-        E["friction"] += (tau - eta * N * ke * i) * -omega * dt  # Coulomb + viscous
         E["damping"] += B * (h * omega) ** 2 * dt
-        theta, omega = actuator.motor_step(theta, omega, tau, f, h, rows, 0)
+        theta, w = actuator.motor_step(theta, omega, tau, f, h, rows, 0)
+        # the Coulomb friction's torque, from the speed it took in the step, times the new speed
+        coulomb = (omega + dt / m.inertia * (tau - f * h) - w) * m.inertia / dt
+        assert abs(coulomb) <= m.friction_torque * (1 + 1e-9)  # never more than TC
+        E["friction"] += ((tau - eta * N * ke * i) * -omega + coulomb * w) * dt  # viscous + Coulomb
+        omega = w
     c = scalar_twist(theta, rows, 0)[1]
     E["spring"] = 0.5 * K * ((stretch0 + c) ** 2 - stretch0**2)
     E["kinetic"] = 0.5 * m.inertia * omega**2
@@ -302,3 +309,25 @@ def test_section_iv_is_reproduced():
     e = pt.experiment(Params(), TwistedString(), rounds=1)
     assert e.reproduced, e
     assert 6.0 < e.lowest_1 <= 11.1 and e.lowest_2 <= 6.0, e
+
+
+def test_gear_friction_holds_a_load_below_it_and_yields_above():
+    """Coulomb friction at the velocity level (T5): a motor at 0 V whose string pulls with a torque
+    f h just under TC stays where it is for 10 s, bit for bit (no creep); just over TC it turns
+    back at the rate the excess gives, (f h - TC) / J, from the first step."""
+    m = TwistedString()
+    dt = 1e-4
+    rows = m.rows(Params(), dt)[:, None]
+    h = 1e-4  # m/rad
+    for share, moves in ((0.999, False), (1.001, True)):
+        f = share * m.friction_torque / h
+        theta, omega = 50.0, 0.0
+        for _ in range(100_000):
+            tau = actuator.motor_torque(0.0, omega, rows, 0)
+            theta, omega = actuator.motor_step(theta, omega, tau, f, h, rows, 0)
+            if moves:
+                break
+        if moves:
+            np.testing.assert_allclose(omega, -dt * (f * h - m.friction_torque) / m.inertia, rtol=1e-9)
+        else:
+            assert (theta, omega) == (50.0, 0.0)
