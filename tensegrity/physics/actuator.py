@@ -113,9 +113,7 @@ def spring(K: ArrayLike, L: ArrayLike, Lmin: ArrayLike, act: ArrayLike) -> tuple
 # (P_MIN L0)^2 m^2 and L0 - LR m. A step of the kernel's (`kernel/strings.py`): t, p =
 # `twist`, h = `ratio`, f = `string_tension`, tau = `motor_torque`, then `motor_step`.
 MOTOR_ROWS = ("K", "LR", "B", "L0", "RS", "GAIN", "DAMP", "TC", "DT_J", "DT", "L0SQ", "RSQ", "PSQ_MIN", "L0_LR")
-(_MK, _MLR, _MB, _ML0, _MRS, _MGAIN, _MDAMP, _MTC, _MDTJ, _MDT, _ML0SQ, _MRSQ, _MPSQ, _ML0LR) = range(
-    len(MOTOR_ROWS)
-)
+(_MK, _MLR, _MB, _ML0, _MRS, _MGAIN, _MDAMP, _MTC, _MDTJ, _MDT, _ML0SQ, _MRSQ, _MPSQ, _ML0LR) = range(len(MOTOR_ROWS))
 # The strands stay apart from each other while p > P_MIN L0; below, the model is off (Palli et
 # al. 2013 eq. 10: two strands lock at tan(alpha) = pi/2, p = 0.54 L0). The guard only keeps a
 # run finite; `TwistedString` reports a twist past the lock.
