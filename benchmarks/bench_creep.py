@@ -2,9 +2,9 @@
 
 `workspace.nominal.averaging_error` measures the oscillation left in the averaging window (a
 drift of r m/s reads r W / 8 over a window of W s). It cannot see how far the CoG still has to
-go after the window. The twisted-string motors (docs/design.md §10, (T4)) make the Coulomb
-friction linear below omega_eps, so a loaded motor creeps toward its frictionless stall balance
-G V = f h; the levels of a volts sweep keep moving long after 120 s.
+go after the window: a level still moving at its end (the twisted strings at a voltage just
+above the gears' friction; before stop 45, every loaded motor, whose friction was linear below
+omega_eps and crept toward its frictionless balance G V = f h: docs/benchmarks.md).
 
 Per sweep file of SWEEPS (`results/sweeps/{contact}/pairNN.nc`) and level: `averaging_error` (mm),
 the CoG's speed over the window (mm/s, least squares), the path moved over the level's second half

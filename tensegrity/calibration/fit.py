@@ -159,7 +159,7 @@ def _bounds(prob: mdl.Problem) -> tuple[np.ndarray, np.ndarray]:
 def smooth(prob: mdl.Problem) -> bool:
     """Whether the fit may stop at STOP standard errors: the free mode with the muscles, whose
     residual is smooth (measured). The ground's stick and slip and the strings' gear friction
-    (sat(omega / omega_eps)) make the finite-difference Jacobian a poor guide to the optimum: a
+    (stick and slip, (T5)) make the finite-difference Jacobian a poor guide to the optimum: a
     run in volts with 0.05 mm of noise stopped 0.75 standard errors from it. They run to FTOL."""
     return prob.mode == "free" and prob.motors is None
 

@@ -163,8 +163,8 @@ def averaging_error(
     Measured on the default robot (both contact cases, 12 pairs, holds 0.5-2 s, 0.4 and 1.2 MPa
     steps; issue 34), estimate / distance to the static equilibrium: 10th percentile 0.84-1.6,
     median 1.4-4.6 (that distance holds ~0.01-0.02 mm that is not averaging). NaN for a window
-    of fewer than 2 samples. Not included: motion after the window (the twisted-string motors'
-    creep: 0.3-12 mm at 120 s holds, `benchmarks/bench_creep.py`, docs/benchmarks.md)."""
+    of fewer than 2 samples. Not included: motion after the window (volts at 3 V held 120 s: about
+    0.4 mm, `benchmarks/bench_creep.py`, docs/benchmarks.md)."""
     t, level, cog = np.asarray(t), np.asarray(level), np.asarray(cog, float)
     out = np.full(n_levels, np.nan)
     for k in range(n_levels):
