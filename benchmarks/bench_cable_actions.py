@@ -22,9 +22,10 @@ Beside them, by direct simulation of pair actions: with --gravity and --workspac
 (results/workspace_gravity.nc, results/workspace.nc), the stand limit and `simulated_multi`
 computed as the stage slope_limit does
 (`slope_limit.limits`, `slope_multi.multi_limits`, 3 bisection steps), and the limit with the
-statics' "pairs" actions (`cable_actions.simulated`: bisection from simulated_multi to the stand
-limit's high end, or from 0 deg where simulated_multi is NaN, 4 steps); without them, stand and
-simulated_multi read from --slope-limit if that file has them (else "-"). CPU time at the end.
+statics' "pairs" actions and with their "cables" actions (`slope_multi.uphill_limits`, as the
+stage computes simulated_cables: bisection from simulated_multi to the stand limit's high end, or
+from 0 deg where simulated_multi is NaN, 4 steps); without them, stand and simulated_multi read
+from --slope-limit if that file has them (else "-"). CPU time at the end.
 Prints figures; asserts nothing.
 
 --mujoco: where the cables' statics limit passes the pairs' by more than 1 deg, the cable action
@@ -67,8 +68,9 @@ from tensegrity.workspace.sensitivity import ActuationSettings
 
 
 def _read(path: str, contacts: list[str], headings: list[float]) -> dict:
-    """(contact, heading) -> {"stand": (lo, hi), "multi": (lo, hi)} deg from a slope_limit.nc
-    (uphill simulated_multi and its high end; the stand limit's bracket); {} if no file or no
+    """(contact, heading) -> {"stand": (lo, hi), "multi": (lo, hi)[, "cables": (lo, hi)]} deg from
+    a slope_limit.nc (uphill simulated_multi and its high end; the stand limit's bracket;
+    simulated_cables and its high end if the file has them); {} if no file or no
     simulated_multi."""
     if not Path(path).exists():
         return {}
@@ -86,16 +88,21 @@ def _read(path: str, contacts: list[str], headings: list[float]) -> dict:
                     "stand": (float(ds["simulated"].sel(st)), float(ds["simulated_high"].sel(st))),
                     "multi": (float(ds["simulated_multi"].sel(up)), float(ds["simulated_multi_high"].sel(up))),
                 }
+                if "simulated_cables" in ds:  # the stage's, cable_iterations steps
+                    ch = {"contact": c, "heading": h}
+                    lo, hi = ds["simulated_cables"].sel(ch), ds["simulated_cables_high"].sel(ch)
+                    out[c, h]["cables"] = (float(lo), float(hi))
     return out
 
 
 def _simulate(a, params, setup, contacts: list[str], headings: list[float], margin: float) -> dict:
-    """As `_read`, computed (module docstring), with "pairs": the bracket with the statics' pair
-    actions."""
+    """As `_read`, computed (module docstring), with "pairs" and "cables": the brackets with the
+    statics' pair and cable actions (`slope_multi.uphill_limits`, as the stage computes
+    simulated_cables)."""
     from tensegrity.io import formats
     from tensegrity.io.formats import gravity as gf
     from tensegrity.workspace import slope_limit as sl
-    from tensegrity.workspace.slope_multi import multi_limits
+    from tensegrity.workspace.slope_multi import multi_limits, uphill_limits
 
     sweeps = gf.read_gravity(a.gravity)
     sweeps = {c: sweeps[c] for c in contacts}
@@ -105,17 +112,16 @@ def _simulate(a, params, setup, contacts: list[str], headings: list[float], marg
     look = formats.read_workspace(a.workspace)
     lim = sl.limits(look, params, sweeps, setup, 3)
     m = multi_limits(look, params, sweeps, lim, setup, ActuationSettings(margin), 3)
+    pairs = uphill_limits(look, params, sweeps, lim, m, setup, margin, 4, "pairs")
+    cables = uphill_limits(look, params, sweeps, lim, m, setup, margin, 4, "cables")
     out = {}
     for c, contact in enumerate(lim.contacts):
-        face = sweeps[contact].face
-        lo, hi = ca.simulated(
-            look, params, face, lim.headings, m.simulated[1, c], lim.simulated_high[0, c], setup, margin, 4
-        )
         for j, h in enumerate(headings):
             out[contact, h] = {
                 "stand": (lim.simulated[0, c, j], lim.simulated_high[0, c, j]),
                 "multi": (m.simulated[1, c, j], m.simulated_high[1, c, j]),
-                "pairs": (lo[j], hi[j]),
+                "pairs": (pairs[0][c, j], pairs[1][c, j]),
+                "cables": (cables[0][c, j], cables[1][c, j]),
             }
     return out
 
@@ -289,9 +295,10 @@ def main() -> None:
     )
     print(
         "| contact | heading deg | stand deg | pairs, least total deg | pairs deg | cables deg "
-        "| sim. stand deg | simulated_multi deg | sim. with pairs deg | cable action at its limit |"
+        "| sim. stand deg | simulated_multi deg | sim. with pairs deg | sim. with cables deg "
+        "| cable action at its limit |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     rows = []
     for contact in a.contacts:
         face = topo.face_number(topo.CONTACT_FACES[contact])
@@ -300,7 +307,9 @@ def main() -> None:
             s = sim.get((contact, h), {})
             rows.append((contact, h, lim, s))
             cells = [f"{lim[c][0]:.1f} ({lim[c][1]:.1f})" for c in ("stand", *ca.CRITERIA)]
-            cells += [f"{s[k][0]:.1f} ({s[k][1]:.1f})" if k in s else "-" for k in ("stand", "multi", "pairs")]
+            cells += [
+                f"{s[k][0]:.1f} ({s[k][1]:.1f})" if k in s else "-" for k in ("stand", "multi", "pairs", "cables")
+            ]
             print(f"| {contact} | {h:g} | {' | '.join(cells)} | {_action(lim['cables'][2])} |")
     print()
     for contact in a.contacts:

@@ -115,6 +115,7 @@ STAGES: dict[str, Stage] = {
             "gravity.iterations",
             "gravity.free_step",
             "gravity.multi_iterations",
+            "gravity.cable_iterations",
             "locomotion.actuation_margin",
         ),
     ),

@@ -75,11 +75,13 @@ def slope_limit(
     two-pair combinations; the simulated check drives single pairs only; beside it, the limit
     with optimised actions of any set of pairs (`workspace.slope_multi`). With the twisted-string
     actuator everything is in volts (the inputs must be too), but the optimised actions are not
-    computed (NaN, the attribute `multi_not_computed` says why)."""
+    computed (NaN, the attribute `multi_not_computed` says why). Beside them, the uphill limit
+    with actions of the 24 cables one by one (`slope_multi.uphill_limits`, gravity.cable_iterations
+    bisection steps from simulated_multi; in volts NaN, `cables_not_computed` says why)."""
     from ..render.gravity import slope_limit_figure
     from ..workspace import slope_limit as sl
     from ..workspace.sensitivity import ActuationSettings
-    from ..workspace.slope_multi import multi_limits
+    from ..workspace.slope_multi import multi_limits, uphill_limits
 
     setup, motors = settings.build(GravitySetup, cfg), _motors(cfg)
     actuator = actuation.PNEUMATIC if motors is None else actuation.TWISTED
@@ -100,6 +102,8 @@ def slope_limit(
     # the optimised actions solve the statics of the muscles (eq. 1-2): none in volts
     multi_iterations = int(cfg["gravity"]["multi_iterations"]) if motors is None else 0
     multi = multi_limits(ws, params, sweeps, lim, setup, act, multi_iterations)
+    cable_iterations = int(cfg["gravity"]["cable_iterations"]) if motors is None else 0
+    cables = uphill_limits(ws, params, sweeps, lim, multi, setup, act.actuation_margin, cable_iterations)
     for k, kind in enumerate(lim.kinds):
         for c, contact in enumerate(lim.contacts):
             print(
@@ -108,7 +112,8 @@ def slope_limit(
                 + " | free "
                 + " ".join(f"{v:5.1f}" for v in lim.predicted_free[k, c])
                 + " | any set of pairs "
-                + " ".join(f"{v:5.1f}" for v in multi.simulated[k, c]),
+                + " ".join(f"{v:5.1f}" for v in multi.simulated[k, c])
+                + (" | cables " + " ".join(f"{v:5.1f}" for v in cables[0][c]) if k == 1 else ""),
                 flush=True,
             )
     unit = actuation.units(actuator)
@@ -119,7 +124,8 @@ def slope_limit(
     }
     if motors is not None:
         attrs["multi_not_computed"] = MULTI_NOT_IN_VOLTS
-    ds = actuation.relabel_texts(gf.slope_limit_dataset(lim, multi, attrs), actuator)
+        attrs["cables_not_computed"] = CABLES_NOT_IN_VOLTS
+    ds = actuation.relabel_texts(gf.slope_limit_dataset(lim, multi, attrs, cables), actuator)
     path = datasets.write(
         ds,
         out_path,
@@ -147,6 +153,12 @@ MULTI_NOT_IN_VOLTS = (
     "the slope limit with optimised actions of any set of pairs (simulated_multi) is not computed "
     "with the twisted-string actuator: its actions are solved on the statics of the pneumatic "
     "muscles (eq. 1-2, workspace.sensitivity), which knows no motor stall"
+)
+
+CABLES_NOT_IN_VOLTS = (
+    "the uphill limit with actions of the 24 cables (simulated_cables) is not computed with the "
+    "twisted-string actuator: its actions are solved on the statics of the pneumatic muscles "
+    "(eq. 1-2, workspace.cable_actions), which knows no motor stall"
 )
 
 

@@ -226,20 +226,25 @@ def simulated(
     setup: gv.GravitySetup,
     margin: float,
     iterations: int = 3,
+    criterion: str = "pairs",
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The uphill limit by direct simulation with the statics' pair actions of the "pairs"
-    criterion (`edge_action`, else `reach_action`), as `slope_multi.multi_limits` does with
-    edge_action's: bisection from lo (deg, (H,), a slope known to roll, e.g. simulated_multi)
-    to hi (H,) (the stand limit's high end), each mid slope simulated with the action the
-    statics find for the pose there (`slope_limit._sim_ok`, the ramp of `setup`, a
-    `gravity.GravitySetup`). A NaN lo (no known roll) is tried at 0 deg first, and stays NaN if
-    that fails. Returns the bracket (lo, hi). Pair actions; a cable action is simulated alike
-    (`gravity.ramp` takes (R, 24) weights)."""
+    """The uphill limit by direct simulation with the statics' actions of `criterion` ("pairs":
+    `edge_action`, else `reach_action`, on the 12 pairs; "cables": those lifted to their cables
+    where the statics find one, else the same two searches on the 24 cables, `verdict`), as
+    `slope_multi.multi_limits` does with edge_action's: bisection from lo (deg, (H,), a slope
+    known to roll, e.g. simulated_multi) to hi (H,) (the stand limit's high end), each mid slope
+    simulated with the action the statics find for the pose there (`slope_limit._sim_ok`, the
+    ramp of `setup`, a `gravity.GravitySetup`; cable actions as (R, 24) weights). A NaN lo (no
+    known roll) is tried at 0 deg first, and stays NaN if that fails. Returns the bracket (lo,
+    hi) deg, (H,) each."""
+    if criterion not in CRITERIA[1:]:
+        raise ValueError(f"criterion {criterion!r}: use one of {CRITERIA[1:]}")
     lo, hi, headings = np.array(lo, float), np.array(hi, float), np.asarray(headings, float)
+    need = CRITERIA[: CRITERIA.index(criterion) + 1]
 
     def rolls(slopes: np.ndarray, js: np.ndarray) -> np.ndarray:
         acts = [
-            verdict(params, face, m, headings[j], setup.max_pressure, margin, CRITERIA[:2]).actions.get("pairs")
+            verdict(params, face, m, headings[j], setup.max_pressure, margin, need).actions.get(criterion)
             for m, j in zip(slopes, js)
         ]
         good = np.zeros(js.size, bool)

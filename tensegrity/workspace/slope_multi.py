@@ -169,3 +169,45 @@ def multi_limits(
                 lo, hi = np.where(good, mid, lo), np.where(good, hi, mid)
             sim[kind, c, js], high[kind, c, js] = lo, hi
     return MultiLimits(sim, high, weights, pres, found)
+
+
+def uphill_limits(
+    look: Workspace,
+    params: Params,
+    sweeps: Mapping[str, gv.GravitySweep],
+    lim: sl.SlopeLimits,
+    multi: MultiLimits,
+    setup: gv.GravitySetup,
+    margin: float,
+    iterations: int = 3,
+    criterion: str = "cables",
+) -> tuple[np.ndarray, np.ndarray]:
+    """The uphill limit with the statics' actions of `criterion` ("cables": the 24 cables one by
+    one; "pairs"), per contact of `lim` and heading: `cable_actions.simulated`, bisection
+    (`iterations` steps, 0: not computed) from the pair limit (uphill `simulated_multi` of
+    `multi`, the single-pair `simulated` where that is NaN) up to the stand limit's high end, so
+    never below the pair limit it starts from. Returns the bracket (lo, hi) deg, (C, H) each
+    (NaN: no roll found, or not computed); `margin` m as in `sensitivity.edge_action`."""
+    from .cable_actions import simulated
+
+    shape = lim.simulated.shape[1:]
+    lo, hi = np.full(shape, np.nan), np.full(shape, np.nan)
+    if int(iterations) <= 0:
+        return lo, hi
+    params = setup.rolling(params)
+    for c, contact in enumerate(lim.contacts):
+        start = np.fmax(multi.simulated[1, c], lim.simulated[1, c])
+        a, b = simulated(
+            look,
+            params,
+            sweeps[contact].face,
+            lim.headings,
+            start,
+            lim.simulated_high[0, c],
+            setup,
+            margin,
+            iterations,
+            criterion,
+        )
+        lo[c], hi[c] = a, np.where(np.isnan(a), np.nan, b)
+    return lo, hi

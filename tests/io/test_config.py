@@ -102,6 +102,8 @@ BAD = [
     ({"params": {"muscle_gain": "lots"}}, "config key params.muscle_gain: 'lots' is not of type"),
     ({"params": {"muscle_min_length": 0.3}}, "config key params.muscle_min_length: 0.3 m is not below"),
     ({"params": {"cable_pretension": 400.0}}, "config key params.cable_pretension:"),
+    ({"gravity": {"cable_iterations": -1}}, "config key gravity.cable_iterations: -1 is less than the minimum of 0"),
+    ({"gravity": {"cable_iterations": True}}, "config key gravity.cable_iterations: True is not of type 'integer'"),
     ({"params": 5}, "config key params: 5 is not of type 'object'"),
     ({"locomotion": 3}, "config key locomotion: 3 is not of type 'object'"),
 ]

@@ -166,16 +166,47 @@ SLOPE_LIMIT_ALLOW_NAN = [
     "simulated_multi",
     "simulated_multi_high",
     "multi_pressure",
+    "simulated_cables",
+    "simulated_cables_high",
 ]
 
 
-def slope_limit_dataset(lim: SlopeLimits, multi: MultiLimits, attrs: dict) -> xr.Dataset:
+def slope_limit_dataset(
+    lim: SlopeLimits, multi: MultiLimits, attrs: dict, cables: tuple[np.ndarray, np.ndarray] | None = None
+) -> xr.Dataset:
     """results/slope_limit.nc: per kind (stand, uphill, downhill), contact and heading the
     steepest slope predicted from the free workspace, from the gravity-aware one and found by
     simulation, what sets it, and the pair and pressure used; the simulated limit with optimised
-    actions of any set of pairs (`multi`, `workspace.slope_multi`) and its action."""
+    actions of any set of pairs (`multi`, `workspace.slope_multi`) and its action; the uphill
+    limit with per-cable actions, the bracket `cables` (lo, hi) deg (C, H) each
+    (`slope_multi.uphill_limits`; None: not computed, NaN)."""
     var = datasets.var
     dims = ("kind", "contact", "heading")
+    nan = np.full(lim.simulated.shape[1:], np.nan)
+    lo, hi = (nan, nan) if cables is None else cables
+    error = (
+        "error: the limit lies in the bisection bracket [simulated_cables, simulated_cables_high]; a lower "
+        "bound of what the 24 cables allow, the statics' actions being local searches"
+    )
+    with_cables = {
+        "simulated_cables": var(
+            dims[1:],
+            lo,
+            "degree",
+            "steepest slope found by direct simulation to roll uphill with an action of the 24 cables one by one "
+            "optimised on the statics (cable_actions.verdict), bisected up from simulated_multi, the low end "
+            "of its bracket (NaN: none, or not computed)",
+            comment=error,
+        ),
+        "simulated_cables_high": var(
+            dims[1:],
+            hi,
+            "degree",
+            "high end of that bracket: the least slope where the cable action did not roll the robot uphill (or "
+            "the stand limit's high end, if none failed) (NaN: none, or not computed)",
+            comment=error,
+        ),
+    }
     with_multi = {
         "simulated_multi": var(
             dims,
@@ -242,6 +273,7 @@ def slope_limit_dataset(lim: SlopeLimits, multi: MultiLimits, attrs: dict) -> xr
                 {"long_name": "what sets the limit: geometry, pressure range, friction or grid"},
             ),
             **with_multi,
+            **with_cables,
         },
         coords={
             "kind": ("kind", list(lim.kinds), {"long_name": "stand, roll uphill, roll downhill under control"}),
