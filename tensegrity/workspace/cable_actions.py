@@ -227,7 +227,7 @@ def simulated(
     margin: float,
     iterations: int = 3,
     criterion: str = "pairs",
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The uphill limit by direct simulation with the statics' actions of `criterion` ("pairs":
     `edge_action`, else `reach_action`, on the 12 pairs; "cables": those lifted to their cables
     where the statics find one, else the same two searches on the 24 cables, `verdict`), as
@@ -236,11 +236,13 @@ def simulated(
     simulated with the action the statics find for the pose there (`slope_limit._sim_ok`, the
     ramp of `setup`, a `gravity.GravitySetup`; cable actions as (R, 24) weights). A NaN lo (no
     known roll) is tried at 0 deg first, and stays NaN if that fails. Returns the bracket (lo,
-    hi) deg, (H,) each."""
+    hi) deg, (H,) each, and the weights (H, 12 or 24) of the action that rolled the robot at lo
+    (0: none did, lo is the given one)."""
     if criterion not in CRITERIA[1:]:
         raise ValueError(f"criterion {criterion!r}: use one of {CRITERIA[1:]}")
     lo, hi, headings = np.array(lo, float), np.array(hi, float), np.asarray(headings, float)
     need = CRITERIA[: CRITERIA.index(criterion) + 1]
+    weights = np.zeros((lo.size, topo.N_CABLES if criterion == "cables" else topo.N_PAIRS))
 
     def rolls(slopes: np.ndarray, js: np.ndarray) -> np.ndarray:
         acts = [
@@ -252,6 +254,8 @@ def simulated(
         if run:
             w = np.stack([acts[i].weights for i in run])
             good[run] = sl._sim_ok(look, params, 1, face, slopes[run], headings[js[run]], w, setup)[0]
+            for i, ok in zip(run, good[run]):
+                weights[js[i]] = acts[i].weights if ok else weights[js[i]]
         return good
 
     nan = np.flatnonzero(np.isnan(lo) & np.isfinite(hi))
@@ -262,4 +266,4 @@ def simulated(
         mid = 0.5 * (lo[js] + hi[js])
         good = rolls(mid, js)
         lo[js], hi[js] = np.where(good, mid, lo[js]), np.where(good, hi[js], mid)
-    return lo, hi
+    return lo, hi, weights

@@ -181,23 +181,25 @@ def uphill_limits(
     margin: float,
     iterations: int = 3,
     criterion: str = "cables",
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The uphill limit with the statics' actions of `criterion` ("cables": the 24 cables one by
     one; "pairs"), per contact of `lim` and heading: `cable_actions.simulated`, bisection
     (`iterations` steps, 0: not computed) from the pair limit (uphill `simulated_multi` of
     `multi`, the single-pair `simulated` where that is NaN) up to the stand limit's high end, so
     never below the pair limit it starts from. Returns the bracket (lo, hi) deg, (C, H) each
-    (NaN: no roll found, or not computed); `margin` m as in `sensitivity.edge_action`."""
+    (NaN: no roll found, or not computed), and the weights (C, H, 24 or 12) of the action that
+    rolled the robot at lo (0: none above the start); `margin` m as in `sensitivity.edge_action`."""
     from .cable_actions import simulated
 
     shape = lim.simulated.shape[1:]
     lo, hi = np.full(shape, np.nan), np.full(shape, np.nan)
+    weights = np.zeros((*shape, topo.N_CABLES if criterion == "cables" else topo.N_PAIRS))
     if int(iterations) <= 0:
-        return lo, hi
+        return lo, hi, weights
     params = setup.rolling(params)
     for c, contact in enumerate(lim.contacts):
         start = np.fmax(multi.simulated[1, c], lim.simulated[1, c])
-        a, b = simulated(
+        a, b, weights[c] = simulated(
             look,
             params,
             sweeps[contact].face,
@@ -210,4 +212,4 @@ def uphill_limits(
             criterion,
         )
         lo[c], hi[c] = a, np.where(np.isnan(a), np.nan, b)
-    return lo, hi
+    return lo, hi, weights

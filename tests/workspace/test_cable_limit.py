@@ -56,12 +56,16 @@ def test_cables_never_below_the_pairs_and_above_them_across_the_gap_edge():
     np.testing.assert_allclose(cables[0][0, 1], 0.5 * (MULTI[1] + STAND_HIGH[1]))
     np.testing.assert_allclose(cables[1][0, 1], STAND_HIGH[1])
     assert (cables[1] > cables[0]).all()  # a bracket
+    assert not pairs[2].any() and not cables[2][0, 0].any()  # no action rolled above the start
+    w = cables[2][0, 1][topo.PAIR_CABLES]  # (12, 2): the action at 25.45 deg drives single cables
+    assert ((w > 0).sum(1) == 1).any() and w.max() == 1.0
 
 
 def test_not_computed_is_nan_and_a_bad_criterion_is_refused():
     lim, multi, sweeps = _inputs()
-    lo, hi = uphill_limits(None, PARAMS, sweeps, lim, multi, SETUP, 0.005, 0)
+    lo, hi, w = uphill_limits(None, PARAMS, sweeps, lim, multi, SETUP, 0.005, 0)
     assert lo.shape == hi.shape == (1, 2) and np.isnan(lo).all() and np.isnan(hi).all()
+    assert w.shape == (1, 2, topo.N_CABLES) and not w.any()
     with pytest.raises(ValueError, match="criterion 'cable'"):
         uphill_limits(None, PARAMS, sweeps, lim, multi, SETUP, 0.005, 1, "cable")
 
@@ -69,10 +73,12 @@ def test_not_computed_is_nan_and_a_bad_criterion_is_refused():
 @pytest.mark.parametrize("computed", [True, False])
 def test_the_file_holds_the_bracket_in_degrees_with_its_error(tmp_path, computed):
     """simulated_cables and simulated_cables_high (contact, heading) deg, long_name and a comment
-    that states the error (the bisection bracket), as written and read back; NaN where not
-    computed."""
+    that states the error (the bisection bracket), cables_weights (contact, heading, cable) with
+    each cable's pair and nodes, as written and read back; NaN (weights 0) where not computed."""
     lim, multi, _ = _inputs()
-    cables = (np.array([[13.0, 25.45]]), np.array([[13.8, 31.3]])) if computed else None
+    w = np.zeros((1, 2, topo.N_CABLES))
+    w[0, 1, topo.PAIR_CABLES[5, 0]] = 1.0  # one cable of pair 6
+    cables = (np.array([[13.0, 25.45]]), np.array([[13.8, 31.3]]), w) if computed else None
     ds = gf.slope_limit_dataset(lim, multi, {"friction_angle_deg": 38.7}, cables)
     path = datasets.write(ds, tmp_path / "s.nc", {}, "test", allow_nan=gf.SLOPE_LIMIT_ALLOW_NAN)
     s = datasets.read(path)
@@ -82,5 +88,12 @@ def test_the_file_holds_the_bracket_in_degrees_with_its_error(tmp_path, computed
         assert v.attrs["units"] == "degree" and "24 cables" in s["simulated_cables"].attrs["long_name"]
         assert "bisection bracket [simulated_cables, simulated_cables_high]" in v.attrs["comment"]
         assert np.isnan(v.values).all() != computed
+    assert s["cables_weights"].dims == ("contact", "heading", "cable") and s["cables_weights"].attrs["units"] == "1"
+    assert s["cable"].values.tolist() == list(range(1, 25)) and sorted(s["cable_pair"].values) == sorted(
+        [*range(1, 13)] * 2
+    )
     if computed:
         assert float(s["simulated_cables"].sel(contact=CONTACT, heading=270.0)) == 25.45
+        on = s["cables_weights"].sel(contact=CONTACT, heading=270.0) > 0
+        assert s["cable_pair"].values[on.values].tolist() == [6]
+        assert sorted(s["cable_nodes"].values[on.values][0]) in ([6, 11], [5, 6])  # pair 6: (6,11), (5,6)

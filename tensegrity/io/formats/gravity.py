@@ -171,23 +171,18 @@ SLOPE_LIMIT_ALLOW_NAN = [
 ]
 
 
-def slope_limit_dataset(
-    lim: SlopeLimits, multi: MultiLimits, attrs: dict, cables: tuple[np.ndarray, np.ndarray] | None = None
-) -> xr.Dataset:
+def slope_limit_dataset(lim: SlopeLimits, multi: MultiLimits, attrs: dict, cables: tuple | None = None) -> xr.Dataset:
     """results/slope_limit.nc: per kind (stand, uphill, downhill), contact and heading the
     steepest slope predicted from the free workspace, from the gravity-aware one and found by
     simulation, what sets it, and the pair and pressure used; the simulated limit with optimised
-    actions of any set of pairs (`multi`, `workspace.slope_multi`) and its action; the uphill
-    limit with per-cable actions, the bracket `cables` (lo, hi) deg (C, H) each
-    (`slope_multi.uphill_limits`; None: not computed, NaN)."""
+    actions of any set of pairs (`multi`, `workspace.slope_multi`) and its action; the uphill limit
+    with per-cable actions `cables` (`slope_multi.uphill_limits`'s; None: not computed, NaN)."""
     var = datasets.var
     dims = ("kind", "contact", "heading")
     nan = np.full(lim.simulated.shape[1:], np.nan)
-    lo, hi = (nan, nan) if cables is None else cables
-    error = (
-        "error: the limit lies in the bisection bracket [simulated_cables, simulated_cables_high]; a lower "
-        "bound of what the 24 cables allow, the statics' actions being local searches"
-    )
+    lo, hi, w = (nan, nan, np.zeros((*nan.shape, topo.N_CABLES))) if cables is None else cables
+    error = "error: the limit lies in the bisection bracket [simulated_cables, simulated_cables_high]; a lower "
+    error += "bound of what the 24 cables allow, the statics' actions being local searches"
     with_cables = {
         "simulated_cables": var(
             dims[1:],
@@ -205,6 +200,13 @@ def slope_limit_dataset(
             "high end of that bracket: the least slope where the cable action did not roll the robot uphill (or "
             "the stand limit's high end, if none failed) (NaN: none, or not computed)",
             comment=error,
+        ),
+        "cables_weights": var(
+            (*dims[1:], "cable"),
+            w,
+            "1",
+            "weights w of the cable action that rolled the robot uphill at simulated_cables, cable pressures s w "
+            "(all 0: none above simulated_multi, or not computed)",
         ),
     }
     with_multi = {
@@ -283,6 +285,9 @@ def slope_limit_dataset(
                 np.arange(1, topo.N_PAIRS + 1),
                 {"units": "1", "long_name": "actuator pair (1-based)"},
             ),
+            "cable": ("cable", np.arange(1, topo.N_CABLES + 1), {"units": "1", "long_name": "cable (1-based)"}),
+            "cable_pair": ("cable", topo.CABLE_PAIR + 1, {"units": "1", "long_name": "actuator pair of the cable"}),
+            "cable_nodes": (("cable", "end"), topo.CABLES + 1, {"units": "1", "long_name": "nodes the cable joins"}),
             "heading": (
                 "heading",
                 lim.headings,
