@@ -186,9 +186,12 @@ def uphill_limits(
     one; "pairs"), per contact of `lim` and heading: `cable_actions.simulated`, bisection
     (`iterations` steps, 0: not computed) from the pair limit (uphill `simulated_multi` of
     `multi`, the single-pair `simulated` where that is NaN) up to the stand limit's high end, so
-    never below the pair limit it starts from. Returns the bracket (lo, hi) deg, (C, H) each
-    (NaN: no roll found, or not computed), and the weights (C, H, 24 or 12) of the action that
-    rolled the robot at lo (0: none above the start); `margin` m as in `sensitivity.edge_action`."""
+    never below the pair limit it starts from. For cables only where the statics find no pair
+    action at the first bisection slope (`pairs_reach`): elsewhere the cable action there is a
+    pair action lifted, the pairs' question, and the bracket is the pairs' (simulated_multi and
+    its high end, copied). Returns the bracket (lo, hi) deg, (C, H) each (NaN: no roll found, or
+    not computed), and the weights (C, H, 24 or 12) of the action that rolled the robot at lo
+    (0: none above the start); `margin` m as in `sensitivity.edge_action`."""
     from .cable_actions import simulated
 
     shape = lim.simulated.shape[1:]
@@ -198,18 +201,33 @@ def uphill_limits(
         return lo, hi, weights
     params = setup.rolling(params)
     for c, contact in enumerate(lim.contacts):
-        start = np.fmax(multi.simulated[1, c], lim.simulated[1, c])
-        a, b, weights[c] = simulated(
-            look,
-            params,
-            sweeps[contact].face,
-            lim.headings,
-            start,
-            lim.simulated_high[0, c],
-            setup,
-            margin,
-            iterations,
-            criterion,
-        )
-        lo[c], hi[c] = a, np.where(np.isnan(a), np.nan, b)
+        face, heads = sweeps[contact].face, lim.headings
+        start, top = np.fmax(multi.simulated[1, c], lim.simulated[1, c]), lim.simulated_high[0, c]
+        run = np.ones(heads.size, bool)
+        if criterion == "cables":
+            run = ~np.array(
+                [pairs_reach(params, face, start[j], top[j], heads[j], setup, margin) for j in range(heads.size)]
+            )
+            high = np.where(np.isnan(multi.simulated_high[1, c]), top, multi.simulated_high[1, c])
+            lo[c, ~run], hi[c, ~run] = start[~run], high[~run]
+        js = np.flatnonzero(run)
+        if js.size:
+            a, b, weights[c, js] = simulated(
+                look, params, face, heads[js], start[js], top[js], setup, margin, iterations, criterion
+            )
+            lo[c, js], hi[c, js] = a, np.where(np.isnan(a), np.nan, b)
     return lo, hi, weights
+
+
+def pairs_reach(
+    params: Params, face: int, start: float, top: float, heading: float, setup: gv.GravitySetup, margin: float
+) -> bool:
+    """Whether the statics find a pair action (`cable_actions.verdict`, criterion "pairs") uphill
+    at the first bisection slope (start + top) / 2 deg of `uphill_limits` (False if start is NaN
+    or not below top)."""
+    from .cable_actions import CRITERIA, verdict
+
+    if not (np.isfinite(start) and start < top):
+        return False
+    v = verdict(params, face, 0.5 * (start + top), heading, setup.max_pressure, margin, CRITERIA[:2])
+    return bool(v.ok["pairs"])

@@ -41,9 +41,9 @@ def _inputs() -> tuple:
 
 
 def test_cables_never_below_the_pairs_and_above_them_across_the_gap_edge():
-    """One bisection step each. Heading 0: the mid slope 13.45 deg lies in the stand limit's
-    bracket, the statics' cable action there is their pair action lifted, and the bracket keeps
-    the pair limit (13.0 deg). Heading 270: at 25.45 deg the statics find no pair action over
+    """One bisection step each. Heading 0: at the mid slope 13.45 deg the statics find a pair
+    action, so the cable action there is that pair action lifted and the cables' bracket is the
+    pairs' (simulated_multi's, copied, not simulated). Heading 270: at 25.45 deg the statics find no pair action over
     11-12 (their limit 19.7 deg) and the "pairs" bisection keeps 19.6 deg; the cable action rolls
     the robot uphill there (our simulator, one pressure per cable), so the cables' limit is
     25.45 deg, its bracket reaching the stand limit's high end."""
@@ -55,6 +55,7 @@ def test_cables_never_below_the_pairs_and_above_them_across_the_gap_edge():
     np.testing.assert_allclose(pairs[1][0, 1], 0.5 * (MULTI[1] + STAND_HIGH[1]))
     np.testing.assert_allclose(cables[0][0, 1], 0.5 * (MULTI[1] + STAND_HIGH[1]))
     np.testing.assert_allclose(cables[1][0, 1], STAND_HIGH[1])
+    assert cables[0][0, 0] == MULTI[0] and cables[1][0, 0] == lim.simulated_high[1, 0, 0]  # the pairs' bracket
     assert (cables[1] > cables[0]).all()  # a bracket
     assert not pairs[2].any() and not cables[2][0, 0].any()  # no action rolled above the start
     w = cables[2][0, 1][topo.PAIR_CABLES]  # (12, 2): the action at 25.45 deg drives single cables

@@ -189,8 +189,9 @@ def slope_limit_dataset(lim: SlopeLimits, multi: MultiLimits, attrs: dict, cable
             lo,
             "degree",
             "steepest slope found by direct simulation to roll uphill with an action of the 24 cables one by one "
-            "optimised on the statics (cable_actions.verdict), bisected up from simulated_multi, the low end "
-            "of its bracket (NaN: none, or not computed)",
+            "optimised on the statics (cable_actions.verdict), bisected up from simulated_multi where the statics "
+            "find no pair action midway to the stand limit (elsewhere simulated_multi), the low end of its bracket "
+            "(NaN: none, or not computed)",
             comment=error,
         ),
         "simulated_cables_high": var(
@@ -198,7 +199,8 @@ def slope_limit_dataset(lim: SlopeLimits, multi: MultiLimits, attrs: dict, cable
             hi,
             "degree",
             "high end of that bracket: the least slope where the cable action did not roll the robot uphill (or "
-            "the stand limit's high end, if none failed) (NaN: none, or not computed)",
+            "the stand limit's high end, if none failed; simulated_multi_high where that was copied) (NaN: none, "
+            "or not computed)",
             comment=error,
         ),
         "cables_weights": var(
