@@ -107,7 +107,8 @@ def test_every_file_is_in_volts(volts):
 
 def test_the_gravity_ramp_and_the_slope_limit_in_volts(volts):
     """The ramp to 2 V leans the robot little (the motors take seconds): it stands on both
-    slopes and does not roll; the slope limit says V, and why it has no optimised actions."""
+    slopes and does not roll; the slope limit says V, and why it has no optimised actions and no
+    per-cable ones."""
     _, tmp, f = volts
     g = datasets.read(f["gravity"])
     np.testing.assert_allclose(g["pressure"].values, [0.4, 0.8, 1.2, 1.6, 2.0])
@@ -117,6 +118,8 @@ def test_the_gravity_ramp_and_the_slope_limit_in_volts(volts):
     assert s.attrs["max_pressure_V"] == 2.0 and "max_pressure_MPa" not in s.attrs
     assert "knows no motor stall" in s.attrs["multi_not_computed"]
     assert np.isnan(s["simulated_multi"].values).all()
+    assert "knows no motor stall" in s.attrs["cables_not_computed"]  # nor per-cable ones
+    assert np.isnan(s["simulated_cables"].values).all() and not s["cables_weights"].values.any()
     assert (tmp / "slope_limit.png").stat().st_size and (tmp / "workspace_gravity.png").stat().st_size
 
 

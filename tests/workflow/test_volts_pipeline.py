@@ -135,7 +135,7 @@ def test_the_gravity_ramps_and_the_checks_in_volts(volts_run):
         assert np.all(tips[np.isfinite(tips)] <= 11.0) and g["stood"].values.any()
     with xr.open_dataset(res / "slope_limit.nc") as s:
         assert np.nanmax(s["simulated"].sel(kind="stand").values) <= s.attrs["friction_angle_deg"]
-        assert "multi_not_computed" in s.attrs
+        assert "multi_not_computed" in s.attrs and "cables_not_computed" in s.attrs
     with xr.open_dataset(res / "validation" / "validation.nc") as v:
         assert "run" in v.dims  # check 6 read the runs in volts
     with xr.open_dataset(res / "validation" / "gravity.nc") as gv:
