@@ -172,18 +172,24 @@ def _mujoco_tip(params, setup: GravitySetup, face: int, slope: float, heading: f
     return f"{'uphill' if up else 'not uphill'} {p:.2f} MPa ({e[0]}-{e[1]})"
 
 
+def _gains(rows: list):
+    """The poses of `rows` where the cables' statics limit lies over 1 deg above the pairs' (which
+    have an action): contact, heading, the limits, face, pairs' and cables' limit deg, and the
+    cables' limit capped at the simulated stand limit."""
+    for contact, h, lim, s in rows:
+        lo, hi = lim["pairs"][0], lim["cables"][0]
+        if hi - lo > 1.0 and lim["pairs"][2] is not None:
+            top = min(hi, s["stand"][0]) if "stand" in s else hi
+            yield contact, h, lim, topo.face_number(topo.CONTACT_FACES[contact]), lo, hi, top
+
+
 def _mujoco(rows: list, params, setup: GravitySetup, margin: float) -> None:
     """The --mujoco table (module docstring)."""
     from tensegrity.workspace import slope_limit as sl
 
     print("\n| contact | heading deg | slope deg | cable action, MuJoCo | pair action, ours | pair action, MuJoCo |")
     print("|---|---|---|---|---|---|")
-    for contact, h, lim, s in rows:
-        lo, hi = lim["pairs"][0], lim["cables"][0]
-        if not (hi - lo > 1.0 and lim["pairs"][2] is not None):
-            continue
-        face = topo.face_number(topo.CONTACT_FACES[contact])
-        top = min(hi, s["stand"][0]) if "stand" in s else hi
+    for contact, h, lim, face, lo, hi, top in _gains(rows):
         if top - lo <= 1.0:  # the cables' gain lies above the simulated stand limit
             print(f"| {contact} | {h:g} | {lo:.1f}-{hi:.1f} | above the simulated stand limit {top:.1f} deg | | |")
             continue
@@ -228,12 +234,7 @@ def _ours(rows, params, setup: GravitySetup, margin: float, given: list[float]) 
         "| pair action, ours |"
     )
     print("|---|---|---|---|---|---|---|")
-    for contact, h, lim, s in rows:
-        lo, hi = lim["pairs"][0], lim["cables"][0]
-        if not (hi - lo > 1.0 and lim["pairs"][2] is not None):
-            continue
-        face = topo.face_number(topo.CONTACT_FACES[contact])
-        top = min(hi, s["stand"][0]) if "stand" in s else hi
+    for contact, h, lim, face, lo, _hi, top in _gains(rows):
         slopes = np.array(given, float) if given else np.round(np.linspace(lo, top, 4), 1)
         acts = [ca.verdict(params, face, float(m), h, setup.max_pressure, margin).actions.get("cables") for m in slopes]
         have = [i for i, c in enumerate(acts) if c is not None]
