@@ -136,8 +136,9 @@ def roll_controller(
     support nodes), then the ramp starts on the face it rests on, lift measured from there (the
     result's face_before, t_start, cog_before: the roll's start). With `foresee`
     (a roll simulated ahead, `lookahead.foresee`), an unbraked roll ends as soon as the ramp
-    gives up with every support node down: not rolled, on its face (the release and settling
-    that follow do not move it; braked, the brake coming back on can still roll it). Returns
+    gives up with every support node down on its start face: not rolled (the release and settling
+    that follow do not move it; braked, the brake coming back on can still roll it; moved onto
+    another face as the brake came off, it is judged at its settled end, as it lands). Returns
     (RollResult, last observation)."""
     if obs.face is None:
         raise ct.ContactError("a roll must start from a robot resting on a face")
@@ -233,9 +234,9 @@ def roll_controller(
             phase, t_phase = "release", 0.0
         elif obs.t - t_ramp > max_pressure / s.ramp_rate + 10 * s.hold_time:
             phase, t_phase = "release", 0.0  # a safety net: no attempt runs on forever
-        if foresee and brake is None and phase == "release" and not rolling and not up:
+        if foresee and brake is None and phase == "release" and not rolling and not up and face0 == start:
             cog = obs.nodes.mean(axis=0)
-            res = RollResult(pairs, face0 != start, start, face0, np.nan, peak, t0, obs.t, cog0, cog, weights=weights)
+            res = RollResult(pairs, False, start, face0, np.nan, peak, t0, obs.t, cog0, cog, weights=weights)
             return res, obs
     after, obs = yield from settle_controller(s, obs, brake)
     rolled = after is not None and after != start

@@ -48,13 +48,14 @@ def step_ahead(
     now: float,
 ) -> tuple[list, list, tuple[RollResult, ...]]:
     """A run's step simulated ahead from `obs` on `face` (`lookahead.choose`): the plan `pl`'s
-    actions toward `target`, then the optimised ones if s.optimised_actions. Returns the actions,
+    actions toward `target`, then the lazy ones (`lookahead.acts`: the brake kept, and the optimised
+    ones if s.optimised_actions) only where none of those is acceptable. Returns the actions,
     the acceptable ones best first and every roll simulated (`drive` and `start.first_roll`)."""
     world = lookahead.World(params, terrain, obs.state, workspace.max_pressure, s.optimised_actions)
     args = (workspace, face, obs.nodes, pl, target, brk, world)
     acts = lookahead.acts(*args)
     expect = {c.pairs: c.pressure for c in pl.candidates}
-    more = (lambda: lookahead.acts(*args, lazy=True)) if s.optimised_actions else None
+    more = lambda: lookahead.acts(*args, lazy=True)  # noqa: E731 (optimised actions, brake kept)
     todo, simulated = lookahead.choose(
         params, terrain, s, obs, acts, workspace.max_pressure, brk, expect, cost, memory, now, more
     )

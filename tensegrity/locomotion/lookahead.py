@@ -1,18 +1,18 @@
 """The planner's model: every roll is simulated before the robot makes it (issue 30 item 2;
 docs/design.md §6).
 
-One method on every ground. The candidate actions of a step come from GENERATORS (every single
-pair in the workspace's order toward the target, then every two-pair combination, then, with
+One method on every ground. The candidate actions of a step come from GENERATORS (every single pair
+in the workspace's order toward the target, then every two-pair combination, then, with
 `locomotion.optimised_actions`, the optimised weight vectors of `actuation.candidates`; another
-source of actions is one more entry), each rolled with the brake (`brake.Brake`, which acts only where
-the unbraked robot is predicted not to stand) and, where that brake acts, also without it.
-`foresee` simulates candidates from the robot's current state with the run's own controller, all
-in one batch, so each result is the roll the run would make. `choose` keeps a roll that lands on
-another face (`lands`: on a face, its CoG moved at most SLIDE m, else a tumble) at a state the run
-has not been at since its CoG last came closer to the goal (`memory.Memory`), and ranks those by
-`progress.rolls_to_goal`, the rolls still needed by the robot's own stride and lift
-(`progress.stride`). The horizon grows by cost alone: the workspace's best
-candidate first, then 2, 4, ... up to `lookahead` candidates, then all of them, then the lazy
+source of actions is one more entry), each rolled with the brake (`brake.Brake`, which acts only
+where the unbraked robot is predicted not to stand) and, where that brake acts, also without it
+and, lazily, with it kept on (`kept`). `foresee` simulates candidates from the robot's current
+state with the run's own controller, all in one batch, so each result is the roll the run would
+make. `choose` keeps a roll that lands on another face (`lands`: on a face, its CoG moved at most
+SLIDE m, else a tumble) at a state the run has not been at since its CoG last came closer to the
+goal (`memory.Memory`), and ranks those by `progress.rolls_to_goal`, the rolls still needed by the
+robot's own stride and lift (`progress.stride`). The horizon grows by cost alone: the workspace's
+best candidate first, then 2, 4, ... up to `lookahead` candidates, then all of them, then the lazy
 generators' (`LAZY`: computed only when the horizon reaches them), only while none is acceptable.
 A candidate's simulation ends as soon as its outcome is decided (`decided.until_decided`): its CoG
 more than SLIDE m away (a tumble or slide); unbraked, at rest at the top of its ramp without
@@ -55,6 +55,7 @@ __all__ = [
     "acts",
     "choose",
     "foresee",
+    "kept",
     "lands",
     "moved",
     "verdicts",
@@ -109,7 +110,7 @@ def acts(
 ) -> list[Act]:
     """The step's candidate rolls in the order to simulate them: every generator's actions (not
     in LAZY; lazy: only those in LAZY), each once, braked (if the run brakes); then, where the
-    brake acts on this face, each unbraked."""
+    brake acts on this face, each unbraked; lazy, first the brake kept (`kept`)."""
     seen: list[tuple] = []
     for gen in GENERATORS:
         if (gen in LAZY) != lazy:
@@ -119,9 +120,27 @@ def acts(
             if a not in seen:
                 seen.append(a)
     first = [(a[0], brake is not None, *a[1:]) for a in seen]
-    if brake is not None and brake.active(face, nodes):
+    acting = brake is not None and brake.active(face, nodes)
+    if acting:
         first += [(a[0], False, *a[1:]) for a in seen]
-    return first
+    return (kept(pl) if acting else []) + first if lazy else first
+
+
+def kept(pl: Plan) -> list[Act]:
+    """The plan's braked actions again with their brake kept on (a weight vector of ones: no
+    planned pressure, `foresee`): each braked pairs action hands its brake over to the roll as
+    the level nears the plan's pressure (`brake.ramp_fade`), a prediction for the unbraked robot.
+    Where only the brake holds the robot, that prediction is the fall the brake prevents (the
+    CoG projection outside at 0 MPa: the brake let go at once) and every twin, braked or not,
+    tumbles; kept on, the brake holds while the action ramps (docs/planner_evaluation.md, "The
+    brake kept on where the plan's pressure is the fall it prevents")."""
+    out = []
+    for c in pl.candidates:
+        if np.isfinite(c.pressure):
+            w = np.zeros(topo.N_PAIRS)
+            w[np.asarray(c.pairs, int) - 1] = 1.0
+            out.append((c.pairs, True, tuple(float(x) for x in w)))
+    return out
 
 
 def weights_of(act: Act) -> np.ndarray | None:

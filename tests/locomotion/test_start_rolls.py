@@ -28,12 +28,15 @@ def test_a_standing_pose_without_an_acceptable_first_roll_is_passed_over(ws):
     slope, paper_face = Terrain.slope(24.0), topo.face_number(paper.START_FACE)
     assert start.stands(ws, s.rolling(params), slope, s, [(paper_face, YAW)])[0]  # it stands ...
     gain, words = start.first_roll(ws, s.rolling(params), slope, s, (paper_face, YAW), GOAL)
-    assert gain is None, words  # ... but every first roll from it tumbles or slides: a dead end
+    # ... but no first roll from it gains: every one tumbles or slides but for 8 of 234, with the
+    # brake kept on (`lookahead.kept`), detours that lose (-0.61 rolls; before them a dead end)
+    assert gain is None or gain <= 0, words
     got = start.choose(ws, params, slope, s, yaw_deg=YAW, goal=GOAL)
     assert got.yaw_deg == YAW and got.face != paper_face  # the given yaw kept, another face
     gain, words = start.first_roll(ws, s.rolling(params), slope, s, (got.face, got.yaw_deg), GOAL)
     assert gain is not None and gain > 0, words  # a first roll that lands and gains toward the goal
-    assert "no first roll from it is acceptable" in got.message and "gains" in got.message, got.message
+    assert "none from it gains" in got.message or "no first roll from it is acceptable" in got.message, got.message
+    assert "gains" in got.message, got.message
     assert got.cpu > 0
 
 
