@@ -42,12 +42,20 @@ from .measurement import Measurement
 from .misfit import REASON
 from .uncertainty import Uncertainty
 
-__all__ = ["WINDOWS", "LEAST", "UNBOUNDED", "count", "split", "interval", "dropped", "widen", "given"]
+__all__ = ["WINDOWS", "LEAST", "UNBOUNDED", "STALL", "count", "split", "interval", "dropped", "widen", "given"]
 
 WINDOWS = 4  # disjoint time windows refitted (tuning seeds 0-5)
 LEAST = 20  # samples a window needs at least (the growing horizon's first stage: `fit.horizons`)
 LEVEL = 0.95
 UNBOUNDED = "not determined: its windows' interval (W1) reaches the fit's bounds on both sides"
+# Fitted with these (the ground's contact and stick constants), the window fits were seen to stall
+# where they started (MuJoCo's grounded run, seed 608731: intervals 0.03-1.8 % wide, no truth
+# inside; docs/benchmarks.md, "Calibration against MuJoCo on fresh seeds"): said, not hidden.
+CONTACT = ("ground_stiffness", "ground_damping", "friction", "friction_stiffness", "friction_damping")
+STALL = (
+    "the windows' intervals (W1) are not validated with {keys} fitted: their window fits were seen "
+    "to stall where they started (docs/benchmarks.md, 'Calibration against MuJoCo on fresh seeds')"
+)
 
 
 def count(windows: int | None, mode: str, samples: int) -> int:
@@ -107,8 +115,9 @@ def widen(
     (`dropped`; the others as they were), the window estimates (n,) `refit(window)` of each of
     the k windows of m (`split`), each interval clipped to [start / bound, start * bound] (n,);
     standard error estimate * s (an interval open on both sides: the parameter named UNBOUNDED in
-    `undetermined`); and the window estimates (k, n) (NaN rows: fits that failed; no window is
-    fitted if `misfit` dropped nothing)."""
+    `undetermined`; with CONTACT keys among `names`, STALL said there too); and the window
+    estimates (k, n) (NaN rows: fits that failed; no window is fitted if `misfit` dropped
+    nothing)."""
     n, lost = estimate.size, dropped(unc, names)
     W = np.full((k, n), np.nan)
     if not lost.any():
@@ -131,6 +140,8 @@ def widen(
     )
     keep = [u for u in unc.undetermined if not any(u.startswith(f"{names[j]} {REASON}") for j in np.flatnonzero(give))]
     keep += [f"{names[j]} {UNBOUNDED}" for j in np.flatnonzero(give & (lo < lo_b) & (hi > hi_b))]
+    if contact := [k for k in names if k in CONTACT]:
+        keep.append(STALL.format(keys=", ".join(contact)))
     return (
         replace(
             unc,
