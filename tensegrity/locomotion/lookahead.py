@@ -134,13 +134,11 @@ def kept(pl: Plan) -> list[Act]:
     CoG projection outside at 0 MPa: the brake let go at once) and every twin, braked or not,
     tumbles; kept on, the brake holds while the action ramps (docs/planner_evaluation.md, "The
     brake kept on where the plan's pressure is the fall it prevents")."""
-    out = []
-    for c in pl.candidates:
-        if np.isfinite(c.pressure):
-            w = np.zeros(topo.N_PAIRS)
-            w[np.asarray(c.pairs, int) - 1] = 1.0
-            out.append((c.pairs, True, tuple(float(x) for x in w)))
-    return out
+    return [
+        (c.pairs, True, tuple(float(x) for x in action_weights(c.pairs)[1]))
+        for c in pl.candidates
+        if np.isfinite(c.pressure)
+    ]
 
 
 def weights_of(act: Act) -> np.ndarray | None:
