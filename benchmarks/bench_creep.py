@@ -34,8 +34,8 @@ DRIFT = 4.0  # drift/osc above which a level counts as drifting (a steady drift 
 
 def level_creep(t: np.ndarray, level: np.ndarray, cog: np.ndarray, k: int, hold: float, discard: float) -> dict:
     """Figures of level k (module docstring): t (T,) s, level (T,) index, cog (T, 3) m."""
-    x = cog[nominal.window(t, level, k, hold, discard)]
-    tw = t[nominal.window(t, level, k, hold, discard)]
+    sel = nominal.window(t, level, k, hold, discard)
+    x, tw = cog[sel], t[sel]
     n = x.shape[0] // 3
     m1, m2, m3 = (x[i * n : (i + 1) * n].mean(0) for i in range(3))
     d1, d2 = m2 - m1, m3 - m2
