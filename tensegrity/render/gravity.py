@@ -27,13 +27,18 @@ def slope_limit_figure(
     friction: float,
     max_pressure: float,
     unit: str = "MPa",
+    multi: np.ndarray | None = None,
+    cables: np.ndarray | None = None,
 ) -> Path:
     """Slope limit (deg) vs heading (deg), one panel per contact case, one colour per kind:
-    simulated (solid), predicted from the free workspace (dashed), the gravity-aware grid
-    (markers); arrays (kind, contact, heading). Written to the PNG `path`. `unit`: of the
-    actuation level, MPa (pressures) or V (motor voltages)."""
+    simulated with single pairs (solid), predicted from the free workspace (dashed), the
+    gravity-aware grid (markers); arrays (kind, contact, heading). Beside them, where given and
+    not all NaN: `multi` (kind, contact, heading), simulated with optimised actions of any set of
+    pairs (dash-dot), and `cables` (contact, heading), the uphill limit with the 24 cables one by
+    one (dotted, squares). Written to the PNG `path`. `unit`: of the actuation level, MPa
+    (pressures) or V (motor voltages)."""
     args = (kinds, contacts, headings, simulated, predicted_free, predicted_gravity, friction, max_pressure, unit)
-    return save_figure(slope_limit_axes(*args), path)
+    return save_figure(slope_limit_axes(*args, multi=multi, cables=cables), path)
 
 
 def slope_limit_axes(
@@ -46,6 +51,8 @@ def slope_limit_axes(
     friction: float,
     max_pressure: float,
     unit: str = "MPa",
+    multi: np.ndarray | None = None,
+    cables: np.ndarray | None = None,
 ) -> Figure:
     """The Figure of `slope_limit_figure` (same arguments but the path), not yet written."""
     fig = Figure(figsize=(6.2 * len(contacts), 4.8))
@@ -67,6 +74,10 @@ def slope_limit_axes(
             ax.plot(
                 headings, predicted_gravity[k, c], "o", color=col, ms=5, mfc="none", label=f"{kind}: gravity-aware grid"
             )
+            if multi is not None and np.isfinite(multi[k, c]).any() and kind != "stand":
+                ax.plot(headings, multi[k, c], "-.", color=col, lw=1.4, label=f"{kind}: any set of pairs")
+        if cables is not None and np.isfinite(cables[c]).any():
+            ax.plot(headings, cables[c], ":s", color="darkred", lw=1.6, ms=4, label="uphill: 24 cables one by one")
         ax.axhline(friction, color="0.4", lw=1, ls=":")
         ax.text(headings[0], friction + 0.4, f"friction angle {friction:.1f} deg", fontsize=8, color="0.3")
         ax.set_title(f"{contact} contact face")
@@ -76,13 +87,18 @@ def slope_limit_axes(
         ax.set_ylim(-0.04 * (friction + 4), friction + 4)
         ax.grid(alpha=0.3)
     axes[0, 0].set_ylabel("steepest slope (deg)")
-    handles, labels = axes[0, 0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
+    entries: dict = {}  # label: handle, over both panels (a line may be drawn in one only)
+    for ax in axes[0]:
+        for h, label in zip(*ax.get_legend_handles_labels()):
+            entries.setdefault(label, h)
+    ncol = 3 if len(entries) <= 9 else 4
+    fig.legend(list(entries.values()), list(entries), loc="lower center", ncol=ncol, fontsize=8, frameon=False)
     levels = "pressures" if unit == "MPa" else "motor voltages"
     fig.suptitle(
         f"Slope limits: stand, roll uphill, roll downhill under control ({levels} up to {max_pressure:g} {unit})"
     )
-    fig.tight_layout(rect=(0, 0.17, 1, 0.95))
+    rows = -(-len(entries) // ncol)
+    fig.tight_layout(rect=(0, 0.07 + 0.034 * rows, 1, 0.95))
     return fig
 
 

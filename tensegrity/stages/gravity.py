@@ -145,6 +145,8 @@ def slope_limit(
         sl.friction_angle(params),
         setup.max_pressure,
         unit,
+        multi=multi.simulated,
+        cables=cables[0],
     )
     return path
 

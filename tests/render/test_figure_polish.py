@@ -38,6 +38,52 @@ def test_slope_limit_markers_at_0_deg_lie_inside_the_axes():
     assert checked == 2 * 3 * 4  # every 0 deg marker of both panels was measured
 
 
+def test_slope_limit_draws_the_multi_actuator_limits_and_their_legend_clears_the_axes():
+    """The limits with optimised actions of any set of pairs and with the 24 cables (issue 30)
+    are drawn where they are computed (the cables on one panel only: named in the legend all
+    the same); all-NaN ones (volts) are not; the four-row legend overlaps no axes' text."""
+    headings = np.arange(0.0, 360.0, 45.0)
+    lim = np.full((3, 2, 8), 12.0)
+    multi = lim + 3.0
+    cables = np.full((2, 8), np.nan)
+    cables[1] = 25.0
+    fig = gravity.slope_limit_axes(
+        ["stand", "uphill", "downhill"],
+        ["equilateral", "isosceles"],
+        headings,
+        lim,
+        lim,
+        lim,
+        38.7,
+        5.0,
+        multi=multi,
+        cables=cables,
+    )
+    FigureCanvasAgg(fig).draw()
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert "uphill: 24 cables one by one" in labels and "uphill: any set of pairs" in labels
+    assert "stand: any set of pairs" not in labels  # the stand limit is the single pairs' own
+    drawn = [line.get_label() for line in fig.axes[0].get_lines()]
+    assert "uphill: 24 cables one by one" not in drawn  # all NaN on the equilateral panel
+    legend = fig.legends[0].get_window_extent()
+    for ax in fig.axes:
+        for text in [ax.xaxis.label, *ax.get_xticklabels()]:
+            assert not legend.overlaps(text.get_window_extent()), f"the legend covers {text.get_text()!r}"
+    bare = gravity.slope_limit_axes(
+        ["stand", "uphill", "downhill"],
+        ["equilateral", "isosceles"],
+        headings,
+        lim,
+        lim,
+        lim,
+        38.7,
+        5.0,
+        multi=np.full_like(lim, np.nan),
+        cables=np.full((2, 8), np.nan),
+    )
+    assert len(bare.legends[0].get_texts()) == 9  # volts: the nine lines of before
+
+
 def _triangle(side=0.306):
     """An equilateral support triangle (3, 3) m around the origin."""
     ang = np.radians([90, 210, 330])
