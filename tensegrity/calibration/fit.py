@@ -38,7 +38,7 @@ from threadpoolctl import threadpool_limits
 from ..physics.dynamics import SimulationError
 from ..physics.params import Params
 from ..physics.twisted import TwistedString
-from . import discrepancy, minima
+from . import discrepancy, minima, stability
 from . import model as mdl
 from .measurement import Measurement
 from .uncertainty import Uncertainty, normal_inverse
@@ -147,9 +147,8 @@ class _Residuals:
 
 def _bounds(prob: mdl.Problem) -> tuple[np.ndarray, np.ndarray]:
     n = prob.n_params
-    lo = np.full(len(prob.names), -np.inf)
-    hi = np.full(len(prob.names), np.inf)
-    lo[:n], hi[:n] = 1 / PARAM_RANGE, PARAM_RANGE
+    lo, hi = np.full(len(prob.names), -np.inf), np.full(len(prob.names), np.inf)
+    lo[:n], hi[:n] = 1 / PARAM_RANGE, stability.upper(prob.fit, prob.units[:n], prob.params, prob.dt, PARAM_RANGE)
     for j, name in enumerate(prob.names):
         if "tilt" in name:
             lo[j], hi[j] = -TILT_BOUND, TILT_BOUND
@@ -262,7 +261,8 @@ def calibrate(
         costs,
     )
     k = discrepancy.count(windows, mode, m.t.size)
-    return discrepancy.given(c, calibrate, k, fit_initial, fit_frame, PARAM_RANGE) if k else c  # misfit only
+    c = discrepancy.given(c, calibrate, k, fit_initial, fit_frame, PARAM_RANGE, hi[:n]) if k else c  # misfit only
+    return stability.told(c, hi[:n], PARAM_RANGE)
 
 
 def _staged(parts: dict, kc: int, x: np.ndarray | None) -> tuple:

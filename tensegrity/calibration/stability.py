@@ -1,0 +1,68 @@
+"""The contact dampers' stability limit (docs/design.md §9, issue 32): the largest ground damper
+c_n (C2) and stick damper c_t (C4) that the simulator's semi-implicit Euler step integrates.
+
+A damper c on a strut end of effective mass m_e, stepped explicitly with time step dt, changes
+the end's velocity by -c dt / m_e of itself each step: it damps only while c dt / m_e < 2, and
+beyond that the velocity flips sign every step and grows until the contact force reaches its cap
+(mu f_n for the stick damper, 0 for the normal force): the contact chatters. A force across a
+strut at its end moves the end as a mass m_e = m / (1 + (S/2)^2 m / I_t) (I_t = m (S^2/12 +
+r^2/4), the strut's transverse inertia: m_e ~ m/4), the smallest of any direction, so
+
+    c* = 2 m_e / dt   (N s/m; 861 N s/m for a 0.172 kg strut at dt = 1e-4 s)          (D1)
+
+Measured (MuJoCo's grounded run, seed 608731, the first of four windows, docs/benchmarks.md): the
+shape residual changes smoothly with every unknown for c_t or c_n <= 700 N s/m, and by 1e-6 to
+1e-5 m for any perturbation however small (1e-10) from 900 N s/m on: a chattering contact makes
+the run depend on round-off. The forward-difference Jacobian (step 1e-6) is then noise, and a fit
+that wandered there (the stick damper fitted to 1080-1362 N s/m, the ground damper to 1342) stalled
+where it started. A calibration bounds both dampers to c* (`fit`): above it the simulated run
+is not the model's at any time step, only this dt's chatter. A fit that ends at c* says so
+(`pinned`): the data ask for more damping than the model integrates at this dt.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+__all__ = ["DAMPERS", "limit", "upper", "pinned", "told"]
+
+DAMPERS = ("ground_damping", "friction_damping")  # (C2) c_n and (C4) c_t, N s/m
+AT = 1e-6  # relative: an estimate this close below c* is at the bound (trf stays 1e-10 inside)
+
+
+def limit(strut_mass: float, strut_length: float, strut_radius: float, dt: float) -> float:
+    """(D1): the largest contact damper c* (N s/m) the explicit step dt (s) integrates for a strut
+    of mass kg, length and radius m."""
+    It = strut_mass * (strut_length**2 / 12 + strut_radius**2 / 4)
+    m_e = strut_mass / (1 + (strut_length / 2) ** 2 * strut_mass / It)
+    return 2 * m_e / dt
+
+
+def upper(fit: tuple[str, ...], start: np.ndarray, params: object, dt: float, bound: float) -> np.ndarray:
+    """The upper bounds (n,) of the fitted parameters `fit` in scaled units (multiples of their
+    start (n,)): `bound`, or for a damper of DAMPERS c* / start (not below 1: a start beyond c*
+    bounds it there, the fit can only lower it) if smaller. `params` the Params started from."""
+    c = limit(*(float(np.asarray(getattr(params, k))) for k in ("strut_mass", "strut_length", "strut_radius")), dt)
+    return np.array([min(bound, max(1.0, c / s)) if k in DAMPERS else bound for k, s in zip(fit, start, strict=True)])
+
+
+def pinned(fit: tuple[str, ...], estimate: np.ndarray, start: np.ndarray, hi: np.ndarray, bound: float) -> list[str]:
+    """What to say of each damper whose estimate (n,) lies at its upper bound start * hi (n,) set
+    by (D1) (below `bound`, the fit's range): its value is the limit, not what the data determine."""
+    out = []
+    for k, e, s, h in zip(fit, estimate, start, hi, strict=True):
+        if k in DAMPERS and h < bound and e >= s * h * (1 - AT):
+            out.append(
+                f"{k} at its upper bound {s * h:.4g} N s/m, the stability limit (D1) of the time step: the data ask "
+                "for more damping than the model integrates; its value is the limit, not an estimate"
+            )
+    return out
+
+
+def told(c: object, hi: np.ndarray, bound: float) -> object:
+    """Calibration c (`fit.Calibration`) with `pinned`'s sentences, for its upper bounds hi (n,)
+    scaled, added to its `undetermined`."""
+    said = pinned(c.names, c.estimate, c.start, hi, bound)
+    return replace(c, unc=replace(c.unc, undetermined=c.unc.undetermined + tuple(said))) if said else c
