@@ -170,7 +170,7 @@ def solve(
     `ftol` the relative decrease of the cost below which it stops (`FTOL`, `FTOL_STAGE`)."""
     lo, hi = _bounds(prob)
     f = _Residuals(prob, lo, hi)
-    x0 = prob.x0 if x0 is None else np.clip(x0, lo, hi)
+    x0 = np.clip(prob.x0 if x0 is None else x0, lo, hi)  # (a damper's start beyond `stability.limit`)
     f(x0)
     if np.all(f.last[1] == FAILED):
         f.prob.residuals(x0[None])  # raise the simulator's own error: the start itself fails

@@ -42,10 +42,15 @@ def limit(strut_mass: float, strut_length: float, strut_radius: float, dt: float
 
 def upper(fit: tuple[str, ...], start: np.ndarray, params: object, dt: float, bound: float) -> np.ndarray:
     """The upper bounds (n,) of the fitted parameters `fit` in scaled units (multiples of their
-    start (n,)): `bound`, or for a damper of DAMPERS c* / start (not below 1: a start beyond c*
-    bounds it there, the fit can only lower it) if smaller. `params` the Params started from."""
+    start (n,)): `bound`, or for a damper of DAMPERS c* / start if smaller (a start beyond c* is
+    moved to c*: the fit starts where the model is smooth). `params` the Params started from.
+    ValueError naming a damper that starts `bound` times c* or more (no room left below)."""
     c = limit(*(float(np.asarray(getattr(params, k))) for k in ("strut_mass", "strut_length", "strut_radius")), dt)
-    return np.array([min(bound, max(1.0, c / s)) if k in DAMPERS else bound for k, s in zip(fit, start, strict=True)])
+    out = np.array([min(bound, c / s) if k in DAMPERS else bound for k, s in zip(fit, start, strict=True)])
+    if np.any(out <= 1 / bound):
+        k = fit[int(np.argmax(out <= 1 / bound))]
+        raise ValueError(f"fit: {k} starts {bound:g} times or more above its stability limit (D1) {c:.4g} N s/m")
+    return out
 
 
 def pinned(fit: tuple[str, ...], estimate: np.ndarray, start: np.ndarray, hi: np.ndarray, bound: float) -> list[str]:
