@@ -262,7 +262,7 @@ def calibrate(
     )
     k = discrepancy.count(windows, mode, m.t.size)
     c = discrepancy.given(c, calibrate, k, fit_initial, fit_frame, PARAM_RANGE, hi[:n]) if k else c  # misfit only
-    return stability.told(c, hi[:n], PARAM_RANGE)
+    return stability.told(c, hi[:n], PARAM_RANGE, STEP)
 
 
 def _staged(parts: dict, kc: int, x: np.ndarray | None) -> tuple:

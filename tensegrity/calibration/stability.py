@@ -26,10 +26,14 @@ from dataclasses import replace
 
 import numpy as np
 
-__all__ = ["DAMPERS", "limit", "upper", "pinned", "told"]
+from ..physics.dynamics import SimulationError
+
+__all__ = ["DAMPERS", "ROUGH", "limit", "upper", "pinned", "rough", "told"]
 
 DAMPERS = ("ground_damping", "friction_damping")  # (C2) c_n and (C4) c_t, N s/m
 AT = 1e-6  # relative: an estimate this close below c* is at the bound (trf stays 1e-10 inside)
+TINY = 1e-9  # scaled: the step of the roughness check, 1e-3 of the Jacobian's
+ROUGH = 2.0  # the difference quotient at TINY over the one at the Jacobian's step: rough above
 
 
 def limit(strut_mass: float, strut_length: float, strut_radius: float, dt: float) -> float:
@@ -66,8 +70,34 @@ def pinned(fit: tuple[str, ...], estimate: np.ndarray, start: np.ndarray, hi: np
     return out
 
 
-def told(c: object, hi: np.ndarray, bound: float) -> object:
+def rough(prob: object, x: np.ndarray, step: float) -> np.ndarray:
+    """The roughness (n,) of the residual of `prob` (`model.Problem`) at the unknowns x (p,)
+    scaled, per fitted parameter j: |r(x - TINY e_j) - r(x)| / TINY over |r(x - step e_j) - r(x)| /
+    step (one batched simulation). A smooth residual gives 1 to ~1e-3 (the quotients differ by
+    the curvature); a run that chatters or switches a contact moves by a jump at any step,
+    however small, and gives ~ step / TINY. NaN if a simulation fails."""
+    n = prob.n_params
+    E = np.eye(len(x))[:n]
+    try:
+        R = prob.residuals(np.concatenate([x[None], x - TINY * E, x - step * E]))
+    except (SimulationError, ValueError):
+        return np.full(n, np.nan)
+    d = np.linalg.norm(R[1:] - R[0], axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (d[:n] / TINY) / (d[n:] / step)
+
+
+def told(c: object, hi: np.ndarray, bound: float, step: float) -> object:
     """Calibration c (`fit.Calibration`) with `pinned`'s sentences, for its upper bounds hi (n,)
-    scaled, added to its `undetermined`."""
+    scaled, and a sentence for each parameter whose residual is rough (`rough` > ROUGH at its
+    estimate; `step` the Jacobian's), added to its `undetermined`."""
     said = pinned(c.names, c.estimate, c.start, hi, bound)
+    ratio = rough(c.problem, c.x, step)
+    said += [
+        f"{k}: the residual is rough at the estimate (a step of {TINY:g} moves it {q:.3g} times as fast as the "
+        f"Jacobian's step {step:g}: a contact that chatters or switches), so the fit's Jacobian there is noise and "
+        "it may have stopped short of its optimum; its interval is not to be trusted"
+        for k, q in zip(c.names, ratio, strict=True)
+        if q > ROUGH
+    ]
     return replace(c, unc=replace(c.unc, undetermined=c.unc.undetermined + tuple(said))) if said else c
