@@ -148,7 +148,7 @@ class _Residuals:
 def _bounds(prob: mdl.Problem) -> tuple[np.ndarray, np.ndarray]:
     n = prob.n_params
     lo, hi = np.full(len(prob.names), -np.inf), np.full(len(prob.names), np.inf)
-    lo[:n], hi[:n] = 1 / PARAM_RANGE, stability.upper(prob.fit, prob.units[:n], prob.params, prob.dt, PARAM_RANGE)
+    lo[:n], hi[:n] = 1 / PARAM_RANGE, stability.upper(prob, PARAM_RANGE)
     for j, name in enumerate(prob.names):
         if "tilt" in name:
             lo[j], hi[j] = -TILT_BOUND, TILT_BOUND

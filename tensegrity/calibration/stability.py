@@ -44,13 +44,18 @@ def limit(strut_mass: float, strut_length: float, strut_radius: float, dt: float
     return 2 * m_e / dt
 
 
-def upper(fit: tuple[str, ...], start: np.ndarray, params: object, dt: float, bound: float) -> np.ndarray:
-    """The upper bounds (n,) of the fitted parameters `fit` in scaled units (multiples of their
-    start (n,)): `bound`, or for a damper of DAMPERS c* / start if smaller (a start beyond c* is
-    moved to c*: the fit starts where the model is smooth). `params` the Params started from.
-    ValueError naming a damper that starts `bound` times c* or more (no room left below)."""
-    c = limit(*(float(np.asarray(getattr(params, k))) for k in ("strut_mass", "strut_length", "strut_radius")), dt)
-    out = np.array([min(bound, c / s) if k in DAMPERS else bound for k, s in zip(fit, start, strict=True)])
+def upper(prob: object, bound: float) -> np.ndarray:
+    """The upper bounds (n,) of the fitted parameters of `prob` (`model.Problem`) in scaled units
+    (multiples of their start): `bound`, or for a damper of DAMPERS c* / start if smaller (a start
+    beyond c* is moved to c*: the fit starts where the model is smooth). Without a damper among
+    them, `bound` for all (nothing else of `prob` read). ValueError naming a damper that starts
+    `bound` times c* or more (no room left below)."""
+    fit, n = tuple(prob.fit), prob.n_params
+    if not any(k in DAMPERS for k in fit):
+        return np.full(n, float(bound))
+    p = prob.params
+    c = limit(*(float(np.asarray(getattr(p, k))) for k in ("strut_mass", "strut_length", "strut_radius")), prob.dt)
+    out = np.array([min(bound, c / s) if k in DAMPERS else bound for k, s in zip(fit, prob.units[:n], strict=True)])
     if np.any(out <= 1 / bound):
         k = fit[int(np.argmax(out <= 1 / bound))]
         raise ValueError(f"fit: {k} starts {bound:g} times or more above its stability limit (D1) {c:.4g} N s/m")

@@ -44,7 +44,7 @@ def test_only_the_dampers_are_bounded_by_the_limit(truth, limit, four):
     )
     assert len(said) == 1 and said[0].startswith("ground_damping at its upper bound")
     with pytest.raises(ValueError, match="friction_damping starts"):
-        stability.upper(("friction_damping",), np.array([PARAM_RANGE * limit]), truth, DT, PARAM_RANGE)
+        _bounds(mdl.problem(m, truth.replace(friction_damping=PARAM_RANGE * limit), fit, "grounded", DT, False, False))
 
 
 @pytest.mark.parametrize("key", ["ground_damping", "friction_damping"])
