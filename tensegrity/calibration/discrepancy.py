@@ -42,20 +42,12 @@ from .measurement import Measurement
 from .misfit import REASON
 from .uncertainty import Uncertainty
 
-__all__ = ["WINDOWS", "LEAST", "UNBOUNDED", "STALL", "count", "split", "interval", "dropped", "widen", "given"]
+__all__ = ["WINDOWS", "LEAST", "UNBOUNDED", "count", "split", "interval", "dropped", "widen", "given"]
 
 WINDOWS = 4  # disjoint time windows refitted (tuning seeds 0-5)
 LEAST = 20  # samples a window needs at least (the growing horizon's first stage: `fit.horizons`)
 LEVEL = 0.95
 UNBOUNDED = "not determined: its windows' interval (W1) reaches the fit's bounds on both sides"
-# Fitted with these (the ground's contact and stick constants), the window fits were seen to stall
-# where they started (MuJoCo's grounded run, seed 608731: intervals 0.03-1.8 % wide, no truth
-# inside; docs/benchmarks.md, "Calibration against MuJoCo on fresh seeds"): said, not hidden.
-CONTACT = ("ground_stiffness", "ground_damping", "friction", "friction_stiffness", "friction_damping")
-STALL = (
-    "the windows' intervals (W1) are not validated with {keys} fitted: their window fits were seen "
-    "to stall where they started (docs/benchmarks.md, 'Calibration against MuJoCo on fresh seeds')"
-)
 
 
 def count(windows: int | None, mode: str, samples: int) -> int:
@@ -110,14 +102,15 @@ def widen(
     k: int,
     refit: Callable[[Measurement], np.ndarray],
     bound: float,
+    upper: np.ndarray | None = None,
 ) -> tuple[Uncertainty, np.ndarray]:
     """`unc` with the intervals (W1) of the parameters `names` whose intervals `misfit` dropped
     (`dropped`; the others as they were), the window estimates (n,) `refit(window)` of each of
-    the k windows of m (`split`), each interval clipped to [start / bound, start * bound] (n,);
-    standard error estimate * s (an interval open on both sides: the parameter named UNBOUNDED in
-    `undetermined`; with CONTACT keys among `names`, STALL said there too); and the window
-    estimates (k, n) (NaN rows: fits that failed; no window is fitted if `misfit` dropped
-    nothing)."""
+    the k windows of m (`split`), each interval clipped to [start / bound, start * upper] (n,;
+    upper None: bound; a damper's may be its stability limit, `stability`); standard error
+    estimate * s (an interval open on both sides: the parameter named UNBOUNDED in
+    `undetermined`); and the window estimates (k, n) (NaN rows: fits that failed; no window is
+    fitted if `misfit` dropped nothing)."""
     n, lost = estimate.size, dropped(unc, names)
     W = np.full((k, n), np.nan)
     if not lost.any():
@@ -131,7 +124,7 @@ def widen(
     give = lost & np.isfinite(s)
     if not give.any():
         return replace(unc, refits=unc.refits + k, windows=W), W
-    lo_b, hi_b = start / bound, start * bound
+    lo_b, hi_b = start / bound, start * (bound if upper is None else upper)
     method = tuple(
         ("windows" + (", open below" if lo[j] < lo_b[j] else "") + (", open above" if hi[j] > hi_b[j] else ""))
         if give[j]
@@ -140,8 +133,6 @@ def widen(
     )
     keep = [u for u in unc.undetermined if not any(u.startswith(f"{names[j]} {REASON}") for j in np.flatnonzero(give))]
     keep += [f"{names[j]} {UNBOUNDED}" for j in np.flatnonzero(give & (lo < lo_b) & (hi > hi_b))]
-    if contact := [k for k in names if k in CONTACT]:
-        keep.append(STALL.format(keys=", ".join(contact)))
     return (
         replace(
             unc,
@@ -158,12 +149,18 @@ def widen(
 
 
 def given(
-    c: object, calibrate: Callable[..., object], k: int, fit_initial: bool, fit_frame: bool, bound: float
+    c: object,
+    calibrate: Callable[..., object],
+    k: int,
+    fit_initial: bool,
+    fit_frame: bool,
+    bound: float,
+    upper: np.ndarray | None = None,
 ) -> object:
     """Calibration c (`fit.Calibration`) with `widen`'s intervals: each of k windows fitted by
     `calibrate` (`fit.calibrate`, no windows of its own, no check) from c's estimates, with the
     initial state (`fit_initial`) and the frame (`fit_frame`) as the whole run's; parameters
-    bounded to [start / bound, start * bound]."""
+    bounded to [start / bound, start * upper] (upper (n,) None: bound)."""
     p = c.problem
 
     def refit(w: Measurement) -> np.ndarray:
@@ -171,5 +168,5 @@ def given(
             w, c.params, c.names, p.mode, p.dt, fit_initial, fit_frame, 0.0, c.motors, p.residual, windows=0
         ).estimate
 
-    unc, _ = widen(c.unc, c.names, c.estimate, c.start, p.m, k, refit, bound)
+    unc, _ = widen(c.unc, c.names, c.estimate, c.start, p.m, k, refit, bound, upper)
     return replace(c, unc=unc)

@@ -38,7 +38,7 @@ from threadpoolctl import threadpool_limits
 from ..physics.dynamics import SimulationError
 from ..physics.params import Params
 from ..physics.twisted import TwistedString
-from . import discrepancy, minima
+from . import discrepancy, minima, stability
 from . import model as mdl
 from .measurement import Measurement
 from .uncertainty import Uncertainty, normal_inverse
@@ -147,9 +147,8 @@ class _Residuals:
 
 def _bounds(prob: mdl.Problem) -> tuple[np.ndarray, np.ndarray]:
     n = prob.n_params
-    lo = np.full(len(prob.names), -np.inf)
-    hi = np.full(len(prob.names), np.inf)
-    lo[:n], hi[:n] = 1 / PARAM_RANGE, PARAM_RANGE
+    lo, hi = np.full(len(prob.names), -np.inf), np.full(len(prob.names), np.inf)
+    lo[:n], hi[:n] = 1 / PARAM_RANGE, stability.upper(prob, PARAM_RANGE)
     for j, name in enumerate(prob.names):
         if "tilt" in name:
             lo[j], hi[j] = -TILT_BOUND, TILT_BOUND
@@ -171,7 +170,7 @@ def solve(
     `ftol` the relative decrease of the cost below which it stops (`FTOL`, `FTOL_STAGE`)."""
     lo, hi = _bounds(prob)
     f = _Residuals(prob, lo, hi)
-    x0 = prob.x0 if x0 is None else np.clip(x0, lo, hi)
+    x0 = np.clip(prob.x0 if x0 is None else x0, lo, hi)  # (a damper's start beyond `stability.limit`)
     f(x0)
     if np.all(f.last[1] == FAILED):
         f.prob.residuals(x0[None])  # raise the simulator's own error: the start itself fails
@@ -262,7 +261,8 @@ def calibrate(
         costs,
     )
     k = discrepancy.count(windows, mode, m.t.size)
-    return discrepancy.given(c, calibrate, k, fit_initial, fit_frame, PARAM_RANGE) if k else c  # misfit only
+    c = discrepancy.given(c, calibrate, k, fit_initial, fit_frame, PARAM_RANGE, hi[:n]) if k else c  # misfit only
+    return stability.told(c, hi[:n], PARAM_RANGE, STEP)
 
 
 def _staged(parts: dict, kc: int, x: np.ndarray | None) -> tuple:
