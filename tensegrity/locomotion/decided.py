@@ -41,7 +41,7 @@ _CALM = 3  # checks in a row (control._CALM)
 def _held(pres: np.ndarray, top: np.ndarray, j: int, last: np.ndarray | None) -> bool:
     """The command `pres` (12,) is the action's held level `top` (12,) (nothing else driven) and
     the same as the `last` one; pair j (0-based, weight 1) tested first (the ramp: below it)."""
-    if last is None or pres[j] != top[j]:
+    if last is None or pres.size != top.size or pres[j] != top[j]:  # a brake coming off first: (12,)
         return False
     return bool(np.array_equal(pres, top) and np.array_equal(pres, last))
 
