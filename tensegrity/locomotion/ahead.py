@@ -71,8 +71,8 @@ class Ramp:
             if self.volts and (not cmd.any() or np.array_equal(cmd, self.held)):
                 return None
             return np.broadcast_to(cmd, (n, cmd.size))
-        if self.w[self.j] != 1.0 or self.max > self.top:
-            return None
+        if self.w[self.j] != 1.0 or self.max > self.top or prev.size != self.w.size or cmd.size != self.w.size:
+            return None  # (a cable action's brake coming off first commands its pairs)
         a, b = float(prev[self.j]), float(cmd[self.j])
         if b != min(a + self.inc, self.max) or not (
             np.array_equal(prev, self.command(a)) and np.array_equal(cmd, self.command(b))

@@ -66,7 +66,7 @@ class Braked(Ramp):
     def next(self, prev: np.ndarray, cmd: np.ndarray, n: int) -> np.ndarray | None:
         """The next (up to n) commands (n', 12) if `prev` and `cmd` are two of the roll's
         (class docstring); else None."""
-        if n < 1 or self.j < 0 or self.max > self.top:
+        if n < 1 or self.j < 0 or self.max > self.top or prev.size != self.w.size or cmd.size != self.w.size:
             return None
         if np.array_equal(prev, cmd):
             if self.volts and not cmd[self.j] > 0:
