@@ -85,8 +85,10 @@ def test_the_cable_candidate_climbs_where_the_pair_candidates_do_not(ws, climb):
     act = lookahead._act(c.weights)
     up = [lookahead._act(p.weights) for p in pairs if p.edge == (11, 12)]
     assert up  # the statics find pair actions over 11-12 too ...
-    todo = [(act[0], True, act[1]), *[(a[0], True, *a[1:]) for a in up]]
-    ahead, *others = lookahead.foresee(DAMPED, slope, S, ob, todo, ws.max_pressure, brk, {})
+    todo = [(act[0], True, act[1]), *[(a[0], True, *a[1:]) for a in up], (act[0], False, act[1])]
+    ahead, *others, free = lookahead.foresee(DAMPED, slope, S, ob, todo, ws.max_pressure, brk, {})
+    assert ob.pressure.any() and free.weights.shape == (topo.N_CABLES,)  # unbraked: the brake (pairs)
+    # comes off first, then the ramp per cable
     assert ahead.rolled and lookahead.lands(ahead) and ahead.face_after == c.next_face
     rise = np.subtract(ahead.cog_after, ahead.cog_before)
     assert rise[0] > 0.1 and rise[2] > 0.0, rise
