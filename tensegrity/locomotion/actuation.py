@@ -6,8 +6,9 @@ deepest crossing (`workspace.cable_actions.reach_action`, which drives many pair
 finds crossings the first misses; `workspace.slope_multi` judges both the same way), to roll
 with `control.roll(..., weights=w)`.
 
-Per-cable actions (the prototype's 24 actuators) are not offered: the simulator's kernel takes
-one pressure per pair (`physics.kernel`, the cables of a pair share `CABLE_PAIR`'s pressure).
+With `levers` 24 the same searches on the 24 cables one by one (the prototype's actuators, section
+IV; `sensitivity.grounded(..., levers=24)`, `sensitivity.cable_law`): weight vectors (24,), which
+the kernel takes per cable (`topology.cable_levels`); config `locomotion.cable_actions`.
 """
 
 from __future__ import annotations
@@ -27,12 +28,13 @@ from ..workspace.lookup import Workspace
 from ..workspace.sensitivity import ActuationSettings, EdgeAction, edge_actions, grounded
 from .plan import Plan
 
-__all__ = ["ActuationSettings", "Candidate", "World", "candidates", "optimised"]
+__all__ = ["ActuationSettings", "Candidate", "World", "cables", "candidates", "optimised"]
 
 
 @dataclass(frozen=True)
 class Candidate:
-    """weights (12,) (largest 1: the roll ramps pair pressures s w, `control.action_weights`);
+    """weights (12,) per pair or (24,) per cable (largest 1: the roll ramps the pressures s w,
+    `control.action_weights`);
     edge: two 1-based nodes of the face it rolls over; next_face (1-based) across it; scale
     MPa: the least s at which the model puts the CoG projection over the edge (`EdgeAction`);
     along: cosine between the edge's outward normal (horizontal, world) and the asked
@@ -62,12 +64,14 @@ def candidates(
     settings: ActuationSettings,
     max_pressure: float,
     deepest: bool = True,
+    levers: int = topo.N_PAIRS,
 ) -> list[Candidate]:
     """Optimised actions for one robot `state` (batch 1) resting on `face` (1..20) of `terrain`:
     per edge that some pressures up to max_pressure MPa roll it over by the model
     (`sensitivity.grounded`: the free statics about the robot's own pose and gravity), the
     least-total action and (`deepest`) the deepest-crossing one where it differs (module
-    docstring), by `along` the world direction `direction` (2,) (x, y) first (None: by scale).
+    docstring), by `along` the world direction `direction` (2,) (x, y) first (None: by scale);
+    `levers` 12 (pair pressures) or 24 (cable pressures, weights (24,)).
     ContactError if the robot does not rest on `face`."""
     if state.batch != 1:
         raise ValueError(f"candidates are for one robot; the state holds {state.batch}")
@@ -77,7 +81,7 @@ def candidates(
     f = topo.face_number(face)
     if on != f:
         raise ct.ContactError(f"the robot rests on face {topo.face_label(on)}, not {topo.face_label(f)}")
-    model = grounded(params, f, nodes)
+    model = grounded(params, f, nodes, levers)
     acts: list[EdgeAction] = edge_actions(model, max_pressure, settings)
     for k in range(3 if deepest else 0):
         a = reach_action(model, k, max_pressure, settings.actuation_margin)
@@ -98,7 +102,8 @@ def candidates(
 class World:
     """What a generator may need beyond the plan: the run's `params`, `terrain`, the robot's
     `state` (batch 1) resting on the face, max_pressure MPa, and whether optimised actions of
-    any set of pairs are offered (`optimised`: config locomotion.optimised_actions)."""
+    any set of pairs are offered (`optimised`: config locomotion.optimised_actions) and of the 24
+    cables one by one (`cables`: config locomotion.cable_actions)."""
 
     params: Params
     terrain: Terrain
@@ -106,6 +111,7 @@ class World:
     max_pressure: float
     optimised: bool = False
     actuation: ActuationSettings = ActuationSettings()
+    cables: bool = False
 
 
 def optimised(
@@ -114,12 +120,26 @@ def optimised(
     """With world.optimised: one or two weight vectors (12,) per edge the statics can roll the
     robot over (`candidates` from world.state), toward the target first: a generator of
     `lookahead.GENERATORS` (its arguments). ~0.1 s CPU per pose."""
-    if world is None or not world.optimised or world.state is None:
+    return _optimised(face, nodes, target, world, topo.N_PAIRS) if world is not None and world.optimised else []
+
+
+def cables(
+    workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict, world: World | None = None
+) -> list[np.ndarray]:
+    """With world.cables: `optimised`'s weight vectors on the 24 cables one by one, (24,) each."""
+    return _optimised(face, nodes, target, world, topo.N_CABLES) if world is not None and world.cables else []
+
+
+def _optimised(face: int, nodes: np.ndarray, target: dict, world: World, levers: int) -> list[np.ndarray]:
+    """The weight vectors of `candidates` with `levers` from world.state toward the target."""
+    if world.state is None:
         return []
     u = target["direction"] if "direction" in target else np.subtract(target["goal"][:2], nodes.mean(axis=0)[:2])
     u = u if np.linalg.norm(u) > 0 else None  # at the goal itself: by scale
     try:
-        got = candidates(world.params, world.terrain, world.state, face, u, world.actuation, world.max_pressure)
+        got = candidates(
+            world.params, world.terrain, world.state, face, u, world.actuation, world.max_pressure, levers=levers
+        )
     except ct.ContactError:  # not resting on the face by the contact model: nothing to optimise about
         return []
     return [c.weights for c in got]

@@ -15,7 +15,7 @@ up to that interval. Each controller thus sees the observations, and each robot 
 the one-interval-at-a-time simulation: the same rolls to the last bit (tests/locomotion/
 test_decided_cuts.py), at a fraction of the calls. The observations of a chunk carry no robot
 state (Obs.state None): the roll controller reads none in its ramp or a hold; with the twisted
-strings no chunk holds the top (`decided` reads the motors there) or zero (`control.rested`), and
+strings no chunk holds the top (`decided` reads the motors there) or zero (`lockstep.rested`), and
 the pairs commanded 0 V are unwound (within `lockstep.UNWIND_TOLERANCE`, their voltage then the
 command: `lockstep.applied`) at a chunk's start and end: a motor at 0 V is held by its gear
 friction, so they stay so in between.
@@ -33,7 +33,7 @@ from ..physics import dynamics as d
 from ..physics import topology as topo
 from ..physics.params import Params
 from ..physics.terrain import Terrain
-from .lockstep import Controller, Obs, _threads, advance, applied, first_commands, observe
+from .lockstep import Controller, Obs, _threads, advance, applied, first_commands, observe, own, put, widths
 from .settings import RollSettings
 
 __all__ = ["CHUNK", "Ramp", "lockstep_ahead"]
@@ -64,15 +64,15 @@ class Ramp:
         """The next (up to n) commands (n', 12): if `prev` and `cmd` are two steps of the ramp,
         its next steps below its top; if they are the same, that command (a hold, the top, a
         settle), but with the twisted strings not at the top nor at zero, where the controllers
-        read the motors' state (`decided`, `control.rested`); else None."""
+        read the motors' state (`decided`, `lockstep.rested`); else None."""
         if n < 1:
             return None
         if np.array_equal(prev, cmd):
             if self.volts and (not cmd.any() or np.array_equal(cmd, self.held)):
                 return None
             return np.broadcast_to(cmd, (n, cmd.size))
-        if self.w[self.j] != 1.0 or self.max > self.top:
-            return None
+        if self.w[self.j] != 1.0 or self.max > self.top or prev.size != self.w.size or cmd.size != self.w.size:
+            return None  # (a cable action's brake coming off first commands its pairs)
         a, b = float(prev[self.j]), float(cmd[self.j])
         if b != min(a + self.inc, self.max) or not (
             np.array_equal(prev, self.command(a)) and np.array_equal(cmd, self.command(b))
@@ -87,10 +87,11 @@ class Ramp:
         return np.asarray(levels)[:, None] * self.w if levels else None
 
 
-def _observe_all(params: Params, terrain: Terrain, s: RollSettings, X, Q, ts, before: list[Obs], cmds) -> list:
+def _observe_all(params: Params, terrain: Terrain, s: RollSettings, X, Q, ts, before: list[Obs], cmds, wide) -> list:
     """Observations [k][i] of robots i after interval k of a chunk from the recorded strut
     centres X (B, K, 6, 3) and quaternions Q, times ts (K,) s, the observations `before` it and
-    the commands cmds (B, K, 12): `lockstep.observe`'s numbers (without states), all at once."""
+    the commands cmds (B, K, 12 or 24; `wide` (B,): per robot, `lockstep.own`):
+    `lockstep.observe`'s numbers (without states), all at once."""
     B, K = X.shape[:2]
     P = d.nodes(X.reshape(B * K, 6, 3), Q.reshape(B * K, 6, 4), params.strut_length).reshape(B, K, 12, 3)
     gaps = ct.clearance(P, terrain, float(params.strut_radius))
@@ -102,7 +103,7 @@ def _observe_all(params: Params, terrain: Terrain, s: RollSettings, X, Q, ts, be
     speed = (np.sqrt(np.vecdot(step, step)) / dt[None]).tolist()
     return [
         [
-            Obs(ts[k], P[i, k], gaps[i, k], faces[i][k] or None, speed[i][k], cmds[i, k], None, cog[i, k])
+            Obs(ts[k], P[i, k], gaps[i, k], faces[i][k] or None, speed[i][k], own(cmds[i, k], wide[i]), None, cog[i, k])
             for i in range(B)
         ]
         for k in range(K)
@@ -116,7 +117,7 @@ def _simulate(params, terrain, s, batch, cmds, every):
     return d.simulate(params, batch, sched, terrain, s.dt, every, s.motors)
 
 
-def _chunk(params, terrain, s, batch, every, live, gens, last, pres, prev, ramps, span):
+def _chunk(params, terrain, s, batch, every, live, gens, last, pres, prev, ramps, span, wide):
     """Up to `span` intervals of the batch at once (module docstring). Returns (the batch after
     the last interval its controllers were handed, the robots that finished: {b: (result, i)},
     whether all `span` were handed), or None where a robot's ramp is not predictable (then one
@@ -125,10 +126,10 @@ def _chunk(params, terrain, s, batch, every, live, gens, last, pres, prev, ramps
         return None
     ahead = []
     for b in live:
-        a = None if ramps[b] is None else ramps[b].next(prev[b], pres[b], span - 1)
+        a = None if ramps[b] is None else ramps[b].next(own(prev[b], wide[b]), own(pres[b], wide[b]), span - 1)
         if a is None:
             return None
-        ahead.append(a)
+        ahead.append(widths(a, pres))  # in the batch's width
     n = min(len(a) for a in ahead)
     cmds = np.stack([np.concatenate([pres[b][None], a[:n]]) for b, a in zip(live, ahead)])  # (B, K, 12)
     if s.motors is not None and not np.array_equal(applied(s, cmds[:, 0], batch), cmds[:, 0]):
@@ -144,7 +145,7 @@ def _chunk(params, terrain, s, batch, every, live, gens, last, pres, prev, ramps
     for _ in range(K):  # `dynamics.simulate`'s clock, one interval at a time
         t += every * s.dt
         ts.append(t)
-    obs = _observe_all(params, terrain, s, traj.x, traj.q, ts, [last[b] for b in live], cmds)
+    obs = _observe_all(params, terrain, s, traj.x, traj.q, ts, [last[b] for b in live], cmds, [wide[b] for b in live])
     done: dict[int, tuple[Any, int]] = {}
     for k in range(K):
         stop = False
@@ -153,7 +154,7 @@ def _chunk(params, terrain, s, batch, every, live, gens, last, pres, prev, ramps
             last[b] = ob
             prev[b] = cmds[i, k]
             try:
-                pres[b] = gens[b].send(ob)
+                _put(pres, wide, b, gens[b].send(ob))
             except StopIteration as e:
                 done[b] = (e.value, i)
                 stop = True
@@ -166,6 +167,12 @@ def _chunk(params, terrain, s, batch, every, live, gens, last, pres, prev, ramps
     return end, done, k == K - 1 and not done
 
 
+def _put(pres: np.ndarray, wide: list[bool], b: int, cmd: np.ndarray) -> None:
+    """`lockstep.put` in place: the batch's width is fixed at its start (`lockstep_ahead`)."""
+    if put(pres, wide, b, cmd) is not pres:
+        raise RuntimeError("a per-cable command in a batch simulated per pair")
+
+
 def lockstep_ahead(
     params: Params,
     terrain: Terrain,
@@ -176,7 +183,9 @@ def lockstep_ahead(
 ) -> list[tuple[Any, d.State]]:
     """`lockstep.lockstep(params, terrain, state, make, s, record=False)`, with chunks where the
     ramps are predictable: ramps[b] is robot b's ramp, `Ramp` or `braked.Braked` (None: never predicted;
-    the list may be filled by `make`). Returns per robot (result, final State)."""
+    the list may be filled by `make`). The commands are per cable for all robots if one robot
+    starts per cable or has a ramp of (24,) weights (`lockstep.put`; a pair robot's levels on
+    both cables). Returns per robot (result, final State)."""
     state.check()
     params = s.rolling(params)
     every = int(round(s.interval / s.dt))
@@ -185,17 +194,21 @@ def lockstep_ahead(
     first = observe(params, terrain, state, s, states=states)
     last = list(first)
     gens = [make(b, first[b]) for b in range(B)]
-    pres, live, out, batch = first_commands(gens, state)
-    prev = np.full((B, topo.N_PAIRS), np.nan)
+    cables = any(o.pressure.size == topo.N_CABLES for o in first) or any(
+        r is not None and r.w.size == topo.N_CABLES for r in ramps
+    )
+    wide = [False] * B
+    pres, live, out, batch = first_commands(gens, state, wide, topo.N_CABLES if cables else topo.N_PAIRS)
+    prev = np.full(pres.shape, np.nan)
     span = min(2, CHUNK)  # a chunk's length: doubled after each chunk handed whole, up to CHUNK; 2 after one cut
     with _threads(len(live)):
         while live:
-            got = _chunk(params, terrain, s, batch, every, live, gens, last, pres, prev, ramps, span)
+            got = _chunk(params, terrain, s, batch, every, live, gens, last, pres, prev, ramps, span, wide)
             if got is not None:
                 batch, done, whole = got
                 span = min(2 * span, CHUNK) if whole else 2
             else:
-                batch, done = _one(params, terrain, s, batch, every, live, gens, last, pres, prev, states)
+                batch, done = _one(params, terrain, s, batch, every, live, gens, last, pres, prev, states, wide)
             for b, (res, i) in done.items():
                 out[b] = (res, batch.take([i]))
             if done:
@@ -205,10 +218,10 @@ def lockstep_ahead(
     return out
 
 
-def _one(params, terrain, s, batch, every, live, gens, last, pres, prev, states):
+def _one(params, terrain, s, batch, every, live, gens, last, pres, prev, states, wide):
     """One check interval of the batch, as `lockstep.lockstep` advances it (record=False)."""
     batch, failed, _ = advance(params, terrain, s, batch, pres[live], live, every)
-    ob = observe(params, terrain, batch, s, [last[b] for b in live], pres[live], states)
+    ob = observe(params, terrain, batch, s, [last[b] for b in live], [own(pres[b], wide[b]) for b in live], states)
     done = {}
     for i, b in enumerate(live):
         prev[b] = pres[b]
@@ -217,7 +230,7 @@ def _one(params, terrain, s, batch, every, live, gens, last, pres, prev, states)
                 gens[b].throw(failed[b])
                 raise RuntimeError("a controller ignored a SimulationError")
             last[b] = ob[i]
-            pres[b] = gens[b].send(ob[i])
+            _put(pres, wide, b, gens[b].send(ob[i]))
         except StopIteration as stop:
             done[b] = (stop.value, i)
     return batch, done

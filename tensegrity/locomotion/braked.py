@@ -14,25 +14,27 @@ import numpy as np
 from .ahead import Ramp
 from .brake import ramp_fade
 from .control import _slew
+from .lockstep import widths
 from .settings import RollSettings
 
 __all__ = ["Braked"]
 
 
 class Braked(Ramp):
-    """The braked roll of an action of weights w (12,) up to max_pressure (`roll_controller` with
-    a brake) while it does not roll: the brake `held` (12,) of the start face, faded as the level
+    """The braked roll of an action of weights w (12,) or (24,) up to max_pressure (`roll_controller`
+    with a brake) while it does not roll: the brake `held` (12,) of the start face (on both cables
+    of each pair for (24,) weights), faded as the level
     nears `expect` (NaN: not faded) and over hold_time at the top, back on as the level comes
     down, moved toward at most at brake_rate from the last command (`control._slew`); the
     action's pairs at least min(L w, s.max_level). Predicted from a pair of weight 1 that the
     brake leaves at 0 (its command is the level): its ramp, its top, its release from the top;
     else as `Ramp` where the command stays the same (a hold, the brake faded out, a settling),
     but with the twisted strings only while that pair is driven (settling, the controller reads
-    the motors' state, `control.rested`)."""
+    the motors' state, `lockstep.rested`)."""
 
     def __init__(self, w: np.ndarray, s: RollSettings, max_pressure: float, held: np.ndarray, expect: float):
         super().__init__(w, s, max_pressure)
-        self.s, self.brake, self.expect = s, np.asarray(held, float), float(expect)
+        self.s, self.brake, self.expect = s, widths(np.asarray(held, float), self.w), float(expect)
         free = np.flatnonzero((self.w == 1.0) & (self.brake == 0))
         self.j = int(free[0]) if free.size else -1  # the pair whose command is the level (-1: none)
         self.down = max_pressure * s.interval / s.brake_release_time  # the release's step from the top
@@ -64,7 +66,7 @@ class Braked(Ramp):
     def next(self, prev: np.ndarray, cmd: np.ndarray, n: int) -> np.ndarray | None:
         """The next (up to n) commands (n', 12) if `prev` and `cmd` are two of the roll's
         (class docstring); else None."""
-        if n < 1 or self.j < 0 or self.max > self.top:
+        if n < 1 or self.j < 0 or self.max > self.top or prev.size != self.w.size or cmd.size != self.w.size:
             return None
         if np.array_equal(prev, cmd):
             if self.volts and not cmd[self.j] > 0:

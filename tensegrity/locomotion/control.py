@@ -25,7 +25,7 @@ from ..physics.params import Params
 from ..physics.schedule import check_pressures, hold_step
 from ..physics.terrain import Terrain
 from .brake import Brake, ramp_fade
-from .lockstep import UNWIND_TOLERANCE, Controller, Obs, Record, lockstep
+from .lockstep import Controller, Obs, Record, lockstep, rested, widths
 from .settings import RollSettings
 
 __all__ = ["RollResult", "action_weights", "roll", "roll_controller", "settle", "settle_controller"]
@@ -61,17 +61,18 @@ def action_weights(
 ) -> tuple[tuple[int, ...], np.ndarray]:
     """An action as its 1-based pairs and its weight vector w (12,): the roll ramps the pair
     pressures s w from s = 0 (MPa). 1-based `pairs` driven together give w = 1 on them, 0
-    elsewhere; or a non-negative `weights` (12,) whose largest entry is 1 (its pairs: those
-    with w > 0). Raises ValueError naming the bad value."""
+    elsewhere; or a non-negative `weights` (12,), or (24,) per cable (kept so), whose largest entry
+    is 1 (its pairs: those with w > 0 on a cable). Raises ValueError naming the bad value."""
     if weights is None:
         pairs = tuple(topo.check_pair(q) for q in np.atleast_1d(pairs))
         w = np.zeros(topo.N_PAIRS)
         w[np.asarray(pairs, int) - 1] = 1.0
         return pairs, w
     w = check_pressures(weights, "action weights")  # finite and >= 0 (the check of a pressure)
-    if w.shape != (topo.N_PAIRS,) or abs(float(w.max()) - 1.0) > 1e-9:
-        raise ValueError(f"action weights {w.tolist()} must be ({topo.N_PAIRS},) with largest entry 1")
-    return tuple(int(q) + 1 for q in np.flatnonzero(w > 0)), w
+    if w.shape not in ((topo.N_PAIRS,), (topo.N_CABLES,)) or abs(float(w.max()) - 1.0) > 1e-9:
+        raise ValueError(f"action weights {w.tolist()} must be (12,) or (24,) with largest entry 1")
+    on = np.flatnonzero(w > 0) if w.size == topo.N_PAIRS else np.unique(topo.CABLE_PAIR[w > 0])
+    return tuple(int(q) + 1 for q in on), w
 
 
 _CALM = 3  # checks in a row that count as settled
@@ -84,15 +85,6 @@ def _slew(target: np.ndarray, last: np.ndarray, s: RollSettings) -> np.ndarray:
     return np.minimum(np.maximum(target, last - step), last + step)  # np.clip's values, sooner
 
 
-def rested(s: RollSettings, obs: Obs, levels: np.ndarray) -> bool:
-    """Whether every pair commanded 0 (`levels` (12,)) is at rest: always for the muscles; for
-    the twisted strings, its strands unwound to within UNWIND_TOLERANCE (`lockstep.applied`)."""
-    if s.motors is None or obs.state is None or obs.state.motor_angle is None:
-        return True
-    twist = obs.state.motor_angle[0, topo.PAIR_CABLES].mean(axis=1)
-    return bool(np.all(np.abs(twist[levels == 0]) <= UNWIND_TOLERANCE))
-
-
 def settle_controller(s: RollSettings, obs: Obs, brake: Brake | None = None) -> Controller:
     """Zero pressure (or the `brake` of the face it rests on), changing at most at brake_rate from
     the pressures applied before, `obs.pressure`, until settled (see RollSettings; with the
@@ -102,7 +94,8 @@ def settle_controller(s: RollSettings, obs: Obs, brake: Brake | None = None) -> 
     pres = obs.pressure
     while waited < s.settle_time - 1e-9:
         calm_face = None if obs.speed >= s.settle_speed else obs.face  # never mid-tumble
-        pres = _slew(brake.for_face(calm_face, obs.nodes) if brake else np.zeros(topo.N_PAIRS), pres, s)
+        to = brake.for_face(calm_face, obs.nodes) if brake else np.zeros(topo.N_PAIRS)
+        pres = _slew(widths(to, pres), pres, s)
         obs = yield pres
         waited += s.interval
         calm = calm + 1 if (obs.face is not None and obs.speed < s.settle_speed and rested(s, obs, pres)) else 0
@@ -123,8 +116,9 @@ def roll_controller(
     foresee: bool = False,
     brake_acts: bool | None = None,
 ) -> Controller:
-    """See `roll`; `pairs` or `weights` (12,) give the action (`action_weights`: the pair
-    pressures are min(level w, `RollSettings.max_level`) as the level ramps to max_pressure MPa).
+    """See `roll`; `pairs` or `weights` (12,) or (24,) give the action (`action_weights`: the
+    pressures are min(level w, `RollSettings.max_level`) as the level ramps to max_pressure MPa;
+    per cable (24,) for (24,) weights or `obs.pressure`, the brake's pairs on both cables).
     With a `brake` (`brake.Brake`), the braking pressures of the start face stay on while the
     pressure rises (fading out over hold_time once it is at the top without a roll;
     given the `expect`ed rolling pressure, MPa, the plan's, as the pressure rises to it: kept
@@ -151,17 +145,18 @@ def roll_controller(
     if obs.face is None:
         return RollResult(pairs, False, start, None, np.nan, 0.0, t0, obs.t, cog0, obs.cog, weights=weights), obs
     face0, t_ramp = obs.face, obs.t
+    w = widths(w, obs.pressure)  # per cable if the robot commands its cables already
     support = topo.FACES[face0 - 1].tolist()  # node indices of the support triangle
     base = obs.gap[support].tolist()  # m (lists: cheaper than numpy for three nodes)
     S = float(params.strut_length)
-    lanes = [(j, w[j]) for j in np.flatnonzero(w > 0).tolist()]  # (0-based pair, weight)
+    lanes = [(j, w[j]) for j in np.flatnonzero(w > 0).tolist()]  # (0-based pair or cable, weight)
     top = s.max_level
     level, tip, peak, phase, t_phase = 0.0, float("nan"), 0.0, "ramp", 0.0
     t_hold, rearmed = 0.0, True  # s in the hold (`schedule.hold_step`); a lift may start one
     landed, apex = None, -1
-    held = brake.for_face(face0, obs.nodes) if brake else np.zeros(topo.N_PAIRS)
+    held = widths(brake.for_face(face0, obs.nodes) if brake else np.zeros(topo.N_PAIRS), w)
     fade, rolling = 1.0, False  # share of the start face's brake still on; it is rolling over
-    last = obs.pressure  # braking pressures go on from those applied before (brake_rate)
+    last = widths(obs.pressure, w)  # braking pressures go on from those applied before (brake_rate)
     release = s.brake_release_time if brake else s.release_time
     while phase != "settle":
         if phase == "ramp":
@@ -180,7 +175,7 @@ def roll_controller(
             fade = min(fade, ramp_fade(level, expect))
         pres = held * fade
         if brake and phase in ("release", "land"):  # braced for the face it is rolling onto,
-            pres = brake.for_face(landed, obs.nodes) if rolling else held  # or back on its own
+            pres = widths(brake.for_face(landed, obs.nodes), w) if rolling else held  # or back on its own
         if brake:  # braking pressures change at most at brake_rate
             pres = _slew(pres, last, s)
         for j, wj in lanes:  # floats, not arrays, for the one or two pairs driven: the same numbers
@@ -278,7 +273,7 @@ def roll(
 ) -> RollResult:
     """One roll in the dynamic simulator (paper III.C step 4) of one robot resting on a face:
     drive 1-based `pairs` together from 0 toward `max_pressure` MPa at ramp_rate (or, given
-    `weights` (12,) (`action_weights`), the pair pressures level w). When a support
+    `weights` (12,) or (24,) (`action_weights`), the pressures level w). When a support
     node lifts the pressure is held (at most hold_time s, then the ramp resumes: escalation,
     held again only by a lift after the support was down again; braked rolls, see
     `roll_controller`, hold at every step while a node is lifted);

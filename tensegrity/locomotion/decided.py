@@ -27,7 +27,7 @@ import numpy as np
 
 from ..physics import topology as topo
 from .control import RollResult
-from .lockstep import Controller, Obs
+from .lockstep import Controller, Obs, widths
 from .settings import RollSettings
 
 __all__ = ["MOTOR_REST", "REST_SPEED", "SLIDE", "until_decided"]
@@ -41,7 +41,7 @@ _CALM = 3  # checks in a row (control._CALM)
 def _held(pres: np.ndarray, top: np.ndarray, j: int, last: np.ndarray | None) -> bool:
     """The command `pres` (12,) is the action's held level `top` (12,) (nothing else driven) and
     the same as the `last` one; pair j (0-based, weight 1) tested first (the ramp: below it)."""
-    if last is None or pres[j] != top[j]:
+    if last is None or pres.size != top.size or pres[j] != top[j]:  # a brake coming off first: (12,)
         return False
     return bool(np.array_equal(pres, top) and np.array_equal(pres, last))
 
@@ -55,7 +55,7 @@ def until_decided(
     max_pressure: float,
     braked: bool,
 ) -> Controller:
-    """The roll controller `gen` of a candidate (1-based `pairs`, or weights `w` (12,)) started
+    """The roll controller `gen` of a candidate (1-based `pairs`, or weights `w` (12,) or (24,)) started
     from the observation `obs`, with settings `s`, ramping to max_pressure (MPa or V), `braked`
     or not, ended as soon as its outcome is decided (module docstring). Returns its
     (RollResult, last observation)."""
@@ -63,10 +63,12 @@ def until_decided(
     weights = np.zeros(topo.N_PAIRS) if w is None else np.asarray(w, float)
     if w is None:
         weights[np.asarray(pairs, int) - 1] = 1.0
+    weights = widths(weights, obs.pressure)  # per cable if the robot commands its cables (`control`)
     top = np.where(weights > 0, np.minimum(max_pressure * weights, s.max_level), 0.0)
     support = topo.FACES[start - 1] if start is not None else None
     base = None if support is None else obs.gap[support].copy()
-    cables = topo.PAIR_CABLES[np.flatnonzero(weights > 0)].ravel()
+    on = np.flatnonzero(weights > 0)
+    cables = on if weights.size == topo.N_CABLES else topo.PAIR_CABLES[on].ravel()
     j = int(np.argmax(weights))  # a pair of weight 1: its command is the ramp's level
     calm, last = 0, None
     pres = next(gen)

@@ -49,9 +49,12 @@ def step_ahead(
 ) -> tuple[list, list, tuple[RollResult, ...]]:
     """A run's step simulated ahead from `obs` on `face` (`lookahead.choose`): the plan `pl`'s
     actions toward `target`, then the lazy ones (`lookahead.acts`: the brake kept, and the optimised
-    ones if s.optimised_actions) only where none of those is acceptable. Returns the actions,
-    the acceptable ones best first and every roll simulated (`drive` and `start.first_roll`)."""
-    world = lookahead.World(params, terrain, obs.state, workspace.max_pressure, s.optimised_actions)
+    ones if s.optimised_actions, per cable if s.cable_actions) only where none of those is
+    acceptable. Returns the actions, the acceptable ones best first and every roll simulated
+    (`drive` and `start.first_roll`)."""
+    world = lookahead.World(
+        params, terrain, obs.state, workspace.max_pressure, s.optimised_actions, cables=s.cable_actions
+    )
     args = (workspace, face, obs.nodes, pl, target, brk, world)
     acts = lookahead.acts(*args)
     expect = {c.pairs: c.pressure for c in pl.candidates}

@@ -32,7 +32,8 @@ Controller = Generator[np.ndarray, "Obs", Any]
 @dataclass(frozen=True)
 class Record:
     """Samples, one per check interval: t (T,) s, nodes (T, 12, 3) m world, pressure (T, 12)
-    MPa per pair, face (T,) contact face (0: none)."""
+    MPa per pair ((T, 24) per cable if the robot made a per-cable action), face (T,) contact
+    face (0: none)."""
 
     t: np.ndarray
     nodes: np.ndarray
@@ -75,14 +76,14 @@ def observe(
     states: bool = True,
 ) -> list[Obs]:
     """Observations of every robot of the batch (one terrain query for all of them), with the
-    pair pressures (B, 12) MPa applied over the last interval (default zero); each with its
-    robot's `state` unless `states` is False."""
+    pressures (B, 12) MPa applied over the last interval (default zero; or B rows, each (12,) per
+    pair or (24,) per cable, `own`); each with its robot's `state` unless `states` is False."""
     P = d.nodes(state.x, state.q, params.strut_length)
     B = state.batch
     gaps = ct.clearance(P, terrain, float(params.strut_radius)) if B else np.zeros((0, 12))
     faces = ct.resting_face(gaps, s.contact_tolerance).tolist()  # 0: on no face
     cog = P.mean(axis=1)  # (B, 3) m, each row equal to its Obs.cog
-    pressure = np.zeros((B, topo.N_PAIRS)) if pressure is None else pressure.copy()
+    pressure = np.zeros((B, topo.N_PAIRS)) if pressure is None else [np.array(p, float) for p in pressure]
     speed = [float("nan")] * B  # m/s, the CoG's since `before` (np.linalg.norm's numbers: vecdot)
     if before is not None and B:
         t0 = np.array([o.t for o in before])
@@ -105,18 +106,53 @@ UNWIND_TOLERANCE = 1.0  # rad: the twist left, a contraction (theta r)^2 / 2 L0 
 # that drives it is above the 1.3 V (TC/G) under which the motor does not move
 
 
+def widths(x: np.ndarray, like: np.ndarray) -> np.ndarray:
+    """Levels `x` (..., 12) per pair lifted to their cables (..., 24) where `like` is per cable (a
+    robot that has made a per-cable action commands its cables from then on), else as given."""
+    return topo.cable_levels(x) if like.shape[-1] == topo.N_CABLES and x.shape[-1] == topo.N_PAIRS else x
+
+
+def put(pres: np.ndarray, wide: list[bool], b: int, cmd: np.ndarray) -> np.ndarray:
+    """Robot b's command `cmd` (12,) or (24,) stored in the batch's commands `pres` (B, 12) or
+    (B, 24), widened to per cable (`topology.cable_levels`: the pair levels on both cables, the
+    same simulation to the bit) where needed; wide[b] records that robot b commands its cables.
+    Returns `pres` (a new array if widened)."""
+    cmd = np.asarray(cmd, float)
+    wide[b] = wide[b] or cmd.size == topo.N_CABLES
+    if cmd.size > pres.shape[1]:
+        pres = topo.cable_levels(pres)
+    pres[b] = widths(cmd, pres)
+    return pres
+
+
+def own(row: np.ndarray, wide: bool) -> np.ndarray:
+    """A robot's command as it gave it: `row` of the batch's commands, per pair (12,) unless the
+    robot commands its cables (`wide`; a pair robot's row in a per-cable batch holds each pair's
+    level on both its cables)."""
+    return row if wide or row.size == topo.N_PAIRS else row[topo.PAIR_CABLES[:, 0]]
+
+
 def applied(s: RollSettings, levels: np.ndarray, state: d.State) -> np.ndarray:
-    """The levels (B, 12) the actuators get for the commanded `levels` of the robots of `state`:
+    """The levels (B, 12) (or (B, 24) per cable) the actuators get for the commanded `levels` of the robots of `state`:
     the pressures as commanded (MPa); with `s.motors`, the voltages (V) as commanded, but a pair
     commanded 0 V whose strands are twisted by more than UNWIND_TOLERANCE (the mean of its two
     motors) is driven back, -UNWIND_GAIN theta V, at most the rated voltage: a muscle at 0 MPa
     returns to its rest length, a twisted string at 0 V would not."""
     if s.motors is None or state.motor_angle is None:
         return levels
-    twist = state.motor_angle[:, topo.PAIR_CABLES].mean(axis=2)  # (B, 12) rad
+    twist = widths(state.motor_angle[:, topo.PAIR_CABLES].mean(axis=2), levels)  # (B, 12) rad, per pair
     rated = float(np.min(s.motors.rated_voltage))
     back = -np.clip(UNWIND_GAIN * twist, -rated, rated)
     return np.where((levels == 0) & (np.abs(twist) > UNWIND_TOLERANCE), back, levels)
+
+
+def rested(s: RollSettings, obs: Obs, levels: np.ndarray) -> bool:
+    """Whether every pair commanded 0 (`levels` (12,)) is at rest: always for the muscles; for
+    the twisted strings, its strands unwound to within UNWIND_TOLERANCE (`lockstep.applied`)."""
+    if s.motors is None or obs.state is None or obs.state.motor_angle is None:
+        return True
+    twist = widths(obs.state.motor_angle[0, topo.PAIR_CABLES].mean(axis=1), levels)
+    return bool(np.all(np.abs(twist[levels == 0]) <= UNWIND_TOLERANCE))
 
 
 class _threads:
@@ -161,15 +197,18 @@ def advance(
     return batch, failed, cmd
 
 
-def first_commands(gens: list, state: d.State) -> tuple[np.ndarray, list[int], list, d.State]:
-    """Each controller's first command: pres (B, 12), the robots still live, out (B,) holding
-    (result, State) of the controllers that ended at once, and the live robots' batch."""
-    pres = np.zeros((state.batch, topo.N_PAIRS))
+def first_commands(
+    gens: list, state: d.State, wide: list[bool], width: int = topo.N_PAIRS
+) -> tuple[np.ndarray, list[int], list, d.State]:
+    """Each controller's first command: pres (B, width), widened by `put` (wide: per robot), the
+    robots still live, out (B,) holding (result, State) of the controllers that ended at once,
+    and the live robots' batch."""
+    pres = np.zeros((state.batch, width))
     out: list = [None] * state.batch
     live = []
     for b, gen in enumerate(gens):
         try:
-            pres[b] = next(gen)
+            pres = put(pres, wide, b, next(gen))
             live.append(b)
         except StopIteration as stop:
             out[b] = (stop.value, state.take([b]))
@@ -201,13 +240,16 @@ def lockstep(
     last = list(first)
     gens = [make(b, first[b]) for b in range(B)]
     recs: list[tuple[list, list, list, list]] = [([], [], [], []) for _ in range(B)]
-    pres, live, out, batch = first_commands(gens, state)
+    wide = [False] * B  # robots that command their cables (`put`)
+    pres, live, out, batch = first_commands(gens, state, wide)
     with _threads(len(live)):
         while live:
             batch, failed, cmd = advance(params, terrain, s, batch, pres[live], live, every)
             if progress is not None:
                 progress(s.interval)
-            ob = observe(params, terrain, batch, s, [last[b] for b in live], pres[live], states)
+            ob = observe(
+                params, terrain, batch, s, [last[b] for b in live], [own(pres[b], wide[b]) for b in live], states
+            )
             keep = []
             for i, b in enumerate(live):
                 try:
@@ -215,10 +257,12 @@ def lockstep(
                         gens[b].throw(failed[b])
                         raise RuntimeError("a controller ignored a SimulationError")
                     if record:
-                        for lst, v in zip(recs[b], (ob[i].t, ob[i].nodes, cmd[i].copy(), ob[i].face or 0)):
+                        for lst, v in zip(
+                            recs[b], (ob[i].t, ob[i].nodes, own(cmd[i], wide[b]).copy(), ob[i].face or 0)
+                        ):
                             lst.append(v)
                     last[b] = ob[i]
-                    pres[b] = gens[b].send(ob[i])
+                    pres = put(pres, wide, b, gens[b].send(ob[i]))
                     keep.append(i)
                 except StopIteration as stop:
                     out[b] = (stop.value, batch.take([i]))
@@ -230,10 +274,11 @@ def lockstep(
     result = []
     for b in range(B):
         t, nodes, p, f = recs[b]
+        n = topo.N_CABLES if wide[b] else topo.N_PAIRS  # a robot that commanded its cables: per cable
         rec = Record(
             np.array(t, float),
             np.array(nodes, float).reshape(-1, 12, 3),
-            np.array(p, float).reshape(-1, 12),
+            np.array([topo.cable_levels(r) if wide[b] else r for r in p], float).reshape(-1, n),
             np.array(f, np.int64),
         )
         result.append((out[b][0], out[b][1], rec))

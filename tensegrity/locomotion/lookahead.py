@@ -3,7 +3,8 @@ docs/design.md §6).
 
 One method on every ground. The candidate actions of a step come from GENERATORS (every single pair
 in the workspace's order toward the target, then every two-pair combination, then, with
-`locomotion.optimised_actions`, the optimised weight vectors of `actuation.candidates`; another
+`locomotion.optimised_actions`, the optimised weight vectors of `actuation.candidates`, and with
+`locomotion.cable_actions` those of the 24 cables one by one; another
 source of actions is one more entry), each rolled with the brake (`brake.Brake`, which acts only
 where the unbraked robot is predicted not to stand) and, where that brake acts, also without it
 and, lazily, with it kept on (`kept`). `foresee` simulates candidates from the robot's current
@@ -34,13 +35,14 @@ from ..physics.params import Params
 from ..physics.terrain import Terrain
 from ..workspace.lookup import Workspace
 from .actuation import World
+from .actuation import cables as _cables
 from .actuation import optimised as _optimised
 from .ahead import Ramp, lockstep_ahead
 from .brake import Brake, escape
 from .braked import Braked
 from .control import RollResult, action_weights, roll_controller
 from .decided import SLIDE, until_decided
-from .lockstep import Obs
+from .lockstep import Obs, widths
 from .memory import Memory
 from .plan import Candidate, Plan
 from .settings import RollSettings
@@ -63,7 +65,7 @@ __all__ = [
 ]
 
 # One candidate roll: (1-based pairs, braked), or (pairs, braked, weights) with a weight vector (12,)
-# as a tuple (largest 1; pairs: its nonzero entries; `control.action_weights`).
+# per pair or (24,) per cable as a tuple (largest 1; pairs: its nonzero entries; `control.action_weights`).
 Act = tuple
 
 
@@ -81,17 +83,23 @@ def _pairs(
 
 
 # Sources of candidate actions, tried in this order: f(workspace, face, nodes (12, 3) m, plan,
-# target, world: World | None) -> Candidates, pair tuples (1-based) or weight vectors (12,). A new
-# kind of action is one more entry. Those in LAZY are computed only when the horizon reaches them.
-GENERATORS: list[Callable] = [_singles, _pairs, _optimised]
-LAZY: set[Callable] = {_optimised}
+# target, world: World | None) -> Candidates, pair tuples (1-based) or weight vectors (12,) or (24,).
+# A new kind of action is one more entry. Those in LAZY are computed only when the horizon reaches them.
+GENERATORS: list[Callable] = [_singles, _pairs, _optimised, _cables]
+LAZY: set[Callable] = {_optimised, _cables}
 
 
 def _act(a) -> tuple:
-    """A generator's action as (pairs,) or (pairs, weights tuple): a weight vector of ones and
+    """A generator's action as (pairs,) or (pairs, weights tuple): a weight vector (24,) per cable
+    with both cables of each pair equal is the (12,) one per pair, and a weight vector of ones and
     zeros is the pairs action it equals."""
     if isinstance(a, Candidate):
         return (a.pairs,)
+    if isinstance(a, np.ndarray) and a.shape == (topo.N_CABLES,):
+        one, two = a[topo.PAIR_CABLES[:, 0]], a[topo.PAIR_CABLES[:, 1]]
+        if not np.array_equal(one, two):
+            return (action_weights(None, a)[0], tuple(float(x) for x in a))
+        a = one
     if isinstance(a, np.ndarray) and a.shape == (12,):
         pairs = tuple(int(q) + 1 for q in np.flatnonzero(a > 0))
         return (pairs,) if np.all((a == 0) | (a == 1)) else (pairs, tuple(float(x) for x in a))
@@ -142,7 +150,7 @@ def kept(pl: Plan) -> list[Act]:
 
 
 def weights_of(act: Act) -> np.ndarray | None:
-    """The weight vector (12,) of the action `act`, None for a pairs action."""
+    """The weight vector (12,) or (24,) of the action `act`, None for a pairs action."""
     return np.asarray(act[2], float) if len(act) > 2 else None
 
 
@@ -185,7 +193,7 @@ def foresee(
         ctl = roll_controller(
             params, s, ob, pairs, max_pressure, brk, planned, weights=w, foresee=True, brake_acts=(acting or [None])[0]
         )
-        aw = action_weights(pairs, w)[1]
+        aw = widths(action_weights(pairs, w)[1], ob.pressure)  # the controller's width
         if brk is None:
             ramps[b] = Ramp(aw, s, max_pressure)
         elif ob.face is not None:  # its brake: the controller's own choice, made on a copy

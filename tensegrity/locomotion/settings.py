@@ -16,7 +16,8 @@ from ..physics.twisted import MAX_VOLTAGE, TwistedString, Voltages
 
 __all__ = ["RollSettings"]
 
-_FLAGS = ("combine", "min_alignment", "brake", "escape_attempts", "lookahead", "optimised_actions")  # may be 0 or False
+_FLAGS = ("combine", "min_alignment", "brake", "escape_attempts", "lookahead", "optimised_actions", "cable_actions")
+# (those may be 0 or False)
 _COUNTS = ("max_attempts", "max_rolls", "escape_attempts", "lookahead")
 
 
@@ -26,7 +27,7 @@ class RollSettings:
     hold_time s; release_margin m; release_time s; catch_time s; settle_speed m/s; settle_time s;
     contact_tolerance m; combine; min_alignment; max_attempts; max_rolls; arrive_tolerance m;
     brake; brake_margin m; brake_rate MPa/s; brake_release_time s;
-    escape_attempts; lookahead; optimised_actions; strut_damping 1/s; dt s (the simulator's
+    escape_attempts; lookahead; optimised_actions; cable_actions; strut_damping 1/s; dt s (the simulator's
     time step, config sim.dt); motors: the twisted-string actuators the rolls drive (config
     actuator.twisted_string under actuator.kind twisted_string; None: the pneumatic muscles).
 
@@ -49,7 +50,8 @@ class RollSettings:
     simulates candidate rolls from the robot's state, the first, then 2, 4, ... up to lookahead, then all
     while none is acceptable, and makes the max_attempts best (`lookahead.choose`). With
     optimised_actions, the optimised actions of any set of pairs (`actuation.candidates`)
-    come last, computed only when the horizon reaches them. With lookahead 0 the plan's
+    come last, computed only when the horizon reaches them; with cable_actions, after them,
+    those of the 24 cables one by one (weights (24,)). With lookahead 0 the plan's
     max_attempts candidates are tried in the world, then escape_attempts
     more actions in the order of `brake.escape`, before the run ends "stuck".
     Every rolling simulation damps the struts by strut_damping (`rolling`), whatever the
@@ -77,6 +79,7 @@ class RollSettings:
     brake_release_time: float = 1.5
     escape_attempts: int = 8
     optimised_actions: bool = False
+    cable_actions: bool = False
     strut_damping: float = 1.0
     dt: float = 1e-4
     motors: TwistedString | None = None

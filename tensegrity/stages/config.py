@@ -45,6 +45,7 @@ ROLL_KEYS = _RAMP + tuple(
         "escape_attempts",
         "lookahead",
         "optimised_actions",
+        "cable_actions",
         "brake",
         "brake_margin",
         "brake_rate",

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import xarray as xr
 
+from ...physics import topology as topo
 from ...physics.terrain import Terrain
 from ...validation.runs import RunSummary
 from .. import datasets
@@ -45,7 +46,8 @@ def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "", unit
     terrain and the robot's strut length and radius (of `params`), with units and long names.
     Nothing time-dependent (no wall time) is stored. A run of the twisted strings (`unit` V,
     `RollSettings.unit`) records the motor voltages applied as `voltage_cmd(time, pair)` V
-    instead of `pressure`, and says V in the step's levels (`actuation.relabel`).
+    instead of `pressure`, and says V in the step's levels (`actuation.relabel`). A run that made a
+    per-cable action (`locomotion.cable_actions`) has its levels and weights per cable (dim `cable`).
     Write it with `datasets.write(..., allow_nan=RUN_ALLOW_NAN)`."""
     var = datasets.var
     rec, steps = run.record, run.steps
@@ -56,25 +58,26 @@ def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "", unit
     for i, r in enumerate(used):
         pairs[i, : len(r.pairs)] = r.pairs
     weighted = {}  # only if a step rolled with a weight vector: pairs-only runs stay as they were
+    per = "cable" if rec.pressure.shape[1] == topo.N_CABLES else "pair"  # a per-cable action made: per cable
     if any(r.weights is not None for r in used):
-        w = np.array([np.zeros(12) if r.weights is None else r.weights for r in used]).reshape(n, 12)
-        for i, r in enumerate(used):
-            if r.weights is None:
-                w[i, np.asarray(r.pairs, int) - 1] = 1.0
+        w = np.array(
+            [np.eye(12)[np.asarray(r.pairs, int) - 1].sum(0) if r.weights is None else r.weights for r in used]
+        )
+        w = np.array([topo.cable_levels(x) if per == "cable" else x for x in w]).reshape(n, -1)
         weighted["step_weight"] = var(
-            ("step", "pair"), w, "1", "weights of the step's action: pair pressures level x weight (largest 1)"
+            ("step", per), w, "1", f"weights of the step's action: {per} pressures level x weight (largest 1)"
         )
     edge = np.array([st.plan.edge for st in steps], np.int64).reshape(n, 2)
     kind = {actuation.units(k): k for k in actuation.UNITS}[unit]
     if kind == actuation.PNEUMATIC:
-        command = {"pressure": var(("time", "pair"), rec.pressure, "MPa", "pressure applied to each actuator pair")}
+        command = {"pressure": var(("time", per), rec.pressure, "MPa", f"pressure applied to each actuator {per}")}
     else:
         command = {
             "voltage_cmd": var(
-                ("time", "pair"),
+                ("time", per),
                 rec.pressure,
                 "V",
-                "motor voltage applied to each actuator pair (negative: unwinding the strands)",
+                f"motor voltage applied to each actuator {per} (negative: unwinding the strands)",
             )
         }
     ds = xr.Dataset(
@@ -153,7 +156,7 @@ def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "", unit
         coords={
             "time": ("time", rec.t, {"units": "s", "long_name": "time"}),
             "node": ("node", np.arange(1, 13), {"units": "1", "long_name": "node number"}),
-            "pair": ("pair", np.arange(1, 13), {"units": "1", "long_name": "actuator pair number"}),
+            per: (per, np.arange(1, rec.pressure.shape[1] + 1), {"units": "1", "long_name": f"actuator {per} number"}),
             "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "world axis"}),
             "step": ("step", np.arange(1, n + 1), {"units": "1", "long_name": "step number"}),
             "slot": (
