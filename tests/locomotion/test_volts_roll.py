@@ -111,13 +111,17 @@ def test_a_file_of_the_other_actuator_or_a_short_hold_is_refused_naming_it_and_t
 
 
 # sha256 of the content of the tiny pneumatic run below, made with the code before locomotion in
-# volts (main at aa57d3f) and after: the same bits (x86-64, the numba of environment.txt)
-PNEUMATIC_RUN = "1f9e535de0d67ff6bf13d7bac65417f8a638525f914b29c1c39f3ba065ff541c"
+# volts (main at aa57d3f) and after: the same bits (x86-64, the numba of environment.txt). The
+# workspace is `ws` rounded to 1e-12 m (signed zeros folded): the static solve's last bits differ
+# between OpenBLAS's kernels (OPENBLAS_CORETYPE Haswell, Sandybridge, Prescott: three hashes of the
+# raw run, one of this; the hash pinned before stop 46 was the raw run's on another CPU's kernel)
+PNEUMATIC_RUN = "3ec5f3e5f8eef46c5460421630cd24df8b04f0050e322d3642e2655732bc4027"
 
 
 def test_a_pneumatic_run_is_the_bits_it_was(ws):
     s = RollSettings()
-    run = runs.roll_over(ws, [(10, 12)], Params(), Terrain.flat(), settings=s)
+    exact = {k: np.round(getattr(ws, k), 12) + 0.0 for k in ("cog", "support", "rest_cog", "rest_support")}
+    run = runs.roll_over(replace(ws, **exact), [(10, 12)], Params(), Terrain.flat(), settings=s)
     ds = run_dataset(run, Terrain.flat(), s.rolling(Params()), "tiny")
     assert "actuator" not in ds.attrs and ds["pressure"].attrs["units"] == "MPa" and "voltage_cmd" not in ds
     h = hashlib.sha256()
