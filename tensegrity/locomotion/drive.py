@@ -49,11 +49,12 @@ def step_ahead(
 ) -> tuple[list, list, tuple[RollResult, ...]]:
     """A run's step simulated ahead from `obs` on `face` (`lookahead.choose`): the plan `pl`'s
     actions toward `target`, then the lazy ones (`lookahead.acts`: the brake kept, and the optimised
-    ones if s.optimised_actions, per cable if s.cable_actions) only where none of those is
+    ones if s.optimised_actions, per cable if s.cable_actions; neither in volts) only where none of those is
     acceptable. Returns the actions, the acceptable ones best first and every roll simulated
     (`drive` and `start.first_roll`)."""
+    muscles = s.motors is None  # the optimised actions are solved on the muscles' statics (eq. 1-2)
     world = lookahead.World(
-        params, terrain, obs.state, workspace.max_pressure, s.optimised_actions, cables=s.cable_actions
+        params, terrain, obs.state, workspace.max_pressure, s.optimised_actions and muscles, s.cable_actions and muscles
     )
     args = (workspace, face, obs.nodes, pl, target, brk, world)
     acts = lookahead.acts(*args)

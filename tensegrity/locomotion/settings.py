@@ -78,7 +78,7 @@ class RollSettings:
     brake_rate: float = 6.0
     brake_release_time: float = 1.5
     escape_attempts: int = 8
-    optimised_actions: bool = False
+    optimised_actions: bool = True
     cable_actions: bool = False
     strut_damping: float = 1.0
     dt: float = 1e-4
