@@ -54,7 +54,12 @@ def step_ahead(
     (`drive` and `start.first_roll`)."""
     muscles = s.motors is None  # the optimised actions are solved on the muscles' statics (eq. 1-2)
     world = lookahead.World(
-        params, terrain, obs.state, workspace.max_pressure, s.optimised_actions and muscles, s.cable_actions and muscles
+        params,
+        terrain,
+        obs.state,
+        workspace.max_pressure,
+        s.optimised_actions and muscles,
+        cables=s.cable_actions and muscles,
     )
     args = (workspace, face, obs.nodes, pl, target, brk, world)
     acts = lookahead.acts(*args)
