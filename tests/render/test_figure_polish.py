@@ -47,18 +47,9 @@ def test_slope_limit_draws_the_multi_actuator_limits_and_their_legend_clears_the
     multi = lim + 3.0
     cables = np.full((2, 8), np.nan)
     cables[1] = 25.0
-    fig = gravity.slope_limit_axes(
-        ["stand", "uphill", "downhill"],
-        ["equilateral", "isosceles"],
-        headings,
-        lim,
-        lim,
-        lim,
-        38.7,
-        5.0,
-        multi=multi,
-        cables=cables,
-    )
+    kinds, contacts = ["stand", "uphill", "downhill"], ["equilateral", "isosceles"]
+    draw = lambda m, c: gravity.slope_limit_axes(kinds, contacts, headings, lim, lim, lim, 38.7, 5.0, multi=m, cables=c)  # noqa: E731
+    fig = draw(multi, cables)
     FigureCanvasAgg(fig).draw()
     labels = [t.get_text() for t in fig.legends[0].get_texts()]
     assert "uphill: 24 cables one by one" in labels and "uphill: any set of pairs" in labels
@@ -69,18 +60,7 @@ def test_slope_limit_draws_the_multi_actuator_limits_and_their_legend_clears_the
     for ax in fig.axes:
         for text in [ax.xaxis.label, *ax.get_xticklabels()]:
             assert not legend.overlaps(text.get_window_extent()), f"the legend covers {text.get_text()!r}"
-    bare = gravity.slope_limit_axes(
-        ["stand", "uphill", "downhill"],
-        ["equilateral", "isosceles"],
-        headings,
-        lim,
-        lim,
-        lim,
-        38.7,
-        5.0,
-        multi=np.full_like(lim, np.nan),
-        cables=np.full((2, 8), np.nan),
-    )
+    bare = draw(np.full_like(lim, np.nan), np.full((2, 8), np.nan))
     assert len(bare.legends[0].get_texts()) == 9  # volts: the nine lines of before
 
 
