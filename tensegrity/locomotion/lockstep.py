@@ -132,6 +132,12 @@ def own(row: np.ndarray, wide: bool) -> np.ndarray:
     return row if wide or row.size == topo.N_PAIRS else row[topo.PAIR_CABLES[:, 0]]
 
 
+def _twist(angle: np.ndarray, like: np.ndarray) -> np.ndarray:
+    """The twist (..., 12) rad of each pair, the mean of its two motors' angles (..., 24), lifted
+    to its cables (`widths`) where `like` is per cable."""
+    return widths(angle[..., topo.PAIR_CABLES].mean(axis=-1), like)
+
+
 def applied(s: RollSettings, levels: np.ndarray, state: d.State) -> np.ndarray:
     """The levels (B, 12) (or (B, 24) per cable) the actuators get for the commanded `levels` of the robots of `state`:
     the pressures as commanded (MPa); with `s.motors`, the voltages (V) as commanded, but a pair
@@ -140,7 +146,7 @@ def applied(s: RollSettings, levels: np.ndarray, state: d.State) -> np.ndarray:
     returns to its rest length, a twisted string at 0 V would not."""
     if s.motors is None or state.motor_angle is None:
         return levels
-    twist = widths(state.motor_angle[:, topo.PAIR_CABLES].mean(axis=2), levels)  # (B, 12) rad, per pair
+    twist = _twist(state.motor_angle, levels)
     rated = float(np.min(s.motors.rated_voltage))
     back = -np.clip(UNWIND_GAIN * twist, -rated, rated)
     return np.where((levels == 0) & (np.abs(twist) > UNWIND_TOLERANCE), back, levels)
@@ -151,7 +157,7 @@ def rested(s: RollSettings, obs: Obs, levels: np.ndarray) -> bool:
     the twisted strings, its strands unwound to within UNWIND_TOLERANCE (`lockstep.applied`)."""
     if s.motors is None or obs.state is None or obs.state.motor_angle is None:
         return True
-    twist = widths(obs.state.motor_angle[0, topo.PAIR_CABLES].mean(axis=1), levels)
+    twist = _twist(obs.state.motor_angle[0], levels)
     return bool(np.all(np.abs(twist[levels == 0]) <= UNWIND_TOLERANCE))
 
 
