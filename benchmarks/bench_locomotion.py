@@ -58,7 +58,7 @@ from tensegrity import locomotion as lo
 from tensegrity.cli import progress
 from tensegrity.io import config, formats
 from tensegrity.io import settings as io_settings
-from tensegrity.locomotion import lookahead, start
+from tensegrity.locomotion import lookahead, outcome, start
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
@@ -214,7 +214,7 @@ def steps(res: list[tuple[dict, lo.Run]], unit: str) -> None:
             print(
                 f"    {topo.face_label(st.face)} -> "
                 f"{topo.face_label(st.face_after) if st.face_after else 'no face'} by "
-                f"{'+'.join(f'#{p}' for p in u.pairs)}, tip {u.tip_pressure:.2f} {unit}, "
+                f"{'+'.join(f'#{p}' for p in u.pairs)}{outcome.action_kind(u)}, tip {u.tip_pressure:.2f} {unit}, "
                 f"CoG {dz:+.0f} mm up, planning {st.plan_cpu:.2f} s CPU"
             )
         if r.stuck_cpu:  # the last plan made no roll (none of its simulated rolls acceptable)

@@ -19,7 +19,7 @@ from .plan import Plan
 if TYPE_CHECKING:
     from ..physics.terrain import Terrain
 
-__all__ = ["OUTCOMES", "Step", "Run", "describe", "sample"]
+__all__ = ["OUTCOMES", "Step", "Run", "action_kind", "describe", "sample"]
 
 OUTCOMES = ("arrived", "step_limit", "stuck", "no_contact", "off_terrain", "sim_error")
 
@@ -98,6 +98,18 @@ class Run:
         return first + [st.face_after for st in self.steps if st.rolled]
 
 
+def action_kind(r: RollResult) -> str:
+    """What the action of `r` was beyond its pairs, for the step lines: "" for pairs driven
+    together (no weights), " (per cable: k of 24 cables)" for a per-cable weight vector (24,),
+    " (weighted: #3 0.62, #7 1.00)" for a weighted pair vector (12,) (an optimised action)."""
+    if r.weights is None:
+        return ""
+    w = np.asarray(r.weights, float)
+    if w.size == topo.N_CABLES:
+        return f" (per cable: {int(np.count_nonzero(w > 0))} of {topo.N_CABLES} cables)"
+    return " (weighted: " + ", ".join(f"#{q + 1} {w[q]:.2f}" for q in np.flatnonzero(w > 0)) + ")"
+
+
 def describe(run: Run, name: str = "", unit: str = "MPa") -> str:
     """A few lines a person can read: the outcome and every step, levels in `unit` (MPa, or V
     for the twisted strings: `RollSettings.unit`)."""
@@ -112,7 +124,7 @@ def describe(run: Run, name: str = "", unit: str = "MPa") -> str:
             f"  step {k}: {topo.face_label(st.face)} -> "
             f"{topo.face_label(st.face_after) if st.face_after else 'no face'}: planned "
             f"{st.plan.pairs} at {st.plan.pressure:.2f} {unit} over {st.plan.edge}; rolled by "
-            f"{r.pairs} at {r.tip_pressure:.2f} {unit} (peak {r.peak_pressure:.2f}), "
+            f"{r.pairs}{action_kind(r)} at {r.tip_pressure:.2f} {unit} (peak {r.peak_pressure:.2f}), "
             f"{len(st.attempts)} attempt(s)"
         )
     if not run.steps:

@@ -1,16 +1,22 @@
 """A run that ends stuck without any roll (stop 47: `drive` makes no roll where none simulated
 ahead is acceptable, where it used to make the first foreseen to stay on its face), and every
 consumer of such a run: its words (`describe`), its file (`run_dataset` and the readers), its
-figures (`stages.locomotion`), check 6 and the benchmark's lines."""
+figures (`stages.locomotion`), check 6 and the benchmark's lines; and the step lines that say
+whether an action was weighted or per cable."""
 
+import dataclasses
 import importlib.util
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from tensegrity import locomotion as lo
 from tensegrity.io import datasets
 from tensegrity.io.formats import run as run_formats
+from tensegrity.locomotion.control import RollResult
+from tensegrity.locomotion.outcome import action_kind
+from tensegrity.locomotion.plan import plan
 from tensegrity.locomotion.settings import RollSettings
 from tensegrity.physics import topology as topo
 from tensegrity.physics.params import Params
@@ -102,6 +108,34 @@ def _bench():
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
+
+
+def _weighted(low, ws, weights, pairs):
+    """`low` given one step that rolled by an action of `weights` (None: `pairs` together)."""
+    pl = plan(ws, EQUI, low.record.nodes[-1], direction=np.array([1.0, 0.0, 0.0]))
+    c = low.record.cog[-1]
+    r = RollResult(pairs, True, EQUI, topo.face_number((10, 11, 12)), 2.5, 3.0, 1.0, 2.0, c, c, weights=weights)
+    return dataclasses.replace(low, steps=(lo.Step(EQUI, pl, (r,), r.face_after, (), 0.1),), stuck_cpu=0.0), r
+
+
+def test_the_step_lines_say_whether_an_action_was_weighted_or_per_cable(low, ws, capsys):
+    w12 = np.zeros(12)
+    w12[[2, 6]] = (0.62, 1.0)
+    w24 = np.zeros(24)
+    w24[[4, 5, 12, 20]] = (1.0, 0.5, 0.25, 0.75)
+    kinds = {None: "", "w12": " (weighted: #3 0.62, #7 1.00)", "w24": " (per cable: 4 of 24 cables)"}
+    bench = _bench()
+    for key, w in ((None, None), ("w12", w12), ("w24", w24)):
+        pairs = (3, 7) if w is not None else (10,)
+        run, r = _weighted(low, ws, w, pairs)
+        assert action_kind(r) == kinds[key]
+        step = lo.describe(run, "w").splitlines()[1]
+        assert f"rolled by {pairs}{kinds[key]} at 2.50 MPa (peak 3.00), 1 attempt(s)" in step
+        bench.steps([({"goal": 0.0}, run)], "MPa")
+        lines = capsys.readouterr().out.splitlines()
+        plus = "+".join(f"#{q}" for q in pairs)
+        assert lines[1].startswith(f"    (9,10,12) -> (10,11,12) by {plus}{kinds[key]}, tip 2.50 MPa"), lines
+    assert "(weighted" not in lo.describe(low, "low")
 
 
 def test_the_benchmark_reports_a_run_without_a_roll(low, capsys):
