@@ -91,8 +91,8 @@ def _path_figure(ds, out: str | os.PathLike, view: str) -> dict:
 
 def _no_roll(ds: xr.Dataset, path: str | os.PathLike, figures: str) -> tuple[int, str]:
     """The face a run that recorded no step rests on (its start face) and why it made no roll
-    (its outcome, then its message shortened on a second line of a title); ValueError naming the run file if it rests
-    on no face (nothing to draw the figures on)."""
+    (its outcome, then on a second line of a title its message, its start and end if long);
+    ValueError naming the run file if it rests on no face (nothing to draw the figures on)."""
     faces = ds["faces"].values if "faces" in ds else np.zeros(0, np.int64)
     if not len(faces):
         raise ValueError(
@@ -100,7 +100,8 @@ def _no_roll(ds: xr.Dataset, path: str | os.PathLike, figures: str) -> tuple[int
             f"on no face (outcome {ds.attrs.get('outcome', '?')!r}: {ds.attrs.get('message', '')})"
         )
     msg = str(ds.attrs.get("message", ""))
-    msg = msg if len(msg) <= 100 else msg[:97].rstrip() + "..."
+    if len(msg) > 120:  # its start and its end (the counts of the verdicts), whole words
+        msg = msg[:50].rsplit(" ", 1)[0] + " ... " + msg[-65:].split(" ", 1)[-1]
     return int(faces[0]), f"run '{ds.attrs.get('run', '')}' made no roll: {ds.attrs.get('outcome', '?')}\n({msg})"
 
 

@@ -81,8 +81,9 @@ def test_a_run_without_a_roll_gets_its_figures(low, tmp_path):
         "Fig. 8  Not rolled: at rest on (9,10,12), run 'paper' made no roll: stuck\n(every one of the 78"
     )
     assert out[1]["title"].startswith("Fig. 9  Not rolled: at rest on (9,10,12)")
-    assert all(len(line) <= 110 for o in out for line in o["title"].splitlines())  # no line leaves the figure
+    assert all(len(line) <= 125 for o in out for line in o["title"].splitlines())  # no line leaves the figure
     assert "; run 'paper' made no roll: stuck\n(every" in out[2]["title"]
+    assert out[0]["title"].endswith(" ... (0 tumble or slide, 78 do not roll, 0 return, 0 land elsewhere))")
     top, three_d = tmp_path / "top.png", tmp_path / "3d.png"
     paths = stage.path_figures({}, path, top, three_d)
     assert "stuck, 0 rolls" in paths[0]["title"] and top.stat().st_size > 10_000 and three_d.is_file()
