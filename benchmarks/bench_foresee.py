@@ -103,7 +103,7 @@ def runs(grounds, cases, ws, params, s, show_steps=False) -> None:
         res = bench_locomotion.run_ground(g, bench_locomotion.EVALUATION_SEEDS[:cases], a, ws, params, s, None)
         row = bench_locomotion.report(g, res, time.perf_counter() - t0, s.arrive_tolerance)
         if show_steps:
-            bench_locomotion.steps(res)
+            bench_locomotion.steps(res, s.unit)
         h, m = hashlib.sha256(), hashlib.sha256()  # every roll; the rolls made alone
         for _, r in res:
             for x in (h, m):

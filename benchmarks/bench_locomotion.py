@@ -29,8 +29,8 @@ Per ground: arrival rate with its 95 % Wilson score interval (E. B. Wilson, J. A
 in which a roll left the robot on no face, ended on no face or slid its CoG more than
 lookahead.SLIDE = 0.5 m), rolls per metre
 of the arrived runs, planning CPU seconds per roll (`Step.plan_cpu`: the plan and the rolls
-simulated ahead, process time of all threads) and wall time (inflated on a busy machine). A
-markdown table closes the output.
+simulated ahead, process time of all threads; with `Run.stuck_cpu`, a last plan that made no
+roll) and wall time (inflated on a busy machine). A markdown table closes the output.
 
 Usage: python benchmarks/bench_locomotion.py [--workspace results/workspace.nc]
        [--two-pair results/workspace_two_pair.nc | none] [--cases 8] [--seeds evaluation|tuning]
@@ -58,7 +58,7 @@ from tensegrity import locomotion as lo
 from tensegrity.cli import progress
 from tensegrity.io import config, formats
 from tensegrity.io import settings as io_settings
-from tensegrity.locomotion import lookahead, start
+from tensegrity.locomotion import lookahead, outcome, start
 from tensegrity.physics import dynamics as d
 from tensegrity.physics import topology as topo
 from tensegrity.physics.terrain import Terrain
@@ -112,6 +112,7 @@ class NoStart:
     """A case in which no start pose stands (`start.choose` refused it): not arrived."""
 
     outcome, rolls, steps, travelled, distance_to_goal = "no_start", 0, (), 0.0, float("nan")
+    faces, start_face, stuck_cpu = [], None, 0.0
 
     def __init__(self, message: str):
         self.message = message
@@ -168,10 +169,10 @@ def report(ground: str, res: list[tuple[dict, lo.Run]], wall: float, tol: float)
     n, k = len(runs), sum(r.outcome == "arrived" for r in runs)
     lo_, hi = wilson(k, n)
     done = [r for r in runs if r.outcome == "arrived"]
-    starts = collections.Counter(topo.face_label(r.steps[0].face) for r in runs if r.steps)
+    starts = collections.Counter(topo.face_label(r.faces[0]) for r in runs if r.faces)
     rpm = sum(r.rolls for r in done) / sum(r.travelled for r in done) if done else float("nan")
     rolls = sum(r.rolls for r in runs)
-    cpu = sum(st.plan_cpu for r in runs for st in r.steps) / max(rolls, 1)
+    cpu = sum(sum(st.plan_cpu for st in r.steps) + r.stuck_cpu for r in runs) / max(rolls, 1)
     outcomes = ", ".join(f"{o} {v}" for o, v in collections.Counter(r.outcome for r in runs).most_common())
     tum = sum(tumbled(r) for r in runs)
     start_cpu = [c.get("start_cpu", 0.0) for c, _ in res]
@@ -213,9 +214,11 @@ def steps(res: list[tuple[dict, lo.Run]], unit: str) -> None:
             print(
                 f"    {topo.face_label(st.face)} -> "
                 f"{topo.face_label(st.face_after) if st.face_after else 'no face'} by "
-                f"{'+'.join(f'#{p}' for p in u.pairs)}, tip {u.tip_pressure:.2f} {unit}, CoG {dz:+.0f} mm up, "
-                f"planning {st.plan_cpu:.2f} s CPU"
+                f"{'+'.join(f'#{p}' for p in u.pairs)}{outcome.action_kind(u)}, tip {u.tip_pressure:.2f} {unit}, "
+                f"CoG {dz:+.0f} mm up, planning {st.plan_cpu:.2f} s CPU"
             )
+        if r.stuck_cpu:  # the last plan made no roll (none of its simulated rolls acceptable)
+            print(f"    no roll from {topo.face_label(r.faces[-1])}: planning {r.stuck_cpu:.2f} s CPU")
 
 
 def workspace(path: str, two_pair: str | None) -> lo.Workspace:

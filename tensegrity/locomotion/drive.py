@@ -5,7 +5,7 @@ simulates candidate rolls from the robot's state and picks the one with the best
 repeats, toward a goal or over given edges, until the run ends with one of `outcome.OUTCOMES`; it
 returns the outcome, its message and the `Step`s. With lookahead 0 the plan's candidates are tried
 in the world instead, then the escape actions (`brake.escape`). `runs` checks the arguments and
-runs it.
+runs it. Where no roll simulated ahead is acceptable the run makes none and ends `stuck`.
 """
 
 from __future__ import annotations
@@ -82,14 +82,18 @@ def drive(
     direction: ArrayLike | None = None,
 ) -> Controller:
     """The run controller (paper III.C, repeated) on `terrain`: toward `goal` (3,) m, or over
-    each edge of `edges` in turn. Returns (outcome, message, steps)."""
+    each edge of `edges` in turn. Returns (outcome, message, steps, start_face, stuck_cpu): the
+    face the robot settled on first (None: none) and the planning CPU s of a last step that made
+    no roll, none of its simulated rolls acceptable (recorded as no `Step`; else 0)."""
     steps: list[Step] = []
     visited: list[int] = []
     outcome, message = "step_limit", f"step limit of {s.max_rolls} rolls reached"
     brk = Brake(workspace, s.brake_margin) if s.brake else None
     memory: lookahead.Memory | None = None
+    start_face, stuck_cpu = None, 0.0
     try:
         face, obs = yield from settle_controller(s, obs, brk)
+        start_face = face
         for k in range(s.max_rolls + 1):
             if face is None:
                 outcome, message = (
@@ -144,12 +148,11 @@ def drive(
             simulated: tuple[RollResult, ...] = ()
             braked = brk is not None
             if s.lookahead:
-                acts, todo, simulated = step_ahead(
+                # none acceptable: no roll (a roll the planner judged unacceptable was foreseen only
+                # until its ramp gave up, and can tumble the robot); the run ends stuck below
+                _, todo, simulated = step_ahead(
                     workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now
                 )
-                if not todo:  # none acceptable: make the first foreseen roll that keeps the robot on its
-                    # face (no tumble: the run records what it tried, and ends stuck below)
-                    todo = [acts[i] for i, r in enumerate(simulated[: len(acts)]) if r.face_after == face][:1]
             else:  # the workspace's order, tried in the world
                 todo = [(c.pairs, braked) for c in pl.candidates[: s.max_attempts]]
             cpu = time.process_time() - cpu
@@ -183,7 +186,8 @@ def drive(
                             : s.escape_attempts
                         ]
                     ]
-            if not tries:  # nothing tried: no step
+            if not tries:  # nothing tried: no step (its planning CPU kept as the run's stuck_cpu)
+                stuck_cpu = cpu
                 outcome, message = (
                     "stuck",
                     (
@@ -216,4 +220,4 @@ def drive(
     except d.SimulationError as e:
         outcome = "off_terrain" if "no terrain" in str(e) else "sim_error"
         message = str(e)
-    return outcome, message, steps
+    return outcome, message, steps, start_face, stuck_cpu

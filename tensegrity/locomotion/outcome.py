@@ -19,7 +19,7 @@ from .plan import Plan
 if TYPE_CHECKING:
     from ..physics.terrain import Terrain
 
-__all__ = ["OUTCOMES", "Step", "Run", "describe", "sample"]
+__all__ = ["OUTCOMES", "Step", "Run", "action_kind", "describe", "sample"]
 
 OUTCOMES = ("arrived", "step_limit", "stuck", "no_contact", "off_terrain", "sim_error")
 
@@ -54,7 +54,10 @@ class Step:
 class Run:
     """A run. outcome: one of OUTCOMES; message: why it ended; goal (3,) m (NaN for a run over
     a list of edges); start (3,) m: the CoG at the start; steps; record: the samples; wall:
-    wall-clock time, s (shared by the runs of a batch); state: the final state."""
+    wall-clock time, s (shared by the runs of a batch); state: the final state; start_face: the
+    face the robot first settled on (None: on none, or not known); stuck_cpu: the planning CPU s of
+    a last plan that made no roll (none of its simulated rolls acceptable: the run ended stuck
+    there without a `Step`; else 0)."""
 
     outcome: str
     message: str
@@ -64,6 +67,8 @@ class Run:
     record: Record
     wall: float
     state: d.State = field(repr=False)
+    start_face: int | None = None
+    stuck_cpu: float = 0.0
 
     @property
     def final(self) -> np.ndarray:
@@ -87,8 +92,22 @@ class Run:
 
     @property
     def faces(self) -> list[int]:
-        """The contact faces visited, in order (start, then after each roll)."""
-        return [st.face for st in self.steps[:1]] + [st.face_after for st in self.steps if st.rolled]
+        """The contact faces visited, in order (start, then after each roll); a run that made no
+        roll: its start face alone (none if it came to rest on no face)."""
+        first = [self.start_face] if self.start_face is not None else [st.face for st in self.steps[:1]]
+        return first + [st.face_after for st in self.steps if st.rolled]
+
+
+def action_kind(r: RollResult) -> str:
+    """What the action of `r` was beyond its pairs, for the step lines: "" for pairs driven
+    together (no weights), " (per cable: k of 24 cables)" for a per-cable weight vector (24,),
+    " (weighted: #3 0.62, #7 1.00)" for a weighted pair vector (12,) (an optimised action)."""
+    if r.weights is None:
+        return ""
+    w = np.asarray(r.weights, float)
+    if w.size == topo.N_CABLES:
+        return f" (per cable: {int(np.count_nonzero(w > 0))} of {topo.N_CABLES} cables)"
+    return " (weighted: " + ", ".join(f"#{q + 1} {w[q]:.2f}" for q in np.flatnonzero(w > 0)) + ")"
 
 
 def describe(run: Run, name: str = "", unit: str = "MPa") -> str:
@@ -105,9 +124,12 @@ def describe(run: Run, name: str = "", unit: str = "MPa") -> str:
             f"  step {k}: {topo.face_label(st.face)} -> "
             f"{topo.face_label(st.face_after) if st.face_after else 'no face'}: planned "
             f"{st.plan.pairs} at {st.plan.pressure:.2f} {unit} over {st.plan.edge}; rolled by "
-            f"{r.pairs} at {r.tip_pressure:.2f} {unit} (peak {r.peak_pressure:.2f}), "
+            f"{r.pairs}{action_kind(r)} at {r.tip_pressure:.2f} {unit} (peak {r.peak_pressure:.2f}), "
             f"{len(st.attempts)} attempt(s)"
         )
+    if not run.steps:
+        where = "settled on no face" if run.start_face is None else f"rests on {topo.face_label(run.start_face)}"
+        lines.append(f"  no step: the robot made no roll (it {where})")
     return "\n".join(lines)
 
 

@@ -5,7 +5,8 @@ section 6).
 contact face, plan from the workspace (`plan`), roll in the dynamic simulator (`control`). A
 plan the simulation does not follow is escalated along the ramp to the workspace's highest
 level, then the next candidate is tried, then (escape_attempts) the actions `brake.escape`
-orders, then the run ends "stuck"; a step limit bounds every
+orders, then the run ends "stuck" (with `lookahead`, where no roll simulated ahead is acceptable the
+run makes none and ends "stuck": a run may so end with no step); a step limit bounds every
 run, and every run ends with one of `outcome.OUTCOMES` and a message (`outcome.Run`). Runs of
 a batch are simulated together (`lockstep`), each with its controller (`drive`); each equals
 its single run.
@@ -108,7 +109,8 @@ def roll_many(
     )
     wall = _time.perf_counter() - t0
     return [
-        Run(res[0], res[1], checked[b], start[b], tuple(res[2]), rec, wall, st) for b, (res, st, rec) in enumerate(out)
+        Run(res[0], res[1], checked[b], start[b], tuple(res[2]), rec, wall, st, *res[3:])
+        for b, (res, st, rec) in enumerate(out)
     ]
 
 
@@ -172,4 +174,5 @@ def roll_over(
     ((res, st, rec),) = lockstep(
         params, terrain, state, lambda b, o: drive(workspace, params, terrain, s, o, edges=edges), s
     )
-    return Run(res[0], res[1], np.full(3, np.nan), start[0], tuple(res[2]), rec, _time.perf_counter() - t0, st)
+    wall = _time.perf_counter() - t0
+    return Run(res[0], res[1], np.full(3, np.nan), start[0], tuple(res[2]), rec, wall, st, *res[3:])

@@ -16,6 +16,7 @@ from ..io.formats import run as run_formats
 from ..locomotion.demos import Scenarios
 from ..locomotion.settings import RollSettings
 from ..physics import topology as topo
+from ..physics.terrain import Terrain
 from . import provenance
 
 
@@ -88,14 +89,20 @@ def _path_figure(ds, out: str | os.PathLike, view: str) -> dict:
     )
 
 
-def _first_step(ds: xr.Dataset, path: str | os.PathLike, figures: str) -> None:
-    """Raise a ValueError naming the run file when its run recorded no step (the figures draw
-    its first roll)."""
-    if ds.sizes.get("step", 0) == 0:
+def _no_roll(ds: xr.Dataset, path: str | os.PathLike, figures: str) -> tuple[int, str]:
+    """The face a run that recorded no step rests on (its start face) and why it made no roll
+    (its outcome, then on a second line of a title its message, its start and end if long);
+    ValueError naming the run file if it rests on no face (nothing to draw the figures on)."""
+    faces = ds["faces"].values if "faces" in ds else np.zeros(0, np.int64)
+    if not len(faces):
         raise ValueError(
-            f"{figures} draw the first roll of the run {os.fspath(path)!r}, which recorded no step "
-            f"(outcome {ds.attrs.get('outcome', '?')!r}): choose a run that rolls (locomotion.demos)"
+            f"{figures} draw the robot on a face, but the run {os.fspath(path)!r} made no roll and rests "
+            f"on no face (outcome {ds.attrs.get('outcome', '?')!r}: {ds.attrs.get('message', '')})"
         )
+    msg = str(ds.attrs.get("message", ""))
+    if len(msg) > 120:  # its start and its end (the counts of the verdicts), whole words
+        msg = msg[:50].rsplit(" ", 1)[0] + " ... " + msg[-65:].split(" ", 1)[-1]
+    return int(faces[0]), f"run '{ds.attrs.get('run', '')}' made no roll: {ds.attrs.get('outcome', '?')}\n({msg})"
 
 
 def state_figures(
@@ -107,14 +114,45 @@ def state_figures(
     fig10: str | os.PathLike,
 ) -> list[dict]:
     """Stage `state_figures`: Fig. 8 and 9 from the paper run (its first roll: #10 on (9,10,12))
-    and Fig. 10 from a slope run (the robot at rest on the slope before its first roll).
+    and Fig. 10 from a slope run (the robot at rest on the slope before its first roll). A run
+    that made no roll (e.g. stuck: no roll simulated ahead was acceptable) gives its robot at rest
+    on its start face, its last sample, the titles saying it made no roll and why (a figure per
+    output, as the workflow expects; ValueError naming the file if it rests on no face).
     Returns what each figure drew (render.locomotion)."""
-    from ..physics import contact as ct
     from ..render import locomotion as state_figures_
 
     ds = datasets.read(paper_path)
-    _first_step(ds, paper_path, "Fig. 8 and 9")
     terrain = run_formats.terrain_from_dataset(ds)
+    if ds.sizes.get("step", 0) == 0:
+        face, why = _no_roll(ds, paper_path, "Fig. 8 and 9")
+        p = ds["nodes"].values[-1]
+        out = [
+            state_figures_.fig_state(
+                p, terrain, face, fig, f"Fig. {n}  Not rolled: at rest on {topo.face_label(face)}, {why}"
+            )
+            for n, fig in ((8, fig8), (9, fig9))
+        ]
+    else:
+        out = _paper_states(ds, terrain, fig8, fig9)
+    sl = datasets.read(slope_path)
+    if sl.sizes.get("step", 0) == 0:
+        face, why = _no_roll(sl, slope_path, "Fig. 10")
+        k0, title = -1, f"Fig. 10  Slope: the CoG projects along gravity onto the contact plane; {why}"
+    else:
+        face = int(sl["face"].values[0])
+        k0 = int(np.searchsorted(sl["time"].values, sl["t_start"].values[0]))
+        title = f"Fig. 10  Slope: the CoG projects along gravity onto the contact plane ('{sl.attrs['run']}' run)"
+    out.append(
+        state_figures_.fig_slope(sl["nodes"].values[k0], run_formats.terrain_from_dataset(sl), face, fig10, title)
+    )
+    return out
+
+
+def _paper_states(ds: xr.Dataset, terrain: Terrain, fig8: str | os.PathLike, fig9: str | os.PathLike) -> list[dict]:
+    """Fig. 8 and 9 from the first roll of the paper run `ds` (`state_figures`)."""
+    from ..physics import contact as ct
+    from ..render import locomotion as state_figures_
+
     face = int(ds["face"].values[0])
     pair = int(ds["step_pair"].values[0, 0])
     tip = float(ds["tip_pressure"].values[0])
@@ -147,18 +185,6 @@ def state_figures(
             f"{ds.attrs.get('outcome', '')})"
         )
     out.append(state_figures_.fig_state(p, terrain, face, fig9, title9))
-    sl = datasets.read(slope_path)
-    _first_step(sl, slope_path, "Fig. 10")
-    k0 = int(np.searchsorted(sl["time"].values, sl["t_start"].values[0]))
-    out.append(
-        state_figures_.fig_slope(
-            sl["nodes"].values[k0],
-            run_formats.terrain_from_dataset(sl),
-            int(sl["face"].values[0]),
-            fig10,
-            f"Fig. 10  Slope: the CoG projects along gravity onto the contact plane ('{sl.attrs['run']}' run)",
-        )
-    )
     return out
 
 

@@ -442,24 +442,3 @@ def test_path_figure_and_animation_of_a_run(paper, tmp_path):
         ds["nodes"].values, t, ds["pressure"].values, terrain, tmp_path / "run.gif", fps=5, speed=10.0, size=(320, 240)
     )
     assert anim["frames"] >= 5 and (tmp_path / "run.gif").stat().st_size > 10_000
-
-
-def test_state_figures_name_a_run_without_a_step(ws, paper, tmp_path):
-    """A demonstration run that recorded no step cannot give Fig. 8-10: the stage says which run,
-    before drawing anything (was an IndexError)."""
-    from tensegrity.stages import locomotion as stage
-
-    stuck = lo.roll_over(ws, [(1, 2)], DAMPED)
-    assert stuck.outcome == "stuck" and not stuck.steps
-
-    def write(run, name):
-        ds = run_formats.run_dataset(run, Terrain.flat(), DAMPED, "paper")
-        return datasets.write(ds, tmp_path / name, {}, "t", allow_nan=run_formats.RUN_ALLOW_NAN)
-
-    empty, full = write(stuck, "e.nc"), write(paper, "p.nc")
-    figs = [tmp_path / f"fig{n}.png" for n in (8, 9, 10)]
-    with pytest.raises(ValueError, match=r"Fig. 8 and 9 .*e\.nc.* recorded no step \(outcome 'stuck'\)"):
-        stage.state_figures({}, empty, full, *figs)
-    with pytest.raises(ValueError, match=r"Fig. 10 .*e\.nc.* recorded no step"):
-        stage.state_figures({}, full, empty, *figs)
-    assert not figs[2].exists()

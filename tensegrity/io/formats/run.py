@@ -42,7 +42,9 @@ RUN_ALLOW_NAN = ("planned_pressure", "tip_pressure", "goal")  # NaN: no roll pre
 
 def run_dataset(run: Run, terrain: Terrain, params: Params, name: str = "", unit: str = "MPa") -> xr.Dataset:
     """A run as an xarray Dataset (docs/design.md §5, results/locomotion/{run}.nc): samples
-    (time), steps (step, with the chosen pair(s) and pressures), the faces visited (visit), the
+    (time), steps (step, with the chosen pair(s) and pressures; none in a run that made no roll,
+    e.g. stuck with no roll simulated ahead acceptable), the faces visited (visit: the start face,
+    then the face after each roll), the
     terrain and the robot's strut length and radius (of `params`), with units and long names.
     Nothing time-dependent (no wall time) is stored. A run of the twisted strings (`unit` V,
     `RollSettings.unit`) records the motor voltages applied as `voltage_cmd(time, pair)` V
@@ -205,9 +207,11 @@ def terrain_from_dataset(ds: xr.Dataset) -> Terrain:
 def run_sample(ds: xr.Dataset, terrain: Terrain, step: int, which: str) -> tuple[int, np.ndarray]:
     """Index and nodes (12, 3) m of a sample of step `step` (1-based) of a run dataset:
     'stable' or 'rolling' (`locomotion.outcome.sample`); ValueError naming the run if the step
-    never leaves its face."""
+    never leaves its face or the run has no such step (a run that made no roll has none)."""
     from ...locomotion.outcome import sample
 
+    if not 1 <= step <= ds.sizes.get("step", 0):
+        raise ValueError(f"run {ds.attrs.get('run')!r} has {ds.sizes.get('step', 0)} step(s), not a step {step}")
     t = ds["time"].values
     k0 = int(np.searchsorted(t, ds["t_start"].values[step - 1]))
     k1 = int(np.searchsorted(t, ds["t_end"].values[step - 1]))
