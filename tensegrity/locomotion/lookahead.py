@@ -1,8 +1,8 @@
 """The planner's model: every roll is simulated before the robot makes it (issue 30 item 2;
 docs/design.md §6).
 
-One method on every ground. The candidate actions of a step come from GENERATORS (every single pair
-in the workspace's order toward the target, then every two-pair combination, then, with
+One method on every ground. The candidate actions of a step come from GENERATORS (the plan's
+candidates in the workspace's order toward the target, then every other action, then, with
 `locomotion.optimised_actions`, the optimised weight vectors of `actuation.candidates`, and with
 `locomotion.cable_actions` those of the 24 cables one by one; another
 source of actions is one more entry), each rolled with the brake (`brake.Brake`, which acts only
@@ -69,23 +69,23 @@ __all__ = [
 Act = tuple
 
 
-def _singles(workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict, world=None) -> list[Candidate]:
-    """Every single pair, in the plan's order (predicted to roll toward the target first)."""
-    return [c for c in pl.candidates if len(c.pairs) == 1]
+def _planned(workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict, world=None) -> list[Candidate]:
+    """The plan's candidates in its order: those the workspace predicts to roll toward the target
+    first, single pairs or its two-pair combinations (`plan.plan`), then the others."""
+    return list(pl.candidates)
 
 
 def _pairs(
     workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict, world=None
 ) -> list[tuple[int, ...]]:
-    """The plan's own combinations, then every other action in `brake.escape`'s order."""
-    own = [c.pairs for c in pl.candidates if len(c.pairs) > 1]
-    return own + escape(workspace, face, nodes, {c.pairs for c in pl.candidates}, **target)
+    """Every action not in the plan, in `brake.escape`'s order."""
+    return escape(workspace, face, nodes, {c.pairs for c in pl.candidates}, **target)
 
 
 # Sources of candidate actions, tried in this order: f(workspace, face, nodes (12, 3) m, plan,
 # target, world: World | None) -> Candidates, pair tuples (1-based) or weight vectors (12,) or (24,).
 # A new kind of action is one more entry. Those in LAZY are computed only when the horizon reaches them.
-GENERATORS: list[Callable] = [_singles, _pairs, _optimised, _cables]
+GENERATORS: list[Callable] = [_planned, _pairs, _optimised, _cables]
 LAZY: set[Callable] = {_optimised, _cables}
 
 

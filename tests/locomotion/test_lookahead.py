@@ -150,8 +150,9 @@ def test_choose_widens_the_horizon_only_while_nothing_is_acceptable(ws, monkeypa
 
 
 def test_candidates_come_from_every_generator_once(ws):
-    """Every single pair, then every two-pair combination, once each; braked where the run brakes,
-    and where the brake acts also unbraked; a new generator adds its actions."""
+    """The plan's candidates (here every single pair), then every two-pair combination, once each;
+    braked where the run brakes, and where the brake acts also unbraked; a new generator adds its
+    actions."""
     nodes = d.nodes(*_stand(EQUI), DAMPED.strut_length)[0]
     pl = lo.plan(ws, EQUI, nodes, goal=np.array([2.0, 0.0]))
     target = dict(goal=np.array([2.0, 0.0]))
@@ -169,6 +170,20 @@ def test_candidates_come_from_every_generator_once(ws):
         assert lookahead.acts(ws, EQUI, nodes, pl, target, None)[-1] == ((1, 2, 3), False)
     finally:
         lookahead.GENERATORS.remove(extra)
+
+
+def test_combinations_the_plan_predicts_come_before_single_pairs_it_does_not(ws):
+    """Where no single pair is predicted to roll toward the target (here: none within 8 deg of it),
+    the plan adds the two-pair combinations, and the candidates follow the plan's order: those
+    predicted to roll, combinations among them, before the single pairs predicted not to."""
+    nodes = d.nodes(*_stand(EQUI), DAMPED.strut_length)[0]
+    target = dict(goal=np.array([2.0, 0.7]))
+    pl = lo.plan(ws, EQUI, nodes, min_alignment=0.99, **target)
+    acts = [a for a, _ in lookahead.acts(ws, EQUI, nodes, pl, target, Brake(ws, 0.035))]
+    assert acts[: len(pl.candidates)] == [c.pairs for c in pl.candidates]
+    combo = next(i for i, c in enumerate(pl.candidates) if len(c.pairs) == 2 and c.predicted)
+    unpredicted = [i for i, c in enumerate(pl.candidates) if len(c.pairs) == 1 and not c.predicted]
+    assert unpredicted and combo < min(unpredicted)
 
 
 @pytest.mark.slow  # ~20 s: 23 rolls on a slope simulated twice
