@@ -46,11 +46,11 @@ def step_ahead(
     cost: Callable[[RollResult], float],
     memory: lookahead.Memory,
     now: float,
-) -> tuple[list, list, tuple[RollResult, ...]]:
+) -> tuple[list, tuple[RollResult, ...]]:
     """A run's step simulated ahead from `obs` on `face` (`lookahead.choose`): the plan `pl`'s
     actions toward `target`, then the lazy ones (`lookahead.acts`: the brake kept, and the optimised
     ones if s.optimised_actions, per cable if s.cable_actions; neither in volts) only where none of those is
-    acceptable. Returns the actions, the acceptable ones best first and every roll simulated
+    acceptable. Returns the acceptable actions best first and every roll simulated
     (`drive` and `start.first_roll`)."""
     muscles = s.motors is None  # the optimised actions are solved on the muscles' statics (eq. 1-2)
     world = lookahead.World(
@@ -62,13 +62,11 @@ def step_ahead(
         cables=s.cable_actions and muscles,
     )
     args = (workspace, face, obs.nodes, pl, target, brk, world)
-    acts = lookahead.acts(*args)
     expect = {c.pairs: c.pressure for c in pl.candidates}
     more = lambda: lookahead.acts(*args, lazy=True)  # noqa: E731 (optimised actions, brake kept)
-    todo, simulated = lookahead.choose(
-        params, terrain, s, obs, acts, workspace.max_pressure, brk, expect, cost, memory, now, more
+    return lookahead.choose(
+        params, terrain, s, obs, lookahead.acts(*args), workspace.max_pressure, brk, expect, cost, memory, now, more
     )
-    return acts, todo, simulated
 
 
 def drive(
@@ -150,7 +148,7 @@ def drive(
             if s.lookahead:
                 # none acceptable: no roll (a roll the planner judged unacceptable was foreseen only
                 # until its ramp gave up, and can tumble the robot); the run ends stuck below
-                _, todo, simulated = step_ahead(
+                todo, simulated = step_ahead(
                     workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now
                 )
             else:  # the workspace's order, tried in the world

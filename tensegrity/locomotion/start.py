@@ -134,7 +134,7 @@ def first_roll(
         return progress.rolls_to_goal(r.cog_after, gl, terrain, travel, lift)
 
     now = progress.rolls_to_goal(obs.cog, gl, terrain, travel, lift)
-    _, _, simulated = step_ahead(workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now)
+    _, simulated = step_ahead(workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now)
     ok = [r for r in simulated if r.rolled and lookahead.lands(r) and not memory.seen(r.face_after, r.cog_after)]
     fine = [now - cost(r) for r in ok]  # the acceptable rolls, as `lookahead.choose` accepts them
     words = f"{len(simulated)} rolls simulated: {lookahead.verdicts(simulated, memory)}"
