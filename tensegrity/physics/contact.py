@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import functools
 import itertools
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -226,16 +227,38 @@ def past_edge(nodes: ArrayLike, face: int | Sequence[int], pivot: Sequence[int],
     distance of the CoG projection to the edge (88.4 mm for an equilateral face, S = 0.5 m)."""
     p = check_nodes(nodes)
     a_i, b_i, c_i = _pivot_nodes(topo.face_number(face), tuple(int(n) for n in pivot))
-    frame_ref, mid_ref = _pivot_reference(float(strut_length), a_i, b_i, c_i)
-    rot = _pivot_frame(p, p.mean(axis=0), a_i, b_i, c_i) @ frame_ref.T
-    mid = 0.5 * (p[a_i] + p[b_i])
-    cog = mid - rot @ mid_ref
-    e = (p[b_i] - p[a_i])[:2]
-    e = e / np.linalg.norm(e)
-    out = (mid - p[c_i])[:2]
-    out = out - np.dot(out, e) * e
-    out /= np.linalg.norm(out)
-    return float(np.dot((cog - mid)[:2], out))
+    k0, k1, k2 = _pivot_offset(float(strut_length), a_i, b_i, c_i)
+    (ax, ay, az), (bx, by, bz), (cx, cy, cz) = p[a_i].tolist(), p[b_i].tolist(), p[c_i].tolist()
+    ox, oy, oz = p.mean(axis=0).tolist()  # the centre: the normal points toward it
+    # the pivot frame (`_pivot_frame`) in floats: edge e, face normal n (inward), m = e x n
+    ex, ey, ez = bx - ax, by - ay, bz - az
+    le = math.sqrt(ex * ex + ey * ey + ez * ez)
+    ex, ey, ez = ex / le, ey / le, ez / le
+    fx, fy, fz = cx - ax, cy - ay, cz - az
+    nx, ny, nz = ey * fz - ez * fy, ez * fx - ex * fz, ex * fy - ey * fx
+    ln = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if nx * (ox - ax) + ny * (oy - ay) + nz * (oz - az) < 0:
+        ln = -ln
+    nx, ny, nz = nx / ln, ny / ln, nz / ln
+    mx, my = ey * nz - ez * ny, ez * nx - ex * nz
+    # the CoG's offset from the edge's midpoint, the reference's turned into this frame (x, y)
+    gx, gy = ex * k0 + nx * k1 + mx * k2, ey * k0 + ny * k1 + my * k2
+    h = math.hypot(ex, ey)  # outward: horizontal, across the edge, away from the third node
+    ux, uy = ex / h, ey / h
+    wx, wy = 0.5 * (ax + bx) - cx, 0.5 * (ay + by) - cy
+    d = wx * ux + wy * uy
+    wx, wy = wx - d * ux, wy - d * uy
+    lw = math.hypot(wx, wy)
+    return (gx * wx + gy * wy) / lw
+
+
+@functools.lru_cache(maxsize=256)
+def _pivot_offset(strut_length: float, a_i: int, b_i: int, c_i: int) -> tuple[float, float, float]:
+    """The symmetric shape's CoG offset from the pivot edge's midpoint in its pivot frame
+    (`_pivot_frame`'s columns), m: `past_edge`'s reference, the same for every call on that edge."""
+    ref = topo.reference_nodes(strut_length)
+    frame, mid = _pivot_frame(ref, np.zeros(3), a_i, b_i, c_i), 0.5 * (ref[a_i] + ref[b_i])
+    return tuple(float(v) for v in frame.T @ (ref.mean(axis=0) - mid))
 
 
 def _pivot_frame(P: np.ndarray, centre: np.ndarray, a_i: int, b_i: int, c_i: int) -> np.ndarray:
@@ -264,16 +287,6 @@ def _pivot_nodes(f: int, pivot: tuple[int, int]) -> tuple[int, int, int]:
     if len(others) != 1:
         raise ValueError(f"edge {pivot} is not an edge of face {topo.face_label(f)}")
     return a_i, b_i, others[0]
-
-
-@functools.lru_cache(maxsize=256)
-def _pivot_reference(strut_length: float, a_i: int, b_i: int, c_i: int) -> tuple[np.ndarray, np.ndarray]:
-    """`_pivot_frame` of the symmetric shape (strut length m) and its pivot edge's midpoint (3,)
-    m: `past_edge`'s reference, the same for every call on that edge (read-only arrays)."""
-    ref = topo.reference_nodes(strut_length)
-    frame, mid = _pivot_frame(ref, np.zeros(3), a_i, b_i, c_i), 0.5 * (ref[a_i] + ref[b_i])
-    frame.flags.writeable = mid.flags.writeable = False
-    return frame, mid
 
 
 def roll_over(nodes: ArrayLike, face: int | Sequence[int], edge: Sequence[int]) -> tuple[int, np.ndarray]:
