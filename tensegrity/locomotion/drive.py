@@ -5,7 +5,9 @@ simulates candidate rolls from the robot's state and picks the one with the best
 repeats, toward a goal or over given edges, until the run ends with one of `outcome.OUTCOMES`; it
 returns the outcome, its message and the `Step`s. With lookahead 0 the plan's candidates are tried
 in the world instead, then the escape actions (`brake.escape`). `runs` checks the arguments and
-runs it. Where no roll simulated ahead is acceptable the run makes none and ends `stuck`.
+runs it. Where no roll simulated ahead is acceptable, the run goes back to a state where it found an
+acceptable roll it did not take (a backtrack, `memory.Memory.opens`); where none returns to one, it makes
+no roll and ends `stuck`.
 """
 
 from __future__ import annotations
@@ -191,8 +193,8 @@ def drive(
                     (
                         f"every one of the {len(simulated)} candidate rolls simulated on face "
                         f"{topo.face_label(face)} tumbles the robot, slides it more than "
-                        f"{lookahead.SLIDE} m, does not roll it, or returns it to where it was "
-                        f"({lookahead.verdicts(simulated, memory)})"
+                        f"{lookahead.SLIDE} m, does not roll it, or returns it to where it was, with no acceptable "
+                        f"roll left untaken ({lookahead.verdicts(simulated, memory)})"
                     ),
                 )
                 break

@@ -246,12 +246,12 @@ def choose(
 ) -> tuple[list[Act], tuple[RollResult, ...]]:
     """A run's step: simulate the candidates `todo` in order in batches of growing horizon (the
     first; then 2, 4, ... up to s.lookahead; then all; then `more()`'s, called only then), stopping at
-    the first batch after which one is acceptable: it rolls onto another face, `lands` (no
-    tumble, no slide), at a state not in `memory`, and makes progress (`cost` below `now`, the
-    cost of staying). Return the
-    s.max_attempts acceptable candidates of least `cost` (if none makes progress, those that
-    are acceptable otherwise: a detour, which the memory keeps from cycling) and every roll
-    simulated, in the order simulated. A tumble, a slide or a return is never returned."""
+    the first batch after which one is acceptable: it rolls onto another face, `lands` (no tumble, no
+    slide), at a state not in `memory`, and makes progress (`cost` below `now`, the cost of staying).
+    Return the s.max_attempts acceptable candidates of least `cost` (if none makes progress, those
+    acceptable otherwise: a detour, which the memory keeps from cycling; if none is, those that return
+    to a state with an acceptable roll not taken, `Memory.opens`: a backtrack) and every roll simulated,
+    in order; the acceptable ones are recorded in `memory`. A tumble or a slide is never returned."""
     todo = list(todo)
     simulated: list[RollResult] = []
     fine: list[int] = []
@@ -269,6 +269,9 @@ def choose(
         ]
         if any(cost(simulated[i]) < now for i in fine):
             break
+    memory.record([(simulated[i].face_after, simulated[i].cog_after) for i in fine])
+    if not fine:  # a dead end: a roll back to an open state (`Memory.opens`) is a backtrack
+        fine = [i for i, r in enumerate(simulated) if r.rolled and lands(r) and memory.opens(r.face_after, r.cog_after)]
     fine.sort(key=lambda i: (round(cost(simulated[i]), 9), i))
     return [todo[i] for i in fine[: s.max_attempts]], tuple(simulated)
 

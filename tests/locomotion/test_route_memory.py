@@ -118,3 +118,48 @@ def test_a_lower_cost_on_another_face_is_not_progress(monkeypatch):
     exits = {0: [1, 3], 1: [0, 2], 2: [1, 3], 3: [2, 0]}
     visited = _route(monkeypatch, places, exits, 0, lift={1: 3.0})
     assert visited == [0, 1, 2, 3]
+
+
+def test_a_state_is_open_while_an_acceptable_landing_found_there_is_not_in_the_memory():
+    mem = Memory(TRAVEL / 2, GOAL)
+    mem.add(1, np.array([1.0, 0.0]))
+    mem.record([(2, np.array([1.1, 0.15, 0.0])), (3, np.array([1.3, -0.2, 0.0]))])  # two exits found
+    assert mem.opens(1, np.array([1.02, 0.0])) and not mem.opens(2, np.array([1.1, 0.15]))
+    mem.add(2, np.array([1.1, 0.15]))  # one exit taken: the other still open
+    assert mem.opens(1, np.array([1.0, 0.0]))
+    mem.add(1, np.array([1.02, 0.0]))  # back again: its record is what is found now (nothing yet)
+    assert not mem.opens(1, np.array([1.0, 0.0]))
+    mem.record([(3, np.array([1.3, -0.2]))])
+    assert mem.opens(1, np.array([1.0, 0.0]))
+    mem.add(3, np.array([1.3, -0.2]))  # every exit taken: closed
+    assert not mem.opens(1, np.array([1.0, 0.0]))
+
+
+def test_a_dead_end_is_left_by_going_back_to_an_exit_not_taken(monkeypatch):
+    """The start S, the closest, has two exits: A, the nearer, and B; A's only roll is back to S.
+    No roll makes progress, so the memory holds S at A: without backtracking the route ends stuck
+    at A; S is open (B was found acceptable there and not taken), so the route goes back to S,
+    then by B to the goal G."""
+    places = {0: (1, 1.0, 0.0), 1: (2, 1.1, 0.15), 2: (3, 1.3, -0.2), 3: (4, 0.9, -0.1)}
+    exits = {0: [1, 2], 1: [0], 2: [3], 3: []}
+    assert _route(monkeypatch, places, exits, 0) == [0, 1, 0, 2, 3]
+
+
+def test_backtracking_between_two_open_states_ends_without_cycling(monkeypatch):
+    """S (the closest) finds A and B and takes A; A finds C and D and takes C; C's only roll is
+    back to A (as A1), where D is no longer found, and A1's only roll is back to S (as S1), where
+    B is no longer found, and S1's only roll is back to A1. S still has B untaken and A still has
+    D: on records kept from the first stands the route would go S1, A1, S1, ... to the roll
+    limit. Standing at a state again replaces its record by what is found now (nothing), so the
+    route backtracks to A1 and S1 once each and ends stuck at S1."""
+    places = {
+        0: (1, 1.0, 0.0),  # S
+        1: (2, 1.1, 0.15),  # A
+        2: (3, 1.3, -0.2),  # B
+        3: (4, 1.2, 0.35),  # C
+        4: (5, 1.35, 0.3),  # D
+        5: (2, 1.12, 0.15),  # A1: the state A again
+        6: (1, 1.02, 0.0),  # S1: the state S again
+    }
+    exits = {0: [1, 2], 1: [3, 4], 2: [], 3: [5], 4: [], 5: [6], 6: [5]}
+    assert _route(monkeypatch, places, exits, 0) == [0, 1, 3, 5, 6]
