@@ -12,6 +12,8 @@ no roll and ends `stuck`.
 
 from __future__ import annotations
 
+import copy
+import functools
 import time
 from collections.abc import Callable
 
@@ -27,7 +29,7 @@ from ..workspace.lookup import Workspace
 from . import lookahead, progress
 from .brake import Brake, escape
 from .control import RollResult, roll_controller, settle_controller
-from .lockstep import Controller, Obs
+from .lockstep import Controller, Obs, observe
 from .outcome import Step
 from .plan import Plan, plan
 from .settings import RollSettings
@@ -48,12 +50,13 @@ def step_ahead(
     cost: Callable[[RollResult], float],
     memory: lookahead.Memory,
     now: float,
+    onward: Callable[[RollResult], bool] | None = None,
 ) -> tuple[list, tuple[RollResult, ...]]:
     """A run's step simulated ahead from `obs` on `face` (`lookahead.choose`): the plan `pl`'s
     actions toward `target`, then the lazy ones (`lookahead.acts`: the brake kept, and the optimised
     ones if s.optimised_actions, per cable if s.cable_actions; neither in volts) only where none of those is
-    acceptable. Returns the acceptable actions best first and every roll simulated
-    (`drive` and `start.first_roll`)."""
+    acceptable; `onward` (`lookahead.choose`) judges a landing. Returns the acceptable actions best
+    first and every roll simulated (`drive`, `start.first_roll` and `onward`)."""
     muscles = s.motors is None  # the optimised actions are solved on the muscles' statics (eq. 1-2)
     world = lookahead.World(
         params,
@@ -67,8 +70,54 @@ def step_ahead(
     expect = {c.pairs: c.pressure for c in pl.candidates}
     more = lambda: lookahead.acts(*args, lazy=True)  # noqa: E731 (optimised actions, brake kept)
     return lookahead.choose(
-        params, terrain, s, obs, lookahead.acts(*args), workspace.max_pressure, brk, expect, cost, memory, now, more
+        params,
+        terrain,
+        s,
+        obs,
+        lookahead.acts(*args),
+        workspace.max_pressure,
+        brk,
+        expect,
+        cost,
+        memory,
+        now,
+        more,
+        onward,
     )
+
+
+def onward(
+    workspace: Workspace,
+    params: Params,
+    terrain: Terrain,
+    s: RollSettings,
+    target: dict,
+    brk: Brake | None,
+    memory: lookahead.Memory,
+    avoid: list[int],
+    r: RollResult,
+) -> bool:
+    """Whether the robot, landed as the roll `r` simulated ahead leaves it (`lookahead.foresee`: its
+    final state and levels), has an acceptable roll from there toward `target` (`step_ahead`, the
+    memory with that state added; the brake braced anew): False for a dead end, where every roll
+    tumbles, slides, does not roll or returns (a slope's face that only the brake holds)."""
+    goal = target.get("goal")
+    if goal is not None and np.linalg.norm(np.subtract(r.cog_after[:2], goal[:2])) <= s.arrive_tolerance:
+        return True  # arrived there: no roll follows
+    if r.state is None or r.record is None or r.face_after is None or not len(workspace.pairs(r.face_after)):
+        return True  # nothing to look from (or no curve for that face in the workspace): not judged
+    (obs,) = observe(params, terrain, r.state, s, pressure=[r.record.pressure[-1]])
+    if obs.face is None:
+        return False
+    mem = copy.deepcopy(memory)
+    mem.add(obs.face, obs.cog)
+    b = None if brk is None else copy.deepcopy(brk, {id(brk.workspace): brk.workspace})
+    if b is not None:
+        b.forget()
+    kw = dict(avoid=avoid, combine=s.combine, min_alignment=s.min_alignment, unit=s.unit)
+    pl = plan(workspace, obs.face, obs.nodes, **kw, **target)
+    ok, _ = step_ahead(workspace, params, terrain, s, obs, obs.face, pl, target, b, lambda x: 0.0, mem, np.inf)
+    return bool(ok)
 
 
 def drive(
@@ -124,12 +173,12 @@ def drive(
                     outcome, message = "stuck", (f"edge {e[0]}-{e[1]} is not an edge of face {topo.face_label(face)}")
                     break
                 target = dict(direction=ct.edge_outward(obs.nodes[topo.FACES[face - 1]])[corners.index(e)])
-                cost, now = lookahead.over_edge(face, e), 1.0
+                cost, now = progress.over_edge(face, e), 1.0
             elif direction is None:
                 cost = lambda r, t=travel, h=lift: progress.rolls_to_goal(r.cog_after, goal, terrain, t, h)  # noqa: E731
                 now = progress.rolls_to_goal(obs.nodes.mean(axis=0), goal, terrain, travel, lift)
             else:
-                cost, now = lookahead.along(target["direction"], travel), 0.0
+                cost, now = progress.along(target["direction"], travel), 0.0
             memory.add(face, obs.nodes.mean(axis=0))
             visited = (visited + [face])[-_TABU - 1 :]
             cpu = time.process_time()  # planning CPU: the plan and every roll simulated ahead
@@ -150,8 +199,13 @@ def drive(
             if s.lookahead:
                 # none acceptable: no roll (a roll the planner judged unacceptable was foreseen only
                 # until its ramp gave up, and can tumble the robot); the run ends stuck below
+                look = (
+                    None
+                    if edges
+                    else functools.partial(onward, workspace, params, terrain, s, target, brk, memory, visited)
+                )
                 todo, simulated = step_ahead(
-                    workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now
+                    workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now, look
                 )
             else:  # the workspace's order, tried in the world
                 todo = [(c.pairs, braked) for c in pl.candidates[: s.max_attempts]]

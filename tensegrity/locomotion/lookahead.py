@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 
 import numba
 import numpy as np
@@ -42,7 +43,7 @@ from .brake import Brake, escape
 from .braked import Braked
 from .control import RollResult, action_weights, roll_controller
 from .decided import SLIDE, until_decided
-from .lockstep import Obs, widths
+from .lockstep import Obs, Record, widths
 from .memory import Memory
 from .plan import Candidate, Plan
 from .settings import RollSettings
@@ -171,7 +172,8 @@ def foresee(
     interval only, and a second OpenMP thread spins between calls, which costs 2.4 times the CPU
     of one thread (156 candidates on a 20 deg slope, docs/planner_evaluation.md). The ramps,
     braked or not, are simulated several intervals per call (`ahead.lockstep_ahead`), to the same bits.
-    Raises SimulationError if a simulation blows up."""
+    Each result holds its final `state` and, as a one-sample `record`, its last levels (where a next
+    roll goes on from; `choose` drops both). Raises SimulationError if a simulation blows up."""
     if obs.state is None:
         raise ValueError("the observation carries no state to simulate from")
     if not todo:
@@ -204,9 +206,15 @@ def foresee(
     threads = numba.get_num_threads()
     numba.set_num_threads(1)  # see the docstring
     try:
-        return [res for (res, _), _ in lockstep_ahead(params, terrain, state, make, s, ramps)]
+        out = lockstep_ahead(params, terrain, state, make, s, ramps)
     finally:
         numba.set_num_threads(threads)
+    return [replace(res, state=st, record=_last(ob)) for (res, ob), st in out]
+
+
+def _last(ob: Obs) -> Record:
+    """The one sample of a candidate's last observation: where a next roll goes on from (its levels)."""
+    return Record(np.array([ob.t]), ob.nodes[None], np.asarray(ob.pressure, float)[None], np.array([ob.face or 0]))
 
 
 def moved(r: RollResult) -> float:
@@ -243,6 +251,7 @@ def choose(
     memory: Memory,
     now: float = np.inf,
     more: Callable[[], Sequence[Act]] | None = None,
+    onward: Callable[[RollResult], bool] | None = None,
 ) -> tuple[list[Act], tuple[RollResult, ...]]:
     """A run's step: simulate the candidates `todo` in order in batches of growing horizon (the
     first; then 2, 4, ... up to s.lookahead; then all; then `more()`'s, called only then), stopping at
@@ -251,10 +260,15 @@ def choose(
     Return the s.max_attempts acceptable candidates of least `cost` (if none makes progress, those
     acceptable otherwise: a detour, which the memory keeps from cycling; if none is, those that return
     to a state with an acceptable roll not taken, `Memory.opens`: a backtrack) and every roll simulated,
-    in order; the acceptable ones are recorded in `memory`. A tumble or a slide is never returned."""
+    in order; the acceptable ones are recorded in `memory`. A tumble or a slide is never returned.
+    Progress counts only where `onward` judges the landing no dead end (asked best first), and the best
+    such candidate goes first."""
     todo = list(todo)
     simulated: list[RollResult] = []
     fine: list[int] = []
+    rank = lambda i: (round(cost(simulated[i]), 9), i)  # noqa: E731
+    judged: dict[int, bool] = {}  # candidate: its landing is no dead end (`onward`, asked once, best first)
+    good = lambda i: judged[i] if i in judged else judged.setdefault(i, onward is None or onward(simulated[i]))  # noqa: E731
     for k in [*_doubling(s.lookahead), len(todo), None]:
         if k is None:  # the lazy actions: only now computed
             if more is None:
@@ -267,33 +281,18 @@ def choose(
         fine = [
             i for i, r in enumerate(simulated) if r.rolled and lands(r) and not memory.seen(r.face_after, r.cog_after)
         ]
-        if any(cost(simulated[i]) < now for i in fine):
+        if any(cost(simulated[i]) < now and good(i) for i in sorted(fine, key=rank)):
             break
     memory.record([(simulated[i].face_after, simulated[i].cog_after) for i in fine])
     if not fine:  # a dead end: a roll back to an open state (`Memory.opens`) is a backtrack
         fine = [i for i, r in enumerate(simulated) if r.rolled and lands(r) and memory.opens(r.face_after, r.cog_after)]
-    fine.sort(key=lambda i: (round(cost(simulated[i]), 9), i))
-    return [todo[i] for i in fine[: s.max_attempts]], tuple(simulated)
+    fine.sort(key=rank)
+    k = next((n for n, i in enumerate(fine) if good(i)), 0)
+    fine = fine[k : k + 1] + fine[:k] + fine[k + 1 :]
+    return [todo[i] for i in fine[: s.max_attempts]], tuple(replace(r, state=None, record=None) for r in simulated)
 
 
 def _doubling(n: int) -> list[int]:
     """The horizons up to `n`: 1, 2, 4, ... doubling, then n (each batch as large as all before
     it: at most twice the candidates the first acceptable one needs are simulated)."""
-    out = [1]
-    while out[-1] * 2 < n:
-        out.append(out[-1] * 2)
-    return out + [n]
-
-
-def over_edge(face: int, edge: tuple[int, int]) -> Callable[[RollResult], float]:
-    """The cost of a roll toward `edge` (1-based nodes) of 1-based `face`: 0 onto the face across
-    it, else 1 (another face: the plan may choose any pair, not any edge)."""
-    to = topo.neighbour(face, edge)
-    return lambda r: 0.0 if r.face_after == to else 1.0
-
-
-def along(direction: np.ndarray, travel: float) -> Callable[[RollResult], float]:
-    """The cost of a roll toward a world `direction` (3,): minus its CoG's travel along it, in rolls."""
-    u = np.asarray(direction, float)[:2]
-    u = u / np.linalg.norm(u)
-    return lambda r: -float(np.subtract(r.cog_after, r.cog_before)[:2] @ u) / travel
+    return [1] + [2**j for j in range(1, n.bit_length()) if 2**j < n] + [n]

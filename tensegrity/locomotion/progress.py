@@ -1,15 +1,19 @@
 """How far a robot is from its goal, in rolls (issue 30 item 2; docs/design.md §6): the travel and
 lift of one roll of the robot as it stands (`stride`), and the rolls still needed (`rolls_to_goal`),
-by which `lookahead.choose` ranks the simulated rolls."""
+by which `lookahead.choose` ranks the simulated rolls; the costs of a run over edges (`over_edge`) or along
+a direction (`along`)."""
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 
 from ..physics import topology as topo
 from ..physics.terrain import Terrain
+from .control import RollResult
 
-__all__ = ["rolls_to_goal", "stride"]
+__all__ = ["along", "over_edge", "rolls_to_goal", "stride"]
 
 
 def stride(nodes: np.ndarray, face: int) -> tuple[float, float]:
@@ -43,3 +47,17 @@ def rolls_to_goal(point: np.ndarray, goal: np.ndarray, terrain: Terrain, travel:
     c = np.asarray(point, float)
     below = max(0.0, float(goal[2] - terrain.height(c[0], c[1])))
     return float(np.linalg.norm(c[:2] - np.asarray(goal[:2], float))) / travel + below / lift
+
+
+def over_edge(face: int, edge: tuple[int, int]) -> Callable[[RollResult], float]:
+    """The cost of a roll toward `edge` (1-based nodes) of 1-based `face`: 0 onto the face across
+    it, else 1 (another face: the plan may choose any pair, not any edge)."""
+    to = topo.neighbour(face, edge)
+    return lambda r: 0.0 if r.face_after == to else 1.0
+
+
+def along(direction: np.ndarray, travel: float) -> Callable[[RollResult], float]:
+    """The cost of a roll toward a world `direction` (3,): minus its CoG's travel along it, in rolls."""
+    u = np.asarray(direction, float)[:2]
+    u = u / np.linalg.norm(u)
+    return lambda r: -float(np.subtract(r.cog_after, r.cog_before)[:2] @ u) / travel

@@ -43,10 +43,11 @@ def test_a_new_least_distance_clears_the_memory_and_nothing_else_does():
 # `lookahead.foresee` is replaced by the graph: action (k,) rolls the robot onto place k.
 
 
-def _route(monkeypatch, places, exits, start, lift=None, rolls=20):
+def _route(monkeypatch, places, exits, start, lift=None, rolls=20, look=False):
     """The places a route visits from `start` until it is stuck, the run's steps as `drive` makes
     them: add the state to the memory, `choose` at the cost of staying, roll the least-cost
-    acceptable roll."""
+    acceptable roll (with `look`, the landings judged as `drive.onward` judges them: a place with
+    no exit is a dead end)."""
     here = {"at": start}
     lift = lift or {}
 
@@ -81,7 +82,10 @@ def _route(monkeypatch, places, exits, start, lift=None, rolls=20):
         todo = [((k,), False) for k in exits[here["at"]]]
         now = rolls_to_goal(face, np.array([x, y]))
         cost = lambda r: rolls_to_goal(r.face_after, r.cog_after)  # noqa: E731
-        chosen, _ = lookahead.choose(Params(), Terrain.flat(), s, obs, todo, 4.8, None, {}, cost, mem, now)
+        onward = (lambda r: bool(exits[r.pairs[0]])) if look else None
+        chosen, _ = lookahead.choose(
+            Params(), Terrain.flat(), s, obs, todo, 4.8, None, {}, cost, mem, now, None, onward
+        )
         if not chosen:
             break
         here["at"] = chosen[0][0][0]
@@ -163,3 +167,14 @@ def test_backtracking_between_two_open_states_ends_without_cycling(monkeypatch):
     }
     exits = {0: [1, 2], 1: [3, 4], 2: [], 3: [5], 4: [], 5: [6], 6: [5]}
     assert _route(monkeypatch, places, exits, 0) == [0, 1, 3, 5, 6]
+
+
+def test_a_landing_that_is_a_dead_end_is_not_rolled_to_first(monkeypatch):
+    """From S two rolls make progress: to A, the nearer, a dead end (no roll from it: on a slope,
+    a face only the brake holds, where every roll tumbles), and to B, which leads on to the goal G.
+    Ranked by cost alone the route rolls to A and ends stuck there (S is not open: nothing rolls
+    back to it); with the landings judged, A goes after B, and the route arrives by B."""
+    places = {0: (1, 1.0, 0.0), 1: (2, 0.7, 0.0), 2: (3, 0.8, 0.1), 3: (4, 0.5, 0.1)}
+    exits = {0: [1, 2], 1: [], 2: [3], 3: []}
+    assert _route(monkeypatch, places, exits, 0) == [0, 1]
+    assert _route(monkeypatch, places, exits, 0, look=True) == [0, 2, 3]
