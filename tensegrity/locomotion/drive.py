@@ -94,13 +94,15 @@ def onward(
     target: dict,
     brk: Brake | None,
     memory: lookahead.Memory,
-    avoid: list[int],
+    visited: list[int],
     r: RollResult,
 ) -> bool:
     """Whether the robot, landed as the roll `r` simulated ahead leaves it (`lookahead.foresee`: its
     final state and levels), has an acceptable roll from there toward `target` (`step_ahead`, the
-    memory with that state added; the brake braced anew): False for a dead end, where every roll
-    tumbles, slides, does not roll or returns (a slope's face that only the brake holds)."""
+    memory with that state added, the faces `visited` with the landing's, the brake braced anew):
+    False for a dead end, where every roll tumbles, slides, does not roll or returns (a slope's face
+    that only the brake holds). The verdict does not depend on the candidates' order: they are
+    simulated until one is acceptable, or all of them."""
     goal = target.get("goal")
     if goal is not None and np.linalg.norm(np.subtract(r.cog_after[:2], goal[:2])) <= s.arrive_tolerance:
         return True  # arrived there: no roll follows
@@ -114,6 +116,7 @@ def onward(
     b = None if brk is None else copy.deepcopy(brk, {id(brk.workspace): brk.workspace})
     if b is not None:
         b.forget()
+    avoid = (visited + [obs.face])[-_TABU - 1 : -1]  # as the next step's plan avoids them
     kw = dict(avoid=avoid, combine=s.combine, min_alignment=s.min_alignment, unit=s.unit)
     pl = plan(workspace, obs.face, obs.nodes, **kw, **target)
     ok, _ = step_ahead(workspace, params, terrain, s, obs, obs.face, pl, target, b, lambda x: 0.0, mem, np.inf)
