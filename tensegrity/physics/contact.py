@@ -227,56 +227,43 @@ def past_edge(nodes: ArrayLike, face: int | Sequence[int], pivot: Sequence[int],
     distance of the CoG projection to the edge (88.4 mm for an equilateral face, S = 0.5 m)."""
     p = check_nodes(nodes)
     a_i, b_i, c_i = _pivot_nodes(topo.face_number(face), tuple(int(n) for n in pivot))
-    k0, k1, k2 = _pivot_offset(float(strut_length), a_i, b_i, c_i)
-    (ax, ay, az), (bx, by, bz), (cx, cy, cz) = p[a_i].tolist(), p[b_i].tolist(), p[c_i].tolist()
-    ox, oy, oz = p.mean(axis=0).tolist()  # the centre: the normal points toward it
-    # the pivot frame (`_pivot_frame`) in floats: edge e, face normal n (inward), m = e x n
-    ex, ey, ez = bx - ax, by - ay, bz - az
-    le = math.sqrt(ex * ex + ey * ey + ez * ez)
-    ex, ey, ez = ex / le, ey / le, ez / le
-    fx, fy, fz = cx - ax, cy - ay, cz - az
-    nx, ny, nz = ey * fz - ez * fy, ez * fx - ex * fz, ex * fy - ey * fx
-    ln = math.sqrt(nx * nx + ny * ny + nz * nz)
-    if nx * (ox - ax) + ny * (oy - ay) + nz * (oz - az) < 0:
-        ln = -ln
-    nx, ny, nz = nx / ln, ny / ln, nz / ln
-    mx, my = ey * nz - ez * ny, ez * nx - ex * nz
-    # the CoG's offset from the edge's midpoint, the reference's turned into this frame (x, y)
-    gx, gy = ex * k0 + nx * k1 + mx * k2, ey * k0 + ny * k1 + my * k2
-    h = math.hypot(ex, ey)  # outward: horizontal, across the edge, away from the third node
-    ux, uy = ex / h, ey / h
-    wx, wy = 0.5 * (ax + bx) - cx, 0.5 * (ay + by) - cy
+    k = _pivot_offset(float(strut_length), a_i, b_i, c_i)
+    a, b, c = p[a_i].tolist(), p[b_i].tolist(), p[c_i].tolist()
+    frame = _pivot_frame(a, b, c, p.mean(axis=0).tolist())
+    gx, gy = (sum(axis[i] * kj for axis, kj in zip(frame, k)) for i in (0, 1))  # the CoG from the edge's middle
+    e = frame[0]
+    h = math.hypot(e[0], e[1])  # outward: horizontal, across the edge, away from the third node
+    ux, uy = e[0] / h, e[1] / h
+    wx, wy = 0.5 * (a[0] + b[0]) - c[0], 0.5 * (a[1] + b[1]) - c[1]
     d = wx * ux + wy * uy
     wx, wy = wx - d * ux, wy - d * uy
-    lw = math.hypot(wx, wy)
-    return (gx * wx + gy * wy) / lw
+    return (gx * wx + gy * wy) / math.hypot(wx, wy)
 
 
 @functools.lru_cache(maxsize=256)
 def _pivot_offset(strut_length: float, a_i: int, b_i: int, c_i: int) -> tuple[float, float, float]:
-    """The symmetric shape's CoG offset from the pivot edge's midpoint in its pivot frame
-    (`_pivot_frame`'s columns), m: `past_edge`'s reference, the same for every call on that edge."""
+    """The symmetric shape's CoG offset from the pivot edge's midpoint in its pivot frame, m:
+    `past_edge`'s reference, the same for every call on that edge."""
     ref = topo.reference_nodes(strut_length)
-    frame, mid = _pivot_frame(ref, np.zeros(3), a_i, b_i, c_i), 0.5 * (ref[a_i] + ref[b_i])
-    return tuple(float(v) for v in frame.T @ (ref.mean(axis=0) - mid))
+    frame = _pivot_frame(ref[a_i].tolist(), ref[b_i].tolist(), ref[c_i].tolist(), [0.0, 0.0, 0.0])
+    g = (ref.mean(axis=0) - 0.5 * (ref[a_i] + ref[b_i])).tolist()
+    return tuple(sum(u * v for u, v in zip(axis, g)) for axis in frame)
 
 
-def _pivot_frame(P: np.ndarray, centre: np.ndarray, a_i: int, b_i: int, c_i: int) -> np.ndarray:
-    """Columns: the pivot edge's direction a -> b, the face's normal (toward `centre`) and their
-    cross product, (3, 3), for nodes P (12, 3) m and 0-based nodes a, b (pivot) and c of a face."""
-    e1 = P[b_i] - P[a_i]
-    e1 = e1 / np.linalg.norm(e1)
-    n = _cross(e1, P[c_i] - P[a_i])
-    n /= np.linalg.norm(n)
-    n *= np.sign(np.dot(n, centre - P[a_i]))
-    return np.stack([e1, n, _cross(e1, n)], axis=1)
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a x b of two (3,) vectors: np.cross's products and differences, without its overhead."""
-    a0, a1, a2 = a.tolist()
-    b0, b1, b2 = b.tolist()
-    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+def _pivot_frame(a: list, b: list, c: list, centre: list) -> tuple[tuple[float, float, float], ...]:
+    """The pivot frame of points a, b (the pivot edge) and c (the face's third node), m (x, y, z):
+    the edge's direction a -> b, the face's normal toward `centre` and their cross product, in
+    floats (a call per check of a roll: numpy's overhead would be most of it)."""
+    ex, ey, ez = b[0] - a[0], b[1] - a[1], b[2] - a[2]
+    le = math.sqrt(ex * ex + ey * ey + ez * ez)
+    ex, ey, ez = ex / le, ey / le, ez / le
+    fx, fy, fz = c[0] - a[0], c[1] - a[1], c[2] - a[2]
+    nx, ny, nz = ey * fz - ez * fy, ez * fx - ex * fz, ex * fy - ey * fx
+    ln = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if nx * (centre[0] - a[0]) + ny * (centre[1] - a[1]) + nz * (centre[2] - a[2]) < 0:
+        ln = -ln
+    nx, ny, nz = nx / ln, ny / ln, nz / ln
+    return (ex, ey, ez), (nx, ny, nz), (ey * nz - ez * ny, ez * nx - ex * nz, ex * ny - ey * nx)
 
 
 @functools.lru_cache(maxsize=256)
