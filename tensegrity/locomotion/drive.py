@@ -86,6 +86,13 @@ def step_ahead(
     )
 
 
+def _plan(workspace: Workspace, s: RollSettings, face: int, nodes: np.ndarray, avoid: list[int], target: dict) -> Plan:
+    """A step's plan on `face` toward `target`, the faces `avoid` ranked last (`plan.plan`, the run's settings)."""
+    return plan(
+        workspace, face, nodes, avoid=avoid, combine=s.combine, min_alignment=s.min_alignment, unit=s.unit, **target
+    )
+
+
 def onward(
     workspace: Workspace,
     params: Params,
@@ -117,8 +124,7 @@ def onward(
     if b is not None:
         b.forget()
     avoid = (visited + [obs.face])[-_TABU - 1 : -1]  # as the next step's plan avoids them
-    kw = dict(avoid=avoid, combine=s.combine, min_alignment=s.min_alignment, unit=s.unit)
-    pl = plan(workspace, obs.face, obs.nodes, **kw, **target)
+    pl = _plan(workspace, s, obs.face, obs.nodes, avoid, target)
     ok, _ = step_ahead(workspace, params, terrain, s, obs, obs.face, pl, target, b, lambda x: 0.0, mem, np.inf)
     return bool(ok)
 
@@ -185,16 +191,7 @@ def drive(
             memory.add(face, obs.nodes.mean(axis=0))
             visited = (visited + [face])[-_TABU - 1 :]
             cpu = time.process_time()  # planning CPU: the plan and every roll simulated ahead
-            pl = plan(
-                workspace,
-                face,
-                obs.nodes,
-                avoid=visited[:-1],
-                combine=s.combine,
-                min_alignment=s.min_alignment,
-                unit=s.unit,
-                **target,
-            )
+            pl = _plan(workspace, s, face, obs.nodes, visited[:-1], target)
             tries: list[RollResult] = []
             expect = {c.pairs: c.pressure for c in pl.candidates}
             simulated: tuple[RollResult, ...] = ()
