@@ -19,6 +19,13 @@ strings no chunk holds the top (`decided` reads the motors there) or zero (`lock
 the pairs commanded 0 V are unwound (within `lockstep.UNWIND_TOLERANCE`, their voltage then the
 command: `lockstep.applied`) at a chunk's start and end: a motor at 0 V is held by its gear
 friction, so they stay so in between.
+
+Twins, robots of the batch in the same state given the same commands, are simulated once, as one row
+(`_regroup`), and part when their commands do: from a robot held by its brake every unbraked candidate
+first lets the brake come off the same way (on a steep slope most tumble then, before their ramps
+part), and a braked action and its twin with the brake kept on share their ramp until it nears the
+plan's pressure. The simulator advances each robot on its own, so a twin gets the bits it gets alone
+(tests/locomotion/test_braked_cuts.py).
 """
 
 from __future__ import annotations
@@ -117,21 +124,33 @@ def _simulate(params, terrain, s, batch, cmds, every):
     return d.simulate(params, batch, sched, terrain, s.dt, every, s.motors)
 
 
-def _chunk(params, terrain, s, batch, every, live, gens, last, pres, prev, ramps, span, wide):
-    """Up to `span` intervals of the batch at once (module docstring). Returns (the batch after
-    the last interval its controllers were handed, the robots that finished: {b: (result, i)},
-    whether all `span` were handed), or None where a robot's ramp is not predictable (then one
-    interval as `lockstep`)."""
-    if len(live) > WIDEST:
+def _chunk(params, terrain, s, batch, every, groups, gens, last, pres, prev, ramps, span, wide):
+    """Up to `span` intervals of the batch at once (module docstring), one row per group of twins
+    (`lockstep_ahead`). Returns (the batch after the last interval its controllers were handed, the
+    robots that finished: {b: (result, row)}, whether all `span` were handed), or None where a
+    robot's ramp is not predictable or a group's twins predict different commands at once (then
+    one interval as `lockstep`)."""
+    if len(groups) > WIDEST:
         return None
     ahead = []
-    for b in live:
-        a = None if ramps[b] is None else ramps[b].next(own(prev[b], wide[b]), own(pres[b], wide[b]), span - 1)
-        if a is None:
+    for g in groups:
+        got = [
+            None if ramps[b] is None else ramps[b].next(own(prev[b], wide[b]), own(pres[b], wide[b]), span - 1)
+            for b in g
+        ]
+        if any(a is None for a in got):
             return None
-        ahead.append(widths(a, pres))  # in the batch's width
+        a = widths(got[0], pres)  # in the batch's width; the twins' common prefix
+        for other in got[1:]:
+            other = widths(other, pres)
+            m = min(len(a), len(other))
+            same = np.all(a[:m] == other[:m], axis=1)
+            a = a[: m if same.all() else int(np.argmin(same))]
+        if not len(a):
+            return None
+        ahead.append(a)
     n = min(len(a) for a in ahead)
-    cmds = np.stack([np.concatenate([pres[b][None], a[:n]]) for b, a in zip(live, ahead)])  # (B, K, 12)
+    cmds = np.stack([np.concatenate([pres[g[0]][None], a[:n]]) for g, a in zip(groups, ahead)])  # (B, K, 12)
     if s.motors is not None and not np.array_equal(applied(s, cmds[:, 0], batch), cmds[:, 0]):
         return None  # a pair unwinding (`lockstep.applied`): its voltage follows the state
     try:
@@ -145,21 +164,25 @@ def _chunk(params, terrain, s, batch, every, live, gens, last, pres, prev, ramps
     for _ in range(K):  # `dynamics.simulate`'s clock, one interval at a time
         t += every * s.dt
         ts.append(t)
-    obs = _observe_all(params, terrain, s, traj.x, traj.q, ts, [last[b] for b in live], cmds, [wide[b] for b in live])
+    lead = [g[0] for g in groups]
+    obs = _observe_all(params, terrain, s, traj.x, traj.q, ts, [last[b] for b in lead], cmds, [wide[b] for b in lead])
     done: dict[int, tuple[Any, int]] = {}
     for k in range(K):
         stop = False
-        for i, b in enumerate(live):
+        for i, g in enumerate(groups):
             ob = obs[k][i]
-            last[b] = ob
-            prev[b] = cmds[i, k]
-            try:
-                _put(pres, wide, b, gens[b].send(ob))
-            except StopIteration as e:
-                done[b] = (e.value, i)
-                stop = True
-                continue
-            stop |= k < K - 1 and not np.array_equal(pres[b], cmds[i, k + 1])
+            for b in g:
+                if b in done:
+                    continue
+                last[b] = ob
+                prev[b] = cmds[i, k]
+                try:
+                    _put(pres, wide, b, gens[b].send(ob))
+                except StopIteration as e:
+                    done[b] = (e.value, i)
+                    stop = True
+                    continue
+                stop |= k < K - 1 and not np.array_equal(pres[b], cmds[i, k + 1])
         if stop or k == K - 1:
             break
     if k < K - 1:  # the state after interval k: simulated again from the chunk's start
@@ -185,7 +208,11 @@ def lockstep_ahead(
     ramps are predictable: ramps[b] is robot b's ramp, `Ramp` or `braked.Braked` (None: never predicted;
     the list may be filled by `make`). The commands are per cable for all robots if one robot
     starts per cable or has a ramp of (24,) weights (`lockstep.put`; a pair robot's levels on
-    both cables). Returns per robot (result, final State)."""
+    both cables). Twins, robots in the same state given the same commands (candidates whose
+    controllers agree so far: the unbraked ones while the brake comes off, a braked action and
+    its twin with the brake kept while the ramp is below the planned pressure), are simulated once,
+    as one row of the batch, and part when their commands do: the simulator advances each robot
+    on its own, so each gets the same bits. Returns per robot (result, final State)."""
     state.check()
     params = s.rolling(params)
     every = int(round(s.interval / s.dt))
@@ -200,37 +227,65 @@ def lockstep_ahead(
     wide = [False] * B
     pres, live, out, batch = first_commands(gens, state, wide, topo.N_CABLES if cables else topo.N_PAIRS)
     prev = np.full(pres.shape, np.nan)
+    rows = [_row(batch, i) for i in range(batch.batch)]
+    batch, groups = _regroup(batch, [[b] for b in live], {}, pres, wide, rows)
     span = min(2, CHUNK)  # a chunk's length: doubled after each chunk handed whole, up to CHUNK; 2 after one cut
-    with _threads(len(live)):
-        while live:
-            got = _chunk(params, terrain, s, batch, every, live, gens, last, pres, prev, ramps, span, wide)
+    with _threads(len(groups)):
+        while groups:
+            got = _chunk(params, terrain, s, batch, every, groups, gens, last, pres, prev, ramps, span, wide)
             if got is not None:
                 batch, done, whole = got
                 span = min(2 * span, CHUNK) if whole else 2
             else:
-                batch, done = _one(params, terrain, s, batch, every, live, gens, last, pres, prev, states, wide)
+                batch, done = _one(params, terrain, s, batch, every, groups, gens, last, pres, prev, states, wide)
             for b, (res, i) in done.items():
                 out[b] = (res, batch.take([i]))
-            if done:
-                keep = [i for i, b in enumerate(live) if b not in done]
-                live = [live[i] for i in keep]
-                batch = batch.take(keep)
+            batch, groups = _regroup(batch, groups, done, pres, wide)
     return out
 
 
-def _one(params, terrain, s, batch, every, live, gens, last, pres, prev, states, wide):
-    """One check interval of the batch, as `lockstep.lockstep` advances it (record=False)."""
-    batch, failed, _ = advance(params, terrain, s, batch, pres[live], live, every)
-    ob = observe(params, terrain, batch, s, [last[b] for b in live], [own(pres[b], wide[b]) for b in live], states)
+def _row(batch: d.State, i: int) -> bytes:
+    """Robot i's state in the batch, as bytes: equal for robots in the same state."""
+    fields = (batch.x, batch.v, batch.q, batch.w, batch.anchor, batch.stuck, batch.motor_angle, batch.motor_speed)
+    return b"".join(np.ascontiguousarray(a[i]).tobytes() for a in fields if a is not None)
+
+
+def _regroup(batch: d.State, groups: list[list[int]], done: dict, pres: np.ndarray, wide: list[bool], rows=None):
+    """The batch and its groups of twins (one row each) after a check: the robots `done` leave, a
+    group's robots part where their commands `pres` differ (in their order); robots of different
+    rows join where their `rows` (`_row`, given only at the start) and commands are the same."""
+    key, index, new = {}, [], []
+    for i, g in enumerate(groups):
+        for b in g:
+            if b in done:
+                continue
+            k = (rows[i] if rows is not None else i, pres[b].tobytes(), wide[b])
+            if k not in key:
+                key[k] = len(new)
+                index.append(i)
+                new.append([])
+            new[key[k]].append(b)
+    if index != list(range(len(groups))):
+        batch = batch.take(index)
+    return batch, new
+
+
+def _one(params, terrain, s, batch, every, groups, gens, last, pres, prev, states, wide):
+    """One check interval of the batch, one row per group of twins, as `lockstep.lockstep` advances it
+    (record=False)."""
+    lead = [g[0] for g in groups]
+    batch, failed, _ = advance(params, terrain, s, batch, pres[lead], lead, every)
+    ob = observe(params, terrain, batch, s, [last[b] for b in lead], [own(pres[b], wide[b]) for b in lead], states)
     done = {}
-    for i, b in enumerate(live):
-        prev[b] = pres[b]
-        try:
-            if b in failed:
-                gens[b].throw(failed[b])
-                raise RuntimeError("a controller ignored a SimulationError")
-            last[b] = ob[i]
-            _put(pres, wide, b, gens[b].send(ob[i]))
-        except StopIteration as stop:
-            done[b] = (stop.value, i)
+    for i, g in enumerate(groups):
+        for b in g:
+            prev[b] = pres[b]
+            try:
+                if g[0] in failed:
+                    gens[b].throw(failed[g[0]])
+                    raise RuntimeError("a controller ignored a SimulationError")
+                last[b] = ob[i]
+                _put(pres, wide, b, gens[b].send(ob[i]))
+            except StopIteration as stop:
+                done[b] = (stop.value, i)
     return batch, done

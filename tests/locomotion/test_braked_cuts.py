@@ -119,3 +119,46 @@ def test_braked_twisted_strings_in_chunks_are_the_whole_rolls(ws, monkeypatch):
     full = _whole(s, slope, obs, todo, 9.0, brk, expect)
     _same(cut[0], full[0])
     assert not cut[0].rolled and cut[0].face_after == obs.face
+
+
+def test_twins_are_simulated_once_and_get_the_bits_they_get_alone(ws, monkeypatch):
+    """On a 20 deg slope, from the robot held by its brake: six unbraked candidates (the brake comes
+    off the same way for all six; here all six tumble as it does, before their ramps) and a braked
+    action with its twin with the brake kept on (the same commands until the ramp nears the plan's
+    pressure; then one tumbles, the other rolls), simulated together, each get the RollResult, final
+    state and last levels they get alone (`ahead.lockstep_ahead`'s twins, one row of the batch while
+    their commands agree), in fewer robot-intervals of the simulator than alone."""
+    s, slope = lo.RollSettings(), Terrain.slope(20.0)
+    brk = Brake(ws, s.brake_margin)
+    obs = _settled(s, slope, brk)
+    goal = np.array([0.0, 2.0])
+    pl = lo.plan(ws, obs.face, obs.nodes, goal=goal)
+    expect = {c.pairs: c.pressure for c in pl.candidates}
+    unbraked = [a for a in lookahead.acts(ws, obs.face, obs.nodes, pl, dict(goal=goal), brk) if not a[1]][:6]
+    (kept, *_) = lookahead.kept(pl)
+    todo = [*unbraked, (kept[0], True), kept]
+    args = (DAMPED, slope, s, obs, todo, ws.max_pressure, brk, expect)
+    rows = []
+    simulate = d.simulate
+
+    def counted(params, batch, sched, *a, **k):
+        rows.append(batch.batch * len(sched.durations))  # robot-intervals
+        return simulate(params, batch, sched, *a, **k)
+
+    def run(batch):
+        with monkeypatch.context() as m:
+            m.setattr(d, "simulate", counted)
+            m.setattr(ahead, "CHUNK", 1)  # one interval a call: no chunk simulated again
+            return lookahead.foresee(*args[:4], batch, *args[5:])
+
+    together = run(todo)
+    shared = sum(rows)
+    alone = [run([a])[0] for a in todo]
+    assert shared < 0.6 * (sum(rows) - shared)  # six twins of 70 intervals as one
+    assert [r.face_after is None for r in together] == [True] * 7 + [False]  # the kept twin rolls
+    for a, b in zip(together, alone):
+        _same(a, b)
+        for x, y in zip((a.state.x, a.state.v, a.state.q, a.state.w), (b.state.x, b.state.v, b.state.q, b.state.w)):
+            assert np.array_equal(x, y)
+        assert np.array_equal(a.record.pressure, b.record.pressure)
+    _one_at_a_time(monkeypatch, lookahead.foresee(*args), args)  # twins in chunks
