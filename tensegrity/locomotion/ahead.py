@@ -43,7 +43,7 @@ from ..physics.terrain import Terrain
 from .lockstep import Controller, Obs, _threads, advance, applied, first_commands, observe, own, put, widths
 from .settings import RollSettings
 
-__all__ = ["CHUNK", "Ramp", "lockstep_ahead"]
+__all__ = ["CHUNK", "Ramp", "lockstep_ahead", "row_bytes"]
 
 CHUNK = 32  # check intervals simulated at once, at most (0.64 s at the default 20 ms)
 WIDEST = 8  # robots, at most, in a batch simulated in chunks: in a wider one the simulator's own
@@ -227,7 +227,7 @@ def lockstep_ahead(
     wide = [False] * B
     pres, live, out, batch = first_commands(gens, state, wide, topo.N_CABLES if cables else topo.N_PAIRS)
     prev = np.full(pres.shape, np.nan)
-    rows = [_row(batch, i) for i in range(batch.batch)]
+    rows = [row_bytes(batch, i) for i in range(batch.batch)]
     batch, groups = _regroup(batch, [[b] for b in live], {}, pres, wide, rows)
     span = min(2, CHUNK)  # a chunk's length: doubled after each chunk handed whole, up to CHUNK; 2 after one cut
     with _threads(len(groups)):
@@ -244,7 +244,7 @@ def lockstep_ahead(
     return out
 
 
-def _row(batch: d.State, i: int) -> bytes:
+def row_bytes(batch: d.State, i: int) -> bytes:
     """Robot i's state in the batch, as bytes: equal for robots in the same state."""
     fields = (batch.x, batch.v, batch.q, batch.w, batch.anchor, batch.stuck, batch.motor_angle, batch.motor_speed)
     return b"".join(np.ascontiguousarray(a[i]).tobytes() for a in fields if a is not None)
@@ -253,7 +253,7 @@ def _row(batch: d.State, i: int) -> bytes:
 def _regroup(batch: d.State, groups: list[list[int]], done: dict, pres: np.ndarray, wide: list[bool], rows=None):
     """The batch and its groups of twins (one row each) after a check: the robots `done` leave, a
     group's robots part where their commands `pres` differ (in their order); robots of different
-    rows join where their `rows` (`_row`, given only at the start) and commands are the same."""
+    rows join where their `rows` (`row_bytes`, given only at the start) and commands are the same."""
     key, index, new = {}, [], []
     for i, g in enumerate(groups):
         for b in g:

@@ -85,6 +85,11 @@ class Brake:
                 return True
         return False
 
+    def state(self) -> tuple:
+        """What a roll's simulation reads of this brake besides its workspace: the braced face, its
+        pressures (as bytes) and the face seen in a row (`for_face`)."""
+        return self._face, self._p.tobytes(), self._seen
+
     def forget(self) -> None:
         """Drop the braced face (after a roll made without this brake): the next face is taken at once."""
         self._face, self._seen = None, (None, 0)

@@ -29,6 +29,7 @@ from ..workspace.lookup import Workspace
 from . import lookahead, progress
 from .brake import Brake, escape
 from .control import RollResult, roll_controller, settle_controller
+from .foreseen import Foreseen
 from .lockstep import Controller, Obs, observe
 from .outcome import Step
 from .plan import Plan, plan
@@ -51,12 +52,14 @@ def step_ahead(
     memory: lookahead.Memory,
     now: float,
     onward: Callable[[RollResult], bool] | None = None,
+    known: Foreseen | None = None,
 ) -> tuple[list, tuple[RollResult, ...]]:
     """A run's step simulated ahead from `obs` on `face` (`lookahead.choose`): the plan `pl`'s
     actions toward `target`, then the lazy ones (`lookahead.acts`: the brake kept, and the optimised
     ones if s.optimised_actions, per cable if s.cable_actions; neither in volts) only where none of those is
-    acceptable; `onward` (`lookahead.choose`) judges a landing. Returns the acceptable actions best
-    first and every roll simulated (`drive`, `start.first_roll` and `onward`)."""
+    acceptable; `onward` (`lookahead.choose`) judges a landing; `known` (`foreseen.Foreseen`) keeps the
+    rolls simulated. Returns the acceptable actions best first and every roll simulated (`drive`,
+    `start.first_roll` and `onward`)."""
     muscles = s.motors is None  # the optimised actions are solved on the muscles' statics (eq. 1-2)
     world = lookahead.World(
         params,
@@ -83,6 +86,7 @@ def step_ahead(
         now,
         more,
         onward,
+        known,
     )
 
 
@@ -102,6 +106,7 @@ def onward(
     brk: Brake | None,
     memory: lookahead.Memory,
     visited: list[int],
+    known: Foreseen | None,
     r: RollResult,
 ) -> bool:
     """Whether the robot, landed as the roll `r` simulated ahead leaves it (`lookahead.foresee`: its
@@ -109,7 +114,7 @@ def onward(
     memory with that state added, the faces `visited` with the landing's, the brake braced anew):
     False for a dead end, where every roll tumbles, slides, does not roll or returns (a slope's face
     that only the brake holds). The verdict does not depend on the candidates' order: they are
-    simulated until one is acceptable, or all of them."""
+    simulated until one is acceptable, or all of them; `known` keeps their rolls for the next step."""
     goal = target.get("goal")
     if goal is not None and np.linalg.norm(np.subtract(r.cog_after[:2], goal[:2])) <= s.arrive_tolerance:
         return True  # arrived there: no roll follows
@@ -125,7 +130,9 @@ def onward(
         b.forget()
     avoid = (visited + [obs.face])[-_TABU - 1 : -1]  # as the next step's plan avoids them
     pl = _plan(workspace, s, obs.face, obs.nodes, avoid, target)
-    ok, _ = step_ahead(workspace, params, terrain, s, obs, obs.face, pl, target, b, lambda x: 0.0, mem, np.inf)
+    ok, _ = step_ahead(
+        workspace, params, terrain, s, obs, obs.face, pl, target, b, lambda x: 0.0, mem, np.inf, None, known
+    )
     return bool(ok)
 
 
@@ -148,6 +155,7 @@ def drive(
     outcome, message = "step_limit", f"step limit of {s.max_rolls} rolls reached"
     brk = Brake(workspace, s.brake_margin) if s.brake else None
     memory: lookahead.Memory | None = None
+    known = Foreseen()  # the rolls `onward` simulated from the landing, for the next step
     start_face, stuck_cpu = None, 0.0
     try:
         face, obs = yield from settle_controller(s, obs, brk)
@@ -202,10 +210,11 @@ def drive(
                 look = (
                     None
                     if edges
-                    else functools.partial(onward, workspace, params, terrain, s, target, brk, memory, visited)
+                    else functools.partial(onward, workspace, params, terrain, s, target, brk, memory, visited, known)
                 )
+                known.keep(obs)
                 todo, simulated = step_ahead(
-                    workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now, look
+                    workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now, look, known
                 )
             else:  # the workspace's order, tried in the world
                 todo = [(c.pairs, braked) for c in pl.candidates[: s.max_attempts]]

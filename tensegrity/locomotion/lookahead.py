@@ -71,8 +71,7 @@ Act = tuple
 
 
 def _planned(workspace: Workspace, face: int, nodes: np.ndarray, pl: Plan, target: dict, world=None) -> list[Candidate]:
-    """The plan's candidates in its order: those the workspace predicts to roll toward the target
-    first, single pairs or its two-pair combinations (`plan.plan`), then the others."""
+    """The plan's candidates in its order (`plan.plan`): those predicted to roll toward the target first."""
     return list(pl.candidates)
 
 
@@ -252,6 +251,7 @@ def choose(
     now: float = np.inf,
     more: Callable[[], Sequence[Act]] | None = None,
     onward: Callable[[RollResult], bool] | None = None,
+    known: Callable[..., list[RollResult]] | None = None,
 ) -> tuple[list[Act], tuple[RollResult, ...]]:
     """A run's step: simulate the candidates `todo` in order in batches of growing horizon (the
     first; then 2, 4, ... up to s.lookahead; then all; then `more()`'s, called only then), stopping at
@@ -262,7 +262,7 @@ def choose(
     to a state with an acceptable roll not taken, `Memory.opens`: a backtrack) and every roll simulated,
     in order; the acceptable ones are recorded in `memory`. A tumble or a slide is never returned.
     Progress counts only where `onward` judges the landing no dead end (asked best first), and the best
-    such candidate goes first."""
+    such candidate goes first. `known` (`foreseen.Foreseen`) simulates in place of `foresee`, reusing rolls."""
     todo = list(todo)
     simulated: list[RollResult] = []
     fine: list[int] = []
@@ -277,7 +277,7 @@ def choose(
             k = len(todo)
         if k <= len(simulated):
             continue
-        simulated += foresee(params, terrain, s, obs, todo[len(simulated) : k], max_pressure, brake, expect)
+        simulated += (known or foresee)(params, terrain, s, obs, todo[len(simulated) : k], max_pressure, brake, expect)
         fine = [
             i for i, r in enumerate(simulated) if r.rolled and lands(r) and not memory.seen(r.face_after, r.cog_after)
         ]
