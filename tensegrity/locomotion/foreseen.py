@@ -27,7 +27,7 @@ __all__ = ["Foreseen"]
 
 class Foreseen:
     """`lookahead.foresee` for one run (its params, terrain and settings), each candidate simulated
-    once from a start; `keep(state)` drops the rolls from other starts (a run never returns to a
+    once from a start; `keep(obs)` drops the rolls from other states (a run never returns to a
     state to the last bit)."""
 
     def __init__(self):
@@ -54,7 +54,7 @@ class Foreseen:
         acts = obs.face is not None and brake is not None and brake.active(obs.face, obs.nodes)
         start = (row_bytes(obs.state, 0), obs.t, obs.pressure.tobytes(), max_pressure, brake.state() if acts else None)
         rolls = self._rolls.setdefault(start, {})
-        keys = [(a, _planned(a, expect)) for a in todo]
+        keys = [(a, _planned_pressure(a, expect)) for a in todo]
         new = list(dict.fromkeys(k for k in keys if k not in rolls))
         for k, r in zip(
             new, lookahead.foresee(params, terrain, s, obs, [a for a, _ in new], max_pressure, brake, expect)
@@ -63,7 +63,7 @@ class Foreseen:
         return [rolls[k] for k in keys]
 
 
-def _planned(act: lookahead.Act, expect: dict) -> float | None:
+def _planned_pressure(act: lookahead.Act, expect: dict) -> float | None:
     """The planned pressure MPa a pairs action `act` ramps toward (`lookahead.foresee`), None if none."""
     p = expect.get(act[0]) if lookahead.weights_of(act) is None else None
     return None if p is None or p != p else float(p)
