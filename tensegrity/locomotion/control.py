@@ -199,12 +199,9 @@ def roll_controller(
         # step is held while a node is up (slopes need it)
         n_up = sum(lifted)  # support nodes up
         up = n_up > 0
-        if phase == "hold" or up:
-            holding, t_hold, rearmed, _ = hold_step(
-                phase == "hold", t_hold, rearmed, up, s.interval, s.hold_time, rearm=brake is not None
-            )
-        else:  # hold_step's own outcome with no hold and no node up, without its array work
-            holding, rearmed = False, True
+        holding, t_hold, rearmed, _ = hold_step(
+            phase == "hold", t_hold, rearmed, up, s.interval, s.hold_time, rearm=brake is not None
+        )
         over = False
         if n_up == 1:
             pivot = tuple(n + 1 for n, u in zip(support, lifted) if not u)

@@ -50,7 +50,16 @@ def hold_step(
     (...) bool, the pressure was held over the interval; held (...) s, for how long before it;
     spent (...) s, all holds before it. A hold that ran out leaves the robot armed if `rearm`
     (held again while a node is up), else not until none is; none starts once `spent` reaches
-    `budget` s. Returns holding, held, armed and spent after the check."""
+    `budget` s. Returns holding, held, armed and spent after the check (for one robot of Python bools
+    and floats, as those: the same numbers without numpy's work, a roll's check)."""
+    if all(type(a) is bool for a in (holding, armed, lifted)) and all(type(a) is float for a in (held, spent)):
+        held = held + interval if holding else held
+        spent = spent + interval if holding else spent
+        ends = holding and held >= hold_time - 1e-9
+        armed = armed or not lifted
+        begins = not holding and lifted and armed and spent < budget - 1e-9
+        held, armed = 0.0 if begins else held, rearm if ends else armed
+        return (holding and not ends) or begins, held, armed, spent
     holding, armed, lifted = (np.asarray(a, bool) for a in (holding, armed, lifted))
     held = np.where(holding, held + interval, held)
     spent = np.where(holding, spent + interval, spent)

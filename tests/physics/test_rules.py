@@ -142,6 +142,21 @@ def test_hold_step_holds_hold_time_then_rearms_as_asked_within_its_budget():
     )
 
 
+@pytest.mark.parametrize("rearm", [False, True])
+@pytest.mark.parametrize("budget", [np.inf, 0.06])
+def test_hold_step_for_one_robot_in_floats_gives_the_arrays_numbers(rearm, budget):
+    """A roll's check passes Python bools and floats (`control.roll_controller`): the same
+    holding, held, armed and spent, to the bit, as numpy's arrays of one, and floats back."""
+    rng = np.random.default_rng(3)
+    state = (False, 0.0, True, 0.0)
+    arrays = tuple(np.asarray(v) for v in state)
+    for up in rng.random(60) < 0.6:
+        state = schedule.hold_step(*state[:3], bool(up), 0.02, 0.06, rearm, state[3], budget)
+        arrays = schedule.hold_step(*arrays[:3], np.asarray(up), 0.02, 0.06, rearm, arrays[3], budget)
+        assert [type(v) for v in state] == [bool, float, bool, float]
+        assert state == tuple(a.item() for a in arrays)
+
+
 def test_whole_steps_within_a_millionth_of_a_step():
     assert schedule.whole_steps(0.02, 1e-4) and schedule.whole_steps(1.0, 50 * 1e-4)
     assert not schedule.whole_steps(0.02, 3e-4) and not schedule.whole_steps(0.2, 0.3)
