@@ -50,9 +50,9 @@ def hold_step(
     (...) bool, the pressure was held over the interval; held (...) s, for how long before it;
     spent (...) s, all holds before it. A hold that ran out leaves the robot armed if `rearm`
     (held again while a node is up), else not until none is; none starts once `spent` reaches
-    `budget` s. Returns holding, held, armed and spent after the check (for one robot of Python bools
-    and floats, as those: the same numbers without numpy's work, a roll's check)."""
-    if all(type(a) is bool for a in (holding, armed, lifted)) and all(type(a) is float for a in (held, spent)):
+    `budget` s. Returns holding, held, armed and spent after the check. One robot given as Python
+    bools and floats (a roll's check) gets them back as such: the same numbers, without numpy."""
+    if type(holding) is type(armed) is type(lifted) is bool and type(held) is type(spent) is float:
         held = held + interval if holding else held
         spent = spent + interval if holding else spent
         ends = holding and held >= hold_time - 1e-9
