@@ -55,9 +55,9 @@ def step_ahead(
     known: Foreseen | None = None,
 ) -> tuple[list, tuple[RollResult, ...]]:
     """A run's step simulated ahead from `obs` on `face` (`lookahead.choose`): the plan `pl`'s
-    actions toward `target`, then the lazy ones (`lookahead.acts`: the brake kept, and the optimised
-    ones if s.optimised_actions, per cable if s.cable_actions; neither in volts) only where none of those is
-    acceptable; `onward` (`lookahead.choose`) judges a landing; `known` (`foreseen.Foreseen`) keeps the
+    actions toward `target`, the lazy ones (`lookahead.acts`: the optimised ones if s.optimised_actions,
+    per cable if s.cable_actions, neither in volts; the brake kept) next after its first where that one is
+    not acceptable; `onward` (`lookahead.choose`) judges a landing; `known` (`foreseen.Foreseen`) keeps the
     rolls simulated. Returns the acceptable actions best first and every roll simulated (`drive`,
     `start.first_roll` and `onward`)."""
     muscles = s.motors is None  # the optimised actions are solved on the muscles' statics (eq. 1-2)

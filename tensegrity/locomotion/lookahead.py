@@ -13,8 +13,10 @@ make. `choose` keeps a roll that lands on another face (`lands`: on a face, its 
 SLIDE m, else a tumble) at a state the run has not been at since its CoG last came closer to the
 goal (`memory.Memory`), and ranks those by `progress.rolls_to_goal`, the rolls still needed by the
 robot's own stride and lift (`progress.stride`). The horizon grows by cost alone: the workspace's
-best candidate first, then 2, 4, ... up to `lookahead` candidates, then all of them, then the lazy
-generators' (`LAZY`: computed only when the horizon reaches them), only while none is acceptable.
+best candidate first; where it is not acceptable, the lazy generators' actions go next (`LAZY`:
+computed only then, 0.13-0.24 s of CPU a step on 20 deg; the optimised ones are solved on the
+robot's own pose and gravity, the plan's on the flat workspace), and the horizon grows to 2, 4,
+... up to `lookahead` candidates, then all of them, only while none is acceptable.
 A candidate's simulation ends as soon as its outcome is decided (`decided.until_decided`): its CoG
 more than SLIDE m away (a tumble or slide); unbraked, at rest at the top of its ramp without
 rolling, or its ramp given up on its face (`control.roll_controller`'s `foresee`). A roll that
@@ -84,7 +86,7 @@ def _pairs(
 
 # Sources of candidate actions, tried in this order: f(workspace, face, nodes (12, 3) m, plan,
 # target, world: World | None) -> Candidates, pair tuples (1-based) or weight vectors (12,) or (24,).
-# A new kind of action is one more entry. Those in LAZY are computed only when the horizon reaches them.
+# A new kind of action is one more entry. Those in LAZY are computed only where the first is not acceptable.
 GENERATORS: list[Callable] = [_planned, _pairs, _optimised, _cables]
 LAZY: set[Callable] = {_optimised, _cables}
 
@@ -118,7 +120,7 @@ def acts(
 ) -> list[Act]:
     """The step's candidate rolls in the order to simulate them: every generator's actions (not
     in LAZY; lazy: only those in LAZY), each once, braked (if the run brakes); then, where the
-    brake acts on this face, each unbraked; lazy, first the brake kept (`kept`)."""
+    brake acts on this face, each unbraked; lazy, the brake kept (`kept`) after the braked ones."""
     seen: list[tuple] = []
     for gen in GENERATORS:
         if (gen in LAZY) != lazy:
@@ -131,7 +133,7 @@ def acts(
     acting = brake is not None and brake.active(face, nodes)
     if acting:
         first += [(a[0], False, *a[1:]) for a in seen]
-    return (kept(pl) if acting else []) + first if lazy else first
+    return first[: len(seen)] + (kept(pl) if acting else []) + first[len(seen) :] if lazy else first
 
 
 def kept(pl: Plan) -> list[Act]:
@@ -254,7 +256,8 @@ def choose(
     known: Callable[..., list[RollResult]] | None = None,
 ) -> tuple[list[Act], tuple[RollResult, ...]]:
     """A run's step: simulate the candidates `todo` in order in batches of growing horizon (the
-    first; then 2, 4, ... up to s.lookahead; then all; then `more()`'s, called only then), stopping at
+    first; then 2, 4, ... up to s.lookahead; then all), `more()`'s actions put next after the first
+    where it is not acceptable (called only then), stopping at
     the first batch after which one is acceptable: it rolls onto another face, `lands` (no tumble, no
     slide), at a state not in `memory`, and makes progress (`cost` below `now`, the cost of staying).
     Return the s.max_attempts acceptable candidates of least `cost` (if none makes progress, those
@@ -269,12 +272,11 @@ def choose(
     rank = lambda i: (round(cost(simulated[i]), 9), i)  # noqa: E731
     judged: dict[int, bool] = {}  # candidate: its landing is no dead end (`onward`, asked once, best first)
     good = lambda i: judged[i] if i in judged else judged.setdefault(i, onward is None or onward(simulated[i]))  # noqa: E731
-    for k in [*_doubling(s.lookahead), len(todo), None]:
-        if k is None:  # the lazy actions: only now computed
-            if more is None:
-                break
-            todo += [a for a in more() if a not in todo]
-            k = len(todo)
+    for k in [*_doubling(s.lookahead), None]:
+        if more is not None and (simulated or not todo):  # the first is not acceptable: the lazy actions next
+            todo[len(simulated) : len(simulated)] = [a for a in more() if a not in todo]
+            more = None
+        k = len(todo) if k is None else k
         if k <= len(simulated):
             continue
         simulated += (known or foresee)(params, terrain, s, obs, todo[len(simulated) : k], max_pressure, brake, expect)

@@ -42,8 +42,8 @@ def test_the_brake_kept_on_lands_where_every_other_roll_tumbles(ws):
     the unbraked robot predicted outside already), every single pair braked and handed over
     there, and unbraked, tumbles or slides (`lookahead.lands` false): `choose` finds nothing
     among them. The lazy actions add each braked action with its brake kept on (weights of
-    ones, no planned pressure); some of those land on another face, and `choose` returns only
-    those."""
+    ones, no planned pressure), simulated next after the first candidate; some of those land on
+    another face, and `choose` returns only those, before it simulates the other candidates."""
     s = lo.RollSettings(brake=True)
     ob, brk = _held(ws, s)
     assert ob.face == topo.face_number((9, 10, 12)) and ob.pressure.any()  # the brake on
@@ -54,6 +54,8 @@ def test_the_brake_kept_on_lands_where_every_other_roll_tumbles(ws):
     expect = {c.pairs: c.pressure for c in singles}
     todo = [(c.pairs, True) for c in singles] + [(c.pairs, False) for c in singles]
     target = dict(direction=np.array([*UPHILL, 0.0]))
+    alone = lookahead.foresee(DAMPED, SLOPE, s, ob, todo, ws.max_pressure, brk, expect)
+    assert not any(lookahead.lands(r) for r in alone)  # handed over at 0 MPa, or unbraked: a fall
     chosen, simulated = lookahead.choose(
         DAMPED,
         SLOPE,
@@ -67,10 +69,11 @@ def test_the_brake_kept_on_lands_where_every_other_roll_tumbles(ws):
         lookahead.Memory(0.1),
         more=lambda: lookahead.acts(ws, ob.face, ob.nodes, pl0, target, brk, lazy=True),
     )
-    assert not any(lookahead.lands(r) for r in simulated[: len(todo)])  # handed over at 0 MPa, or unbraked: a fall
     assert chosen and all(lookahead.weights_of(a) is not None for a in chosen)  # main: none
-    assert len(simulated) == len(todo) + len(singles)  # one kept twin each; no optimised actions without a world
-    for r in simulated[len(todo) :]:
+    assert np.array_equal(simulated[0].cog_after, alone[0].cog_after)  # the plan's first; then kept ones only
+    assert simulated[0].weights is None and all(r.weights is not None for r in simulated[1:])  # (no world: no optimised)
+    assert 1 < len(simulated) <= 1 + len(singles) < len(todo)
+    for r in simulated[1:]:
         if r.rolled and lookahead.lands(r):
             assert r.face_after != ob.face and lookahead.moved(r) <= lookahead.SLIDE
 

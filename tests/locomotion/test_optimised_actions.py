@@ -24,16 +24,18 @@ def _res(pairs, face_after, cog):
     return RollResult(pairs, face_after is not None, EQUI, face_after, np.nan, 1.0, 0.0, 1.0, z, np.asarray(cog, float))
 
 
-def test_optimised_actions_enter_only_when_nothing_earlier_is_acceptable(monkeypatch):
-    """`choose` calls the lazy generator (`more`) only after every earlier action was simulated
-    and none lands on a new face with progress; its actions are then simulated and may be chosen."""
+def test_optimised_actions_enter_next_after_the_first_once_it_is_not_acceptable(monkeypatch):
+    """`choose` calls the lazy generator (`more`) only once the first action is not acceptable
+    (here: it tumbles), and simulates its actions next, before the other actions; they may be
+    chosen. Where the first is acceptable, `more` is not called."""
     w = tuple([1.0, 0.5] + [0.0] * 10)
     rolls = {
         (1,): _res((1,), None, (0.2, 0, 0)),  # tumbles
         (2,): _res((2,), 5, (-0.2, 0, 0)),  # lands, but away from the goal
         (1, 2): _res((1, 2), 7, (0.2, 0, 0)),  # the optimised action: lands toward the goal
     }
-    monkeypatch.setattr(lookahead, "foresee", lambda *a: [rolls[t[0]] for t in a[4]])
+    asked = []
+    monkeypatch.setattr(lookahead, "foresee", lambda *a: asked.extend(t[0] for t in a[4]) or [rolls[t[0]] for t in a[4]])
     calls = []
 
     def more():
@@ -43,18 +45,19 @@ def test_optimised_actions_enter_only_when_nothing_earlier_is_acceptable(monkeyp
     goal = np.array([2.0, 0.0, 0.0])
     cost = lambda r: progress.rolls_to_goal(r.cog_after, goal, Terrain.flat(), 0.2, 0.01)  # noqa: E731
     now = cost(_res((), 1, (0, 0, 0)))
-    s = lo.RollSettings(lookahead=1, max_attempts=1)
+    s = lo.RollSettings(lookahead=2, max_attempts=1)
     obs = Obs(0.0, np.zeros((12, 3)), np.zeros(12), EQUI, 0.0)
     args = (DAMPED, Terrain.flat(), s, obs)
     chosen, sim = lookahead.choose(
         *args, [((1,), False), ((2,), False)], 4.8, None, {}, cost, lookahead.Memory(0.05), now, more
     )
-    assert calls == [1] and chosen == [((1, 2), False, w)] and len(sim) == 3
-    rolls[(2,)] = _res((2,), 5, (0.2, 0, 0))  # now a single pair makes progress
+    assert calls == [1] and chosen == [((1, 2), False, w)] and asked == [(1,), (1, 2)] and len(sim) == 2
+    rolls[(1,)] = _res((1,), 5, (0.2, 0, 0))  # now the first makes progress: nothing lazy is computed
+    asked.clear()
     chosen, sim = lookahead.choose(
         *args, [((1,), False), ((2,), False)], 4.8, None, {}, cost, lookahead.Memory(0.05), now, more
     )
-    assert calls == [1] and chosen == [((2,), False)] and len(sim) == 2
+    assert calls == [1] and chosen == [((1,), False)] and asked == [(1,)] and len(sim) == 1
     # off (the default) or without a state, the generator gives nothing; a 0/1 vector is a pairs action
     world = lookahead.World(DAMPED, Terrain.flat(), None, 4.8, optimised=True)
     assert lookahead._optimised(None, EQUI, np.zeros((12, 3)), None, {}, world) == []
@@ -63,11 +66,12 @@ def test_optimised_actions_enter_only_when_nothing_earlier_is_acceptable(monkeyp
 
 @pytest.mark.slow  # ~13 s: the optimised actions of one pose and their rolls, simulated
 def test_a_weighted_action_rolls_as_foreseen_and_is_stored(ws, monkeypatch):
-    """With only the optimised generator, a flat run's first step simulates the optimised actions
+    """With only the optimised generator's weighted actions, a flat run's first step simulates the optimised actions
     from the robot's state and makes the best: the roll made equals its simulation to round-off
     (face, CoG, times, peak level), its weights are those of `actuation.candidates`, and the
     run file stores them (`step_weight`) with the action's nonzero pairs in `step_pair`."""
-    monkeypatch.setattr(lookahead, "GENERATORS", [lookahead._optimised])
+    weighted = lambda *a: [w for w in lookahead._optimised(*a) if not np.all((w == 0) | (w == 1))]  # noqa: E731
+    monkeypatch.setattr(lookahead, "GENERATORS", [weighted])  # (a vector of ones and zeros is a pairs action)
     s = lo.RollSettings(max_rolls=1, max_attempts=1, optimised_actions=True)
     run = lo.roll_to(ws, (2.0, 0.0), DAMPED, settings=s)
     step = run.steps[0]
