@@ -71,7 +71,7 @@ def test_the_brake_kept_on_lands_where_every_other_roll_tumbles(ws):
     )
     assert chosen and all(lookahead.weights_of(a) is not None for a in chosen)  # main: none
     assert np.array_equal(simulated[0].cog_after, alone[0].cog_after)  # the plan's first; then kept ones only
-    assert simulated[0].weights is None and all(r.weights is not None for r in simulated[1:])  # (no world: no optimised)
+    assert simulated[0].weights is None and all(r.weights is not None for r in simulated[1:])  # no world: no optimised
     assert 1 < len(simulated) <= 1 + len(singles) < len(todo)
     for r in simulated[1:]:
         if r.rolled and lookahead.lands(r):

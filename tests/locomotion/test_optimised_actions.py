@@ -35,7 +35,8 @@ def test_optimised_actions_enter_next_after_the_first_once_it_is_not_acceptable(
         (1, 2): _res((1, 2), 7, (0.2, 0, 0)),  # the optimised action: lands toward the goal
     }
     asked = []
-    monkeypatch.setattr(lookahead, "foresee", lambda *a: asked.extend(t[0] for t in a[4]) or [rolls[t[0]] for t in a[4]])
+    simulate = lambda *a: asked.extend(t[0] for t in a[4]) or [rolls[t[0]] for t in a[4]]  # noqa: E731
+    monkeypatch.setattr(lookahead, "foresee", simulate)
     calls = []
 
     def more():
