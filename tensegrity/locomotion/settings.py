@@ -71,7 +71,7 @@ class RollSettings:
     min_alignment: float = 0.0
     max_attempts: int = 3
     lookahead: int = 30
-    max_rolls: int = 80
+    max_rolls: int = 200
     arrive_tolerance: float = 0.3
     brake: bool = True
     brake_margin: float = 0.035

@@ -280,7 +280,7 @@ def test_snakemake_validate_accepts_the_schema():
 
     cfg = file_config()
     validate(cfg, str(config.SCHEMA_PATH))
-    assert cfg["locomotion"]["max_rolls"] == 80
+    assert cfg["locomotion"]["max_rolls"] == 200
 
 
 def test_overrides_merge_and_do_not_mutate():
