@@ -32,10 +32,14 @@ of the arrived runs, planning CPU seconds per roll (`Step.plan_cpu`: the plan an
 simulated ahead, process time of all threads; with `Run.stuck_cpu`, a last plan that made no
 roll) and wall time (inflated on a busy machine). A markdown table closes the output.
 
+A model error (`--world KEY=VALUE ...`, fields of `Params`, e.g. `friction=0.6`): the simulated
+robot and ground take these values while the planner (its start choice and every roll it
+simulates ahead) keeps the configuration's; without it the planner's model is exact.
+
 Usage: python benchmarks/bench_locomotion.py [--workspace results/workspace.nc]
        [--two-pair results/workspace_two_pair.nc | none] [--cases 8] [--seeds evaluation|tuning]
        [--grounds flat slope15 ...] [--distance 2.0] [--face 9,10,12] [--set key=value ...]
-       [--configfile volts.yaml]
+       [--configfile volts.yaml] [--world friction=0.6 ...]
        [--steps] [--tiny]
 `--tiny` (the test suite's): one case on flat and on slope15, 0.6 m away.
 Without the workspace file, one is computed first with the default configuration (~30 s).
@@ -45,6 +49,7 @@ from __future__ import annotations
 
 import argparse
 import collections
+import dataclasses
 import tempfile
 import time
 import zlib
@@ -125,8 +130,10 @@ def tumbled(run: lo.Run) -> bool:
     return any(a.face_after is None or lookahead.moved(a) > lookahead.SLIDE for st in run.steps for a in st.attempts)
 
 
-def run_ground(ground, seeds, a, ws, params, settings, face) -> list[tuple[dict, lo.Run]]:
-    """Every case of one ground, batched where they share a terrain."""
+def run_ground(ground, seeds, a, ws, params, settings, face, world=None) -> list[tuple[dict, lo.Run]]:
+    """Every case of one ground, batched where they share a terrain; the robot and ground
+    simulated with `world` (Params; None: `params`, the planner's model)."""
+    world = world or params
     cases = [draw(ground, sd) for sd in seeds]
     groups = collections.defaultdict(list)
     for i, c in enumerate(cases):
@@ -155,9 +162,11 @@ def run_ground(ground, seeds, a, ws, params, settings, face) -> list[tuple[dict,
             continue
         heads = np.radians([cases[i]["goal"] + turn for i, _, turn in members])
         goals = a.distance * np.stack([np.cos(heads), np.sin(heads)], axis=1)
-        state = d.State.concat([d.stand_on(params, f, terrain, yaw_deg=y) for f, y in poses])
+        state = d.State.concat([d.stand_on(world, f, terrain, yaw_deg=y) for f, y in poses])
         with progress.bar(None, ground, leave=False) as bar:
-            runs = lo.roll_many(ws, goals, params, terrain, state=state, settings=settings, progress=bar.update)
+            runs = lo.roll_many(
+                ws, goals, world, terrain, state=state, settings=settings, progress=bar.update, model=params
+            )
         for (i, _, _), r in zip(members, runs):
             out[i] = (cases[i], r)
     return out
@@ -253,6 +262,7 @@ def main() -> None:
     ap.add_argument("--face", default="auto", help="start face a,b,c at the drawn yaw; 'auto' (default): as roll")
     ap.add_argument("--configfile", help="a YAML file merged over config/config.yaml (e.g. the volts table)")
     ap.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override RollSettings")
+    ap.add_argument("--world", nargs="+", default=[], metavar="KEY=VALUE", help="the simulated robot's Params")
     ap.add_argument("--steps", action="store_true", help="print every step of every run")
     ap.add_argument("--tiny", action="store_true", help="one case on flat and slope15, 0.6 m away")
     a = ap.parse_args()
@@ -279,17 +289,23 @@ def main() -> None:
         settings = io_settings.build(lo.RollSettings, config.merge(cfg, {"locomotion": over}))
     except (ValueError, KeyError) as e:
         ap.error(f"--set {' '.join(a.set)}: {e}")
+    try:
+        world = dataclasses.replace(params, **{k: yaml.safe_load(v) for k, v in (kv.split("=", 1) for kv in a.world)})
+    except (ValueError, TypeError) as e:
+        ap.error(f"--world {' '.join(a.world)}: {e}")
     two = None if a.two_pair.lower() == "none" or not Path(a.two_pair).is_file() else a.two_pair
     ws = workspace(a.workspace, two)
     seeds = (EVALUATION_SEEDS if a.seeds == "evaluation" else TUNING_SEEDS)[: a.cases]
     print(
         f"{a.cases} {a.seeds} cases per ground (seeds {', '.join(map(str, seeds))}); goals {a.distance} m away; "
-        f"start face {a.face}; combinations " + ("from the two-pair workspace" if two else "superposed")
+        f"start face {a.face}; combinations "
+        + ("from the two-pair workspace" if two else "superposed")
+        + (f"; the world's {', '.join(a.world)}, the planner's model the configuration's" if a.world else "")
     )
     rows = []
     for g in a.grounds:
         t0 = time.perf_counter()
-        res = run_ground(g, seeds, a, ws, params, settings, face)
+        res = run_ground(g, seeds, a, ws, params, settings, face, world)
         rows.append(report(g, res, time.perf_counter() - t0, settings.arrive_tolerance))
         if a.steps:
             steps(res, settings.unit)

@@ -86,10 +86,12 @@ def roll_many(
     yaw_deg: float = 0.0,
     direction: ArrayLike | None = None,
     progress: Callable[[float], None] | None = None,
+    model: Params | None = None,
 ) -> list[Run]:
     """`roll_to` for several goals (G, 2) m at once, one robot each, simulated as one batch
     (same parameters and terrain); each run equals its single run."""
     params = params or Params()
+    model = model or params
     terrain = terrain or Terrain.flat()
     s = settings or RollSettings()
     goals = np.asarray(goals, float)
@@ -103,7 +105,7 @@ def roll_many(
         params,
         terrain,
         state,
-        lambda b, o: drive(workspace, params, terrain, s, o, goal=checked[b], direction=direction),
+        lambda b, o: drive(workspace, model, terrain, s, o, goal=checked[b], direction=direction),
         s,
         progress,
     )
@@ -126,6 +128,7 @@ def roll_to(
     yaw_deg: float = 0.0,
     direction: ArrayLike | None = None,
     progress: Callable[[float], None] | None = None,
+    model: Params | None = None,
 ) -> Run:
     """Roll toward the world point `goal` (x, y) m: settle, then plan, roll, repeat (paper
     III.C) until the CoG is within arrive_tolerance of the goal ("arrived"), after max_rolls
@@ -135,7 +138,9 @@ def roll_to(
     yaw_deg (deg). `direction` (a world vector) replaces the goal's direction for planning.
     `params` default: `Params()`; `settings` default: `RollSettings()`, the pipeline's defaults
     (the struts damped by settings.strut_damping in every roll). progress(seconds) receives
-    the simulated time as it passes.
+    the simulated time as it passes. `model`: the planner's Params, with which it simulates
+    its candidate rolls ahead, where they differ from the world's `params` (a model error;
+    default `params`).
 
     Raises ValueError for bad input: a goal closer than the robot's size (the strut length),
     a non-finite goal or state, a terrain with nothing under the robot or the goal."""
@@ -143,7 +148,7 @@ def roll_to(
     if gl.size not in (2, 3):
         raise ValueError(f"goal must be a finite world point (x, y) m, got {goal!r}")
     return roll_many(
-        workspace, gl[None, :2], params, terrain, state, face, settings, position, yaw_deg, direction, progress
+        workspace, gl[None, :2], params, terrain, state, face, settings, position, yaw_deg, direction, progress, model
     )[0]
 
 

@@ -274,6 +274,8 @@ BENCHMARKS = {
         "{tiny}/results/workspace_two_pair.nc",
         "--tiny",
         "--steps",
+        "--world",
+        "friction=0.7",
     ],
     "bench_foresee.py": [
         "--workspace",
