@@ -53,13 +53,15 @@ def step_ahead(
     now: float,
     onward: Callable[[RollResult], bool] | None = None,
     known: Foreseen | None = None,
+    refused: tuple = (),
 ) -> tuple[list, tuple[RollResult, ...]]:
     """A run's step simulated ahead from `obs` on `face` (`lookahead.choose`): the plan `pl`'s
     actions toward `target`, the lazy ones (`lookahead.acts`: the optimised ones if s.optimised_actions,
     per cable if s.cable_actions, neither in volts; the brake kept) next after its first where that one is
     not acceptable; `onward` (`lookahead.choose`) judges a landing; `known` (`foreseen.Foreseen`) keeps the
-    rolls simulated. Returns the acceptable actions best first and every roll simulated (`drive`,
-    `start.first_roll` and `onward`)."""
+    rolls simulated; the actions `refused` (the world did not roll the robot with them where it stands,
+    as the model foresaw) are left out. Returns the acceptable actions best first and every roll
+    simulated (`drive`, `start.first_roll` and `onward`)."""
     muscles = s.motors is None  # the optimised actions are solved on the muscles' statics (eq. 1-2)
     world = lookahead.World(
         params,
@@ -71,13 +73,13 @@ def step_ahead(
     )
     args = (workspace, face, obs.nodes, pl, target, brk, world)
     expect = {c.pairs: c.pressure for c in pl.candidates}
-    more = lambda: lookahead.acts(*args, lazy=True)  # noqa: E731 (optimised actions, brake kept)
+    more = lambda: [a for a in lookahead.acts(*args, lazy=True) if a not in refused]  # noqa: E731 (optimised, kept)
     return lookahead.choose(
         params,
         terrain,
         s,
         obs,
-        lookahead.acts(*args),
+        [a for a in lookahead.acts(*args) if a not in refused],
         workspace.max_pressure,
         brk,
         expect,
@@ -157,6 +159,7 @@ def drive(
     memory: lookahead.Memory | None = None
     known = Foreseen()  # the rolls `onward` simulated from the landing, for the next step
     start_face, stuck_cpu = None, 0.0
+    refused: tuple = ()  # the actions the world did not roll the robot with on this face (a model error)
     try:
         face, obs = yield from settle_controller(s, obs, brk)
         start_face = face
@@ -214,12 +217,13 @@ def drive(
                 )
                 known.keep(obs)
                 todo, simulated = step_ahead(
-                    workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now, look, known
+                    workspace, params, terrain, s, obs, face, pl, target, brk, cost, memory, now, look, known, refused
                 )
             else:  # the workspace's order, tried in the world
                 todo = [(c.pairs, braked) for c in pl.candidates[: s.max_attempts]]
             cpu = time.process_time() - cpu
             while todo:
+                refused += (todo[0],) if s.lookahead else ()
                 act, with_brake, w = todo[0][0], todo[0][1], lookahead.weights_of(todo.pop(0))
                 res, obs = yield from roll_controller(
                     params,
@@ -263,6 +267,11 @@ def drive(
                 break
             after = tries[-1].face_after
             steps.append(Step(face, pl, tuple(tries), after, simulated, cpu))
+            if tries[-1].rolled:
+                refused = ()
+            elif after is not None and s.lookahead:  # the model foresaw rolls the world refused: plan again here
+                face = after
+                continue
             if after is not None and not tries[-1].rolled:
                 outcome = "stuck"
                 message = (
