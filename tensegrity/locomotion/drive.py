@@ -7,7 +7,8 @@ returns the outcome, its message and the `Step`s. With lookahead 0 the plan's ca
 in the world instead, then the escape actions (`brake.escape`). `runs` checks the arguments and
 runs it. Where no roll simulated ahead is acceptable, the run goes back to a state where it found an
 acceptable roll it did not take (a backtrack, `memory.Memory.opens`); where none returns to one, it makes
-no roll and ends `stuck`.
+no roll and ends `stuck`. A roll the world does not make as its model foresaw (a model error, `runs.roll_to`
+`model=`) is planned again from where the robot stands, without the actions the world refused there.
 """
 
 from __future__ import annotations
